@@ -1,0 +1,234 @@
+"""Linearization about steady glides, modal analysis, controllability and observability (§2.3.1).
+
+Linear models are returned as :class:`control.StateSpace` with named states, inputs and outputs (outputs = all
+states). Ranks are reported with the tolerance used and the singular values behind them, and checked by the
+PBH (Popov-Belevitch-Hautus) test at every eigenvalue, which does not suffer from the conditioning of the Kalman
+matrix on badly scaled states.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import control
+import numpy as np
+
+from ..errors import GlidectlError
+from ..models.longitudinal import (
+    STATE_UNITS,
+    AccelerationControlledGlider,
+    GlidePathModel,
+    LongitudinalGlider,
+)
+from ..params import Vehicle
+from ..trim.glide import SteadyGlide
+from .jacobian import jacobians
+
+__all__ = ["Modes", "RankTest", "controllability", "glide_model", "linearize_glide", "modes", "observability"]
+
+InputKind = Literal["force", "acceleration"]
+
+
+def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -> tuple[GlidePathModel, np.ndarray]:
+    """The glide-path model (z' instead of x, z) for ``inputs`` and its equilibrium state (z' = 0)."""
+    if inputs == "force":
+        base: LongitudinalGlider | AccelerationControlledGlider = LongitudinalGlider(veh)
+        xe = glide.force_state()
+    elif inputs == "acceleration":
+        base = AccelerationControlledGlider(veh)
+        xe = glide.accel_state()
+    else:
+        raise GlidectlError(f"inputs must be 'force' (u1, u3, u4) or 'acceleration' (w1, w3, w4), got {inputs!r}")
+    if glide.provenance != veh.provenance:
+        raise GlidectlError(f"glide was trimmed for vehicle '{glide.vehicle}' ({glide.provenance}), "
+                            f"not for '{veh.name}' ({veh.provenance})")
+    model = GlidePathModel(base, glide.gamma)
+    return model, np.concatenate([[0.0], xe[2:]])
+
+
+def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -> control.StateSpace:
+    """Exact linearization of the longitudinal glider about a steady glide, with z' (2.30).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The vehicle the glide was trimmed for.
+    glide : SteadyGlide
+        From :func:`~glidectl.trim.glide.steady_glide`.
+    inputs : {"force", "acceleration"}
+        ``"force"``: states ``(z_prime, theta, Omega2, v1, v3, r_P1, r_P3, P_P1, P_P3, m0)``, inputs
+        ``(u1, u3, u4)`` of (2.15)-(2.25). ``"acceleration"``: states ``(z_prime, theta, Omega2, v1, v3, r_P1,
+        rdot_P1, r_P3, rdot_P3, m0)``, inputs ``(w1, w3, w4)`` of (2.33)-(2.34).
+
+    Returns
+    -------
+    control.StateSpace
+        ``A, B`` exact (complex step); ``C = I``, ``D = 0``; states/inputs/outputs named; units in
+        :data:`glidectl.models.longitudinal.STATE_UNITS`.
+    """
+    model, xe = glide_model(veh, glide, inputs)
+    A, B = jacobians(model.rhs, xe, np.zeros(3))
+    n = A.shape[0]
+    names = list(model.state_names)
+    return control.ss(A, B, np.eye(n), np.zeros((n, 3)), states=names, inputs=list(model.input_names),
+                      outputs=names, name=f"{veh.name}_gamma{np.degrees(glide.gamma):+.0f}deg_{inputs}")
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Eigen-structure of a linear model.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray
+        Sorted by decreasing real part (1/s).
+    eigenvectors : ndarray
+        Columns normalized to unit 2-norm.
+    wn, zeta, time_constant : ndarray
+        Natural frequency (rad/s), damping ratio, and ``-1/Re(lambda)`` (s; inf for Re = 0).
+    dominant_states : tuple of str
+        State with the largest magnitude in each (unit-normalized) eigenvector.
+    """
+
+    eigenvalues: np.ndarray
+    eigenvectors: np.ndarray
+    wn: np.ndarray
+    zeta: np.ndarray
+    time_constant: np.ndarray
+    dominant_states: tuple[str, ...]
+
+    @property
+    def stable(self) -> bool:
+        """All eigenvalues strictly in the open left half plane."""
+        return bool(np.all(self.eigenvalues.real < 0))
+
+
+def modes(sys: control.StateSpace) -> Modes:
+    """Eigenvalues, eigenvectors, natural frequencies, damping ratios and dominant states of ``sys``."""
+    lam, vec = np.linalg.eig(np.asarray(sys.A))
+    order = np.lexsort((-lam.imag, -lam.real))
+    lam, vec = lam[order], vec[:, order]
+    vec = vec / np.linalg.norm(vec, axis=0)
+    wn = np.abs(lam)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        zeta = np.where(wn > 0, -lam.real / wn, np.nan)
+        tc = np.where(lam.real != 0, -1.0 / lam.real, np.inf)
+    names = sys.state_labels
+    dom = tuple(names[int(np.argmax(np.abs(vec[:, k])))] for k in range(lam.size))
+    return Modes(lam, vec, wn, zeta, tc, dom)
+
+
+@dataclass(frozen=True)
+class RankTest:
+    """Result of a controllability or observability test.
+
+    Attributes
+    ----------
+    kind : str
+        ``"controllability"`` or ``"observability"``.
+    rank, n : int
+        Numerical rank of the Kalman matrix (with ``tol``) and state dimension.
+    tol : float
+        Rank tolerance on singular values of the Kalman matrix after state scaling.
+    singular_values : ndarray
+        Singular values of the (scaled) Kalman matrix, largest first.
+    pbh_min : ndarray
+        For each eigenvalue, the smallest singular value of ``[A - lam I, B]`` (or its dual) relative to
+        ``||[A, B]||``; near zero means the mode is uncontrollable (unobservable).
+    uncontrollable_modes : ndarray
+        Eigenvalues whose PBH margin is below ``pbh_tol`` (unobservable ones for observability).
+    pbh_tol : float
+    channels : tuple of str
+        Inputs (or outputs) the test used.
+    """
+
+    kind: str
+    rank: int
+    n: int
+    tol: float
+    singular_values: np.ndarray
+    pbh_min: np.ndarray
+    eigenvalues: np.ndarray
+    uncontrollable_modes: np.ndarray
+    pbh_tol: float
+    channels: tuple[str, ...]
+
+    @property
+    def full(self) -> bool:
+        """True when the Kalman rank is full and no mode fails the PBH test."""
+        return self.rank == self.n and self.uncontrollable_modes.size == 0
+
+    @property
+    def pbh_rank_deficiency(self) -> int:
+        """Number of eigenvalues (with multiplicity) failing the PBH test."""
+        return int(self.uncontrollable_modes.size)
+
+
+def _scaled_rank(K: np.ndarray, tol: float | None) -> tuple[int, float, np.ndarray]:
+    s = np.linalg.svd(K, compute_uv=False)
+    if tol is None:
+        tol = max(K.shape) * np.finfo(float).eps * (s[0] if s.size else 0.0) * 1e3
+    return int(np.sum(s > tol)), float(tol), s
+
+
+def _pbh(A: np.ndarray, B: np.ndarray, pbh_tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    n = A.shape[0]
+    lam = np.linalg.eigvals(A)
+    scale = np.linalg.norm(np.hstack([A, B]), 2)
+    mins = np.array([np.linalg.svd(np.hstack([A - l * np.eye(n), B]), compute_uv=False)[-1] / scale
+                     for l in lam])
+    return lam, mins, lam[mins < pbh_tol]
+
+
+def _index(sys: control.StateSpace, names: Sequence[str], labels: Sequence[str], what: str) -> list[int]:
+    bad = [q for q in names if q not in labels]
+    if bad:
+        raise GlidectlError(f"unknown {what} {bad}; this model has {list(labels)}")
+    return [list(labels).index(q) for q in names]
+
+
+def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None,
+                    states: Sequence[str] | None = None, tol: float | None = None,
+                    pbh_tol: float = 1e-8) -> RankTest:
+    """Controllability of ``sys`` (optionally restricted to some inputs and a subset of states).
+
+    Parameters
+    ----------
+    sys : control.StateSpace
+    inputs : sequence of str, optional
+        Input names to keep (default: all).
+    states : sequence of str, optional
+        States to keep (the others are removed, e.g. to model a moving mass locked along one axis).
+    tol : float, optional
+        Rank tolerance for the Kalman matrix ``ctrb(A, B)`` computed by python-control on state-scaled
+        ``(A, B)``; default ``1e3 * max(shape) * eps * sigma_max``.
+    pbh_tol : float
+        Threshold on the relative PBH singular value.
+    """
+    A, B = np.asarray(sys.A), np.asarray(sys.B)
+    si = _index(sys, states or sys.state_labels, sys.state_labels, "state")
+    ui = _index(sys, inputs or sys.input_labels, sys.input_labels, "input")
+    A, B = A[np.ix_(si, si)], B[np.ix_(si, ui)]
+    # diagonal similarity scaling (balancing) to make the Kalman matrix well conditioned
+    from scipy.linalg import matrix_balance
+    _, T = matrix_balance(A, permute=False, separate=True)
+    d = T[0]
+    As, Bs = A * (1 / d)[:, None] * d[None, :], B / d[:, None]
+    rank, tol_used, s = _scaled_rank(np.asarray(control.ctrb(As, Bs)), tol)
+    lam, mins, bad = _pbh(As, Bs, pbh_tol)
+    return RankTest("controllability", rank, A.shape[0], tol_used, s, mins, lam, bad, pbh_tol,
+                    tuple(sys.input_labels[i] for i in ui))
+
+
+def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | None = None,
+                  pbh_tol: float = 1e-8) -> RankTest:
+    """Observability of ``sys`` when only the named states are measured (``y = C x`` with those rows of I)."""
+    A = np.asarray(sys.A)
+    oi = _index(sys, outputs, sys.state_labels, "output state")
+    C = np.eye(A.shape[0])[oi]
+    r = controllability(control.ss(A.T, C.T, np.eye(A.shape[0]), 0, states=list(sys.state_labels)),
+                        tol=tol, pbh_tol=pbh_tol)
+    return RankTest("observability", r.rank, r.n, r.tol, r.singular_values, r.pbh_min, r.eigenvalues,
+                    r.uncontrollable_modes, pbh_tol, tuple(outputs))

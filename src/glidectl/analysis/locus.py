@@ -1,0 +1,195 @@
+"""Root loci over physical parameters (bottom-heaviness r_bh, moving mass mbar), §2.3.1-§2.3.2, Fig 2.7.
+
+A locus is computed on a grid, its branches are made continuous by optimal matching of eigenvalues between
+consecutive grid points (Hungarian assignment on distance), stability boundaries are located by Brent's method on
+``max Re(lambda)``, and break-away/break-in points (real eigenvalues meeting and leaving the real axis, and the
+reverse) by bisection on the number of real eigenvalues, which LAPACK reports exactly (``Im = 0``) for real
+matrices.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq, linear_sum_assignment
+
+from ..errors import GlidectlError, SolverError
+from ..models.longitudinal import AccelerationControlledGlider, LongitudinalGlider
+from ..params import Vehicle
+from ..trim.glide import steady_glide
+from .jacobian import jacobians
+
+__all__ = ["BreakPoint", "ParameterLocus", "mbar_locus", "parameter_locus", "rbh_locus"]
+
+ETA_R = ("theta", "Omega2", "v1", "v3")
+
+
+@dataclass(frozen=True)
+class BreakPoint:
+    """A point where two real eigenvalues meet (``break-away``: they leave the real axis as the parameter
+    increases) or a complex pair lands on the real axis (``break-in``)."""
+
+    kind: str
+    parameter: float
+    eigenvalue: float
+
+
+@dataclass(frozen=True)
+class ParameterLocus:
+    """Eigenvalues of a parameter-dependent matrix along a grid, with continuous branches.
+
+    Attributes
+    ----------
+    parameter : str
+        Name of the varied parameter; ``unit`` its unit.
+    values : ndarray, shape (N,)
+    branches : ndarray, shape (N, k)
+        ``branches[i, j]`` is eigenvalue branch j at ``values[i]``; consecutive rows are matched.
+    crossings : tuple of float
+        Parameter values where ``max Re(lambda)`` changes sign (located by Brent's method, xtol 1e-13).
+    breakpoints : tuple of BreakPoint
+    max_step_jump : float
+        Largest eigenvalue movement between consecutive grid points after matching (a continuity diagnostic).
+    context : dict
+        What the matrix is (vehicle, glide, block) for provenance.
+    """
+
+    parameter: str
+    unit: str
+    values: np.ndarray
+    branches: np.ndarray
+    crossings: tuple[float, ...]
+    breakpoints: tuple[BreakPoint, ...]
+    max_step_jump: float
+    context: dict[str, Any]
+
+    def stable_at(self, i: int) -> bool:
+        """True when every branch has negative real part at grid index i."""
+        return bool(np.all(self.branches[i].real < 0))
+
+    def plot(self, ax: Any = None, *, mark: Sequence[float] = ()) -> Any:
+        """Root-locus plot in the complex plane, coloured by the parameter; crossings and break points marked."""
+        from ..report.figures import plot_locus
+
+        return plot_locus(self, ax=ax, mark=mark)
+
+
+def _match(prev: np.ndarray, new: np.ndarray) -> np.ndarray:
+    cost = np.abs(prev[:, None] - new[None, :])
+    _, col = linear_sum_assignment(cost)
+    return new[col]
+
+
+def _n_real(lam: np.ndarray) -> int:
+    return int(np.sum(lam.imag == 0))
+
+
+def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[float], parameter: str,
+                    unit: str, context: dict[str, Any] | None = None) -> ParameterLocus:
+    """Eigenvalue locus of ``eig_fn(p)`` over ``values`` with branch matching, crossings and break points.
+
+    Parameters
+    ----------
+    eig_fn : callable
+        ``p -> eigenvalues`` (fixed count), e.g. of an exact Jacobian at a re-solved equilibrium.
+    values : sequence of float
+        Increasing parameter grid.
+    parameter, unit : str
+        Name and unit of p, for plots and reports.
+    """
+    vals = np.asarray(values, dtype=float)
+    if vals.ndim != 1 or vals.size < 2 or np.any(np.diff(vals) <= 0):
+        raise GlidectlError("locus parameter values must be a strictly increasing 1-D grid of >= 2 points")
+    eigs = [np.asarray(eig_fn(float(p)), dtype=complex) for p in vals]
+    k = eigs[0].size
+    branches = np.empty((vals.size, k), dtype=complex)
+    branches[0] = np.sort_complex(eigs[0])
+    for i in range(1, vals.size):
+        if eigs[i].size != k:
+            raise SolverError(f"eigenvalue count changed along the locus at {parameter} = {vals[i]:g}")
+        branches[i] = _match(branches[i - 1], eigs[i])
+    jump = float(np.max(np.abs(np.diff(branches, axis=0)))) if vals.size > 1 else 0.0
+
+    def h(p: float) -> float:
+        return float(np.max(np.asarray(eig_fn(p)).real))
+
+    hv = np.array([np.max(e.real) for e in eigs])
+    crossings: list[float] = []
+    for i in np.nonzero(np.sign(hv[:-1]) * np.sign(hv[1:]) < 0)[0]:
+        try:
+            crossings.append(float(brentq(h, vals[i], vals[i + 1], xtol=1e-13, rtol=1e-12, maxiter=200)))
+        except (ValueError, RuntimeError) as exc:  # pragma: no cover - brentq is guaranteed by the sign change
+            raise SolverError(f"stability boundary search failed between {vals[i]:g} and {vals[i+1]:g}: {exc}")
+    bps: list[BreakPoint] = []
+    nr = np.array([_n_real(e) for e in eigs])
+    for i in np.nonzero(nr[:-1] != nr[1:])[0]:
+        a, b, na = vals[i], vals[i + 1], nr[i]
+        for _ in range(80):
+            mid = 0.5 * (a + b)
+            if _n_real(np.asarray(eig_fn(mid))) == na:
+                a = mid
+            else:
+                b = mid
+            if b - a <= 1e-13 * max(1.0, abs(a)):
+                break
+        lam = np.asarray(eig_fn(b))
+        kind = "break-away" if nr[i + 1] < nr[i] else "break-in"
+        # the meeting point: the real eigenvalue pair (or complex pair) closest to each other at the transition
+        cand = np.asarray(eig_fn(a)) if kind == "break-away" else lam
+        re = np.sort(cand[cand.imag == 0].real)
+        loc = float(re[np.argmin(np.diff(re))] + np.min(np.diff(re)) / 2) if re.size >= 2 else float("nan")
+        bps.append(BreakPoint(kind, float(0.5 * (a + b)), loc))
+    return ParameterLocus(parameter, unit, vals, branches, tuple(crossings), tuple(bps), jump, dict(context or {}))
+
+
+def _eta_r_eigs(veh: Vehicle, speed: float, gamma: float, **family: float) -> np.ndarray:
+    acc = AccelerationControlledGlider(veh)
+    g = steady_glide(veh, speed, gamma, **family)
+    A, _ = jacobians(acc.rhs, g.accel_state(), np.zeros(3))
+    idx = [acc.state_names.index(s) for s in ETA_R]
+    return np.linalg.eigvals(A[np.ix_(idx, idx)])
+
+
+def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[float]) -> ParameterLocus:
+    """Eigenvalues of ``dq_r/deta_r`` (acceleration-controlled glider, (2.35)) versus bottom-heaviness (Fig 2.7).
+
+    At each ``r_bh`` the steady glide (speed in m/s, gamma in rad) is re-solved (the speed, gamma, alpha and m0 do
+    not change; r_P does) and the 4x4 block for ``eta_r = (theta, Omega2, v1, v3)`` of the exact Jacobian is taken.
+    Its eigenvalues decide stability of the closed loop (2.35)-(2.37) for any Hurwitz A + BK (block triangular).
+    """
+    return parameter_locus(lambda r: _eta_r_eigs(veh, speed, gamma, r_bh=r), rbh_values, "r_bh", "m",
+                           {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
+                            "matrix": "dq_r/deta_r of (2.35), acceleration control"})
+
+
+UNCONTROLLED_BLOCK = ("theta", "Omega2", "v1", "v3", "r_P1", "r_P3")
+
+
+def uncontrolled_eigs(veh: Vehicle, speed: float, gamma: float, **family: float) -> np.ndarray:
+    """Nonzero eigenvalues of the uncontrolled force model (u = 0) at a steady glide.
+
+    With ``u = 0`` the rows of ``P_P1, P_P3, m0`` (and the column of z') vanish, so the spectrum is four exact zeros
+    plus that of the block :data:`UNCONTROLLED_BLOCK`, which itself has one zero eigenvalue (moving ``r_P`` along
+    gravity at fixed momentum keeps an equilibrium). That structural zero (smallest magnitude) is removed.
+    """
+    model = LongitudinalGlider(veh)
+    g = steady_glide(veh, speed, gamma, **family)
+    A, _ = jacobians(model.rhs, g.force_state(), np.zeros(3))
+    idx = [model.state_names.index(s) for s in UNCONTROLLED_BLOCK]
+    lam = np.linalg.eigvals(A[np.ix_(idx, idx)])
+    return np.delete(lam, np.argmin(np.abs(lam)))
+
+
+def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[float],
+               **family: float) -> ParameterLocus:
+    """Nonzero eigenvalues of the uncontrolled glider versus the moving mass mbar (kg) (§2.3.1, 0.257 kg).
+
+    The glide is re-trimmed at each mbar holding ``r_p3`` (or ``r_bh``) given in ``family`` fixed.
+    """
+    return parameter_locus(lambda mb: uncontrolled_eigs(veh.with_overrides(mbar=mb), speed, gamma, **family),
+                           mbar_values, "mbar", "kg",
+                           {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
+                            "matrix": "uncontrolled force model, u = 0", **family})

@@ -1,0 +1,237 @@
+"""Longitudinal-plane underwater glider: (2.15)-(2.25), glide-path deviation z' (2.30), and the
+force-to-acceleration transform (2.31)-(2.36).
+
+There is one right-hand side, :meth:`LongitudinalGlider.rhs` (force inputs). The acceleration-controlled model
+(:class:`AccelerationControlledGlider`) maps its state to the force form, computes the input of (2.33) and calls
+that right-hand side; the glide-path form (:class:`GlidePathModel`) replaces (x, z) by z' and also calls it.
+
+States and inputs are named; every array argument may carry leading batch dimensions (``x[..., n]``) and may be
+complex (for exact complex-step Jacobians).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..hydro import longitudinal_loads
+from ..params import Vehicle
+
+__all__ = [
+    "FORCE_INPUTS",
+    "FORCE_STATES",
+    "ACCEL_INPUTS",
+    "ACCEL_STATES",
+    "AccelerationControlledGlider",
+    "GlidePathModel",
+    "LongitudinalGlider",
+    "STATE_UNITS",
+]
+
+FORCE_STATES = ("x", "z", "theta", "Omega2", "v1", "v3", "r_P1", "r_P3", "P_P1", "P_P3", "m0")
+FORCE_INPUTS = ("u1", "u3", "u4")
+ACCEL_STATES = ("x", "z", "theta", "Omega2", "v1", "v3", "r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0")
+ACCEL_INPUTS = ("w1", "w3", "w4")
+
+STATE_UNITS = {
+    "x": "m", "z": "m", "z_prime": "m", "theta": "rad", "Omega2": "rad/s", "v1": "m/s", "v3": "m/s",
+    "r_P1": "m", "r_P3": "m", "P_P1": "kg m/s", "P_P3": "kg m/s", "m0": "kg", "rdot_P1": "m/s",
+    "rdot_P3": "m/s", "u1": "N", "u3": "N", "u4": "kg/s", "w1": "m/s^2", "w3": "m/s^2", "w4": "kg/s",
+}
+
+
+def _stack(*cols: Any) -> Any:
+    return np.stack(np.broadcast_arrays(*cols), axis=-1)
+
+
+@dataclass(frozen=True)
+class LongitudinalGlider:
+    """Force-controlled longitudinal glider (2.15)-(2.25).
+
+    State ``x = (x, z, theta, Omega2, v1, v3, r_P1, r_P3, P_P1, P_P3, m0)`` in (m, m, rad, rad/s, m/s, m/s, m, m,
+    kg m/s, kg m/s, kg); input ``u = (u1, u3, u4)``: total force on the moving mass along body 1 and 3 (N) and
+    buoyancy rate (kg/s). Inertial z points down; theta is the pitch angle, theta = alpha + gamma.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = FORCE_STATES
+    input_names: tuple[str, ...] = FORCE_INPUTS
+
+    def __post_init__(self) -> None:
+        v = self.vehicle
+        if v.kind != "underwater_glider":
+            raise ModelError(f"vehicle '{v.name}' is a {v.kind}, not an underwater glider")
+        if v.mbar <= 0:
+            raise ModelError(
+                f"vehicle '{v.name}' has mbar = {v.mbar:g} kg: the longitudinal model (2.15)-(2.25) needs an "
+                "internal moving mass mbar > 0 (use the reduced model of chapter 5 for r_P = 0 gliders)")
+
+    def generalized_forces(self, x: Any) -> tuple[Any, Any, Any, dict[str, Any]]:
+        """The input-free brackets of (2.18)-(2.20): ``X1, X3`` (N) and ``Y`` (N m).
+
+        ``v1' = (X1 - u1)/m1``, ``v3' = (X3 - u3)/m3``, ``Omega2' = (Y + r_P1 u3 - r_P3 u1)/J2`` with
+        ``X1 = -m3 v3 Om - P_P3 Om - m0 g sin(theta) + L sin(alpha) - D cos(alpha)``,
+        ``X3 = m1 v1 Om + P_P1 Om + m0 g cos(theta) - L cos(alpha) - D sin(alpha)`` and
+        ``Y = (m3 - m1) v1 v3 - mbar g (r_P1 cos(theta) + r_P3 sin(theta)) + M_DL2 - Om (r_P1 P_P1 + r_P3 P_P3)``.
+        Also returns the masses and hydrodynamic quantities used, for reuse.
+        """
+        veh = self.vehicle
+        g, mbar = veh.g, veh.mbar
+        th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
+        rP1, rP3, PP1, PP3, m0 = x[..., 6], x[..., 7], x[..., 8], x[..., 9], x[..., 10]
+        m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
+        alpha, L, D, M = longitudinal_loads(veh, v1, v3, Om)
+        s, c = np.sin(th), np.cos(th)
+        sa, ca = np.sin(alpha), np.cos(alpha)
+        X1 = -m3 * v3 * Om - PP3 * Om - m0 * g * s + L * sa - D * ca
+        X3 = m1 * v1 * Om + PP1 * Om + m0 * g * c - L * ca - D * sa
+        Y = (m3 - m1) * v1 * v3 - mbar * g * (rP1 * c + rP3 * s) + M - Om * (rP1 * PP1 + rP3 * PP3)
+        return X1, X3, Y, {"m1": m1, "m3": m3, "alpha": alpha, "L": L, "D": D, "M": M}
+
+    def rhs(self, x: Any, u: Any) -> Any:
+        """Time derivative of the state, equations (2.15)-(2.25).
+
+        Parameters
+        ----------
+        x : array_like, shape (..., 11)
+        u : array_like, shape (..., 3)
+
+        Returns
+        -------
+        ndarray, shape (..., 11)
+        """
+        x = np.asarray(x)
+        u = np.asarray(u)
+        veh = self.vehicle
+        X1, X3, Y, aux = self.generalized_forces(x)
+        th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
+        rP1, rP3, PP1, PP3 = x[..., 6], x[..., 7], x[..., 8], x[..., 9]
+        u1, u3, u4 = u[..., 0], u[..., 1], u[..., 2]
+        s, c = np.sin(th), np.cos(th)
+        mbar = veh.mbar
+        return _stack(
+            v1 * c + v3 * s,                                  # (2.15)
+            -v1 * s + v3 * c,                                 # (2.16)
+            Om,                                               # (2.17)
+            (Y + rP1 * u3 - rP3 * u1) / veh.J2,               # (2.20)
+            (X1 - u1) / aux["m1"],                            # (2.18)
+            (X3 - u3) / aux["m3"],                            # (2.19)
+            PP1 / mbar - v1 - rP3 * Om,                       # (2.21)
+            PP3 / mbar - v3 + rP1 * Om,                       # (2.22)
+            u1,                                               # (2.23)
+            u3,                                               # (2.24)
+            u4,                                               # (2.25)
+        )
+
+
+@dataclass(frozen=True)
+class AccelerationControlledGlider:
+    """Longitudinal glider under the force-to-acceleration feedback (2.31)-(2.34).
+
+    State ``(x, z, theta, Omega2, v1, v3, r_P1, rdot_P1, r_P3, rdot_P3, m0)`` (eta, zeta of §2.3.2); input
+    ``w = (w1, w3, w4)``: accelerations of the moving mass relative to the body (m/s^2) and buoyancy rate (kg/s).
+    By construction ``rddot_P1 = w1``, ``rddot_P3 = w3``, ``m0' = w4``.
+
+    Notes
+    -----
+    (2.32) as printed has the wrong sign on ``Z``. Differentiating (2.31) along (2.18)-(2.24) gives
+    ``rddot_P = Z + F u`` with ``Z = -[X1/m1 + rdot_P3 Om + r_P3 Y/J2, X3/m3 - rdot_P1 Om - r_P1 Y/J2]``
+    (the negative of the printed vector) and ``F`` as printed.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = ACCEL_STATES
+    input_names: tuple[str, ...] = ACCEL_INPUTS
+
+    @property
+    def force_model(self) -> LongitudinalGlider:
+        """The underlying force-controlled model (the one right-hand side)."""
+        return LongitudinalGlider(self.vehicle)
+
+    def to_force_state(self, xa: Any) -> Any:
+        """Map ``(.., rdot_P1, .., rdot_P3, m0)`` to ``(.., r_P3, P_P1, P_P3, m0)`` by inverting (2.31)."""
+        xa = np.asarray(xa)
+        mbar = self.vehicle.mbar
+        Om, v1, v3 = xa[..., 3], xa[..., 4], xa[..., 5]
+        rP1, rdP1, rP3, rdP3, m0 = xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9], xa[..., 10]
+        PP1 = mbar * (rdP1 + v1 + rP3 * Om)
+        PP3 = mbar * (rdP3 + v3 - rP1 * Om)
+        return _stack(*(xa[..., i] for i in range(6)), rP1, rP3, PP1, PP3, m0)
+
+    def from_force_state(self, xf: Any) -> Any:
+        """Map a force-form state to the acceleration-form state with (2.31)."""
+        xf = np.asarray(xf)
+        mbar = self.vehicle.mbar
+        Om, v1, v3 = xf[..., 3], xf[..., 4], xf[..., 5]
+        rP1, rP3, PP1, PP3, m0 = xf[..., 6], xf[..., 7], xf[..., 8], xf[..., 9], xf[..., 10]
+        return _stack(*(xf[..., i] for i in range(6)), rP1, PP1 / mbar - v1 - rP3 * Om, rP3,
+                      PP3 / mbar - v3 + rP1 * Om, m0)
+
+    def transform(self, xa: Any) -> tuple[Any, Any]:
+        """``Z`` (m/s^2, shape (..., 2)) and ``F`` (1/kg, shape (..., 2, 2)) of (2.32), sign of Z corrected."""
+        xa = np.asarray(xa)
+        veh = self.vehicle
+        X1, X3, Y, aux = self.force_model.generalized_forces(self.to_force_state(xa))
+        Om, rP1, rdP1, rP3, rdP3 = xa[..., 3], xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9]
+        J2, mbar = veh.J2, veh.mbar
+        Z = _stack(-(X1 / aux["m1"] + rdP3 * Om + rP3 * Y / J2),
+                   -(X3 / aux["m3"] - rdP1 * Om - rP1 * Y / J2))
+        F11 = 1 / mbar + 1 / aux["m1"] + rP3 * rP3 / J2
+        F33 = 1 / mbar + 1 / aux["m3"] + rP1 * rP1 / J2
+        F13 = -rP1 * rP3 / J2
+        F = np.stack(np.broadcast_arrays(_stack(F11, F13), _stack(F13, F33)), axis=-2)
+        return Z, F
+
+    def force_input(self, xa: Any, w: Any) -> Any:
+        """Force input ``(u1, u3, u4)`` of (2.33)-(2.34) realizing acceleration input ``w``."""
+        w = np.asarray(w)
+        Z, F = self.transform(xa)
+        rhs = w[..., :2] - Z
+        det = F[..., 0, 0] * F[..., 1, 1] - F[..., 0, 1] * F[..., 1, 0]
+        u1 = (F[..., 1, 1] * rhs[..., 0] - F[..., 0, 1] * rhs[..., 1]) / det
+        u3 = (-F[..., 1, 0] * rhs[..., 0] + F[..., 0, 0] * rhs[..., 1]) / det
+        return _stack(u1, u3, w[..., 2])
+
+    def rhs(self, xa: Any, w: Any) -> Any:
+        """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side."""
+        xa = np.asarray(xa)
+        w = np.asarray(w)
+        xf = self.to_force_state(xa)
+        fdot = self.force_model.rhs(xf, self.force_input(xa, w))
+        return _stack(*(fdot[..., i] for i in range(6)), xa[..., 7], w[..., 0], xa[..., 9], w[..., 1], w[..., 2])
+
+
+@dataclass(frozen=True)
+class GlidePathModel:
+    """A longitudinal model with (x, z) replaced by the glide-path deviation z' of (2.30).
+
+    ``z'' = sin(gamma_e) x' + cos(gamma_e) z'`` is the rate of the distance (m, positive below-right of the path,
+    i.e. along ``(sin gamma_e, cos gamma_e)`` in the (x, z-down) plane) from the desired straight path of flight-path
+    angle ``gamma_e`` (rad). State: ``("z_prime",) + base.state_names[2:]``.
+    """
+
+    base: LongitudinalGlider | AccelerationControlledGlider
+    gamma_e: float
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return ("z_prime", *self.base.state_names[2:])
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return self.base.input_names
+
+    @property
+    def vehicle(self) -> Vehicle:
+        return self.base.vehicle
+
+    def rhs(self, xr: Any, u: Any) -> Any:
+        """Derivative of ``(z', theta, ...)``: (2.30) and the base model's equations without (2.15)-(2.16)."""
+        xr = np.asarray(xr)
+        full = np.concatenate([np.zeros_like(xr[..., :2]), xr[..., 1:]], axis=-1)
+        d = self.base.rhs(full, u)
+        zp = np.sin(self.gamma_e) * d[..., 0] + np.cos(self.gamma_e) * d[..., 1]
+        return np.concatenate([zp[..., None], d[..., 2:]], axis=-1)

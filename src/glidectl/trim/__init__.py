@@ -1,0 +1,1 @@
+"""Steady motions: straight glides (longitudinal)."""

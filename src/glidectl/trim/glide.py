@@ -1,0 +1,235 @@
+"""Steady straight glides of the longitudinal model: (2.26)-(2.29) reconstructed and solved in closed form.
+
+Derivation (Leonard & Graver 2001, rewritten in this thesis's notation)
+-----------------------------------------------------------------------
+At a steady glide (Omega2 = 0, u = 0, rdot_P = 0) the force equations (2.18)-(2.19), rotated to the wind frame, are
+``D = -m0 g sin(gamma)`` and ``L = m0 g cos(gamma)`` (as (5.4)-(5.5)), so ``tan(gamma) = -K_D(alpha)/K_L(alpha)``
+with ``K_D(a) = K_D0 + K_D a^2`` and ``K_L(a) = K_L0 + K_L a``. A heavy vehicle (m0 > 0) glides down with
+positive lift; a light one glides up with negative lift. Minimizing ``K_D/|K_L|`` over alpha gives the shallowest
+glides, i.e. the permissible set (2.26) (missing from the text):
+
+    gamma < -atan(2 K_D/K_L (sqrt((K_L0/K_L)^2 + K_D0/K_D) - K_L0/K_L))      (downward)
+    gamma >  atan(2 K_D/K_L (sqrt((K_L0/K_L)^2 + K_D0/K_D) + K_L0/K_L))      (upward)
+
+Given gamma, alpha solves the quadratic ``K_D a^2 -+ |tan gamma| K_L a + K_D0 -+ |tan gamma| K_L0 = 0``; of its two
+roots the one of smaller ``|alpha|`` is taken (the other lies on the back side of the drag polar). Then
+``m0 = K_L(alpha) V^2 / (g cos gamma)``; the moment equation (2.20) (equivalently (2.29)) fixes the component of
+``r_P`` perpendicular to gravity, ``r_P1 cos(theta) + r_P3 sin(theta) = ((m3 - m1) v1 v3 + M_DL2)/(mbar g)``,
+leaving the bottom-heaviness ``r_bh = r_P . R^T k = -r_P1 sin(theta) + r_P3 cos(theta)`` free.
+(2.27)-(2.28) as printed are the inverse map; (2.28) returns theta, not gamma (DESIGN.md).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InfeasibleGlideError, ModelError, SolverError
+from ..models.longitudinal import LongitudinalGlider
+from ..params import Vehicle
+
+__all__ = ["SteadyGlide", "permissible_gamma", "steady_glide"]
+
+
+def _check_glider(veh: Vehicle) -> None:
+    if veh.kind != "underwater_glider":
+        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}; steady glides here are for underwater gliders "
+                         "(use ctol_glide for the CTOL aircraft)")
+
+
+def _shallowest(veh: Vehicle) -> tuple[float, float, float, float]:
+    """alpha and |tan gamma| of the shallowest downward and upward glides."""
+    KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
+    if KD == 0:
+        raise InfeasibleGlideError(
+            f"vehicle '{veh.name}' has K_D = 0: the glide ratio has no minimum and the permissible set (2.26) is "
+            "not defined")
+    root = math.sqrt((KL0 / KL) ** 2 + KD0 / KD)
+    a_down = -KL0 / KL + root
+    a_up = -KL0 / KL - root
+    return a_down, 2 * KD * a_down / KL, a_up, -2 * KD * a_up / KL
+
+
+def permissible_gamma(veh: Vehicle) -> tuple[float, float]:
+    """Bounds of the permissible flight-path-angle set (2.26), reconstructed (see module docstring).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with ``K_D0, K_D, K_L0, K_L``.
+
+    Returns
+    -------
+    (lo, hi) : tuple of float
+        Radians, ``lo <= 0 <= hi``: steady glides exist for ``gamma < lo`` (down) or ``gamma > hi`` (up), with
+        ``|gamma| < pi/2``. ``lo = hi = 0`` only when ``K_D0 = K_L0 = 0``.
+    """
+    _check_glider(veh)
+    _, t_down, _, t_up = _shallowest(veh)
+    return -math.atan(t_down), math.atan(t_up)
+
+
+@dataclass(frozen=True)
+class SteadyGlide:
+    """A steady straight glide of the longitudinal model (a relative equilibrium of (2.17)-(2.25)).
+
+    Attributes
+    ----------
+    speed : float
+        V_e (m/s).
+    gamma, alpha, theta : float
+        Flight-path angle, angle of attack, pitch angle (rad), ``theta = gamma + alpha``.
+    m0 : float
+        Net buoyancy (kg); > 0 heavy (down glide), < 0 light (up glide).
+    r_p1, r_p3, r_bh : float
+        Moving-mass position (m) and bottom-heaviness ``r_bh = r_P . R^T k`` (m).
+    v1, v3 : float
+        Body velocities (m/s).
+    residual : float
+        max |f(x_e, 0)| over the relative-equilibrium states (SI units), evaluated on the force model.
+    vehicle : str
+        Vehicle name; ``provenance`` its parameter hash.
+    mbar : float
+        Moving mass (kg) of that vehicle.
+    """
+
+    speed: float
+    gamma: float
+    alpha: float
+    theta: float
+    m0: float
+    r_p1: float
+    r_p3: float
+    r_bh: float
+    v1: float
+    v3: float
+    residual: float
+    vehicle: str
+    provenance: str
+    mbar: float
+
+    @property
+    def P_p1(self) -> float:
+        """Equilibrium momentum of the moving mass along body 1 (kg m/s): ``mbar v1``."""
+        return self.mbar * self.v1
+
+    @property
+    def P_p3(self) -> float:
+        """Equilibrium momentum of the moving mass along body 3 (kg m/s): ``mbar v3``."""
+        return self.mbar * self.v3
+
+    def force_state(self, x: float = 0.0, z: float = 0.0) -> np.ndarray:
+        """Equilibrium state of :class:`~glidectl.models.longitudinal.LongitudinalGlider`."""
+        return np.array([x, z, self.theta, 0.0, self.v1, self.v3, self.r_p1, self.r_p3,
+                         self.mbar * self.v1, self.mbar * self.v3, self.m0])
+
+    def accel_state(self, x: float = 0.0, z: float = 0.0) -> np.ndarray:
+        """Equilibrium state of :class:`~glidectl.models.longitudinal.AccelerationControlledGlider`."""
+        return np.array([x, z, self.theta, 0.0, self.v1, self.v3, self.r_p1, 0.0, self.r_p3, 0.0, self.m0])
+
+    def as_dict(self) -> dict[str, float | str]:
+        """Plain dict (SI units, radians) for tables and JSON."""
+        return {k: getattr(self, k) for k in ("speed", "gamma", "alpha", "theta", "m0", "r_p1", "r_p3", "r_bh",
+                                              "v1", "v3", "residual", "vehicle", "provenance")}
+
+
+def _alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
+    t = abs(math.tan(gamma))
+    KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
+    s = 1.0 if gamma < 0 else -1.0  # sign of the lift coefficient K_L(alpha) (= sign of m0)
+    # K_D a^2 - s t K_L a + (K_D0 - s t K_L0) = 0
+    a2, a1, a0 = KD, -s * t * KL, KD0 - s * t * KL0
+    if a2 == 0:
+        roots = [-a0 / a1]
+    else:
+        disc = a1 * a1 - 4 * a2 * a0
+        if disc < 0:
+            raise ValueError("outside")
+        sq = math.sqrt(disc)
+        # numerically stable pair
+        q = -0.5 * (a1 + math.copysign(sq, a1))
+        roots = [q / a2, a0 / q] if q != 0 else [0.0]
+    ok = [a for a in roots if s * (KL0 + KL * a) > 0]
+    if not ok:
+        raise ValueError("outside")
+    return min(ok, key=abs)
+
+
+def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None = None,
+                 r_bh: float | None = None) -> SteadyGlide:
+    """Steady glide of the longitudinal model for a requested speed and flight-path angle.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with ``mbar > 0``.
+    speed : float
+        Glide speed V_e (m/s), > 0.
+    gamma : float
+        Flight-path angle (rad), in the permissible set (2.26): ``gamma < lo`` or ``gamma > hi`` of
+        :func:`permissible_gamma`, and ``|gamma| < pi/2``.
+    r_p3 : float, optional
+        Vertical moving-mass position (m); selects one member of the one-parameter family of mass positions.
+    r_bh : float, optional
+        Bottom-heaviness ``r_P . R^T k`` (m); the alternative parameterization. Give exactly one of the two.
+
+    Returns
+    -------
+    SteadyGlide
+        With the trim residual checked (< 1e-9 relative, else :class:`~glidectl.errors.SolverError`).
+
+    Raises
+    ------
+    InfeasibleGlideError
+        gamma outside the permissible set (the message states the set), non-positive speed, or a mass position
+        that cannot realize the moment balance (r_p3 given at |theta| = 90 deg).
+    """
+    _check_glider(veh)
+    LongitudinalGlider(veh)  # validates mbar > 0
+    if (r_p3 is None) == (r_bh is None):
+        raise InfeasibleGlideError("give exactly one of r_p3= (m) or r_bh= (m) to pick the moving-mass position "
+                                   "from the one-parameter family of equilibria")
+    if not (math.isfinite(speed) and speed > 0):
+        raise InfeasibleGlideError(f"glide speed must be a positive number of m/s, got {speed!r}")
+    lo, hi = permissible_gamma(veh)
+    set_text = (f"permissible flight-path angles for '{veh.name}' (2.26): gamma < {math.degrees(lo):.4f} deg "
+                f"(down) or gamma > {math.degrees(hi):.4f} deg (up), |gamma| < 90 deg")
+    if not (math.isfinite(gamma) and abs(gamma) < math.pi / 2 and (gamma < lo or gamma > hi)):
+        raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}")
+    try:
+        alpha = _alpha_for_gamma(veh, gamma)
+    except ValueError:
+        raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}") from None
+    g, mbar = veh.g, veh.mbar
+    V = float(speed)
+    m0 = (veh.K_L0 + veh.K_L * alpha) * V * V / (g * math.cos(gamma))
+    theta = gamma + alpha
+    v1, v3 = V * math.cos(alpha), V * math.sin(alpha)
+    m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
+    moment = (m3 - m1) * v1 * v3 + (veh.K_M0 + veh.K_M * alpha) * V * V
+    a_perp = moment / (mbar * g)  # r_P1 cos(theta) + r_P3 sin(theta)
+    st, ct = math.sin(theta), math.cos(theta)
+    if r_bh is not None:
+        rbh = float(r_bh)
+        rp1 = a_perp * ct - rbh * st
+        rp3 = a_perp * st + rbh * ct
+    else:
+        if abs(ct) < 1e-9:
+            raise InfeasibleGlideError("pitch angle is 90 deg: r_p3 cannot select the mass position; give r_bh")
+        rp3 = float(r_p3)
+        rp1 = (a_perp - rp3 * st) / ct
+        rbh = -rp1 * st + rp3 * ct
+    if not all(math.isfinite(q) for q in (rp1, rp3, rbh, m0)):
+        raise InfeasibleGlideError(f"non-finite equilibrium for speed={speed}, gamma={gamma}")
+    xe = np.array([0.0, 0.0, theta, 0.0, v1, v3, rp1, rp3, mbar * v1, mbar * v3, m0])
+    f = LongitudinalGlider(veh).rhs(xe, np.zeros(3))
+    residual = float(np.max(np.abs(f[2:])))
+    scale = max(1.0, abs(m0) * g / min(m1, m3), veh.mbar * g * math.hypot(rp1, rp3) / veh.J2)
+    if not residual <= 1e-9 * scale:
+        raise SolverError(f"steady-glide residual {residual:.3e} exceeds 1e-9 (scale {scale:.3g}); "
+                          "please report this vehicle file")
+    return SteadyGlide(speed=V, gamma=float(gamma), alpha=alpha, theta=theta, m0=m0, r_p1=rp1, r_p3=rp3,
+                       r_bh=rbh, v1=v1, v3=v3, residual=residual, vehicle=veh.name,
+                       provenance=veh.provenance, mbar=mbar)
