@@ -70,11 +70,11 @@ class ParameterLocus:
         """True when every branch has negative real part at grid index i."""
         return bool(np.all(self.branches[i].real < 0))
 
-    def plot(self, ax: Any = None, *, mark: Sequence[float] = ()) -> Any:
+    def plot(self, ax: Any = None, **kw: Any) -> Any:
         """Root-locus plot in the complex plane, coloured by the parameter; crossings and break points marked."""
         from ..report.figures import plot_locus
 
-        return plot_locus(self, ax=ax, mark=mark)
+        return plot_locus(self, ax=ax, **kw)
 
 
 def _match(prev: np.ndarray, new: np.ndarray) -> np.ndarray:

@@ -1,0 +1,198 @@
+"""Linear glide-path controllers: LQR and pole placement (python-control) and the decoupled acceleration
+feedback (2.37) of §2.3.2.
+
+Controllers are frozen objects; ``controller(t, x)`` returns the input for a state of the *full* longitudinal model
+(force form ``(x, z, theta, ...)`` or acceleration form), so they plug into :func:`glidectl.sim.simulate`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import control
+import numpy as np
+
+from ..analysis.linear import linearize_glide
+from ..errors import GlidectlError
+from ..params import Vehicle
+from ..trim.glide import SteadyGlide
+
+__all__ = [
+    "DEFAULT_MAX_DEVIATION",
+    "DecoupledAccelerationFeedback",
+    "LinearGlideController",
+    "decoupled_gain_matrix",
+    "lqr_glide",
+    "place_glide",
+]
+
+#: Bryson's-rule scales: acceptable deviation of each state / input (SI units) for the default LQR weights.
+DEFAULT_MAX_DEVIATION: Mapping[str, float] = {
+    "z_prime": 0.5, "theta": 0.1, "Omega2": 0.2, "v1": 0.05, "v3": 0.05, "r_P1": 0.02, "r_P3": 0.02,
+    "P_P1": 0.1, "P_P3": 0.1, "m0": 0.1, "rdot_P1": 0.02, "rdot_P3": 0.02,
+    "u1": 1.0, "u3": 1.0, "u4": 0.05, "w1": 0.1, "w3": 0.1, "w4": 0.05,
+}
+
+
+@dataclass(frozen=True)
+class LinearGlideController:
+    """State feedback ``u = u_e - K (x_r - x_r,e)`` about a steady glide, on the glide-path state ``x_r``.
+
+    Attributes
+    ----------
+    K : ndarray, shape (3, 10)
+        Gain on ``(z_prime, theta, ...)`` (SI units).
+    method : str
+        ``"lqr"`` or ``"place"``.
+    plant : control.StateSpace
+        Open-loop linearization the gain was designed on.
+    closed_loop_poles : ndarray
+        Eigenvalues of ``A - B K`` (1/s).
+    glide : SteadyGlide
+        The glide (and path, through ``glide.gamma``) regulated to.
+    inputs : {"force", "acceleration"}
+    Q, R : ndarray or None
+        LQR weights (None for placement).
+    """
+
+    K: np.ndarray
+    method: str
+    plant: control.StateSpace
+    closed_loop_poles: np.ndarray
+    glide: SteadyGlide
+    inputs: str
+    Q: np.ndarray | None = None
+    R: np.ndarray | None = None
+    path_offset: float = 0.0
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return tuple(self.plant.state_labels)
+
+    def reduced_state(self, x: Any) -> np.ndarray:
+        """Full state (x, z, ...) -> glide-path state (z', ...) with ``z' = sin(g_e) x + cos(g_e) z - offset``."""
+        x = np.asarray(x, dtype=float)
+        zp = np.sin(self.glide.gamma) * x[..., 0] + np.cos(self.glide.gamma) * x[..., 1] - self.path_offset
+        return np.concatenate([zp[..., None], x[..., 2:]], axis=-1)
+
+    def equilibrium(self) -> np.ndarray:
+        """Glide-path equilibrium state (z' = 0)."""
+        xe = self.glide.force_state() if self.inputs == "force" else self.glide.accel_state()
+        return np.concatenate([[0.0], xe[2:]])
+
+    def __call__(self, t: float, x: Any) -> np.ndarray:
+        """Input (u1, u3, u4) or (w1, w3, w4) for full state ``x`` at time ``t`` (s)."""
+        return -(self.reduced_state(x) - self.equilibrium()) @ self.K.T
+
+    def closed_loop(self) -> control.StateSpace:
+        """Linear closed loop ``A - B K`` with the plant's state names."""
+        A, B = np.asarray(self.plant.A), np.asarray(self.plant.B)
+        n = A.shape[0]
+        return control.ss(A - B @ self.K, np.zeros((n, 1)), np.eye(n), 0, states=list(self.state_names),
+                          outputs=list(self.state_names), name=f"{self.method}_closed_loop")
+
+
+def _bryson(names: Sequence[str], max_dev: Mapping[str, float]) -> np.ndarray:
+    return np.diag([1.0 / max_dev[n] ** 2 for n in names])
+
+
+def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acceleration"] = "force",
+              Q: Any = None, R: Any = None, max_deviation: Mapping[str, float] | None = None
+              ) -> LinearGlideController:
+    """LQR regulator to the glide path of ``glide`` (z' included), designed with :func:`control.lqr`.
+
+    Parameters
+    ----------
+    veh, glide : Vehicle, SteadyGlide
+    inputs : {"force", "acceleration"}
+    Q, R : array_like, optional
+        Weights on the glide-path state and the input; default Bryson's rule with ``max_deviation``
+        (default :data:`DEFAULT_MAX_DEVIATION`).
+    """
+    sys = linearize_glide(veh, glide, inputs)
+    dev = {**DEFAULT_MAX_DEVIATION, **(max_deviation or {})}
+    Qm = _bryson(sys.state_labels, dev) if Q is None else np.asarray(Q, dtype=float)
+    Rm = _bryson(sys.input_labels, dev) if R is None else np.asarray(R, dtype=float)
+    try:
+        K, _, E = control.lqr(sys, Qm, Rm)
+    except Exception as exc:  # python-control raises several types (ControlArgument, LinAlgError, ValueError)
+        raise GlidectlError(f"LQR design failed for glide gamma = {np.degrees(glide.gamma):.2f} deg: {exc}") from exc
+    return LinearGlideController(np.asarray(K), "lqr", sys, np.asarray(E), glide, inputs, Qm, Rm)
+
+
+def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
+                inputs: Literal["force", "acceleration"] = "force") -> LinearGlideController:
+    """Pole placement to the glide path of ``glide`` with :func:`control.place` (1/s poles, conjugate-closed)."""
+    sys = linearize_glide(veh, glide, inputs)
+    p = np.asarray(poles, dtype=complex)
+    if p.size != sys.nstates:
+        raise GlidectlError(f"need {sys.nstates} poles for states {list(sys.state_labels)}, got {p.size}")
+    try:
+        K = np.asarray(control.place(np.asarray(sys.A), np.asarray(sys.B), p))
+    except Exception as exc:
+        raise GlidectlError(f"pole placement failed: {exc}") from exc
+    E = np.linalg.eigvals(np.asarray(sys.A) - np.asarray(sys.B) @ K)
+    return LinearGlideController(K, "place", sys, E, glide, inputs)
+
+
+ZETA = ("r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0")
+
+
+def decoupled_gain_matrix(kp1: float, kd1: float, kp3: float, kd3: float, k4: float) -> np.ndarray:
+    """Gain of ``w = -K (zeta - zeta_e)`` for (2.37): PD on each mass axis and P on buoyancy, shape (3, 5).
+
+    ``zeta = (r_P1, rdot_P1, r_P3, rdot_P3, m0)``; ``A + BK`` of the thesis becomes ``A - BK`` here with
+    characteristic polynomials ``s^2 + kd s + kp`` (mass axes) and ``s + k4`` (buoyancy).
+    """
+    K = np.zeros((3, 5))
+    K[0, 0], K[0, 1], K[1, 2], K[1, 3], K[2, 4] = kp1, kd1, kp3, kd3, k4
+    return K
+
+
+@dataclass(frozen=True)
+class DecoupledAccelerationFeedback:
+    """Decoupled feedback (2.37) on the moving mass and buoyancy of the acceleration-controlled glider.
+
+    ``w = -K (zeta - zeta_e(t))`` with ``zeta_e`` switching between steady glides at given times. Pass to
+    :func:`glidectl.sim.simulate` with :class:`~glidectl.models.longitudinal.AccelerationControlledGlider`.
+
+    Attributes
+    ----------
+    K : ndarray, shape (3, 5)
+    glides : tuple of SteadyGlide
+        Glide ``i`` is commanded from ``switch_times[i]`` (s) on.
+    switch_times : tuple of float
+    """
+
+    K: np.ndarray
+    glides: tuple[SteadyGlide, ...]
+    switch_times: tuple[float, ...] = field(default=(0.0,))
+
+    def __post_init__(self) -> None:
+        if len(self.glides) != len(self.switch_times) or list(self.switch_times) != sorted(self.switch_times):
+            raise GlidectlError("need one increasing switch time per glide")
+        if np.asarray(self.K).shape != (3, 5):
+            raise GlidectlError("K must have shape (3, 5): rows (w1, w3, w4), columns (r_P1, rdot_P1, r_P3, "
+                                "rdot_P3, m0)")
+
+    def zeta_e(self, t: float) -> np.ndarray:
+        """Commanded (r_P1, rdot_P1, r_P3, rdot_P3, m0) at time t (s)."""
+        i = int(np.searchsorted(self.switch_times, t, side="right")) - 1
+        g = self.glides[max(i, 0)]
+        return np.array([g.r_p1, 0.0, g.r_p3, 0.0, g.m0])
+
+    @property
+    def zeta_closed_loop_poles(self) -> np.ndarray:
+        """Eigenvalues of the zeta subsystem ``A - B K`` (1/s)."""
+        A = np.zeros((5, 5))
+        A[0, 1] = A[2, 3] = 1.0
+        B = np.zeros((5, 3))
+        B[1, 0] = B[3, 1] = B[4, 2] = 1.0
+        return np.linalg.eigvals(A - B @ self.K)
+
+    def __call__(self, t: float, x: Any) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        zeta = x[..., 6:11]
+        return -(zeta - self.zeta_e(t)) @ np.asarray(self.K).T

@@ -1,0 +1,123 @@
+"""Simulation of glidectl models in open or closed loop (scipy's ``solve_ivp``)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .errors import GlidectlError, SolverError
+
+__all__ = ["Model", "Simulation", "simulate"]
+
+
+class Model(Protocol):
+    """What :func:`simulate` needs of a model."""
+
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+
+    def rhs(self, x: Any, u: Any) -> Any: ...
+
+
+@dataclass(frozen=True)
+class Simulation:
+    """A simulated trajectory.
+
+    Attributes
+    ----------
+    t : ndarray, shape (N,)
+        Times (s).
+    x : ndarray, shape (N, n)
+        States, columns named by ``state_names``.
+    u : ndarray, shape (N, m)
+        Inputs applied (evaluated at the output times).
+    method, rtol, atol : integrator settings
+    nfev : int
+        Right-hand-side evaluations.
+    model : str
+        Model class and vehicle, for provenance.
+    """
+
+    t: np.ndarray
+    x: np.ndarray
+    u: np.ndarray
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    method: str
+    rtol: float
+    atol: float
+    nfev: int
+    model: str
+
+    def state(self, name: str) -> np.ndarray:
+        """Time history of one named state or input."""
+        if name in self.state_names:
+            return self.x[:, self.state_names.index(name)]
+        if name in self.input_names:
+            return self.u[:, self.input_names.index(name)]
+        raise GlidectlError(f"no state or input '{name}'; have {self.state_names + self.input_names}")
+
+    def plot(self, names: Sequence[str] | None = None, ax: Any = None) -> Any:
+        """Plot named states/inputs versus time (one axis each)."""
+        from .report.figures import plot_simulation
+
+        return plot_simulation(self, names, ax=ax)
+
+
+def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float, Any], Any] | None = None, *,
+             t_eval: Any = None, method: str = "LSODA", rtol: float = 1e-8, atol: float = 1e-10,
+             breakpoints: Sequence[float] = ()) -> Simulation:
+    """Integrate ``x' = f(x, controller(t, x))`` from ``x0`` over ``[0, t_final]`` seconds.
+
+    Parameters
+    ----------
+    model : Model
+        A glidectl model (``rhs``, ``state_names``, ``input_names``).
+    x0 : array_like, shape (n,)
+    t_final : float
+        Final time (s).
+    controller : callable, optional
+        ``(t, x) -> u``; zero input when omitted. If it has ``switch_times``, integration restarts there so that
+        discontinuous set-point changes are resolved exactly.
+    t_eval : array_like, optional
+        Output times; default 2001 evenly spaced points.
+    method, rtol, atol
+        Passed to :func:`scipy.integrate.solve_ivp` (LSODA switches automatically on stiff closed loops).
+    breakpoints : sequence of float
+        Extra restart times.
+    """
+    x0 = np.asarray(x0, dtype=float)
+    n, m = len(model.state_names), len(model.input_names)
+    if x0.shape != (n,):
+        raise GlidectlError(f"x0 must have shape ({n},) for states {model.state_names}, got {x0.shape}")
+    if not (np.isfinite(t_final) and t_final > 0):
+        raise GlidectlError(f"t_final must be a positive number of seconds, got {t_final!r}")
+    ctrl = controller if controller is not None else (lambda t, x: np.zeros(m))
+    te = np.linspace(0.0, t_final, 2001) if t_eval is None else np.asarray(t_eval, dtype=float)
+    cuts = sorted({0.0, float(t_final), *[float(s) for s in getattr(controller, "switch_times", ())
+                                          if 0 < s < t_final], *[b for b in breakpoints if 0 < b < t_final]})
+    ts, xs, nfev = [], [], 0
+    x = x0
+    for a, b in zip(cuts[:-1], cuts[1:], strict=True):
+        last = b == cuts[-1]
+        sol = solve_ivp(lambda t, y: model.rhs(y, ctrl(t, y)), (a, b), x, method=method, rtol=rtol,
+                        atol=atol, dense_output=True)
+        if not sol.success:
+            raise SolverError(f"integration failed at t = {sol.t[-1]:.4g} s: {sol.message}")
+        nfev += sol.nfev
+        seg = te[(te >= a) & ((te <= b) if last else (te < b))]
+        ts.append(seg)
+        xs.append(np.atleast_2d(sol.sol(seg).T) if seg.size else np.empty((0, n)))
+        x = sol.y[:, -1]
+        if not np.all(np.isfinite(sol.y)):
+            raise SolverError(f"integration produced non-finite states before t = {b:.4g} s")
+    t = np.concatenate(ts)
+    X = np.concatenate(xs)
+    U = np.array([np.asarray(ctrl(ti, xi), dtype=float) for ti, xi in zip(t, X, strict=True)]).reshape(-1, m)
+    vname = getattr(getattr(model, "vehicle", None), "name", "?")
+    return Simulation(t, X, U, tuple(model.state_names), tuple(model.input_names), method, rtol, atol, nfev,
+                      f"{type(model).__name__}({vname})")

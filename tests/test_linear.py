@@ -1,0 +1,308 @@
+"""Linearization about steady glides, modes, controllability and observability (§2.3.1)."""
+
+from __future__ import annotations
+
+import math
+
+import control
+import numpy as np
+import pytest
+from scipy.optimize import linear_sum_assignment
+
+from glidectl import GlidectlError, load_vehicle
+from glidectl.analysis.linear import controllability, linearize_glide, modes, observability
+from glidectl.trim.glide import steady_glide
+
+ROGUE = load_vehicle("rogue")
+FORCE_LABELS = ["z_prime", "theta", "Omega2", "v1", "v3", "r_P1", "r_P3", "P_P1", "P_P3", "m0"]
+ACCEL_LABELS = ["z_prime", "theta", "Omega2", "v1", "v3", "r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0"]
+GAMMAS_DEG = (-45.0, -30.0, 30.0, 45.0)
+OUTPUT_SETS = (("r_P1", "r_P3", "m0"), ("theta", "r_P1", "m0"), ("theta", "r_P3", "m0"))
+
+_CACHE: dict[tuple[float, str], control.StateSpace] = {}
+
+
+def glide(deg: float):
+    return steady_glide(ROGUE, 0.3, math.radians(deg), r_p3=0.05)
+
+
+def lin(deg: float, inputs: str) -> control.StateSpace:
+    key = (deg, inputs)
+    if key not in _CACHE:
+        _CACHE[key] = linearize_glide(ROGUE, glide(deg), inputs=inputs)
+    return _CACHE[key]
+
+
+def same_multiset(a: np.ndarray, b: np.ndarray, tol: float) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape:
+        return False
+    r, c = linear_sum_assignment(np.abs(a[:, None] - b[None, :]))
+    return bool(np.max(np.abs(a[r] - b[c])) <= tol)
+
+
+# ------------------------------------------------------------------------------------------ structure
+
+
+def test_force_form_labels():
+    sys = lin(-45.0, "force")
+    assert isinstance(sys, control.StateSpace)
+    assert list(sys.state_labels) == FORCE_LABELS
+    assert list(sys.input_labels) == ["u1", "u3", "u4"]
+    assert list(sys.output_labels) == FORCE_LABELS
+    assert np.array_equal(sys.C, np.eye(10)) and np.all(sys.D == 0)
+
+
+def test_acceleration_form_labels():
+    sys = lin(-45.0, "acceleration")
+    assert list(sys.state_labels) == ACCEL_LABELS
+    assert list(sys.input_labels) == ["w1", "w3", "w4"]
+
+
+def test_default_is_force():
+    sys = linearize_glide(ROGUE, glide(30.0))
+    assert np.array_equal(sys.A, lin(30.0, "force").A)
+
+
+@pytest.mark.parametrize("bad", ["torque", "Force", "", None])
+def test_bad_inputs_kind(bad):
+    with pytest.raises(GlidectlError):
+        linearize_glide(ROGUE, glide(-45.0), inputs=bad)
+
+
+def test_glide_of_another_vehicle_is_rejected():
+    other = load_vehicle("rogue", K_M=-40.0)
+    with pytest.raises(GlidectlError):
+        linearize_glide(other, glide(-45.0))
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+def test_acceleration_form_zeta_block(deg):
+    """(2.36): zeta' = A zeta + B w, A the double integrators, B selecting w; eta does not enter zeta'."""
+    sys = lin(deg, "acceleration")
+    A, B = np.asarray(sys.A), np.asarray(sys.B)
+    i = {s: k for k, s in enumerate(ACCEL_LABELS)}
+    for row, b in (("rdot_P1", [1, 0, 0]), ("rdot_P3", [0, 1, 0]), ("m0", [0, 0, 1])):
+        assert np.all(np.abs(A[i[row]]) <= 1e-14), row
+        np.testing.assert_allclose(B[i[row]], b, rtol=0, atol=1e-14)
+    for pos, vel in (("r_P1", "rdot_P1"), ("r_P3", "rdot_P3")):
+        expected = np.zeros(10)
+        expected[i[vel]] = 1.0
+        np.testing.assert_allclose(A[i[pos]], expected, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(B[i[pos]], 0, atol=1e-14)
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+@pytest.mark.parametrize("inputs", ["force", "acceleration"])
+def test_glide_path_row(deg, inputs):
+    """(2.30) linearized at a glide: dz''/dtheta = -V, dz''/dv1 = -sin(alpha), dz''/dv3 = cos(alpha)."""
+    sys = lin(deg, inputs)
+    gl = glide(deg)
+    A = np.asarray(sys.A)
+    row = A[0]
+    assert row[1] == pytest.approx(-gl.speed, rel=1e-13)
+    assert row[3] == pytest.approx(-math.sin(gl.alpha), rel=1e-12)
+    assert row[4] == pytest.approx(math.cos(gl.alpha), rel=1e-13)
+    assert np.all(np.abs(A[:, 0]) == 0)  # nothing depends on z'
+    assert np.all(np.abs(np.asarray(sys.B)[0]) <= 1e-14)
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+def test_force_form_spectrum_structure(deg):
+    """With u = 0 the rows of P_P1, P_P3, m0 and the column of z' vanish: four exact zeros, and the
+    remaining block (theta, Omega2, v1, v3, r_P1, r_P3) has one more zero (r_P moved along gravity is still an
+    equilibrium)."""
+    sys = lin(deg, "force")
+    A = np.asarray(sys.A)
+    i = {s: k for k, s in enumerate(FORCE_LABELS)}
+    for row in ("P_P1", "P_P3", "m0"):
+        assert np.all(A[i[row]] == 0)
+    blk = [i[s] for s in ("theta", "Omega2", "v1", "v3", "r_P1", "r_P3")]
+    gl = glide(deg)
+    null = np.zeros(10)
+    null[i["r_P1"]], null[i["r_P3"]] = -math.sin(gl.theta), math.cos(gl.theta)
+    assert np.max(np.abs(A @ null)) < 1e-12
+    lam = np.linalg.eigvals(A)
+    block = np.linalg.eigvals(A[np.ix_(blk, blk)])
+    assert same_multiset(lam, np.concatenate([block, np.zeros(4)]), 1e-9)
+    assert np.sum(np.abs(lam) < 1e-9) == 5
+
+
+def test_up_and_down_glides_are_not_dynamically_mirrored():
+    """The +-gamma glides with the same r_p3 are mirror images as equilibria (test_trim.py) but the model has
+    no reflection symmetry (test_longitudinal.py): their spectra differ. Numbers computed with glidectl."""
+    up = np.linalg.eigvals(np.asarray(lin(45.0, "force").A))
+    down = np.linalg.eigvals(np.asarray(lin(-45.0, "force").A))
+    assert not same_multiset(up, down, 1e-3)
+    assert up.real.max() > 1.0  # +45 deg: a real unstable mode near 2.05 1/s
+    assert down.real.max() < 1e-9  # -45 deg with r_p3 = 0.05 m: no unstable mode
+
+
+# ------------------------------------------------------------------------------------------ modes
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+@pytest.mark.parametrize("inputs", ["force", "acceleration"])
+def test_modes(deg, inputs):
+    sys = lin(deg, inputs)
+    A = np.asarray(sys.A)
+    m = modes(sys)
+    assert same_multiset(m.eigenvalues, np.linalg.eigvals(A), 1e-10)
+    assert np.all(np.diff(m.eigenvalues.real) <= 1e-12)  # decreasing real part
+    np.testing.assert_allclose(np.linalg.norm(m.eigenvectors, axis=0), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(A @ m.eigenvectors, m.eigenvectors * m.eigenvalues, atol=1e-8)
+    np.testing.assert_allclose(m.wn, np.abs(m.eigenvalues), rtol=1e-14)
+    nz = m.wn > 1e-9
+    np.testing.assert_allclose(m.zeta[nz], -m.eigenvalues.real[nz] / m.wn[nz], rtol=1e-12)
+    assert m.stable == bool(np.all(m.eigenvalues.real < 0))
+    assert not m.stable  # z' and the integrators give zero eigenvalues
+    assert set(m.dominant_states) <= set(sys.state_labels)
+
+
+# ------------------------------------------------------------------------------------------ controllability
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+@pytest.mark.parametrize("inputs", ["force", "acceleration"])
+def test_full_controllability(deg, inputs):
+    r = controllability(lin(deg, inputs))
+    assert r.full and r.rank == r.n == 10
+    assert r.uncontrollable_modes.size == 0
+    assert r.pbh_min.min() > 1e-3
+    assert r.channels == tuple(lin(deg, inputs).input_labels)
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+@pytest.mark.parametrize("axis", [1, 3])
+def test_controllability_with_moving_mass_on_one_axis(deg, axis):
+    """Acceleration form, mass locked on the other axis (its r_P, rdot_P removed): still controllable."""
+    sys = lin(deg, "acceleration")
+    other = 3 if axis == 1 else 1
+    states = [s for s in ACCEL_LABELS if s not in (f"r_P{other}", f"rdot_P{other}")]
+    r = controllability(sys, inputs=[f"w{axis}", "w4"], states=states)
+    assert r.n == 8
+    assert r.full and r.rank == 8
+    assert r.channels == (f"w{axis}", "w4")
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+def test_force_form_without_buoyancy_input(deg):
+    """Finding: without u4 the force model loses exactly one direction, m0 (m0' = u4 is then frozen); every
+    other state, including z', stays controllable from (u1, u3)."""
+    sys = lin(deg, "force")
+    r = controllability(sys, inputs=["u1", "u3"])
+    assert not r.full
+    assert r.rank == 9
+    assert np.all(np.abs(r.uncontrollable_modes) < 1e-12)
+    keep = [s for s in FORCE_LABELS if s != "m0"]
+    r2 = controllability(sys, inputs=["u1", "u3"], states=keep)
+    assert r2.full and r2.rank == 9
+    # the left null vector of [B, AB, ...] is e_m0
+    A, B = np.asarray(sys.A), np.asarray(sys.B)[:, :2]
+    e = np.zeros(10)
+    e[FORCE_LABELS.index("m0")] = 1.0
+    assert np.all(e @ A == 0) and np.all(e @ B == 0)
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+def test_force_form_single_force_component_is_not_enough(deg):
+    """In force form P_P3' = u3: dropping u3 freezes P_P3, so (u1, u4) cannot be a one-axis design there
+    (hence the one-axis study is done in acceleration form)."""
+    r = controllability(lin(deg, "force"), inputs=["u1", "u4"])
+    assert not r.full and r.rank == 9
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+def test_acceleration_form_without_buoyancy_input(deg):
+    r = controllability(lin(deg, "acceleration"), inputs=["w1", "w3"])
+    assert r.rank == 9 and not r.full
+    keep = [s for s in ACCEL_LABELS if s != "m0"]
+    assert controllability(lin(deg, "acceleration"), inputs=["w1", "w3"], states=keep).full
+
+
+def test_controllability_unknown_names():
+    sys = lin(-45.0, "force")
+    with pytest.raises(GlidectlError):
+        controllability(sys, inputs=["u2"])
+    with pytest.raises(GlidectlError):
+        controllability(sys, states=["theta", "bogus"])
+    with pytest.raises(GlidectlError):
+        observability(sys, ["bogus"])
+
+
+# ------------------------------------------------------------------------------------------ observability
+
+
+def _sub(sys: control.StateSpace, drop: str) -> control.StateSpace:
+    keep = [k for k, s in enumerate(sys.state_labels) if s != drop]
+    A = np.asarray(sys.A)[np.ix_(keep, keep)]
+    B = np.asarray(sys.B)[keep]
+    names = [sys.state_labels[k] for k in keep]
+    return control.ss(A, B, np.eye(len(keep)), 0, states=names, inputs=list(sys.input_labels), outputs=names)
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+@pytest.mark.parametrize("outputs", OUTPUT_SETS)
+def test_observability_force_form(deg, outputs):
+    """All states but z' observable from (r_P1, r_P3, m0), (theta, r_P1, m0) or (theta, r_P3, m0)."""
+    sys = lin(deg, "force")
+    r = observability(sys, list(outputs))
+    assert r.rank == r.n - 1 == 9
+    assert not r.full
+    assert r.channels == outputs
+    assert r.uncontrollable_modes.size >= 1
+    assert np.all(np.abs(r.uncontrollable_modes) < 1e-12)  # the unobservable eigenvalue is 0
+    # z' is the unobservable direction: A e_z' = 0, C e_z' = 0, and the rest is observable
+    assert np.all(np.asarray(sys.A)[:, 0] == 0) and "z_prime" not in outputs
+    assert observability(_sub(sys, "z_prime"), list(outputs)).full
+    assert observability(sys, [*outputs, "z_prime"]).full
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+@pytest.mark.parametrize("outputs", OUTPUT_SETS[1:])
+def test_observability_acceleration_form_with_pitch(deg, outputs):
+    sys = lin(deg, "acceleration")
+    r = observability(sys, list(outputs))
+    assert r.rank == 9
+    assert np.all(np.abs(r.uncontrollable_modes) < 1e-12)
+    assert observability(_sub(sys, "z_prime"), list(outputs)).full
+    assert observability(sys, [*outputs, "z_prime"]).full
+
+
+@pytest.mark.parametrize("deg", GAMMAS_DEG)
+def test_observability_acceleration_form_from_mass_states_only(deg):
+    """Finding: in acceleration form (r_P1, r_P3, m0) sees only zeta. zeta' = A zeta + B w does not depend on
+    eta (block-triangular (2.35)-(2.36)), so the observable subspace is zeta: rank 5, not n - 1. The thesis's
+    claim for these outputs is about the force-form models of [6, 48] (true there, test above)."""
+    sys = lin(deg, "acceleration")
+    A = np.asarray(sys.A)
+    i = {s: k for k, s in enumerate(ACCEL_LABELS)}
+    zeta = [i[s] for s in ("r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0")]
+    eta = [i[s] for s in ("z_prime", "theta", "Omega2", "v1", "v3")]
+    assert np.all(np.abs(A[np.ix_(zeta, eta)]) <= 1e-14)
+    r = observability(sys, ["r_P1", "r_P3", "m0"])
+    assert r.rank == 5
+    # unobservable modes: those of the eta block (0 for z' and the four eigenvalues of dq_r/deta_r)
+    eta_eigs = np.linalg.eigvals(A[np.ix_(eta, eta)])
+    for lam in eta_eigs:
+        assert np.min(np.abs(r.uncontrollable_modes - lam)) < 1e-9, lam
+    assert np.any(np.abs(eta_eigs) > 0.1)  # so these are genuinely unobservable dynamic modes, not just z'
+
+
+@pytest.mark.parametrize("what", ["inputs", "states", "outputs"])
+def test_empty_selection_is_not_everything(what):
+    """An empty channel/state selection must not silently mean 'all of them' (which reports full rank), nor
+    fail deep inside python-control: either a GlidectlError or a rank-0 answer."""
+    sys = lin(-45.0, "force")
+    try:
+        if what == "inputs":
+            r = controllability(sys, inputs=[])
+        elif what == "states":
+            r = controllability(sys, states=[])
+        else:
+            r = observability(sys, [])
+    except GlidectlError:
+        return
+    assert r.rank == 0
+    if what != "states":  # with no inputs/outputs a 10-state system is neither controllable nor observable
+        assert r.n == 10 and not r.full
