@@ -1,5 +1,53 @@
-"""glidectl: control-systems design for gliding vehicles (after Bhatta, Princeton 2006)."""
+"""glidectl: control-systems design for gliding vehicles (after Bhatta, Princeton 2006).
+
+Public API (chapter 2, longitudinal underwater glider)::
+
+    import glidectl as gc
+    veh = gc.load_vehicle("rogue")                 # preset name or path to a TOML file
+    lo, hi = gc.permissible_gamma(veh)             # rad; glides need gamma < lo or gamma > hi
+    g = gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05)
+    sys = gc.linearize_glide(veh, g, inputs="force")   # control.StateSpace with named states/inputs
+"""
+
+from .analysis.jacobian import central_difference_jacobians, jacobians
+from .analysis.linear import (
+    Modes,
+    RankTest,
+    controllability,
+    glide_model,
+    linearize_glide,
+    modes,
+    observability,
+)
+from .analysis.locus import (
+    BreakPoint,
+    ParameterLocus,
+    mbar_locus,
+    parameter_locus,
+    rbh_locus,
+    uncontrolled_eigs,
+)
+from .controllers.linear import (
+    DecoupledAccelerationFeedback,
+    LinearGlideController,
+    decoupled_gain_matrix,
+    lqr_glide,
+    place_glide,
+)
 from .errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError, VehicleFileError
+from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
 from .params import Vehicle, list_presets, load_vehicle
+from .sim import Simulation, simulate
+from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 
 __version__ = "0.1.0"
+
+__all__ = [
+    "AccelerationControlledGlider", "BreakPoint", "DecoupledAccelerationFeedback", "GlidePathModel",
+    "GlidectlError", "InfeasibleGlideError", "LinearGlideController", "LongitudinalGlider", "ModelError",
+    "Modes", "ParameterLocus", "RankTest", "Simulation", "SolverError", "SteadyGlide", "Vehicle",
+    "VehicleFileError", "central_difference_jacobians", "controllability", "decoupled_gain_matrix",
+    "glide_model", "jacobians", "linearize_glide", "list_presets", "load_vehicle", "lqr_glide", "mbar_locus",
+    "modes", "observability", "parameter_locus", "permissible_gamma", "place_glide", "rbh_locus", "simulate",
+    "steady_glide", "uncontrolled_eigs",
+]

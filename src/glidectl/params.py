@@ -149,6 +149,11 @@ class Vehicle:
     overrides: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     notes: str = ""
 
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        # mappingproxy fields do not pickle; rebuild from plain dicts (used by pickle, copy and multiprocessing)
+        return (_vehicle_from_plain, (self.name, self.kind, self.title, dict(self.params), dict(self.sources),
+                                      self.path, dict(self.overrides), self.notes))
+
     def __getattr__(self, key: str) -> float:
         params = object.__getattribute__(self, "params")
         if key in params:
@@ -236,6 +241,13 @@ def _check_value(key: str, value: Any, spec: ParamSpec, where: str) -> float:
     if spec.constraint == "nonnegative" and not v >= 0:
         raise VehicleFileError(f"{where}: parameter '{key}' ({spec.description}) must be >= 0, got {v:g}")
     return v
+
+
+def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
+                        path: str, overrides: dict[str, float], notes: str) -> Vehicle:
+    return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
+                   sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
+                   notes=notes)
 
 
 def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -40,6 +41,8 @@ class Simulation:
         Right-hand-side evaluations.
     model : str
         Model class and vehicle, for provenance.
+    stopped_at : float or None
+        Time (s) at which the ``stop`` condition of :func:`simulate` ended the run (None: ran to ``t_final``).
     """
 
     t: np.ndarray
@@ -52,6 +55,7 @@ class Simulation:
     atol: float
     nfev: int
     model: str
+    stopped_at: float | None = None
 
     def state(self, name: str) -> np.ndarray:
         """Time history of one named state or input."""
@@ -70,7 +74,8 @@ class Simulation:
 
 def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float, Any], Any] | None = None, *,
              t_eval: Any = None, method: str = "LSODA", rtol: float = 1e-8, atol: float = 1e-10,
-             breakpoints: Sequence[float] = ()) -> Simulation:
+             breakpoints: Sequence[float] = (),
+             stop: Callable[[float, np.ndarray], float] | None = None) -> Simulation:
     """Integrate ``x' = f(x, controller(t, x))`` from ``x0`` over ``[0, t_final]`` seconds.
 
     Parameters
@@ -89,6 +94,10 @@ def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float,
         Passed to :func:`scipy.integrate.solve_ivp` (LSODA switches automatically on stiff closed loops).
     breakpoints : sequence of float
         Extra restart times.
+    stop : callable, optional
+        ``(t, x) -> float``, continuous, positive while the run should go on; the run ends (recorded in
+        ``Simulation.stopped_at``) where it falls through zero. Use it to end diverging runs early, e.g.
+        ``lambda t, x: 5.0 - abs(z_prime(x))``.
     """
     x0 = np.asarray(x0, dtype=float)
     n, m = len(model.state_names), len(model.input_names)
@@ -100,24 +109,42 @@ def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float,
     te = np.linspace(0.0, t_final, 2001) if t_eval is None else np.asarray(t_eval, dtype=float)
     cuts = sorted({0.0, float(t_final), *[float(s) for s in getattr(controller, "switch_times", ())
                                           if 0 < s < t_final], *[b for b in breakpoints if 0 < b < t_final]})
+    events = None
+    if stop is not None:
+        if stop(0.0, x0) <= 0:
+            raise GlidectlError("the stop condition is already met at t = 0 (stop(0, x0) <= 0)")
+
+        def events(t: float, y: np.ndarray) -> float:
+            return float(stop(t, y))
+
+        events.terminal = True  # type: ignore[attr-defined]
+        events.direction = -1  # type: ignore[attr-defined]
     ts, xs, nfev = [], [], 0
     x = x0
-    for a, b in zip(cuts[:-1], cuts[1:], strict=True):
+    stopped_at = None
+    for a, b in itertools.pairwise(cuts):
         last = b == cuts[-1]
         sol = solve_ivp(lambda t, y: model.rhs(y, ctrl(t, y)), (a, b), x, method=method, rtol=rtol,
-                        atol=atol, dense_output=True)
+                        atol=atol, dense_output=True, events=events)
         if not sol.success:
             raise SolverError(f"integration failed at t = {sol.t[-1]:.4g} s: {sol.message}")
         nfev += sol.nfev
-        seg = te[(te >= a) & ((te <= b) if last else (te < b))]
+        if sol.status == 1:  # stop condition met
+            stopped_at = float(sol.t[-1])
+            seg = te[(te >= a) & (te <= stopped_at)]
+            last = True
+        else:
+            seg = te[(te >= a) & ((te <= b) if last else (te < b))]
         ts.append(seg)
         xs.append(np.atleast_2d(sol.sol(seg).T) if seg.size else np.empty((0, n)))
         x = sol.y[:, -1]
         if not np.all(np.isfinite(sol.y)):
             raise SolverError(f"integration produced non-finite states before t = {b:.4g} s")
+        if stopped_at is not None:
+            break
     t = np.concatenate(ts)
     X = np.concatenate(xs)
     U = np.array([np.asarray(ctrl(ti, xi), dtype=float) for ti, xi in zip(t, X, strict=True)]).reshape(-1, m)
     vname = getattr(getattr(model, "vehicle", None), "name", "?")
     return Simulation(t, X, U, tuple(model.state_names), tuple(model.input_names), method, rtol, atol, nfev,
-                      f"{type(model).__name__}({vname})")
+                      f"{type(model).__name__}({vname})", stopped_at)

@@ -17,7 +17,6 @@ import numpy as np
 
 from ..errors import GlidectlError
 from ..models.longitudinal import (
-    STATE_UNITS,
     AccelerationControlledGlider,
     GlidePathModel,
     LongitudinalGlider,
@@ -104,6 +103,13 @@ class Modes:
         """All eigenvalues strictly in the open left half plane."""
         return bool(np.all(self.eigenvalues.real < 0))
 
+    def __str__(self) -> str:
+        lines = [f"{'eigenvalue [1/s]':>26} {'wn [rad/s]':>11} {'zeta':>8} {'tau [s]':>10}  dominant state"]
+        for lam, wn, z, tc, d in zip(self.eigenvalues, self.wn, self.zeta, self.time_constant,
+                                     self.dominant_states, strict=True):
+            lines.append(f"{lam.real:12.5g} {lam.imag:+12.5g}i {wn:11.5g} {z:8.4g} {tc:10.4g}  {d}")
+        return "\n".join(lines)
+
 
 def modes(sys: control.StateSpace) -> Modes:
     """Eigenvalues, eigenvectors, natural frequencies, damping ratios and dominant states of ``sys``."""
@@ -165,6 +171,13 @@ class RankTest:
         """Number of eigenvalues (with multiplicity) failing the PBH test."""
         return int(self.uncontrollable_modes.size)
 
+    def __str__(self) -> str:
+        verdict = "full" if self.full else "NOT full"
+        bad = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in np.unique(np.round(self.uncontrollable_modes, 9)))
+        return (f"{self.kind} with {', '.join(self.channels)}: rank {self.rank}/{self.n} ({verdict}; "
+                f"tol {self.tol:.2e}, min relative PBH singular value {np.min(self.pbh_min):.2e})"
+                + (f"; failing PBH at {bad}" if bad else ""))
+
 
 def _scaled_rank(K: np.ndarray, tol: float | None) -> tuple[int, float, np.ndarray]:
     s = np.linalg.svd(K, compute_uv=False)
@@ -183,6 +196,10 @@ def _pbh(A: np.ndarray, B: np.ndarray, pbh_tol: float) -> tuple[np.ndarray, np.n
 
 
 def _index(sys: control.StateSpace, names: Sequence[str], labels: Sequence[str], what: str) -> list[int]:
+    if isinstance(names, str):
+        names = [names]
+    if len(names) == 0:
+        raise GlidectlError(f"empty {what} selection; pass None for all of {list(labels)}")
     bad = [q for q in names if q not in labels]
     if bad:
         raise GlidectlError(f"unknown {what} {bad}; this model has {list(labels)}")
@@ -208,8 +225,8 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
         Threshold on the relative PBH singular value.
     """
     A, B = np.asarray(sys.A), np.asarray(sys.B)
-    si = _index(sys, states or sys.state_labels, sys.state_labels, "state")
-    ui = _index(sys, inputs or sys.input_labels, sys.input_labels, "input")
+    si = _index(sys, sys.state_labels if states is None else states, sys.state_labels, "state")
+    ui = _index(sys, sys.input_labels if inputs is None else inputs, sys.input_labels, "input")
     A, B = A[np.ix_(si, si)], B[np.ix_(si, ui)]
     # diagonal similarity scaling (balancing) to make the Kalman matrix well conditioned
     from scipy.linalg import matrix_balance

@@ -9,6 +9,7 @@ matrices.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -22,7 +23,7 @@ from ..params import Vehicle
 from ..trim.glide import steady_glide
 from .jacobian import jacobians
 
-__all__ = ["BreakPoint", "ParameterLocus", "mbar_locus", "parameter_locus", "rbh_locus"]
+__all__ = ["BreakPoint", "ParameterLocus", "mbar_locus", "parameter_locus", "rbh_locus", "uncontrolled_eigs"]
 
 ETA_R = ("theta", "Omega2", "v1", "v3")
 
@@ -118,11 +119,19 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
 
     hv = np.array([np.max(e.real) for e in eigs])
     crossings: list[float] = []
-    for i in np.nonzero(np.sign(hv[:-1]) * np.sign(hv[1:]) < 0)[0]:
+    sg = np.sign(hv)
+    nz = np.nonzero(sg)[0]  # grid points with a definite sign; exact zeros are handled between them
+    for i, j in itertools.pairwise(nz):
+        if sg[i] * sg[j] > 0:
+            continue
+        if j > i + 1:  # max Re(lambda) is exactly 0 on the grid points between i and j
+            crossings.append(float(vals[(i + j) // 2]))
+            continue
         try:
-            crossings.append(float(brentq(h, vals[i], vals[i + 1], xtol=1e-13, rtol=1e-12, maxiter=200)))
+            crossings.append(float(brentq(h, vals[i], vals[j], xtol=1e-13, rtol=1e-12, maxiter=200)))
         except (ValueError, RuntimeError) as exc:  # pragma: no cover - brentq is guaranteed by the sign change
-            raise SolverError(f"stability boundary search failed between {vals[i]:g} and {vals[i+1]:g}: {exc}")
+            raise SolverError(
+                f"stability boundary search failed between {vals[i]:g} and {vals[j]:g}: {exc}") from exc
     bps: list[BreakPoint] = []
     nr = np.array([_n_real(e) for e in eigs])
     for i in np.nonzero(nr[:-1] != nr[1:])[0]:

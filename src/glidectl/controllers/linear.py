@@ -7,12 +7,14 @@ Controllers are frozen objects; ``controller(t, x)`` returns the input for a sta
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import control
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from ..analysis.linear import linearize_glide
 from ..errors import GlidectlError
@@ -130,10 +132,19 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
     if p.size != sys.nstates:
         raise GlidectlError(f"need {sys.nstates} poles for states {list(sys.state_labels)}, got {p.size}")
     try:
-        K = np.asarray(control.place(np.asarray(sys.A), np.asarray(sys.B), p))
+        with warnings.catch_warnings():
+            # scipy's YT robustness iteration may stop before its tolerance; the placement itself is checked below
+            warnings.filterwarnings("ignore", message="Convergence was not reached", category=UserWarning)
+            K = np.asarray(control.place(np.asarray(sys.A), np.asarray(sys.B), p))
     except Exception as exc:
         raise GlidectlError(f"pole placement failed: {exc}") from exc
     E = np.linalg.eigvals(np.asarray(sys.A) - np.asarray(sys.B) @ K)
+    r, c = linear_sum_assignment(np.abs(E[:, None] - p[None, :]))
+    err = float(np.max(np.abs(E[r] - p[c]) / np.maximum(1.0, np.abs(p[c]))))
+    if err > 1e-6:
+        raise GlidectlError(f"pole placement inaccurate: closed-loop poles {np.round(E, 6)} differ from the "
+                            f"requested {np.round(p, 6)} (relative error {err:.1e}); the requested set may be "
+                            "ill-conditioned for this plant")
     return LinearGlideController(K, "place", sys, E, glide, inputs)
 
 

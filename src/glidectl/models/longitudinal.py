@@ -21,14 +21,14 @@ from ..hydro import longitudinal_loads
 from ..params import Vehicle
 
 __all__ = [
-    "FORCE_INPUTS",
-    "FORCE_STATES",
     "ACCEL_INPUTS",
     "ACCEL_STATES",
+    "FORCE_INPUTS",
+    "FORCE_STATES",
+    "STATE_UNITS",
     "AccelerationControlledGlider",
     "GlidePathModel",
     "LongitudinalGlider",
-    "STATE_UNITS",
 ]
 
 FORCE_STATES = ("x", "z", "theta", "Omega2", "v1", "v3", "r_P1", "r_P3", "P_P1", "P_P3", "m0")
@@ -145,6 +145,9 @@ class AccelerationControlledGlider:
     vehicle: Vehicle
     state_names: tuple[str, ...] = ACCEL_STATES
     input_names: tuple[str, ...] = ACCEL_INPUTS
+
+    def __post_init__(self) -> None:
+        LongitudinalGlider(self.vehicle)  # same validity conditions (underwater glider, mbar > 0)
 
     @property
     def force_model(self) -> LongitudinalGlider:

@@ -19,10 +19,10 @@ from typing import Any
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.backends.backend_pdf import PdfPages  # noqa: E402
+import matplotlib.pyplot as plt
+from matplotlib.backends.backend_pdf import PdfPages
 
-from ..params import Vehicle  # noqa: E402
+from ..params import Vehicle
 
 __all__ = ["Number", "Report"]
 

@@ -8,11 +8,11 @@ from typing import TYPE_CHECKING, Any
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.collections import LineCollection  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.collections import LineCollection
 
-from ..models.longitudinal import STATE_UNITS  # noqa: E402
+from ..models.longitudinal import STATE_UNITS
 
 if TYPE_CHECKING:
     from ..analysis.locus import ParameterLocus

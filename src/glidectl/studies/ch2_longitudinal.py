@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ..analysis.linear import controllability, linearize_glide, modes, observability
+from ..analysis.linear import controllability, linearize_glide, observability
 from ..analysis.locus import ParameterLocus, mbar_locus, rbh_locus, uncontrolled_eigs
 from ..controllers.linear import (
     DecoupledAccelerationFeedback,
@@ -40,6 +40,9 @@ RBH_GRID = (-0.03, 0.06, 400)  # m
 MBAR_GRID = (0.01, 10.0, 300)  # kg, geometric
 THESIS_K_DIAG = 100.0 * np.array([1.0, 3.0, 1.0, 3.0, 0.5])  # printed diag of K in (2.37)
 PLACE_POLES = (-0.15, -0.3, -0.5, -0.7, -0.9, -1.2, -1.5, -2.0, -2.5, -3.0)  # 1/s
+#: initial glide-path offsets z'(0) (m) of the nonlinear recovery runs, per design
+RECOVERY_OFFSETS: dict[str, tuple[float, ...]] = {"lqr": (0.5,), "place": (0.1, 0.2)}
+DIVERGED_ZP = 10.0  # a recovery run is stopped (and called diverged) once |z'| exceeds this multiple of z'(0)
 REPRO_TOL = 0.01  # relative: "reproduced" means within 1 % of the printed value (uniform policy)
 
 
@@ -60,7 +63,7 @@ class Ch2Results:
     mbar_rbh0: ParameterLocus
     lqr: LinearGlideController
     place: LinearGlideController
-    recovery: dict[str, Simulation]
+    recovery: dict[tuple[str, float], Simulation]  # (method, z'(0) in m) -> run
     k_printed_poles: np.ndarray
     k_corrected_poles: np.ndarray
     switch: Simulation
@@ -136,10 +139,15 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> Ch2Results:
     progress("LQR and pole placement on the glide path (z' included); nonlinear recovery simulations")
     lqr = lqr_glide(veh, g_down)
     plc = place_glide(veh, g_down, PLACE_POLES)
-    x0 = g_down.force_state()
-    x0[1] = 0.5 / math.cos(g_down.gamma)  # start 0.5 m off the path (z' = 0.5 m)
     model = LongitudinalGlider(veh)
-    recovery = {c.method: simulate(model, x0, 120.0, c) for c in (lqr, plc)}
+    recovery: dict[tuple[str, float], Simulation] = {}
+    for c in (lqr, plc):
+        for off in RECOVERY_OFFSETS[c.method]:
+            x0 = g_down.force_state()
+            x0[1] = off / math.cos(g_down.gamma)  # start off the path by z' = off (x = 0)
+            recovery[(c.method, off)] = simulate(
+                model, x0, 120.0, c,
+                stop=lambda t, x, c=c, off=off: DIVERGED_ZP * off - abs(float(c.reduced_state(x)[0])))
 
     progress("decoupled acceleration feedback (2.37) and the -45 -> +45 deg switch (Fig 2.8)")
     kd = THESIS_K_DIAG
@@ -166,8 +174,7 @@ def figures(res: Ch2Results) -> dict[str, tuple[Any, str]]:
     # glide family vs gamma
     fig, ax = new_figure(1, 2, width=9, height=3.6)
     lo, hi = res.permissible
-    for sgn, rng in ((-1, np.linspace(-89.0, math.degrees(lo) - 0.05, 200)),
-                     (1, np.linspace(math.degrees(hi) + 0.05, 89.0, 200))):
+    for rng in (np.linspace(-89.0, math.degrees(lo) - 0.05, 200), np.linspace(math.degrees(hi) + 0.05, 89.0, 200)):
         gl = [steady_glide(veh, SPEED, math.radians(gd), r_p3=R_P3) for gd in rng]
         ax[0].plot(rng, [math.degrees(g.alpha) for g in gl], "C0")
         ax[1].plot(rng, [g.m0 for g in gl], "C1")
@@ -209,13 +216,22 @@ def figures(res: Ch2Results) -> dict[str, tuple[Any, str]]:
                          "0.257 kg statement of 2.3.1; no thesis figure.")
 
     fig, ax = new_figure(4, 1, width=7, height=7.2, sharex=True)
-    for name, sim in res.recovery.items():
+    for k, ((name, off), sim) in enumerate(res.recovery.items()):
         c = res.lqr if name == "lqr" else res.place
         zp = c.reduced_state(sim.x)[:, 0]
-        ax[0].plot(sim.t, zp, label=name)
+        tag = "LQR" if name == "lqr" else "placement"
+        lab = f"{tag}, z'(0) = {off:g} m" + (f" (diverged, stopped at {sim.stopped_at:.1f} s)"
+                                             if sim.stopped_at is not None else "")
+        ax[0].plot(sim.t, zp / off, color=f"C{k}", label=lab)
         for a, u in zip(ax[1:], ("u1", "u3", "u4"), strict=True):
-            a.plot(sim.t, sim.state(u), label=name)
-    ax[0].set_ylabel(r"$z'$ [m]")
+            a.plot(sim.t, sim.state(u), color=f"C{k}")
+    ax[0].set_ylim(-1.5, 1.5)
+    # input axes scaled to the runs that converged (a diverging run leaves the axes)
+    ok = [sim for sim in res.recovery.values() if sim.stopped_at is None]
+    for a, u in zip(ax[1:], ("u1", "u3", "u4"), strict=True):
+        lim = 1.2 * max(float(np.max(np.abs(sim.state(u)))) for sim in ok) if ok else 1.0
+        a.set_ylim(-lim, lim)
+    ax[0].set_ylabel(r"$z'/z'(0)$ [-]")
     ax[1].set_ylabel(r"$u_1$ [N]")
     ax[2].set_ylabel(r"$u_3$ [N]")
     ax[3].set_ylabel(r"$u_4$ [kg/s]")
@@ -225,7 +241,9 @@ def figures(res: Ch2Results) -> dict[str, tuple[Any, str]]:
     ax[0].legend(fontsize=8)
     out["glide_path_recovery"] = (fig, "Nonlinear ROGUE (force inputs) under the LQR and pole-placement laws "
                                   "designed on the linearization with z' (2.30), recovering the -45 deg glide path "
-                                  "from a 0.5 m offset. No thesis figure.")
+                                  "from an offset z'(0) (z' normalized by it; input axes scaled to the converging "
+                                  "runs). "
+                                  + _recovery_summary(res) + " No thesis figure.")
 
     sim = res.switch
     fig = plt.figure(figsize=(10, 6.5), layout="constrained")
@@ -246,11 +264,11 @@ def figures(res: Ch2Results) -> dict[str, tuple[Any, str]]:
     axes[0].plot(sim.t, np.degrees(th), label=r"$\theta$")
     axes[0].plot(sim.t, np.degrees(th - alpha), label=r"$\gamma$")
     axes[0].plot(sim.t, np.degrees(alpha), label=r"$\alpha$")
-    axes[0].set_ylabel("[deg]")
+    axes[0].set_ylabel("angle [deg]")
     axes[0].legend(fontsize=8, ncol=3)
     axes[1].plot(sim.t, 100 * sim.state("r_P1"), label=r"$r_{P1}$")
     axes[1].plot(sim.t, 100 * sim.state("r_P3"), label=r"$r_{P3}$")
-    axes[1].set_ylabel("[cm]")
+    axes[1].set_ylabel("moving-mass position [cm]")
     axes[1].legend(fontsize=8)
     axes[2].plot(sim.t, sim.state("m0"), "C2", label=r"$m_0$")
     ax2 = axes[2].twinx()
@@ -268,6 +286,20 @@ def figures(res: Ch2Results) -> dict[str, tuple[Any, str]]:
 
 
 # ---------------------------------------------------------------------------------------------- report
+def _recovery_outcome(res: Ch2Results, key: tuple[str, float]) -> str:
+    sim = res.recovery[key]
+    if sim.stopped_at is not None:
+        return f"diverges (|z'| > {DIVERGED_ZP:g} z'(0) at t = {sim.stopped_at:.1f} s)"
+    c = res.lqr if key[0] == "lqr" else res.place
+    return f"converges (|z'(120 s)| = {abs(float(c.reduced_state(sim.x[-1])[0])):.1e} m)"
+
+
+def _recovery_summary(res: Ch2Results) -> str:
+    parts = [f"{'LQR' if m == 'lqr' else 'placement'} from {off:g} m {_recovery_outcome(res, (m, off))}"
+             for (m, off) in res.recovery]
+    return "; ".join(parts) + "."
+
+
 def _pairs(lam: np.ndarray) -> list[list[float]]:
     lam = np.asarray(lam)
     lam = lam[np.lexsort((-lam.imag, -lam.real))]
@@ -284,7 +316,7 @@ def report(res: Ch2Results) -> Report:
                     f"{math.degrees(lo):.4f} deg, up glides gamma > {math.degrees(hi):.4f} deg. No printed value.")
     rep.number("r_P3_choice_m", R_P3, "m", "our choice",
                note="The thesis does not state which member of the r_P family its ROGUE numbers use; every "
-                    "equilibrium here has r_P3 = 0.05 m (r_bh = %.4f m at -45 deg)." % res.glides[-45.0].r_bh)
+                    f"equilibrium here has r_P3 = 0.05 m (r_bh = {res.glides[-45.0].r_bh:.4f} m at -45 deg).")
     ev = res.uncontrolled[-45.0]
     rep.number("eig_uncontrolled_m45", _pairs(ev), "1/s", "2.3.1", thesis=[[0.099, 2.325], [0.099, -2.325]],
                verdict=False,
@@ -316,7 +348,15 @@ def report(res: Ch2Results) -> Report:
     rep.number("lqr_closed_loop_poles", _pairs(res.lqr.closed_loop_poles), "1/s", "our design",
                note="LQR with Bryson weights (glidectl.controllers.linear.DEFAULT_MAX_DEVIATION) on the force "
                     "model with z'.")
-    rep.number("place_closed_loop_poles", _pairs(res.place.closed_loop_poles), "1/s", "our design")
+    rep.number("place_closed_loop_poles", _pairs(res.place.closed_loop_poles), "1/s", "our design",
+               note="Real poles spread over [-3, -0.15] 1/s (control.place).")
+    for (m, off), sim in res.recovery.items():
+        c = res.lqr if m == "lqr" else res.place
+        rep.number(f"recovery_{m}_{off:g}m_final_zprime", float(c.reduced_state(sim.x[-1])[0]), "m", "our design",
+                   note=f"Nonlinear closed loop from z'(0) = {off:g} m: {_recovery_outcome(res, (m, off))}. "
+                        "Both laws are linearly stable (all closed-loop poles in the left half plane); whether "
+                        "the nonlinear glider returns to the path depends on the offset, so the linear design "
+                        "alone does not certify a useful region of attraction.")
     rep.number("K_printed_zeta_poles", _pairs(res.k_printed_poles), "1/s", "(2.37), 2.3.2",
                note="K = diag(100*[1 3 1 3 0.5]) cannot multiply zeta (5) to give w (3) as printed; read as PD on "
                     "each mass axis and P on m0 with w = +K(zeta - zeta_e) as printed, A + BK has eigenvalues "

@@ -1,0 +1,91 @@
+"""The ``glidectl`` command and the chapter-2 report (PDF, PNGs, numbers.json)."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import glidectl as gc
+from glidectl import studies
+from glidectl.cli import main
+from glidectl.report.document import Number, Report
+
+REQUIRED = ("permissible_gamma_deg", "eig_uncontrolled_m45", "rbh_stability_boundary_m", "mbar_threshold_kg")
+
+
+def test_list_shows_presets_and_designs(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    for name in gc.list_presets():
+        assert name in out
+    assert "ch2_longitudinal" in out
+    assert set(gc.list_presets()) >= {"rogue", "sphere_ch5", "elevator_ch6", "slocum_ch8", "dc8_ctol"}
+
+
+def test_unknown_design_is_a_clear_error(capsys, tmp_path):
+    assert main(["report", "no_such_design", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "no_such_design" in err and "ch2_longitudinal" in err
+
+
+def test_report_number_verdicts():
+    n = Number("x", 1.005, "m", "§0", thesis=1.0, tolerance=0.01)
+    assert n.reproduced is True and n.rel_err == pytest.approx(0.005)
+    assert Number("x", 1.02, "m", "§0", thesis=1.0, tolerance=0.01).reproduced is False
+    assert Number("x", 1.0, "m", "§0").reproduced is None
+    assert Number("x", [1.0, 2.0], "m", "§0", thesis=[3.0], verdict=False).reproduced is False
+    rep = Report("t", "t")
+    rep.number("a", 1.0, "m", "§0")
+    with pytest.raises(ValueError, match="duplicate"):
+        rep.number("a", 2.0, "m", "§0")
+
+
+@pytest.fixture(scope="module")
+def ch2_report(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("reports")
+    # the installed console script, as a user runs it
+    proc = subprocess.run([sys.executable, "-m", "glidectl.cli", "report", "ch2_longitudinal", "--out", str(out)],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert "done in" in proc.stdout  # progress display
+    return out / "ch2_longitudinal"
+
+
+def test_ch2_report_files(ch2_report):
+    assert (ch2_report / "report.pdf").stat().st_size > 50_000
+    pngs = sorted(p.name for p in ch2_report.glob("*.png"))
+    assert {"fig2_7_rbh_locus.png", "fig2_8_glide_switch.png"} <= set(pngs)
+
+
+def test_ch2_numbers_json(ch2_report):
+    data = json.loads((ch2_report / "numbers.json").read_text())
+    nums = {n["name"]: n for n in data}
+    for entry in data:
+        assert {"name", "value", "thesis", "unit", "rel_err", "source", "reproduced"} <= set(entry)
+    for name in REQUIRED:
+        assert name in nums, name
+    veh = gc.load_vehicle("rogue")
+    assert nums["permissible_gamma_deg"]["value"] == pytest.approx(math.degrees(gc.permissible_gamma(veh)[1]))
+    eig = np.array(nums["eig_uncontrolled_m45"]["value"])
+    assert eig.shape[1] == 2 and np.all(eig[:, 0] < 0)  # stable at -45 deg with r_P3 = 0.05 m
+    lam = gc.uncontrolled_eigs(veh, 0.3, math.radians(-45), r_p3=0.05)
+    lam = lam[np.abs(lam) > 1e-9]
+    np.testing.assert_allclose(sorted(eig[:, 0]), sorted(lam.real), atol=1e-9)
+    # ledger entries carry the thesis value and a verdict
+    boundary = nums["rbh_stability_boundary_m"]
+    assert boundary["thesis"] == pytest.approx(-0.0068)
+    assert boundary["reproduced"] in (True, False)
+
+
+def test_design_script_and_registry_agree():
+    assert "ch2_longitudinal" in studies.REGISTRY
+    script = Path(__file__).resolve().parents[1] / "designs" / "ch2_longitudinal.py"
+    assert "ch2_longitudinal" in script.read_text()
+    with pytest.raises(gc.GlidectlError, match="ch2_longitudinal"):
+        studies.get("nope")
