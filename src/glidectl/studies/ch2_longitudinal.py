@@ -343,8 +343,19 @@ def report(res: Ch2Results) -> Report:
                     "(r_P3 = 0.05 m held fixed, glide re-trimmed at each mbar). Holding r_bh = 0 instead gives "
                     f"{res.mbar_rbh0.crossings[0]:.4f} kg. Further crossings at "
                     f"{', '.join(f'{c:.4f}' for c in res.mbar.crossings[1:])} kg: the stability in mbar is not "
-                    "a single threshold, and ROGUE's mbar = 2 kg is stable with r_P3 = 0.05 m, against the "
-                    "thesis's statement that all four glides have an unstable mode.")
+                    "a single threshold, and ROGUE's mbar = 2 kg is stable at -45 deg with r_P3 = 0.05 m "
+                    "(see uncontrolled_unstable_glides_deg).")
+    unstable = [gd for gd, lam in res.uncontrolled.items() if np.max(lam.real) > 0]
+    rep.number("uncontrolled_unstable_glides_deg", unstable, "deg", "2.3.1", thesis=list(res.glides),
+               verdict=sorted(unstable) == sorted(res.glides),
+               note="Glides (r_P3 = 0.05 m) whose uncontrolled linearization (u = 0) has an eigenvalue with positive "
+                    "real part. The thesis says all four have a slow unstable mode. Here: " + "; ".join(
+                        f"{gd:+.0f} deg max Re = {np.max(lam.real):.4f} 1/s" for gd, lam in res.uncontrolled.items())
+                    + ". The up glides' unstable mode is real and not slow (about 2 1/s); the up/down spectra "
+                    "differ because no sign change of the states maps the equations (2.15)-(2.25) onto "
+                    "themselves with gamma -> -gamma (only the steady-glide equations are symmetric; checked "
+                    "exhaustively in tests/test_longitudinal.py). The thesis's r_P choice is not stated "
+                    "(see r_P3_choice_m).")
     rep.number("lqr_closed_loop_poles", _pairs(res.lqr.closed_loop_poles), "1/s", "our design",
                note="LQR with Bryson weights (glidectl.controllers.linear.DEFAULT_MAX_DEVIATION) on the force "
                     "model with z'.")
