@@ -144,7 +144,7 @@ def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float,
             break
     t = np.concatenate(ts)
     X = np.concatenate(xs)
-    U = np.array([np.asarray(ctrl(ti, xi), dtype=float) for ti, xi in zip(t, X, strict=True)]).reshape(-1, m)
+    U = np.array([np.asarray(ctrl(ti, xi), dtype=float) for ti, xi in zip(t, X, strict=True)]).reshape(len(t), m)
     vname = getattr(getattr(model, "vehicle", None), "name", "?")
     return Simulation(t, X, U, tuple(model.state_names), tuple(model.input_names), method, rtol, atol, nfev,
                       f"{type(model).__name__}({vname})", stopped_at)
