@@ -36,18 +36,61 @@ from .controllers.linear import (
 )
 from .errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError, VehicleFileError
 from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
+from .models.reduced import ReducedLongitudinalGlider
 from .params import Vehicle, list_presets, load_vehicle
 from .sim import Simulation, simulate
+from .stability.composite import CompositeCertificate, Domain, composite_lyapunov
+from .stability.singular_perturbation import SingularPerturbation, SlowModel, singular_perturbation
+from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "AccelerationControlledGlider", "BreakPoint", "DecoupledAccelerationFeedback", "GlidePathModel",
-    "GlidectlError", "InfeasibleGlideError", "LinearGlideController", "LongitudinalGlider", "ModelError",
-    "Modes", "ParameterLocus", "RankTest", "Simulation", "SolverError", "SteadyGlide", "Vehicle",
-    "VehicleFileError", "central_difference_jacobians", "controllability", "decoupled_gain_matrix",
-    "glide_model", "jacobians", "linearize_glide", "list_presets", "load_vehicle", "lqr_glide", "mbar_locus",
-    "modes", "observability", "parameter_locus", "permissible_gamma", "place_glide", "rbh_locus", "simulate",
-    "steady_glide", "uncontrolled_eigs",
+    "AccelerationControlledGlider",
+    "BreakPoint",
+    "CompositeCertificate",
+    "DecoupledAccelerationFeedback",
+    "Domain",
+    "GlidePathModel",
+    "GlidectlError",
+    "InfeasibleGlideError",
+    "LinearGlideController",
+    "LongitudinalGlider",
+    "ModelError",
+    "Modes",
+    "ParameterLocus",
+    "RankTest",
+    "ReducedLongitudinalGlider",
+    "Simulation",
+    "SingularPerturbation",
+    "SlowModel",
+    "SolverError",
+    "SteadyGlide",
+    "UnequalMassCheck",
+    "Vehicle",
+    "VehicleFileError",
+    "allowable_delta_m_ratio",
+    "central_difference_jacobians",
+    "composite_lyapunov",
+    "controllability",
+    "decoupled_gain_matrix",
+    "glide_model",
+    "jacobians",
+    "linearize_glide",
+    "list_presets",
+    "load_vehicle",
+    "lqr_glide",
+    "mbar_locus",
+    "modes",
+    "observability",
+    "parameter_locus",
+    "permissible_gamma",
+    "place_glide",
+    "rbh_locus",
+    "simulate",
+    "singular_perturbation",
+    "steady_glide",
+    "uncontrolled_eigs",
+    "unequal_mass_check",
 ]

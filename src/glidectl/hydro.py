@@ -12,7 +12,7 @@ import numpy as np
 
 from .params import Vehicle
 
-__all__ = ["angle_of_attack", "atan2_cs", "longitudinal_loads"]
+__all__ = ["angle_of_attack", "atan2_cs", "loads_at", "longitudinal_loads"]
 
 
 def atan2_cs(y: Any, x: Any) -> Any:
@@ -57,10 +57,20 @@ def longitudinal_loads(veh: Vehicle, v1: Any, v3: Any, Omega2: Any) -> tuple[Any
     L, D : lift and drag (N), ``L = (K_L0 + K_L alpha) V^2``, ``D = (K_D0 + K_D alpha^2) V^2``
     M_DL2 : pitching moment (N m), ``(K_M0 + K_M alpha + K_q Omega2) V^2``
     """
-    p = veh.params
-    V2 = v1 * v1 + v3 * v3
     alpha = angle_of_attack(v1, v3)
+    L, D, M = loads_at(veh, v1 * v1 + v3 * v3, alpha, Omega2)
+    return alpha, L, D, M
+
+
+def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, Any]:
+    """Lift, drag and pitching moment (N, N, N m) for squared speed ``V2`` (m^2/s^2), angle of attack ``alpha``
+    (rad, not wrapped: models with alpha as a state, chapter 5, use it directly) and pitch rate (rad/s).
+
+    ``L = (K_L0 + K_L alpha) V^2`` (2.11), ``D = (K_D0 + K_D alpha^2) V^2`` (2.9),
+    ``M_DL2 = (K_M0 + K_M alpha + K_q Omega2) V^2`` (2.13); equivalently (5.24)-(5.25).
+    """
+    p = veh.params
     L = (p["K_L0"] + p["K_L"] * alpha) * V2
     D = (p["K_D0"] + p["K_D"] * alpha * alpha) * V2
     M = (p["K_M0"] + p["K_M"] * alpha + p["K_q"] * Omega2) * V2
-    return alpha, L, D, M
+    return L, D, M

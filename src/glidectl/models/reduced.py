@@ -1,0 +1,125 @@
+"""Reduced longitudinal glider of chapter 5: internal mass fixed at the centre of buoyancy, constant buoyancy.
+
+State ``(V, gamma, alpha, Omega2)`` (m/s, rad, rad, rad/s), equations (5.4)-(5.7) for equal added masses and their
+generalization (5.86)-(5.89) for ``m1 != m3``. One right-hand side serves both: the body-frame equations of the
+foundation model (2.18)-(2.20) with ``r_P = 0``, ``rdot_P = 0`` (so the moving mass rides with the hull and adds to
+both translational masses, ``M_i = m_i + mbar``), rewritten in ``(V, gamma, alpha)`` by (5.1)-(5.3):
+
+``M1 v1' = -M3 v3 Om - m0 g sin(theta) + L sin(alpha) - D cos(alpha)``,
+``M3 v3' =  M1 v1 Om + m0 g cos(theta) - L cos(alpha) - D sin(alpha)``,
+``J2 Om' = (M3 - M1) v1 v3 + M_DL2``, with ``v1 = V cos(alpha)``, ``v3 = V sin(alpha)``, ``theta = gamma + alpha``,
+and ``V' = (v1 v1' + v3 v3')/V``, ``alpha' = (v1 v3' - v3 v1')/V^2``, ``gamma' = Om - alpha'``.
+
+Tests check that this equals the foundation model (acceleration form, ``w = 0``, ``r_P = rdot_P = 0``), that it
+equals the printed (5.4)-(5.7) for ``m1 = m3``, and (5.86)-(5.89) otherwise.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..hydro import loads_at
+from ..params import Vehicle
+
+__all__ = ["REDUCED_STATES", "REDUCED_UNITS", "ReducedLongitudinalGlider"]
+
+REDUCED_STATES = ("V", "gamma", "alpha", "Omega2")
+REDUCED_UNITS = {"V": "m/s", "gamma": "rad", "alpha": "rad", "Omega2": "rad/s"}
+
+
+@dataclass(frozen=True)
+class ReducedLongitudinalGlider:
+    """Chapter-5 longitudinal glider with ``r_P = 0`` and constant ``m0`` (no inputs).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Underwater glider; uses ``m1, m3`` (or the added-mass model), ``mbar``, ``J2``, ``m0``, ``g`` and the
+        hydrodynamic coefficients. The effective translational masses are ``M_i = m_i + mbar`` (the moving mass
+        rides with the hull); for the chapter-5 sphere ``mbar = 0`` and ``M_i = m_i = 28 kg``.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = REDUCED_STATES
+    input_names: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        v = self.vehicle
+        if v.kind != "underwater_glider":
+            raise ModelError(f"vehicle '{v.name}' is a {v.kind}, not an underwater glider")
+        if v.m0 == 0:
+            raise ModelError(f"vehicle '{v.name}' has m0 = 0: chapter 5 needs a constant nonzero buoyancy mass "
+                             "(assumption 2 of §5.1); set m0 in the file or as an override")
+
+    @property
+    def masses(self) -> tuple[float, float]:
+        """Effective translational masses ``(M1, M3) = (m1 + mbar, m3 + mbar)`` in kg."""
+        v = self.vehicle
+        return float(v.mass(1, v.m0) + v.mbar), float(v.mass(3, v.m0) + v.mbar)
+
+    @property
+    def delta_m(self) -> float:
+        """``Delta m = m3 - m1`` (kg), §5.4."""
+        M1, M3 = self.masses
+        return M3 - M1
+
+    def body_rates(self, x: Any) -> tuple[Any, Any, Any]:
+        """Body-frame ``(v1', v3', Omega2')`` for state ``x = (V, gamma, alpha, Omega2)``."""
+        x = np.asarray(x)
+        veh = self.vehicle
+        M1, M3 = self.masses
+        V, gam, al, Om = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
+        sa, ca = np.sin(al), np.cos(al)
+        v1, v3 = V * ca, V * sa
+        th = gam + al
+        L, D, M = loads_at(veh, V * V, al, Om)
+        m0g = veh.m0 * veh.g
+        v1d = (-M3 * v3 * Om - m0g * np.sin(th) + L * sa - D * ca) / M1
+        v3d = (M1 * v1 * Om + m0g * np.cos(th) - L * ca - D * sa) / M3
+        Omd = ((M3 - M1) * v1 * v3 + M) / veh.J2
+        return v1d, v3d, Omd
+
+    def rhs(self, x: Any, u: Any = None) -> Any:
+        """``(V', gamma', alpha', Omega2')`` of (5.4)-(5.7) / (5.86)-(5.89); defined for ``V > 0``.
+
+        Parameters
+        ----------
+        x : array_like, shape (..., 4)
+        u : ignored (the model has no inputs; accepted for :func:`glidectl.sim.simulate`)
+        """
+        x = np.asarray(x)
+        V, al, Om = x[..., 0], x[..., 2], x[..., 3]
+        v1d, v3d, Omd = self.body_rates(x)
+        sa, ca = np.sin(al), np.cos(al)
+        Vd = ca * v1d + sa * v3d
+        ald = (ca * v3d - sa * v1d) / V
+        return np.stack([Vd, Om - ald, ald, Omd], axis=-1)
+
+    def trim_alpha(self) -> float:
+        """Equilibrium angle of attack (rad): (5.10) for ``m1 = m3``, the root of (5.90) otherwise.
+
+        ``K_M0 + K_M alpha + Delta m sin(alpha) cos(alpha) = 0`` is solved by Newton's method from (5.10); an error
+        is raised if it does not converge to a root with ``|alpha| < pi/4`` (the range §5.4 assumes).
+        """
+        v = self.vehicle
+        if v.K_M == 0:
+            raise ModelError(f"vehicle '{v.name}' has K_M = 0: no pitch stiffness, no steady glide in chapter 5")
+        a = -v.K_M0 / v.K_M
+        dm = self.delta_m
+        if dm == 0:
+            return float(a)
+        for _ in range(60):
+            F = v.K_M0 + v.K_M * a + dm * np.sin(a) * np.cos(a)
+            dF = v.K_M + dm * np.cos(2 * a)
+            step = F / dF
+            a -= step
+            if abs(step) < 1e-15:
+                break
+        if not (abs(v.K_M0 + v.K_M * a + dm * np.sin(a) * np.cos(a)) < 1e-12 and abs(a) < np.pi / 4):
+            raise ModelError(f"no equilibrium angle of attack from (5.90) for vehicle '{v.name}' (Delta m = {dm:g} "
+                             "kg): Newton's method did not converge to |alpha_e| < pi/4")
+        return float(a)
