@@ -181,8 +181,9 @@ def figures(res: Ch5Results) -> dict[str, tuple[Any, str]]:
         a.grid(True, alpha=0.3)
     ax[0, 0].legend(fontsize=8)
     ax[1, 0].legend(fontsize=8)
-    out["fig5_1_reduction"] = (fig, "Analogue of Fig 5.1: full model (5.4)-(5.7) from V = 1.730 m/s, gamma = -0.91 rad, "
-                               "alpha = 0.03 rad, Omega2 = 2.50 rad/s and the reduced model (5.33) from V = 1.765 "
+    out["fig5_1_reduction"] = (fig, "Analogue of Fig 5.1: full model (5.4)-(5.7) from V = 1.730 m/s, "
+                               "gamma = -0.91 rad, alpha = 0.03 rad, Omega2 = 2.50 rad/s and the reduced model (5.33) "
+                               "from V = 1.765 "
                                f"m/s, gamma = -0.93 rad (printed initial conditions); sphere_ch5, g = {res.vehicle.g} "
                                "m/s^2. The fast states settle within a fraction of a second; the slow states of the "
                                "two models stay close and converge to the same glide.")
@@ -198,8 +199,9 @@ def figures(res: Ch5Results) -> dict[str, tuple[Any, str]]:
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
     ax.set_ylim(0, None)
-    out["mu_vs_d"] = (fig, "mu_d(d) of (5.54) for the four designs of 5.3.1 (solid) against the design's mu = max(eps1, "
-                      "eps2) (dotted, same colour; the baseline and J2 = 0.01 share mu). Circles: the d of (5.84) (v0/(v0 + w0)); filled when mu < mu_d "
+    out["mu_vs_d"] = (fig, "mu_d(d) of (5.54) for the four designs of 5.3.1 (solid) against the design's "
+                      "mu = max(eps1, eps2) (dotted, same colour; the baseline and J2 = 0.01 share mu). Circles: the "
+                      "d of (5.84) (v0/(v0 + w0)); filled when mu < mu_d "
                       "(certified). Domain |Vbar| <= 0.4, |alphabar| <= 0.2, constants with the corrected C_W. "
                       "No thesis figure.")
 
@@ -223,8 +225,9 @@ def figures(res: Ch5Results) -> dict[str, tuple[Any, str]]:
                Line2D([], [], color="C3", marker="x", ls="", label="simulation does not converge")]
     axes[0, 0].legend(handles=handles, fontsize=7, loc="lower left")
     ncv = {s: int(np.sum(~c)) for s, c in res.roa_converged.items()}
-    out["fig5_2_roa"] = (fig, "Analogue of Fig 5.2 (K_M = -100, J2 = 0.02): shaded, the (Vbar, alphabar) for which every "
-                         "(gammabar, Omegabar2) of the slice lies in L* (nu is largest at the slice corners: Phi grows "
+    out["fig5_2_roa"] = (fig, "Analogue of Fig 5.2 (K_M = -100, J2 = 0.02): shaded, the (Vbar, alphabar) for which "
+                         "every (gammabar, Omegabar2) of the slice lies in L* (nu is largest at the slice corners: "
+                         "Phi grows "
                          "with |gammabar| and W is convex in Omegabar2). Dots: initial states whose full nonlinear "
                          "simulation (corners and centre of the slice, "
                          f"{res.roa_t_final:.0f} s) reaches |z| < {CONVERGED_TOL:g}; non-converging per slice: {ncv}. "
@@ -281,8 +284,9 @@ def report(res: Ch5Results) -> Report:
                thesis=[-363.796, -84.582], verdict=False,
                note="Eigenvalues of the boundary layer (5.30) at p = 0 on the t_n scale, i.e. roots of "
                     "s^2 + s/eps2 + 1/(eps1 eps2): their sum is -1/eps2 = "
-                    f"{-1 / sp.eps2:.1f} and product 1/(eps1 eps2) = {1 / (sp.eps1 * sp.eps2):.4g}. The printed pair has "
-                    "sum -448.4 and product 3.077e4; no printed parameter (g, the V_e misprint, J2, K_q, K_M) "
+                    f"{-1 / sp.eps2:.1f} and product 1/(eps1 eps2) = {1 / (sp.eps1 * sp.eps2):.4g}. The printed pair "
+                    "has sum -448.4 and product 3.077e4; no single printed parameter (g, the V_e misprint, J2, "
+                    "K_q, K_M) "
                     "explains it, and the printed eps1, eps2 (which we reproduce) contradict it. Not reproduced. "
                     f"The full 4x4 linearization has {', '.join(f'{x.real:.2f}' for x in sp.full_eigenvalues[:2])} "
                     "(fast) on t_n, close to our boundary-layer pair as Theorem 1 predicts.")
