@@ -42,6 +42,8 @@ class Number:
 
     @property
     def rel_err(self) -> float | None:
+        if isinstance(self.value, bool) or isinstance(self.thesis, bool):
+            return None
         if isinstance(self.value, int | float) and isinstance(self.thesis, int | float) and self.thesis != 0:
             return abs(self.value - self.thesis) / abs(self.thesis)
         return None
