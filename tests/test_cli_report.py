@@ -89,3 +89,27 @@ def test_design_script_and_registry_agree():
     assert "ch2_longitudinal" in script.read_text()
     with pytest.raises(gc.GlidectlError, match="ch2_longitudinal"):
         studies.get("nope")
+
+
+def test_ch5_report_builds_with_required_numbers(tmp_path, monkeypatch):
+    """The chapter-5 design end to end, with small sample counts (the real build uses the module defaults)."""
+    from glidectl.studies import ch5_singular_perturbation as ch5
+
+    monkeypatch.setattr(ch5, "N_VERIFY", 4000)
+    monkeypatch.setattr(ch5, "ROA_GRID", 4)
+    monkeypatch.setattr(ch5, "LSTAR_GRID", 31)
+    monkeypatch.setattr(ch5, "DM_GRID", np.array([0.0, 0.2]))
+    monkeypatch.setattr(ch5, "VMIN_GRID", np.array([-0.4]))
+    pdf = ch5.build(tmp_path)
+    assert pdf.exists() and pdf.stat().st_size > 20_000
+    data = json.loads((pdf.parent / "numbers.json").read_text())
+    nums = {n["name"]: n for n in data}
+    for name in ("eps1", "eps2", "tau_s", "V_e", "gamma_e_deg", "reduced_eigenvalues", "boundary_layer_eigenvalues",
+                 "mu_d", "d"):
+        assert name in nums, name
+    assert nums["eps1"]["reproduced"] is True and nums["tau_s"]["reproduced"] is True
+    assert nums["V_e"]["reproduced"] is False  # the printed 1.684 is a transposition of 1.648
+    assert nums["boundary_layer_eigenvalues"]["reproduced"] is False
+    assert nums["worst_bound_ratio"]["value"] <= 1.0 + 1e-9
+    assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig5_1_reduction.png", "fig5_2_roa.png",
+                                                           "fig5_3_unequal_mass.png"}

@@ -140,6 +140,10 @@ class Report:
     def _table_pages(self, pdf: PdfPages, caption: str, header: list[str], rows: list[list[str]],
                      widths: list[float] | None = None) -> None:
         per = 34
+        if widths is None:  # proportional to the longest entry of each column
+            lens = [max([len(str(h))] + [len(str(r[i])) for r in rows if i < len(r)]) + 2
+                    for i, h in enumerate(header)]
+            widths = [x / sum(lens) for x in lens]
         for k in range(0, max(len(rows), 1), per):
             fig = plt.figure(figsize=(11.69, 8.27))
             fig.text(0.04, 0.95, caption + (" (cont.)" if k else ""), fontsize=12, weight="bold", va="top")
