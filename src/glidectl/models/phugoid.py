@@ -289,6 +289,8 @@ def classify_C(C: float, tol: float = 1e-9) -> PhugoidClass:
 def _fast_root(C: float) -> float:
     """Largest root s >= 1 of s - s^3/3 = C (C <= 2/3): the fastest, lowest point of the orbit, flying forward."""
     c = min(C, C_STEADY)
+    if c == C_STEADY:
+        return 1.0  # exact steady level flight (the trigonometric form rounds to 1 + 2e-16)
     if c >= -C_STEADY:
         return 2.0 * math.cos(math.acos(max(-1.0, -1.5 * c)) / 3.0)
     return 2.0 * math.cosh(math.acosh(-1.5 * c) / 3.0)
@@ -297,6 +299,8 @@ def _fast_root(C: float) -> float:
 def _slow_root(C: float) -> float:
     """Root of s - |s|^3/3 = C with the slowest horizontal flight: s in [0, 1] for C >= 0, s < 0 for C < 0."""
     c = min(C, C_STEADY)
+    if c == C_STEADY:
+        return 1.0
     if c >= 0:
         return max(0.0, 2.0 * math.cos((math.acos(max(-1.0, -1.5 * c)) + 4.0 * math.pi) / 3.0))
     return 2.0 * math.sinh(math.asinh(1.5 * c) / 3.0)

@@ -11,6 +11,7 @@ from types import ModuleType
 
 REGISTRY: dict[str, str] = {
     "ch2_longitudinal": "glidectl.studies.ch2_longitudinal",
+    "ch4_phugoid": "glidectl.studies.ch4_phugoid",
     "ch5_singular_perturbation": "glidectl.studies.ch5_singular_perturbation",
 }
 
