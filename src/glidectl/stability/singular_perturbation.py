@@ -176,8 +176,9 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     V_e = math.sqrt(abs(m0) * veh.g / math.hypot(K_De, K_Le))                      # (5.8)
     gamma_e = math.atan2(-K_De / m0, K_Le / m0)                                     # (5.9), quadrant from signs
     if not (veh.K_q < 0 and veh.K_M < 0):
-        raise ModelError(f"vehicle '{veh.name}' has K_q = {veh.K_q:g} kg s/rad, K_M = {veh.K_M:g} kg/rad: the singular "
-                         "perturbation form (5.15)-(5.17) needs pitch damping K_q < 0 and pitch stiffness K_M < 0")
+        raise ModelError(f"vehicle '{veh.name}' has K_q = {veh.K_q:g} kg s/rad, K_M = {veh.K_M:g} kg/rad: the "
+                         "singular perturbation form (5.15)-(5.17) (eps1, eps2 > 0) needs pitch damping K_q < 0 and "
+                         "stiffness K_M < 0")
     tau_s = M3 / (K_De * V_e)  # (5.18); m3 (= m1 there) makes (5.103)-(5.107) hold as printed when m1 != m3
     eps1 = (veh.K_q / veh.K_M) / tau_s                                              # (5.16)
     eps2 = -(veh.J2 / (veh.K_q * V_e**2)) / tau_s                                   # (5.17)

@@ -353,7 +353,13 @@ def report(res: Ch5Results) -> Report:
         "of C_W because W = q^T C_W q / 2. (3) beta2' re-derived for the corrected c1. (4) gamma2'' of (5.81) is "
         "ambiguous (named C_3, terms not following from (5.79)); we bound |dW/dVbar f1| directly. (5) beta1 uses "
         "max|Vbar|. (6) tau_s uses m3 so that (5.103)-(5.107) hold as printed for m1 != m3 (m1 = m3 in 5.1-5.3). "
-        "(7) V_e = 1.684 m/s is a misprint of 1.648 m/s. g = 9.8 m/s^2 reproduces tau_s, eps1 and eps2 to all "
+        "(7) V_e = 1.684 m/s is a misprint of 1.648 m/s. (8) (5.103): the Delta m term has the wrong sign (it must be "
+        "-(Delta m cos alpha_e / m1) f inside the bracket; (5.108) agrees with the corrected form). (9) (5.92): "
+        "sin(alphabar + 2 alpha_e) cos(alphabar) should be sin(alphabar) cos(alphabar + 2 alpha_e) (as printed the "
+        "boundary layer does not vanish at q = 0). (10) (5.109): 2 Delta m |m0 g| should be 2 |Delta m m0 g|. (11) "
+        "5.1: the reciprocals of the reduced eigenvalues do not sum to 3 tau_s; what holds is "
+        "lambda1 + lambda2 = -3/tau_s "
+        "(tests/test_singular_perturbation.py). g = 9.8 m/s^2 reproduces tau_s, eps1 and eps2 to all "
         "printed digits; 9.81 does not.\n\nReproduction policy: within 1 % of the printed value, uniform; no "
         "parameter was adjusted to approach a printed number."))
     return rep
