@@ -4,11 +4,7 @@ Run ``python designs/ch2_longitudinal.py [OUTDIR]`` (same as ``glidectl report c
 ``OUTDIR/ch2_longitudinal/`` (default ``reports/``).
 """
 
-import sys
-
-from glidectl.studies import ch2_longitudinal
+from glidectl.studies import run_design
 
 if __name__ == "__main__":
-    out = sys.argv[1] if len(sys.argv) > 1 else "reports"
-    pdf = ch2_longitudinal.build(out, progress=lambda msg: print("  ", msg, flush=True))
-    print(pdf)
+    run_design("ch2_longitudinal")

@@ -4,11 +4,7 @@ Run ``python designs/ch4_phugoid.py [OUTDIR]`` (same as ``glidectl report ch4_ph
 ``OUTDIR/ch4_phugoid/`` (default ``reports/``).
 """
 
-import sys
-
-from glidectl.studies import ch4_phugoid
+from glidectl.studies import run_design
 
 if __name__ == "__main__":
-    out = sys.argv[1] if len(sys.argv) > 1 else "reports"
-    pdf = ch4_phugoid.build(out, progress=lambda msg: print("  ", msg, flush=True))
-    print(pdf)
+    run_design("ch4_phugoid")

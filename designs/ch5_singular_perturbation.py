@@ -4,11 +4,7 @@ Run ``python designs/ch5_singular_perturbation.py [OUTDIR]`` (same as ``glidectl
 writes ``OUTDIR/ch5_singular_perturbation/`` (default ``reports/``).
 """
 
-import sys
-
-from glidectl.studies import ch5_singular_perturbation
+from glidectl.studies import run_design
 
 if __name__ == "__main__":
-    out = sys.argv[1] if len(sys.argv) > 1 else "reports"
-    pdf = ch5_singular_perturbation.build(out, progress=lambda msg: print("  ", msg, flush=True))
-    print(pdf)
+    run_design("ch5_singular_perturbation")

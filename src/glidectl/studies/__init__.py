@@ -6,7 +6,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from importlib import import_module
+from pathlib import Path
 from types import ModuleType
 
 REGISTRY: dict[str, str] = {
@@ -23,3 +25,21 @@ def get(name: str) -> ModuleType:
     if name not in REGISTRY:
         raise GlidectlError(f"unknown design '{name}'; available: {', '.join(sorted(REGISTRY))}")
     return import_module(REGISTRY[name])
+
+
+def build_study(module: ModuleType, outdir: str | Path, progress: Callable[[str], None]) -> Path:
+    """Shared ``build`` of the studies: ``module.compute`` -> ``module.report`` -> ``<outdir>/<NAME>/``."""
+    res = module.compute(progress)
+    progress("figures and report")
+    return module.report(res).write(Path(outdir) / module.NAME)
+
+
+def run_design(name: str, argv: list[str] | None = None) -> Path:
+    """Entry point of the ``designs/*.py`` scripts: ``python designs/NAME.py [OUTDIR]`` (default ``reports``)."""
+    import sys
+
+    args = sys.argv[1:] if argv is None else argv
+    out = args[0] if args else "reports"
+    pdf = get(name).build(out, progress=lambda msg: print("  ", msg, flush=True))
+    print(pdf)
+    return pdf

@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -430,6 +431,6 @@ def report(res: Ch2Results) -> Report:
 
 def build(outdir: str | Path = "reports", progress: Callable[[str], None] = lambda s: None) -> Path:
     """Compute the study and write ``<outdir>/ch2_longitudinal/`` (report.pdf, PNGs, numbers.json)."""
-    res = compute(progress)
-    progress("figures and report")
-    return report(res).write(Path(outdir) / NAME)
+    from . import build_study
+
+    return build_study(sys.modules[__name__], outdir, progress)

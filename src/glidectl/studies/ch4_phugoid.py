@@ -8,6 +8,7 @@
 from __future__ import annotations
 
 import math
+import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -481,6 +482,6 @@ def report(res: Ch4Results) -> Report:
 
 def build(outdir: str | Path = "reports", progress: Callable[[str], None] = lambda s: None) -> Path:
     """Compute the study and write ``<outdir>/ch4_phugoid/`` (report.pdf, PNGs, numbers.json)."""
-    res = compute(progress)
-    progress("figures and report")
-    return report(res).write(Path(outdir) / NAME)
+    from . import build_study
+
+    return build_study(sys.modules[__name__], outdir, progress)

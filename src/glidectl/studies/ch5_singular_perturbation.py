@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -367,6 +368,6 @@ def report(res: Ch5Results) -> Report:
 
 def build(outdir: str | Path = "reports", progress: Callable[[str], None] = lambda s: None) -> Path:
     """Compute the study and write ``<outdir>/ch5_singular_perturbation/`` (report.pdf, PNGs, numbers.json)."""
-    res = compute(progress)
-    progress("figures and report")
-    return report(res).write(Path(outdir) / NAME)
+    from . import build_study
+
+    return build_study(sys.modules[__name__], outdir, progress)
