@@ -35,6 +35,7 @@ from .controllers.linear import (
     place_glide,
 )
 from .errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError, VehicleFileError
+from .models.glider3d import FixedMassGlider3D, Glider3D
 from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
 from .models.reduced import ReducedLongitudinalGlider
 from .params import Vehicle, list_presets, load_vehicle
@@ -43,6 +44,7 @@ from .stability.composite import CompositeCertificate, Domain, composite_lyapuno
 from .stability.singular_perturbation import SingularPerturbation, SlowModel, singular_perturbation
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
+from .trim.helix import Helix, classify_motion, helix_trim
 
 __version__ = "0.1.0"
 
@@ -52,8 +54,11 @@ __all__ = [
     "CompositeCertificate",
     "DecoupledAccelerationFeedback",
     "Domain",
+    "FixedMassGlider3D",
     "GlidePathModel",
     "GlidectlError",
+    "Glider3D",
+    "Helix",
     "InfeasibleGlideError",
     "LinearGlideController",
     "LongitudinalGlider",
@@ -72,10 +77,12 @@ __all__ = [
     "VehicleFileError",
     "allowable_delta_m_ratio",
     "central_difference_jacobians",
+    "classify_motion",
     "composite_lyapunov",
     "controllability",
     "decoupled_gain_matrix",
     "glide_model",
+    "helix_trim",
     "jacobians",
     "linearize_glide",
     "list_presets",

@@ -12,7 +12,7 @@ import numpy as np
 
 from .params import Vehicle
 
-__all__ = ["angle_of_attack", "atan2_cs", "loads_at", "longitudinal_loads"]
+__all__ = ["angle_of_attack", "atan2_cs", "loads_3d", "loads_at", "longitudinal_loads"]
 
 
 def atan2_cs(y: Any, x: Any) -> Any:
@@ -74,3 +74,64 @@ def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, 
     D = (p["K_D0"] + p["K_D"] * alpha * alpha) * V2
     M = (p["K_M0"] + p["K_M"] * alpha + p["K_q"] * Omega2) * V2
     return L, D, M
+
+
+def _opt(veh: Vehicle, key: str) -> float:
+    """Optional 3D coefficient: 0 when the vehicle file does not define it."""
+    return float(veh.params.get(key, 0.0))
+
+
+def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]:
+    """Hydrodynamic force and moment in body coordinates, (2.9)-(2.14), rotated from the wind frame.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Needs ``K_D0, K_D, K_L0, K_L, K_beta, K_M0, K_M, K_MR, K_MY`` and the damping coefficients: the
+        ``V^2``-scaled ``K_q1, K_q (= K_q2), K_q3`` of (2.12)-(2.14) and the chapter-8 ``K_Omega1_i Omega_i +
+        K_Omega2_i Omega_i^2`` (without ``V^2``); absent damping coefficients count as 0.
+    v : array_like, shape (..., 3)
+        Body velocity (m/s).
+    Omega : array_like, shape (..., 3)
+        Body angular velocity (rad/s).
+
+    Returns
+    -------
+    F : (..., 3) body-frame force (N): ``C_bw (-D, -SF, -L)`` with ``C_bw = [e_V, e_2, e_3]``,
+        ``e_V = v/V = (ca cb, sb, sa cb)``, ``e_2 = (-ca sb, cb, -sa sb)``, ``e_3 = (-sa, 0, ca)``. The side force
+        ``SF = K_beta beta V^2`` opposes sideslip (DESIGN.md); with ``beta = 0`` this is (2.18)-(2.19)'s
+        ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
+    T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, K_MY beta V^2)`` plus damping
+        ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis.
+    alpha, beta, V : angle of attack ``atan2(v3, v1)``, sideslip ``asin(v2/V)`` (rad) and speed (m/s).
+
+    Notes
+    -----
+    The quadratic chapter-8 damping is implemented as ``K_Omega2_i Omega_i |Omega_i|`` so that it opposes the
+    rotation for either sign (the thesis writes ``Omega_i^2``; Table 8.1 sets these coefficients to 0).
+    """
+    v = np.asarray(v)
+    Om = np.asarray(Omega)
+    p = veh.params
+    v1, v2, v3 = v[..., 0], v[..., 1], v[..., 2]
+    V2 = v1 * v1 + v2 * v2 + v3 * v3
+    V = np.sqrt(V2)
+    alpha = atan2_cs(v3, v1)
+    beta = np.arcsin(v2 / V)
+    ca, sa, cb, sb = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta)
+    L, D, M2 = loads_at(veh, V2, alpha, 0.0 * V2)
+    SF = _opt(veh, "K_beta") * beta * V2
+    F = np.stack([-D * ca * cb + SF * ca * sb + L * sa,
+                  -D * sb - SF * cb,
+                  -D * sa * cb + SF * sa * sb - L * ca], axis=-1)
+    O1, O2, O3 = Om[..., 0], Om[..., 1], Om[..., 2]
+
+    def damp(i: int, Oi: Any, kq: str) -> Any:
+        absO = np.sqrt(Oi * Oi)  # |Omega_i|, complex-step safe for real-part sign
+        return _opt(veh, kq) * Oi * V2 + _opt(veh, f"K_Omega1_{i}") * Oi + _opt(veh, f"K_Omega2_{i}") * Oi * absO
+
+    T = np.stack([_opt(veh, "K_MR") * beta * V2 + damp(1, O1, "K_q1"),
+                  M2 + p["K_q"] * O2 * V2 + _opt(veh, "K_Omega1_2") * O2
+                  + _opt(veh, "K_Omega2_2") * O2 * np.sqrt(O2 * O2),
+                  _opt(veh, "K_MY") * beta * V2 + damp(3, O3, "K_q3")], axis=-1)
+    return F, T, alpha, beta, V

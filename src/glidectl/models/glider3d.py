@@ -1,0 +1,228 @@
+"""Three-dimensional underwater glider, §2.2 and §8.2.1.
+
+Two models share the hydrodynamics (:func:`glidectl.hydro.loads_3d`) and the kinematics on SO(3) (unit quaternion
+``q = (q0, q1, q2, q3)``, scalar first, ``R(q)`` maps body to inertial coordinates, ``qdot = q (x) (0, Omega) / 2``
+with a Baumgarte term that keeps ``|q| = 1`` against integration drift):
+
+- :class:`Glider3D`, the force form (2.1)-(2.8): state ``(x, y, z, q, v, Omega, r_P, P_P, m0)``, inputs
+  ``(u1, u2, u3)`` = total force on the moving mass (the ``ubar`` of (2.6)) and ``u4 = m0'`` (2.8).
+- :class:`FixedMassGlider3D`, the acceleration form (8.23)-(8.25) with ``r_P`` and ``m0`` fixed: state
+  ``(x, y, z, q, v, Omega)``, no inputs. Its accelerations depend on the attitude only through the body-frame
+  gravity direction ``zeta = R^T k`` (8.27), which is what steady-motion (helix) analysis uses.
+
+Masses: ``M = diag(m_i(m0))`` (fixed or added-mass model of the vehicle file, DESIGN.md) and ``J = diag(J1, J2,
+J3)`` (total inertia). The inertial ``z`` axis points down, ``k = (0, 0, 1)``.
+
+Notes
+-----
+(2.5) prints ``Tbar = (J Omega + r_P^ P_P) x Omega + ...``. Read literally it differs from the moment balance of the
+hull (Kirchhoff's ``h' = h x Omega + p x v + T`` with the reaction ``-r_P x f_int`` of the moving mass) by
+``P_P x (Omega x r_P)``; in the longitudinal plane the literal form drops the ``-Omega2 (r_P1 P_P1 + r_P3 P_P3)`` of
+(2.20), and with fixed ``r_P`` it disagrees with (8.25). The form implemented, ``J Omega x Omega + r_P x (P_P x
+Omega)``, agrees with (2.20) and (8.23)-(8.25) (tests check both).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..hydro import loads_3d
+from ..params import Vehicle
+
+__all__ = [
+    "FIXED_STATES",
+    "FORCE3D_INPUTS",
+    "FORCE3D_STATES",
+    "FixedMassGlider3D",
+    "Glider3D",
+    "R_to_ypr",
+    "hat",
+    "quat_to_R",
+    "ypr_to_R",
+    "ypr_to_quat",
+]
+
+FORCE3D_STATES = ("x", "y", "z", "q0", "q1", "q2", "q3", "v1", "v2", "v3", "Omega1", "Omega2", "Omega3",
+                  "r_P1", "r_P2", "r_P3", "P_P1", "P_P2", "P_P3", "m0")
+FORCE3D_INPUTS = ("u1", "u2", "u3", "u4")
+FIXED_STATES = ("x", "y", "z", "q0", "q1", "q2", "q3", "v1", "v2", "v3", "Omega1", "Omega2", "Omega3")
+_BAUMGARTE = 1.0  # 1/s, pulls |q| back to 1 (no effect on the manifold |q| = 1)
+_REQUIRED_3D = ("J1", "J3", "K_beta", "K_MR", "K_MY")
+
+
+def hat(x: Any) -> np.ndarray:
+    """The ``^`` map of §2.2.1: ``hat(x) @ y = x x y`` (batched over leading dimensions)."""
+    x = np.asarray(x)
+    z = np.zeros_like(x[..., 0])
+    return np.stack([np.stack([z, -x[..., 2], x[..., 1]], -1),
+                     np.stack([x[..., 2], z, -x[..., 0]], -1),
+                     np.stack([-x[..., 1], x[..., 0], z], -1)], -2)
+
+
+def quat_to_R(q: Any) -> np.ndarray:
+    """Rotation matrix (body -> inertial) of a quaternion (normalized first)."""
+    q = np.asarray(q)
+    q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
+    w, a, b, c = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        np.stack([1 - 2 * (b * b + c * c), 2 * (a * b - w * c), 2 * (a * c + w * b)], -1),
+        np.stack([2 * (a * b + w * c), 1 - 2 * (a * a + c * c), 2 * (b * c - w * a)], -1),
+        np.stack([2 * (a * c - w * b), 2 * (b * c + w * a), 1 - 2 * (a * a + b * b)], -1)], -2)
+
+
+def ypr_to_R(psi: Any, theta: Any, phi: Any) -> np.ndarray:
+    """Yaw-pitch-roll rotation matrix (8.26)."""
+    cps, sps, cth, sth, cph, sph = (np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi),
+                                    np.sin(phi))
+    return np.stack([
+        np.stack([cps * cth, -sps * cph + cps * sth * sph, sps * sph + cps * sth * cph], -1),
+        np.stack([sps * cth, cps * cph + sps * sth * sph, -cps * sph + sps * sth * cph], -1),
+        np.stack([-sth, cth * sph, cth * cph], -1)], -2)
+
+
+def ypr_to_quat(psi: float, theta: float, phi: float) -> np.ndarray:
+    """Quaternion of the YPR angles (rad) of (8.26)."""
+    cy, sy, cp, sp, cr, sr = (np.cos(psi / 2), np.sin(psi / 2), np.cos(theta / 2), np.sin(theta / 2),
+                              np.cos(phi / 2), np.sin(phi / 2))
+    return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
+                     cr * cp * sy - sr * sp * cy])
+
+
+def R_to_ypr(R: Any) -> np.ndarray:
+    """``(psi, theta, phi)`` (rad) of a rotation matrix, inverse of (8.26) (``|theta| < pi/2``)."""
+    R = np.asarray(R)
+    return np.stack([np.arctan2(R[..., 1, 0], R[..., 0, 0]), -np.arcsin(np.clip(R[..., 2, 0], -1, 1)),
+                     np.arctan2(R[..., 2, 1], R[..., 2, 2])], -1)
+
+
+def _qdot(q: Any, Om: Any) -> Any:
+    w, a, b, c = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    p, r, s = Om[..., 0], Om[..., 1], Om[..., 2]
+    n2 = w * w + a * a + b * b + c * c
+    k = _BAUMGARTE * (1 - n2)
+    return np.stack([0.5 * (-a * p - b * r - c * s) + k * w, 0.5 * (w * p + b * s - c * r) + k * a,
+                     0.5 * (w * r + c * p - a * s) + k * b, 0.5 * (w * s + a * r - b * p) + k * c], -1)
+
+
+def _cross(a: Any, b: Any) -> Any:
+    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], -1)
+
+
+def _check_3d(veh: Vehicle) -> None:
+    if veh.kind != "underwater_glider":
+        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not an underwater glider")
+    missing = [k for k in _REQUIRED_3D if k not in veh.params]
+    if veh.mass_model == "fixed" and "m2" not in veh.params:
+        missing.append("m2")
+    if missing:
+        raise ModelError(f"vehicle '{veh.name}' lacks the 3D parameters {missing} needed by the 3D model "
+                         f"(2.1)-(2.14); add them to {veh.path} or pass them as overrides")
+
+
+def _masses(veh: Vehicle, m0: Any) -> Any:
+    return np.stack([np.broadcast_to(np.asarray(veh.mass(i, m0)), np.shape(m0)) for i in (1, 2, 3)], -1)
+
+
+@dataclass(frozen=True)
+class Glider3D:
+    """Force form (2.1)-(2.8). ``rhs(x, u)`` with ``u = (u1, u2, u3, u4)`` (N, N, N, kg/s)."""
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = FORCE3D_STATES
+    input_names: tuple[str, ...] = FORCE3D_INPUTS
+
+    def __post_init__(self) -> None:
+        _check_3d(self.vehicle)
+        if self.vehicle.mbar <= 0:
+            raise ModelError(f"vehicle '{self.vehicle.name}' has mbar = 0: the force form needs a moving mass; use "
+                             "FixedMassGlider3D")
+
+    def rhs(self, x: Any, u: Any) -> Any:
+        """(2.1)-(2.8): ``b' = R v``, ``R' = R Omega^``, ``r_P' = P_P/mbar - v - Omega x r_P``,
+        ``v' = M^-1 Fbar``, ``Omega' = J^-1 Tbar``, ``P_P' = ubar``, ``m0' = u4``."""
+        x, u = np.asarray(x), np.asarray(u)
+        veh = self.vehicle
+        g, mbar = veh.g, veh.mbar
+        q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
+        rP, PP, m0 = x[..., 13:16], x[..., 16:19], x[..., 19]
+        ub, u4 = u[..., 0:3], u[..., 3]
+        R = quat_to_R(q)
+        zeta = R[..., 2, :]  # R^T k = third row of R
+        Mv = _masses(veh, m0) * v
+        F, T, _, _, _ = loads_3d(veh, v, Om)
+        J = np.array([veh.J1, veh.J2, veh.J3])
+        Fbar = _cross(Mv + PP, Om) + (m0 * g)[..., None] * zeta + F - ub
+        # (2.5) read as J Om x Om + r_P x (P_P x Om): the literal (J Om + r_P x P_P) x Om differs by
+        # P_P x (Om x r_P), disagrees with (2.20) in the plane and with (8.25); see the module notes
+        Tbar = (_cross(J * Om, Om) + _cross(rP, _cross(PP, Om)) + _cross(Mv, v) + mbar * g * _cross(rP, zeta) + T
+                - _cross(rP, ub))
+        bdot = np.einsum("...ij,...j->...i", R, v)
+        return np.concatenate([bdot, _qdot(q, Om), Fbar / _masses(veh, m0), Tbar / J,
+                               PP / mbar - v - _cross(Om, rP), ub, u4[..., None]], -1)
+
+
+@dataclass(frozen=True)
+class FixedMassGlider3D:
+    """Acceleration form (8.23)-(8.25): moving mass fixed at ``r_p`` (m), constant buoyancy ``m0`` (kg).
+
+    ``rhs(x)`` for ``x = (x, y, z, q, v, Omega)``; :meth:`accelerations` gives ``(v', Omega')`` from ``(v, Omega,
+    zeta)`` with ``zeta = R^T k``.
+    """
+
+    vehicle: Vehicle
+    r_p: tuple[float, float, float]
+    m0: float
+    state_names: tuple[str, ...] = FIXED_STATES
+    input_names: tuple[str, ...] = ()
+    _Minv: np.ndarray = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        _check_3d(self.vehicle)
+        veh = self.vehicle
+        r = np.asarray(self.r_p, dtype=float)
+        if r.shape != (3,) or not np.all(np.isfinite(r)) or not np.isfinite(self.m0):
+            raise ModelError(f"r_p must be three finite numbers (m) and m0 finite (kg), got {self.r_p}, {self.m0}")
+        mbar = veh.mbar
+        M = np.diag([veh.mass(i, self.m0) for i in (1, 2, 3)])
+        J = np.diag([veh.J1, veh.J2, veh.J3])
+        rh = hat(r)
+        big = np.block([[M + mbar * np.eye(3), -mbar * rh], [mbar * rh, J - mbar * rh @ rh]])
+        object.__setattr__(self, "_Minv", np.linalg.inv(big))
+
+    @property
+    def generalized_mass(self) -> np.ndarray:
+        """Inverse of the 6x6 matrix of (8.23)."""
+        return self._Minv.copy()
+
+    def forces(self, v: Any, Om: Any, zeta: Any) -> tuple[Any, Any]:
+        """``(Fbar', Tbar')`` of (8.24)-(8.25)."""
+        veh = self.vehicle
+        g, mbar = veh.g, veh.mbar
+        rP = np.asarray(self.r_p, dtype=float)
+        M = np.array([veh.mass(i, self.m0) for i in (1, 2, 3)])
+        F, T, _, _, _ = loads_3d(veh, v, Om)
+        J = np.array([veh.J1, veh.J2, veh.J3])
+        w = v + _cross(Om, np.broadcast_to(rP, np.shape(v)))
+        rPb = np.broadcast_to(rP, np.shape(v))
+        Fp = _cross(M * v + mbar * w, Om) + self.m0 * g * zeta + F
+        Tp = (_cross(J * Om + mbar * _cross(rPb, w), Om) - _cross(v, M * v)
+              - mbar * _cross(v, _cross(Om, rPb)) + mbar * g * _cross(rPb, zeta) + T)
+        return Fp, Tp
+
+    def accelerations(self, v: Any, Om: Any, zeta: Any) -> tuple[Any, Any]:
+        """``(v', Omega')`` of (8.23)."""
+        Fp, Tp = self.forces(v, Om, zeta)
+        a = np.einsum("ij,...j->...i", self._Minv, np.concatenate([Fp, Tp], -1))
+        return a[..., :3], a[..., 3:]
+
+    def rhs(self, x: Any, u: Any = None) -> Any:
+        x = np.asarray(x)
+        q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
+        R = quat_to_R(q)
+        vd, Od = self.accelerations(v, Om, R[..., 2, :])
+        return np.concatenate([np.einsum("...ij,...j->...i", R, v), _qdot(q, Om), vd, Od], -1)
