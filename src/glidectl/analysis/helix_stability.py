@@ -1,0 +1,145 @@
+"""Stability of circular helices versus bottom-heaviness, §8.3 (Fig 8.13-8.14).
+
+``r_bh = r_P . zeta_e`` is the component of the moving-mass position along gravity (body frame). Moving the mass
+along ``zeta_e`` changes ``r_bh`` and keeps the perpendicular part (which sets the moment balance). Two loci:
+
+- **frozen** (what §8.3 does): the steady motion ``(v, Omega, theta, phi)`` of the nominal ``r_P`` is kept and only
+  the linearization is re-evaluated. §8.3 says ``r_bh`` does not change the equilibrium; it does slightly (through
+  the ``m r_P x (v + Omega x r_P)`` terms of (8.25) and the mass matrix of (8.23)), so the frozen state is not an exact
+  equilibrium away from the nominal ``r_bh``: the residual is returned with the locus.
+- **re-solved**: the helix is re-trimmed at every ``r_bh`` (continuation), so every eigenvalue set belongs to a true
+  steady motion.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InfeasibleGlideError
+from ..models.glider3d import FixedMassGlider3D
+from ..params import Vehicle
+from ..trim.helix import Helix, _eigs, _equations, helix_trim, zeta_of
+from .locus import ParameterLocus, parameter_locus
+
+__all__ = ["HelixRbhLocus", "helix_rbh_locus", "resolved_crossing"]
+
+
+@dataclass(frozen=True)
+class HelixRbhLocus:
+    """Eigenvalue locus of the 8-state reduced linearization versus ``r_bh``.
+
+    Attributes
+    ----------
+    locus : ParameterLocus
+        Branch-matched eigenvalues, stability crossings (Brent) and break points (bisection).
+    nominal : Helix
+        The steady motion at the nominal ``r_P``.
+    frozen : bool
+        Equilibrium frozen at the nominal one (True) or re-solved at every ``r_bh`` (False).
+    residual : ndarray
+        Max ``|(v', Omega')|`` of the state used at each ``r_bh`` (0 up to rounding when re-solved).
+    """
+
+    locus: ParameterLocus
+    nominal: Helix
+    frozen: bool
+    residual: np.ndarray
+    solutions: np.ndarray  # (n, 6) trim unknowns (v, psidot, theta, phi) used at each r_bh
+
+    @property
+    def branch_jumps(self) -> np.ndarray:
+        """r_bh grid intervals (left ends) where the re-solved steady motion changes discontinuously (a step in the
+        trim unknowns more than 10x the median of its ten neighbouring steps): the equilibrium branch folds or
+        bifurcates there, so the continuation lands on another branch. Empty for the frozen locus."""
+        if self.frozen or len(self.solutions) < 3:
+            return np.empty(0)
+        d = np.linalg.norm(np.diff(self.solutions, axis=0), axis=1)
+        loc = np.array([np.median(np.r_[d[max(i - 5, 0):i], d[i + 1:i + 6]]) for i in range(d.size)])
+        return self.locus.values[:-1][d > 10 * np.maximum(loc, 1e-12)]
+
+    @property
+    def crossings(self) -> tuple[float, ...]:
+        return self.locus.crossings
+
+
+def _r_p_at(nominal: Helix, rbh: float) -> tuple[float, float, float]:
+    z = zeta_of(nominal.theta, nominal.phi)
+    r = np.asarray(nominal.r_p) + (rbh - nominal.r_bh) * z
+    return (float(r[0]), float(r[1]), float(r[2]))
+
+
+def helix_rbh_locus(veh: Vehicle, r_p: Sequence[float], m0: float, rbh_values: Sequence[float], *,
+                    frozen: bool = True) -> HelixRbhLocus:
+    """Eigenvalues of the reduced helix linearization versus bottom-heaviness ``r_bh`` (m), Fig 8.13-8.14.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        3D glider (``slocum_ch8``).
+    r_p, m0 : nominal moving-mass position (m) and buoyancy (kg); §8.3 uses (0.02, -0.02, 0.04), 0.25.
+    rbh_values : increasing r_bh values (m).
+    frozen : see the module docstring.
+    """
+    nominal = helix_trim(veh, r_p, m0)
+    y_nom = nominal.unknowns
+    vals = np.asarray(rbh_values, dtype=float)
+    cache: dict[float, tuple[np.ndarray, float, np.ndarray]] = {}
+    solved: dict[float, Helix] = {nominal.r_bh: nominal}
+
+    def state(rbh: float) -> tuple[np.ndarray, float, np.ndarray]:
+        rbh = float(rbh)
+        if rbh in cache:
+            return cache[rbh]
+        rp = _r_p_at(nominal, rbh)
+        model = FixedMassGlider3D(veh, rp, m0)
+        if frozen:
+            y = y_nom
+        else:
+            near = solved[min(solved, key=lambda r: abs(r - rbh))]  # warm start from the nearest solved point
+            try:
+                h = helix_trim(veh, rp, m0, guess=near, n_random=0)
+            except InfeasibleGlideError:
+                h = helix_trim(veh, rp, m0)
+            solved[rbh] = h
+            y = h.unknowns
+        res = float(np.max(np.abs(_equations(model, y))))
+        out = (_eigs(model, y), res, np.asarray(y, float).copy())
+        cache[rbh] = out
+        return out
+
+    order = np.argsort(np.abs(vals - nominal.r_bh))  # continue outwards from the nominal point
+    for k in order if not frozen else range(vals.size):
+        state(vals[k])
+    loc = parameter_locus(lambda r: state(r)[0], vals, "r_bh", "m",
+                          context={"vehicle": veh.name, "r_p_nominal": tuple(r_p), "m0": m0, "frozen": frozen})
+    res = np.array([state(r)[1] for r in vals])
+    return HelixRbhLocus(loc, nominal, frozen, res, np.array([state(r)[2] for r in vals]))
+
+
+def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: float = 5e-4,
+                      stop: float = -0.05) -> tuple[float | None, Helix]:
+    """Walk the re-solved helix branch from the nominal ``r_bh`` downwards in steps of ``step`` (m), warm-starting each
+    trim from the previous one, and locate the first ``r_bh`` where the reduced linearization loses stability
+    (bisection on the branch, to 1e-9 m). Returns ``(r_bh or None, the helix at the last stable point)``.
+    """
+    nominal = helix_trim(veh, r_p, m0)
+    h = nominal
+    r = nominal.r_bh
+    while r - step >= stop:
+        r_new = r - step
+        h_new = helix_trim(veh, _r_p_at(nominal, r_new), m0, guess=h, n_random=0, continuation_steps=1)
+        if h_new.stable != h.stable:
+            lo, hi, h_lo = r_new, r, h  # unstable at lo, stable at hi
+            while hi - lo > 1e-9:
+                mid = 0.5 * (lo + hi)
+                hm = helix_trim(veh, _r_p_at(nominal, mid), m0, guess=h_lo, n_random=0, continuation_steps=1)
+                if hm.stable:
+                    hi, h_lo = mid, hm
+                else:
+                    lo = mid
+            return 0.5 * (lo + hi), h_lo
+        h, r = h_new, r_new
+    return None, h
