@@ -9,6 +9,7 @@ Public API (chapter 2, longitudinal underwater glider)::
     sys = gc.linearize_glide(veh, g, inputs="force")   # control.StateSpace with named states/inputs
 """
 
+from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from .analysis.jacobian import central_difference_jacobians, jacobians
 from .analysis.linear import (
     Modes,
@@ -45,6 +46,7 @@ from .stability.singular_perturbation import SingularPerturbation, SlowModel, si
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
+from .trim.helix_design import HelixDesign, design_helix
 
 __version__ = "0.1.0"
 
@@ -59,6 +61,8 @@ __all__ = [
     "GlidectlError",
     "Glider3D",
     "Helix",
+    "HelixDesign",
+    "HelixRbhLocus",
     "InfeasibleGlideError",
     "LinearGlideController",
     "LongitudinalGlider",
@@ -81,7 +85,9 @@ __all__ = [
     "composite_lyapunov",
     "controllability",
     "decoupled_gain_matrix",
+    "design_helix",
     "glide_model",
+    "helix_rbh_locus",
     "helix_trim",
     "jacobians",
     "linearize_glide",
@@ -95,6 +101,7 @@ __all__ = [
     "permissible_gamma",
     "place_glide",
     "rbh_locus",
+    "resolved_crossing",
     "simulate",
     "singular_perturbation",
     "steady_glide",

@@ -1,0 +1,152 @@
+"""Inverse helix design (beyond chapter 8, which calls the symbolic inversion intractable): find the moving-mass
+position ``r_P`` and buoyancy ``m0`` that realize a stable circular helix of a requested radius and pitch (drop per
+turn) or radius and speed.
+
+Method: bounded nonlinear least squares (:func:`scipy.optimize.least_squares`, trust-region reflective) on the
+controls ``c = (r_P1, r_P2, r_P3, m0)``. Each residual evaluation trims the helix (:func:`helix_trim`, warm-started
+from the last solution); the residual is the relative error in the two targets, a stability penalty
+``max(0, max Re(lambda) + margin)`` and a small pull towards the starting point (the problem has two more unknowns
+than targets). Several starting points are tried; the result is polished on the targets alone and accepted only if
+the targets are met to ``tol``, the helix is stable and the controls are inside the bounds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..errors import GlidectlError, InfeasibleGlideError
+from ..params import Vehicle
+from .helix import Helix, helix_trim
+
+__all__ = ["DEFAULT_M0_BOUNDS", "DEFAULT_R_P_BOUNDS", "HelixDesign", "design_helix"]
+
+#: default moving-mass travel (m) per body axis and buoyancy range (kg); ours (the thesis gives none)
+DEFAULT_R_P_BOUNDS = ((-0.05, 0.05), (-0.05, 0.05), (0.0, 0.08))
+DEFAULT_M0_BOUNDS = (-0.5, 0.5)
+_SCALE = np.array([0.01, 0.01, 0.01, 0.1])  # m, m, m, kg
+
+
+@dataclass(frozen=True)
+class HelixDesign:
+    """Control parameters that realize a requested helix.
+
+    Attributes
+    ----------
+    r_p : (3,) moving-mass position (m); m0 : buoyancy (kg); helix : the resulting :class:`Helix`
+    target : requested ``{"radius": .., "pitch" or "speed": ..}`` (SI)
+    error : max relative error in the targets
+    evaluations : helix trims used
+    """
+
+    r_p: tuple[float, float, float]
+    m0: float
+    helix: Helix
+    target: dict[str, float]
+    error: float
+    evaluations: int
+    bounds: tuple[tuple[float, float], ...] = field(repr=False)
+    vehicle: str = ""
+    provenance: str = ""
+
+
+def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, speed: float | None = None,
+                 r_p_bounds: tuple[tuple[float, float], ...] = DEFAULT_R_P_BOUNDS,
+                 m0_bounds: tuple[float, float] = DEFAULT_M0_BOUNDS, stability_margin: float = 1e-3,
+                 tol: float = 1e-6, seed: int = 0, n_starts: int = 8) -> HelixDesign:
+    """Find ``(r_P, m0)`` within bounds giving a stable helix of ``radius`` (m) and ``pitch`` (m, drop per turn,
+    positive downwards) or ``speed`` (m/s).
+
+    Raises
+    ------
+    InfeasibleGlideError
+        If no stable helix meeting the targets to ``tol`` (relative) was found within the bounds; the message gives
+        the best attempt.
+    """
+    if (pitch is None) == (speed is None):
+        raise GlidectlError("give radius and exactly one of pitch= (m per turn) or speed= (m/s)")
+    if not (math.isfinite(radius) and radius > 0):
+        raise GlidectlError(f"radius must be a positive number of metres, got {radius!r}")
+    key, val = ("pitch", float(pitch)) if pitch is not None else ("speed", float(speed))  # type: ignore[arg-type]
+    if not math.isfinite(val) or val == 0 or (key == "speed" and val < 0):
+        raise GlidectlError(f"{key} must be finite and nonzero (speed > 0), got {val!r}")
+    lo = np.array([b[0] for b in r_p_bounds] + [m0_bounds[0]], float)
+    hi = np.array([b[1] for b in r_p_bounds] + [m0_bounds[1]], float)
+    if lo.shape != (4,) or np.any(lo >= hi):
+        raise GlidectlError("bounds must be three (lo, hi) pairs for r_P (m) and one for m0 (kg) with lo < hi")
+    sign = 1.0 if (key == "speed" or val > 0) else -1.0  # descending helices need m0 > 0
+    if key == "pitch" and not (lo[3] < 0 < hi[3] or (sign > 0 and hi[3] > 0) or (sign < 0 and lo[3] < 0)):
+        raise InfeasibleGlideError(f"a pitch of {val:g} m needs m0 of sign {sign:+.0f}, outside {m0_bounds}")
+    target = {"radius": float(radius), key: val}
+    state: dict[str, Any] = {"last": None, "n": 0}
+
+    def trim(c: np.ndarray) -> Helix | None:
+        state["n"] += 1
+        try:
+            h = helix_trim(veh, c[:3], float(c[3]), guess=state["last"], n_random=0, continuation_steps=6)
+        except (InfeasibleGlideError, GlidectlError):
+            return None
+        state["last"] = h
+        return h
+
+    def target_err(h: Helix) -> np.ndarray:
+        got = h.pitch if key == "pitch" else h.speed
+        if not (math.isfinite(h.radius) and math.isfinite(got)):
+            return np.array([10.0, 10.0])
+        return np.array([(h.radius - radius) / radius, (got - val) / abs(val)])
+
+    def residual(c: np.ndarray, c0: np.ndarray, reg: float) -> np.ndarray:
+        h = trim(c)
+        if h is None:
+            return np.r_[10.0, 10.0, 10.0, reg * (c - c0) / _SCALE]
+        pen = 10.0 * max(0.0, float(np.max(h.eigenvalues.real)) + stability_margin)
+        return np.r_[target_err(h), pen, reg * (c - c0) / _SCALE]
+
+    rng = np.random.default_rng(seed)
+    m0s = np.clip(sign * np.array([0.25, 0.1, 0.4]), lo[3], hi[3])
+    starts = [np.array([sign * 0.02, s2, 0.04, m]) for m in m0s for s2 in (0.02, -0.02, 0.005, -0.005)]
+    while len(starts) < n_starts:
+        starts.append(lo + (hi - lo) * rng.random(4))
+    best: tuple[float, np.ndarray, Helix | None] = (float("inf"), starts[0], None)
+    for c0 in starts[:n_starts]:
+        c0 = np.clip(c0, lo + 1e-9, hi - 1e-9)
+        state["last"] = None
+        if trim(c0) is None:
+            continue
+        try:
+            sol = least_squares(residual, c0, args=(c0, 1e-3), bounds=(lo, hi), x_scale=_SCALE, xtol=1e-12,
+                                ftol=1e-12, gtol=1e-12, max_nfev=60)
+            if np.max(np.abs(sol.fun[:3])) > 0.05:  # far from the targets: not worth polishing this start
+                if np.max(np.abs(sol.fun[:2])) < best[0]:
+                    hb = trim(sol.x)
+                    if hb is not None:
+                        best = (float(np.max(np.abs(target_err(hb)))), sol.x, hb)
+                continue
+            # polish on the targets (and stability) alone
+            sol = least_squares(residual, sol.x, args=(sol.x, 0.0), bounds=(lo, hi), x_scale=_SCALE, xtol=1e-14,
+                                ftol=1e-14, gtol=1e-14, max_nfev=100)
+        except (ValueError, np.linalg.LinAlgError):
+            continue
+        h = trim(sol.x)
+        if h is None:
+            continue
+        err = float(np.max(np.abs(target_err(h))))
+        ok = err <= tol and h.stable and float(np.max(h.eigenvalues.real)) <= -stability_margin * 0.999
+        if err < best[0] or (ok and best[2] is not None and not best[2].stable):
+            best = (err, sol.x, h)
+        if ok:
+            c = sol.x
+            return HelixDesign((float(c[0]), float(c[1]), float(c[2])), float(c[3]), h, target, err, state["n"],
+                               (tuple(r_p_bounds[0]), tuple(r_p_bounds[1]), tuple(r_p_bounds[2]), tuple(m0_bounds)),
+                               veh.name, veh.provenance)
+    e, c, h = best
+    what = "no helix could be trimmed" if h is None else (
+        f"best: r_P = {tuple(round(float(x), 5) for x in c[:3])} m, m0 = {c[3]:.4g} kg gives radius {h.radius:.4g} m, "
+        f"{key} {h.pitch if key == 'pitch' else h.speed:.4g}, max Re(lambda) = {np.max(h.eigenvalues.real):.3g} 1/s, "
+        f"relative error {e:.2e}")
+    raise InfeasibleGlideError(f"no stable helix with radius {radius:g} m and {key} {val:g} within r_P bounds "
+                               f"{r_p_bounds} m and m0 bounds {m0_bounds} kg ({n_starts} starts; {what})")
