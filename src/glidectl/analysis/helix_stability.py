@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InfeasibleGlideError
+from ..errors import InfeasibleGlideError, SolverError
 from ..models.glider3d import FixedMassGlider3D
 from ..params import Vehicle
 from ..trim.helix import Helix, _eigs, _equations, helix_trim, zeta_of
@@ -140,6 +140,10 @@ def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: fl
                     hi, h_lo = mid, hm
                 else:
                     lo = mid
+            if abs(float(np.max(h_lo.eigenvalues.real))) > 1e-5:
+                raise SolverError(
+                    f"the re-solved helix branch jumps near r_bh = {0.5 * (lo + hi):.6g} m (stability changes without "
+                    "an eigenvalue crossing zero: a fold of the equilibrium branch); retry with a smaller step")
             return 0.5 * (lo + hi), h_lo
         h, r = h_new, r_new
     return None, h

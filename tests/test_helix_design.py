@@ -1,0 +1,101 @@
+"""Inverse helix design and helix stability versus bottom-heaviness (§8.3)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import glidectl as gc
+from glidectl.analysis.helix_stability import _r_p_at
+
+SLOCUM = gc.load_vehicle("slocum_ch8")
+NOMINAL_83 = (0.02, -0.02, 0.04)
+
+
+@pytest.mark.parametrize("target", [{"radius": 50.0, "pitch": 150.0}, {"radius": 30.0, "speed": 0.6},
+                                    {"radius": 50.0, "pitch": -150.0}])
+def test_design_meets_targets_with_a_stable_helix(target):
+    d = gc.design_helix(SLOCUM, **target)
+    h = gc.helix_trim(SLOCUM, d.r_p, d.m0)  # independent re-trim at the returned controls
+    assert h.radius == pytest.approx(target["radius"], rel=1e-6)
+    if "pitch" in target:
+        assert h.pitch == pytest.approx(target["pitch"], rel=1e-6)
+        assert np.sign(d.m0) == np.sign(target["pitch"])  # descending helices need a heavy glider
+    else:
+        assert h.speed == pytest.approx(target["speed"], rel=1e-6)
+    assert np.max(h.eigenvalues.real) < 0
+    for x, (lo, hi) in zip(d.r_p, gc.trim.helix_design.DEFAULT_R_P_BOUNDS, strict=True):
+        assert lo <= x <= hi
+    assert d.error <= 1e-6
+
+
+def test_design_recovers_the_thesis_helix():
+    d = gc.design_helix(SLOCUM, radius=66.5996, pitch=206.21)
+    assert d.helix.radius == pytest.approx(66.5996, rel=1e-6)
+
+
+def test_infeasible_design_says_so():
+    with pytest.raises(gc.InfeasibleGlideError, match="no stable helix"):
+        gc.design_helix(SLOCUM, radius=1.0, pitch=1000.0, n_starts=2)
+
+
+def test_design_bad_inputs():
+    with pytest.raises(gc.GlidectlError, match="exactly one"):
+        gc.design_helix(SLOCUM, radius=50.0)
+    with pytest.raises(gc.GlidectlError, match="exactly one"):
+        gc.design_helix(SLOCUM, radius=50.0, pitch=100.0, speed=0.5)
+    with pytest.raises(gc.GlidectlError, match="radius"):
+        gc.design_helix(SLOCUM, radius=-5.0, pitch=100.0)
+    with pytest.raises(gc.GlidectlError, match="bounds"):
+        gc.design_helix(SLOCUM, radius=50.0, pitch=100.0, m0_bounds=(0.5, 0.1))
+
+
+@pytest.fixture(scope="module")
+def frozen():
+    return gc.helix_rbh_locus(SLOCUM, NOMINAL_83, 0.25, np.linspace(-0.03, 0.1, 131), frozen=True)
+
+
+def test_nominal_bottom_heaviness_matches_thesis(frozen):
+    assert frozen.nominal.r_bh == pytest.approx(0.0481, abs=5e-5)
+
+
+def test_frozen_locus_crossing_is_a_zero_real_part(frozen):
+    (rc,) = frozen.crossings
+    assert -0.02 < rc < 0.0
+    model = gc.FixedMassGlider3D(SLOCUM, _r_p_at(frozen.nominal, rc), 0.25)
+    from glidectl.trim.helix import _eigs
+
+    lam = _eigs(model, frozen.nominal.unknowns)
+    assert abs(np.max(lam.real)) < 1e-8
+    # stable above, unstable below
+    vals = frozen.locus.values
+    mr = frozen.locus.branches.real.max(axis=1)
+    assert np.all(mr[vals > rc + 1e-6] < 0) and np.all(mr[vals < rc - 1e-6] > 0)
+
+
+def test_frozen_state_is_an_equilibrium_only_at_the_nominal_rbh(frozen):
+    i = int(np.argmin(np.abs(frozen.locus.values - frozen.nominal.r_bh)))
+    assert frozen.residual.max() > 1e-6  # r_bh does change the equilibrium (against 8.3's statement)
+    # the residual grows with the distance from the nominal r_bh
+    assert frozen.residual[0] > frozen.residual[i]
+
+
+def test_resolved_locus_uses_true_equilibria():
+    loc = gc.helix_rbh_locus(SLOCUM, NOMINAL_83, 0.25, np.linspace(0.0, 0.08, 17), frozen=False)
+    assert loc.residual.max() < 1e-10
+    assert np.all(loc.locus.branches.real.max(axis=1) < 0)
+
+
+def test_resolved_crossing_brackets_the_loss_of_stability():
+    rc, h = gc.resolved_crossing(SLOCUM, NOMINAL_83, 0.25)
+    assert rc is not None and rc < 0
+    assert h.stable and abs(np.max(h.eigenvalues.real)) < 1e-6  # a true crossing, not a branch jump
+    below = gc.helix_trim(SLOCUM, _r_p_at(gc.helix_trim(SLOCUM, NOMINAL_83, 0.25), rc - 1e-6), 0.25, guess=h,
+                          n_random=0, continuation_steps=1)
+    assert not below.stable
+
+
+def test_resolved_crossing_refuses_a_branch_jump():
+    """With coarse steps the walk jumps across the fold near r_bh = -0.008 m: reported, not taken for a crossing."""
+    with pytest.raises(gc.SolverError, match="jumps"):
+        gc.resolved_crossing(SLOCUM, NOMINAL_83, 0.25, step=2e-3)
