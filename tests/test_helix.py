@@ -248,12 +248,35 @@ def test_bad_r_p_raises_glidectl_error(r_p):
         helix_trim(SLOCUM, r_p, M0)
 
 
-@pytest.mark.xfail(strict=True, reason="helix_trim raises the base GlidectlError (not a ValueError subclass such "
-                   "as ModelError) for a bad r_p; DESIGN.md asks for a GlidectlError subclass")
-def test_bad_r_p_raises_a_value_error_subclass():
-    with pytest.raises(GlidectlError) as exc:
-        helix_trim(SLOCUM, (0.02, float("nan"), 0.04), M0)
-    assert type(exc.value) is not GlidectlError and isinstance(exc.value, ValueError)
+@pytest.mark.parametrize("bad", [(0.02, float("nan"), 0.04), (0.02, 0.04), ("a", 0, 0), ((1, 2), 0, 0)])
+def test_bad_r_p_raises_model_error(bad):
+    with pytest.raises(ModelError, match="r_p must be three finite numbers"):
+        helix_trim(SLOCUM, bad, M0)
+
+
+@pytest.mark.parametrize("m0", [float("nan"), float("inf"), "heavy"])
+def test_non_finite_m0_raises_model_error(m0):
+    with pytest.raises(ModelError, match="m0 must be a finite number"):
+        helix_trim(SLOCUM, R_P, m0)
+
+
+def test_m0_that_makes_a_mass_negative_is_refused():
+    with pytest.raises(ModelError, match="non-positive"):
+        helix_trim(SLOCUM, R_P, -1e4)
+
+
+@pytest.mark.parametrize("kw", [{"continuation_steps": 0}, {"continuation_steps": 2.5}, {"n_random": -1},
+                                {"guess": (1.0, 0.0)}])
+def test_bad_solver_options_raise_model_error(kw):
+    with pytest.raises(ModelError):
+        helix_trim(SLOCUM, R_P, M0, **kw)
+
+
+def test_helix_arrays_are_read_only():
+    h = helix_trim(SLOCUM, R_P, M0)
+    for a in (h.v, h.Omega, h.eigenvalues):
+        with pytest.raises(ValueError):
+            a[0] = 0.0
 
 
 def test_vehicle_without_3d_parameters_raises_model_error():

@@ -7,8 +7,16 @@ Public API (chapter 2, longitudinal underwater glider)::
     lo, hi = gc.permissible_gamma(veh)             # rad; glides need gamma < lo or gamma > hi
     g = gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05)
     sys = gc.linearize_glide(veh, g, inputs="force")   # control.StateSpace with named states/inputs
+
+Chapter 8 (3D glider, circular helices)::
+
+    veh = gc.load_vehicle("slocum_ch8")
+    h = gc.helix_trim(veh, r_p=(0.02, 0.02, 0.04), m0=0.25)   # h.radius, h.pitch, h.period, h.eigenvalues
+    sw = gc.helix_sweep(veh, "r_P1", np.linspace(0.002, 0.06, 59))   # maps; any Executor via executor=
+    d = gc.design_helix(veh, radius=50.0, pitch=150.0)         # d.r_p, d.m0, d.helix
 """
 
+from .analysis.helix_maps import ExistenceScan, HelixSweep, existence_scan, helix_sweep, straight_glides
 from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from .analysis.jacobian import central_difference_jacobians, jacobians
 from .analysis.linear import (
@@ -56,6 +64,7 @@ __all__ = [
     "CompositeCertificate",
     "DecoupledAccelerationFeedback",
     "Domain",
+    "ExistenceScan",
     "FixedMassGlider3D",
     "GlidePathModel",
     "GlidectlError",
@@ -63,6 +72,7 @@ __all__ = [
     "Helix",
     "HelixDesign",
     "HelixRbhLocus",
+    "HelixSweep",
     "InfeasibleGlideError",
     "LinearGlideController",
     "LongitudinalGlider",
@@ -86,8 +96,10 @@ __all__ = [
     "controllability",
     "decoupled_gain_matrix",
     "design_helix",
+    "existence_scan",
     "glide_model",
     "helix_rbh_locus",
+    "helix_sweep",
     "helix_trim",
     "jacobians",
     "linearize_glide",
@@ -105,6 +117,7 @@ __all__ = [
     "simulate",
     "singular_perturbation",
     "steady_glide",
+    "straight_glides",
     "uncontrolled_eigs",
     "unequal_mass_check",
 ]

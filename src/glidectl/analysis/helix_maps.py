@@ -45,7 +45,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..errors import GlidectlError, InfeasibleGlideError
+from ..errors import InfeasibleGlideError, ModelError
 from ..models.glider3d import FixedMassGlider3D
 from ..params import Vehicle
 from ..trim.helix import Helix, _newton, helix_trim
@@ -57,6 +57,7 @@ __all__ = [
     "HelixSweep",
     "existence_scan",
     "helix_sweep",
+    "straight_glides",
 ]
 
 #: control parameters that can be swept: name -> (unit, index in r_P or None for m0)
@@ -347,7 +348,7 @@ class HelixSweep:
         try:
             return self.data[:, self.columns.index(name)]
         except ValueError:
-            raise GlidectlError(f"unknown column {name!r}; available: {', '.join(self.columns)}") from None
+            raise ModelError(f"unknown column {name!r}; available: {', '.join(self.columns)}") from None
 
     @property
     def stable(self) -> np.ndarray:
@@ -403,16 +404,16 @@ def _readonly(a: np.ndarray) -> np.ndarray:
 def _check_inputs(veh: Vehicle, parameter: str, values: Any, r_p: Any, m0: Any
                   ) -> tuple[np.ndarray, tuple[float, float, float], float]:
     if parameter not in PARAMETERS:
-        raise GlidectlError(f"unknown sweep parameter {parameter!r}; choose one of {', '.join(PARAMETERS)}")
+        raise ModelError(f"unknown sweep parameter {parameter!r}; choose one of {', '.join(PARAMETERS)}")
     try:
         vals = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
-        raise GlidectlError(f"values must be a 1-D sequence of numbers, got {values!r}") from None
+        raise ModelError(f"values must be a 1-D sequence of numbers, got {values!r}") from None
     if vals.ndim != 1 or vals.size == 0:
-        raise GlidectlError(f"values must be a non-empty 1-D sequence of {parameter} values "
+        raise ModelError(f"values must be a non-empty 1-D sequence of {parameter} values "
                             f"({PARAMETERS[parameter][0]}), got shape {vals.shape}")
     if not np.all(np.isfinite(vals)):
-        raise GlidectlError(f"values of {parameter} must be finite, got {vals[~np.isfinite(vals)][:3]}")
+        raise ModelError(f"values of {parameter} must be finite, got {vals[~np.isfinite(vals)][:3]}")
     FixedMassGlider3D(veh, (0.0, 0.0, 0.0), 1.0)  # raises ModelError for a vehicle without the 3D parameters
     r_p = (veh.r_P1, veh.r_P2, veh.r_P3) if r_p is None else r_p  # ModelError naming the key if not in the file
     m0 = veh.m0 if m0 is None else m0
@@ -420,9 +421,9 @@ def _check_inputs(veh: Vehicle, parameter: str, values: Any, r_p: Any, m0: Any
         r = np.asarray(r_p, dtype=float)
         m = float(m0)
     except (TypeError, ValueError):
-        raise GlidectlError(f"r_p must be three numbers (m) and m0 a number (kg), got {r_p!r}, {m0!r}") from None
+        raise ModelError(f"r_p must be three numbers (m) and m0 a number (kg), got {r_p!r}, {m0!r}") from None
     if r.shape != (3,) or not np.all(np.isfinite(r)) or not math.isfinite(m):
-        raise GlidectlError(f"r_p must be three finite numbers (m) and m0 finite (kg), got {r_p!r}, {m0!r}")
+        raise ModelError(f"r_p must be three finite numbers (m) and m0 finite (kg), got {r_p!r}, {m0!r}")
     return vals, (float(r[0]), float(r[1]), float(r[2])), m
 
 
@@ -471,7 +472,7 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
 
     Raises
     ------
-    GlidectlError
+    ModelError
         Unknown parameter, empty or non-finite values, invalid ``r_p``/``m0``/``chunks``; ``ModelError`` for a
         vehicle without the 3D parameters.
     """
@@ -480,9 +481,9 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
     if chunks is None:
         chunks = 1 if executor is None else min(n, os.cpu_count() or 1)
     if isinstance(chunks, bool) or not isinstance(chunks, int | np.integer) or chunks < 1:
-        raise GlidectlError(f"chunks must be a positive integer, got {chunks!r}")
+        raise ModelError(f"chunks must be a positive integer, got {chunks!r}")
     if continuation_steps < 1 or n_random < 0:
-        raise GlidectlError(f"continuation_steps must be >= 1 and n_random >= 0, got {continuation_steps}, "
+        raise ModelError(f"continuation_steps must be >= 1 and n_random >= 0, got {continuation_steps}, "
                             f"{n_random}")
     opts = _Options(int(continuation_steps), int(n_random), int(seed))
     bounds = _chunk_bounds(n, min(int(chunks), n))
@@ -502,6 +503,50 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
                       _readonly(np.array([p.row for p in pts])), _readonly(np.array([p.exists for p in pts])),
                       _readonly(np.array([p.unknowns for p in pts])), tuple(p.how for p in pts),
                       tuple(p.note for p in pts), rp, m, prov)
+
+
+def straight_glides(veh: Vehicle, sweep: HelixSweep, *, xtol: float = 1e-10) -> tuple[Helix, ...]:
+    """Steady straight glides on the branch of a sweep: the values where the yaw rate ``psidot`` changes sign
+    between two neighbouring points found by continuation, refined by Brent's method on ``psidot`` (each trim
+    warm-started from the left neighbour).
+
+    There ``Omega = 0`` and the helix degenerates to a straight line (Theorem 7); with ``r_P2 != 0`` it is not in
+    the longitudinal plane (``beta != 0``), as §8.2.2 says of Fig 8.9. Intervals across a branch jump
+    (:attr:`HelixSweep.branch_jumps`) are skipped.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The vehicle the sweep was computed for.
+    sweep : HelixSweep
+    xtol : float
+        Absolute tolerance on the swept value (m or kg).
+
+    Returns
+    -------
+    tuple of Helix
+        One per sign change, with ``psidot`` zero to the trim tolerance (``|psidot| < 1e-9`` rad/s).
+    """
+    from scipy.optimize import brentq
+
+    jumps = set(np.round(sweep.branch_jumps, 12))
+    out = []
+    idx = np.flatnonzero(sweep.exists)
+    for i, j in itertools.pairwise(idx):
+        if j != i + 1 or round(float(sweep.values[i]), 12) in jumps:
+            continue
+        a, b = float(sweep.values[i]), float(sweep.values[j])
+        if not sweep.psidot[i] * sweep.psidot[j] < 0:
+            continue
+        guess = sweep.unknowns[i]
+
+        def trim(x: float, guess: np.ndarray = guess) -> Helix:
+            r_p, m0 = _controls(sweep.parameter, x, sweep.r_p, sweep.m0)
+            return helix_trim(veh, r_p, m0, guess=guess, n_random=0)
+
+        x0 = brentq(lambda x: trim(x).psidot, a, b, xtol=xtol)
+        out.append(trim(x0))
+    return tuple(out)
 
 
 # ---------------------------------------------------------------------------------------------- existence scan
@@ -695,11 +740,11 @@ def existence_scan(veh: Vehicle, r_P1_values: Sequence[float], m0_values: Sequen
     r1 = np.asarray(r_P1_values, dtype=float)
     m0s = np.asarray(m0_values, dtype=float)
     if r1.ndim != 1 or m0s.ndim != 1 or r1.size == 0 or m0s.size == 0:
-        raise GlidectlError("r_P1_values and m0_values must be non-empty 1-D sequences (m, kg)")
+        raise ModelError("r_P1_values and m0_values must be non-empty 1-D sequences (m, kg)")
     if not (np.all(np.isfinite(r1)) and np.all(np.isfinite(m0s))):
-        raise GlidectlError("r_P1_values and m0_values must be finite")
+        raise ModelError("r_P1_values and m0_values must be finite")
     if n_starts < 0 or continuation_steps < 1 or n_random < 0 or not tol > 0:
-        raise GlidectlError("n_starts and n_random must be >= 0, continuation_steps >= 1 and tol > 0")
+        raise ModelError("n_starts and n_random must be >= 0, continuation_steps >= 1 and tol > 0")
     p2 = float(veh.r_P2 if r_P2 is None else r_P2)
     p3 = float(veh.r_P3 if r_P3 is None else r_P3)
     _check_inputs(veh, "r_P1", r1, (0.0, p2, p3), 1.0)

@@ -146,6 +146,8 @@ class Glider3D:
         """(2.1)-(2.8): ``b' = R v``, ``R' = R Omega^``, ``r_P' = P_P/mbar - v - Omega x r_P``,
         ``v' = M^-1 Fbar``, ``Omega' = J^-1 Tbar``, ``P_P' = ubar``, ``m0' = u4``."""
         x, u = np.asarray(x), np.asarray(u)
+        shape = np.broadcast_shapes(x.shape[:-1], u.shape[:-1])
+        x, u = np.broadcast_to(x, shape + x.shape[-1:]), np.broadcast_to(u, shape + u.shape[-1:])
         veh = self.vehicle
         g, mbar = veh.g, veh.mbar
         q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
@@ -188,7 +190,11 @@ class FixedMassGlider3D:
         if r.shape != (3,) or not np.all(np.isfinite(r)) or not np.isfinite(self.m0):
             raise ModelError(f"r_p must be three finite numbers (m) and m0 finite (kg), got {self.r_p}, {self.m0}")
         mbar = veh.mbar
-        M = np.diag([veh.mass(i, self.m0) for i in (1, 2, 3)])
+        masses = [float(veh.mass(i, self.m0)) for i in (1, 2, 3)]
+        if min(masses) <= 0:
+            raise ModelError(f"m0 = {self.m0} kg makes a body mass non-positive on vehicle '{veh.name}' "
+                             f"(m_1, m_2, m_3 = {masses} kg); the ballast cannot be that light")
+        M = np.diag(masses)
         J = np.diag([veh.J1, veh.J2, veh.J3])
         rh = hat(r)
         big = np.block([[M + mbar * np.eye(3), -mbar * rh], [mbar * rh, J - mbar * rh @ rh]])

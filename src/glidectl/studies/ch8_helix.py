@@ -6,14 +6,17 @@ stability versus bottom-heaviness (Fig 8.13-8.14) and inverse helix design.
 from __future__ import annotations
 
 import math
+import os
 import sys
 from collections.abc import Callable
+from concurrent.futures import Executor, ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..analysis.helix_maps import ExistenceScan, HelixSweep, existence_scan, helix_sweep
 from ..analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from ..errors import InfeasibleGlideError
 from ..models.glider3d import FixedMassGlider3D, R_to_ypr, quat_to_R, ypr_to_quat
@@ -22,6 +25,7 @@ from ..report.document import Report
 from ..sim import Simulation, simulate
 from ..trim.helix import Helix, classify_motion, helix_trim
 from ..trim.helix_design import HelixDesign, design_helix
+from . import ch8_claims
 
 NAME = "ch8_helix"
 TITLE = "Chapter 8: circular helices of a Slocum-like glider, their maps, stability and inverse design"
@@ -39,6 +43,21 @@ DESIGN_TARGETS: tuple[dict[str, float], ...] = (
     {"radius": 50.0, "pitch": 150.0}, {"radius": 30.0, "speed": 0.6}, {"radius": 50.0, "pitch": -150.0},
     {"radius": 1.0, "pitch": 1000.0},
 )
+THESIS_TYPOS: tuple[tuple[str, str, str, str, str], ...] = (
+    ("typo_2_5_torque", "(2.5)", "Tbar = (J Omega + r_P^ P_P) x Omega + ...",
+     "Tbar = J Omega x Omega + r_P x (P_P x Omega) + ...",
+     "The literal form differs by P_P x (Omega x r_P); it disagrees with the longitudinal (2.20) in the plane and "
+     "with the fixed-mass (8.25), both of which the corrected form reproduces (tests/test_glider3d.py)."),
+    ("typo_2_6_ppdot", "(2.6)", "P_P = ubar", "dP_P/dt = ubar",
+     "The time derivative is missing: (2.6) is the moving-mass momentum equation."),
+    ("typo_table_8_2_2", "8.2.2", "vehicle parameters as indicated in Table 8.2.2", "Table 8.1",
+     "There is no Table 8.2.2; the parameters are those of Table 8.1 (vehicles/slocum_ch8.toml)."),
+    ("typo_8_3_rbh_equilibrium", "8.3", "the bottom-heaviness parameter does not affect the relative equilibrium",
+     "it does", "Changing r_bh at fixed r_P1, r_P2 (moving r_P along R^T k) leaves the gravity moment "
+     "r_P x (mbar g zeta) unchanged, but r_P also enters the inertia coupling mbar r_P x (v + Omega x r_P) of (8.23)-"
+     "(8.25); the frozen state has residual up to the value in rbh_bifurcation_m's note and the re-solved branch "
+     "moves (rbh_bifurcation_resolved_m)."),
+)
 THESIS_HELIX = {"helix_radius_m": 66.60, "helix_speed_mps": 0.729, "helix_pitch_m": 206.2, "helix_period_s": 639.6}
 
 
@@ -53,7 +72,9 @@ class Ch8Results:
     resolved_cross: float | None
     resolved_helix: Helix
     designs: list[tuple[dict[str, float], HelixDesign | None, str]]
-    maps: dict[str, Any]
+    maps: dict[str, HelixSweep]
+    scan: ExistenceScan
+    claims: tuple[ch8_claims.Claim, ...]
 
 
 def compute(progress: Callable[[str], None] = lambda s: None) -> Ch8Results:
@@ -82,9 +103,16 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> Ch8Results:
             designs.append((tgt, design_helix(veh, **tgt), ""))
         except InfeasibleGlideError as exc:
             designs.append((tgt, None, str(exc)))
-    progress("helix maps versus r_P1, r_P2, r_P3, m0 (Fig 8.5-8.12)")
-    maps = compute_maps(veh)
-    return Ch8Results(veh, h, sim, th7, fro, res, rc, rh, designs, maps)
+    with ProcessPoolExecutor(max_workers=max(1, min(4, os.cpu_count() or 1))) as ex:
+        progress("helix maps versus r_P1, r_P2, r_P3, m0 (Fig 8.5-8.12)")
+        maps = compute_maps(veh, ex)
+        progress("existence scan of the (m0, r_P1) sign claim of 8.2.2")
+        scan = existence_scan(veh, SCAN_R_P1, SCAN_M0, n_starts=SCAN_STARTS, executor=ex)
+    claims = (ch8_claims.existence_claim(scan), *ch8_claims.r_p1_claims(veh, maps["fig8_5"], maps["fig8_6"]),
+              *ch8_claims.r_p2_claims(maps["fig8_7"], maps["fig8_8"]),
+              *ch8_claims.r_p3_claims(veh, maps["fig8_9"], maps["fig8_10"]),
+              *ch8_claims.m0_claims(maps["fig8_11"], maps["fig8_12"]))
+    return Ch8Results(veh, h, sim, th7, fro, res, rc, rh, designs, maps, scan, claims)
 
 
 def _cls(v: np.ndarray, Om: np.ndarray) -> tuple[str, float, float]:
@@ -92,14 +120,10 @@ def _cls(v: np.ndarray, Om: np.ndarray) -> tuple[str, float, float]:
     return c["kind"], c["curvature"], c["torsion"]
 
 
-def compute_maps(veh: Vehicle) -> dict[str, Any]:
-    """Helix maps (filled in by the sweep module)."""
-    from ..analysis.helix_maps import helix_sweep
-
-    out: dict[str, Any] = {}
-    for key, (param, values, r_p, m0) in MAP_CASES.items():
-        out[key] = helix_sweep(veh, param, values, r_p=r_p, m0=m0)
-    return out
+def compute_maps(veh: Vehicle, executor: Executor | None = None) -> dict[str, HelixSweep]:
+    """The eight helix maps of Fig 8.5-8.12 (:data:`MAP_CASES`), by continuation."""
+    return {key: helix_sweep(veh, param, values, r_p=r_p, m0=m0, executor=executor)
+            for key, (param, values, r_p, m0) in MAP_CASES.items()}
 
 
 MAP_CASES: dict[str, tuple[str, np.ndarray, tuple[float, float, float], float]] = {
@@ -112,6 +136,9 @@ MAP_CASES: dict[str, tuple[str, np.ndarray, tuple[float, float, float], float]] 
     "fig8_11": ("m0", np.linspace(0.05, 0.6, 56), (0.02, 0.02, 0.04), 0.25),
     "fig8_12": ("m0", np.linspace(-0.6, -0.05, 56), (-0.02, 0.02, 0.04), -0.25),
 }
+SCAN_R_P1 = np.linspace(-0.04, 0.04, 9)  # m
+SCAN_M0 = np.array([-0.5, -0.25, -0.1, 0.1, 0.25, 0.5])  # kg
+SCAN_STARTS = 30
 MAP_TITLES = {"fig8_5": "r_P1, m0 > 0", "fig8_6": "r_P1, m0 < 0", "fig8_7": "r_P2, m0 > 0", "fig8_8": "r_P2, m0 < 0",
               "fig8_9": "r_P3, m0 > 0", "fig8_10": "r_P3, m0 < 0", "fig8_11": "m0 > 0", "fig8_12": "m0 < 0"}
 
@@ -173,6 +200,7 @@ def figures(res: Ch8Results) -> dict[str, tuple[Any, str]]:
 
     for key, sw in res.maps.items():
         out[key] = _map_figure(sw, key)
+    out["fig8_existence_scan"] = _scan_figure(res.scan)
 
     from ..report.figures import plot_locus, plot_locus_real
 
@@ -206,13 +234,26 @@ def _map_figure(sw: Any, key: str) -> tuple[Any, str]:
     cols = [("radius", "radius [m]", 1.0), ("pitch", "pitch (drop per turn) [m]", 1.0), ("period", "period [s]", 1.0),
             ("speed", "speed V [m/s]", 1.0), ("alpha", r"$\alpha$, $\beta$ [deg]", 180 / math.pi),
             ("theta", r"pitch $\theta$, roll $\varphi$ [deg]", 180 / math.pi)]
+    # break the curves where the continuation jumps between branches (folds)
+    cut = np.isin(sw.values, sw.branch_jumps)
+    xs = np.insert(x, np.flatnonzero(cut) + 1, np.nan)
+    unstable = sw.exists & ~sw.stable
+
+    def curve(name: str) -> np.ndarray:
+        return np.insert(np.asarray(sw.column(name), float), np.flatnonzero(cut) + 1, np.nan)
+
     for a, (c, lab, f) in zip(axs.flat, cols, strict=True):
-        a.plot(x, np.asarray(sw.column(c)) * f, "C0", label=c if c in ("alpha", "theta") else None)
+        a.plot(xs, curve(c) * f, "C0", label={"alpha": r"$\alpha$", "theta": r"$\theta$"}.get(c))
         if c == "alpha":
-            a.plot(x, np.asarray(sw.column("beta")) * f, "C1", label="beta")
-            a.legend(fontsize=7)
+            a.plot(xs, curve("beta") * f, "C1", label=r"$\beta$")
         if c == "theta":
-            a.plot(x, np.asarray(sw.column("phi")) * f, "C1", label="phi")
+            a.plot(xs, curve("phi") * f, "C1", label=r"$\varphi$")
+        if np.any(unstable):
+            a.plot(x[unstable], np.asarray(sw.column(c))[unstable] * f, "x", color="C3", ms=4,
+                   label="unstable" if c in ("alpha", "theta") else None)
+        if c in ("radius", "period"):
+            a.set_yscale("log")
+        if c in ("alpha", "theta"):
             a.legend(fontsize=7)
         a.set_ylabel(lab)
         a.grid(True, alpha=0.3)
@@ -222,9 +263,43 @@ def _map_figure(sw: Any, key: str) -> tuple[Any, str]:
     n_unstable = int(np.sum(np.asarray(sw.exists) & (np.asarray(sw.column("max_re_eig")) >= 0)))
     fixed = {k: v for k, v in zip(("r_P1", "r_P2", "r_P3", "m0"), (*MAP_CASES[key][2], MAP_CASES[key][3]),
                                   strict=True) if k != sw.parameter}
+    jumps = f" (at {', '.join(f'{v:g}' for v in sw.branch_jumps)})" if sw.branch_jumps.size else ""
     cap = (f"Analogue of Fig {key[3:].replace('_', '.')}: helix parameters versus {MAP_TITLES[key]} "
            f"(fixed: {', '.join(f'{k} = {v:g}' for k, v in fixed.items())}; r_P in m, m0 in kg), by continuation. "
-           f"Points without a steady motion: {n_missing}; unstable points: {n_unstable}.")
+           f"Points without a steady motion: {n_missing}; unstable points (x): {n_unstable}. Radius and period on log "
+           "scales (infinite at a straight glide); pitch is the drop per turn (negative: ascending). Curves are broken "
+           f"where the continuation jumps between branches{jumps}.")
+    return fig, cap
+
+
+def _scan_figure(scan: ExistenceScan) -> tuple[Any, str]:
+    from ..report.figures import new_figure
+
+    fig, ax = new_figure(1, 1, width=7, height=4.8)
+    R, M = np.meshgrid(scan.r_P1 * 100, scan.m0)
+    cr = scan.claim_region
+    # the claim region: m0 > 0 with r_P1 < 0 (upper left) and m0 < 0 with r_P1 > 0 (lower right)
+    ax.fill_between([min(scan.r_P1.min(), 0) * 105, 0], 0, max(scan.m0.max(), 0) * 1.1, color="C3", alpha=0.1, lw=0,
+                    label="8.2.2: no equilibria here")
+    ax.fill_between([0, max(scan.r_P1.max(), 0) * 105], min(scan.m0.min(), 0) * 1.1, 0, color="C3", alpha=0.1, lw=0)
+    su = scan.n_stable_upright > 0
+    other = scan.exists & ~su
+    ax.plot(R[su], M[su], "o", color="C2", label="stable upright motion found")
+    ax.plot(R[other], M[other], "^", color="C1", label="motions found, none stable upright")
+    ax.plot(R[~scan.exists], M[~scan.exists], "x", color="k", label="no motion found")
+    for i, j in zip(*np.nonzero(scan.exists), strict=True):
+        ax.annotate(str(int(scan.n_solutions[i, j])), (R[i, j], M[i, j]), textcoords="offset points",
+                    xytext=(5, 4), fontsize=7)
+    ax.axhline(0, color="k", lw=0.6)
+    ax.axvline(0, color="k", lw=0.6)
+    ax.set_xlabel("$r_{P1}$ [cm]")
+    ax.set_ylabel("$m_0$ [kg]")
+    ax.legend(fontsize=8, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=2, frameon=False)
+    ax.grid(True, alpha=0.3)
+    cap = (f"Existence of steady motions on the (r_P1, m0) grid, r_P2 = {scan.r_P2 * 100:g} cm, r_P3 = "
+           f"{scan.r_P3 * 100:g} cm (numbers: distinct motions found by {scan.provenance['n_starts']} random Newton "
+           "starts, the straight-glide continuation and r_P1 continuation). Shaded: where 8.2.2 says no equilibria "
+           f"exist; we find motions at {int(np.sum(scan.exists & cr))} of its {int(np.sum(cr))} points.")
     return fig, cap
 
 
@@ -277,7 +352,13 @@ def report(res: Ch8Results) -> Report:
                             f"{d.evaluations} trims.")
     for key, sw in res.maps.items():
         ex = np.asarray(sw.exists)
-        rep.number(f"{key}_points_without_motion", int(np.sum(~ex)), "-", f"Fig {key[3:].replace('_', '.')}")
+        rep.number(f"{key}_points_without_motion", int(np.sum(~ex)), "-", f"Fig {key[3:].replace('_', '.')}",
+                   note=f"of {ex.size} points; branch jumps (folds) at {list(np.round(sw.branch_jumps, 5))}; unstable "
+                        f"points {int(np.sum(ex & ~sw.stable))}.")
+    for c in res.claims:
+        rep.number(c.name, c.value, c.unit, c.source, thesis=c.thesis, verdict=c.holds, note=c.note)
+    for name, eq, printed, used, why in THESIS_TYPOS:
+        rep.number(name, used, "-", eq, thesis=printed, verdict=False, note=why)
     rows = [[a, b, f"{c:.4g}", f"{d:.4g}"] for a, b, c, d in res.theorem7]
     rep.table("Theorem 7: relative-equilibrium classes (curvature (8.18), torsion (8.22) in 1/m)",
               ["(v, Omega)", "class", "curvature", "torsion"], rows)

@@ -19,7 +19,7 @@ import numpy as np
 from scipy.optimize import brentq, root
 
 from ..analysis.jacobian import jacobians
-from ..errors import GlidectlError, InfeasibleGlideError
+from ..errors import InfeasibleGlideError, ModelError
 from ..models.glider3d import FixedMassGlider3D, ypr_to_quat
 from ..params import Vehicle
 
@@ -35,12 +35,28 @@ def zeta_of(theta: Any, phi: Any) -> Any:
 
 def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
     """Relative equilibrium type of a constant ``(v, Omega)`` pair, Theorem 7, with curvature (8.18) and torsion
-    (8.22) (1/m; ``nan`` where undefined).
+    (8.22).
 
-    Returns ``{"kind": "straight line" | "pure rotation" | "screw" | "helix", "curvature", "torsion", "xi"}``
-    where ``xi`` is the angle between ``Omega`` and ``v`` (rad).
+    Parameters
+    ----------
+    v : array (3,)
+        Body-frame velocity (m/s).
+    Omega : array (3,)
+        Body-frame angular velocity (rad/s).
+    tol : float
+        ``|Omega| <= tol`` (rad/s) is a straight line, ``|v| <= tol`` (m/s) a pure rotation, and ``|sin xi| <= tol``
+        (dimensionless, relative) a screw motion (``v`` parallel to ``Omega``).
+
+    Returns
+    -------
+    dict
+        ``{"kind": "straight line" | "pure rotation" | "screw" | "helix", "curvature", "torsion", "xi"}`` with
+        curvature and torsion in 1/m (``nan`` where undefined) and ``xi`` the angle between ``Omega`` and ``v``
+        (rad).
     """
     v, Om = np.asarray(v, float), np.asarray(Omega, float)
+    if v.shape != (3,) or Om.shape != (3,) or not (np.all(np.isfinite(v)) and np.all(np.isfinite(Om))):
+        raise ModelError(f"v and Omega must be three finite numbers each, got {v!r}, {Om!r}")
     V, W = float(np.linalg.norm(v)), float(np.linalg.norm(Om))
     if W <= tol:
         return {"kind": "straight line", "curvature": 0.0, "torsion": 0.0, "xi": float("nan")}
@@ -64,7 +80,7 @@ def reduced_rhs(model: FixedMassGlider3D, s: Any) -> Any:
     return np.concatenate([vd, Od, thd[..., None], phd[..., None]], -1)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Helix:
     """A steady motion (circular helix, or straight glide when ``psidot = 0``) of the fixed-mass glider.
 
@@ -94,6 +110,12 @@ class Helix:
     vehicle: str = ""
     provenance: str = ""
     model: FixedMassGlider3D | None = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        for name in ("v", "Omega", "eigenvalues"):
+            a = np.array(getattr(self, name))
+            a.setflags(write=False)
+            object.__setattr__(self, name, a)
 
     @property
     def unknowns(self) -> np.ndarray:
@@ -246,31 +268,68 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
                continuation_steps: int = 12, n_random: int = 40, seed: int = 0) -> Helix:
     """Steady helix (or straight glide) of ``veh`` with the moving mass at ``r_p`` (m) and buoyancy ``m0`` (kg).
 
+    Solves ``(v', Omega') = 0`` of (8.23)-(8.25) with ``Omega = psidot zeta`` (8.31) for
+    ``(v1, v2, v3, psidot, theta, phi)``; the residual is checked (``< 1e-10``).
+
     Parameters
     ----------
     veh : Vehicle
-        3D underwater glider (e.g. ``slocum_ch8``). ``r_p`` and ``m0`` default to the file's nominal values.
+        3D underwater glider (e.g. ``slocum_ch8``).
+    r_p : (3,) array, optional
+        Moving-mass position in body axes (m); defaults to the vehicle file's ``r_P1, r_P2, r_P3``.
+    m0 : float, optional
+        Net buoyancy (kg, positive heavy: descent); defaults to the file's ``m0``. ``m0 = 0`` has no glide.
     guess : Helix or array (v1, v2, v3, psidot, theta, phi), optional
-        Warm start (continuation). Without it the longitudinal straight glide is continued in ``r_P2``; if that
-        fails, ``n_random`` random starting points are tried.
+        Warm start (continuation). Without it (or if it fails) the longitudinal straight glide is continued in
+        ``r_P2`` over ``continuation_steps`` steps; if that fails, ``n_random`` random starting points are tried.
+    continuation_steps : int
+        Number of ``r_P2`` continuation steps (>= 1).
+    n_random : int
+        Random restarts as the last resort (>= 0); ``seed`` seeds them.
+
+    Returns
+    -------
+    Helix
+        Radius, pitch, period, speed, angles and the eigenvalues of the 8-state reduced linearization.
 
     Raises
     ------
+    ModelError
+        ``r_p`` not three finite numbers, ``m0`` not finite or making a mass non-positive, bad solver options.
     InfeasibleGlideError
-        No steady motion found (the message says what was tried).
+        ``m0 = 0``, or no steady motion found (the message says what was tried).
     """
-    r = np.asarray([veh.r_P1, veh.r_P2, veh.r_P3] if r_p is None else r_p, dtype=float)
-    m0 = float(veh.m0 if m0 is None else m0)
+    if r_p is None:
+        r_p = (veh.r_P1, veh.r_P2, veh.r_P3)
+    if m0 is None:
+        m0 = veh.m0
+    try:
+        r = np.asarray(r_p, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"r_p must be three finite numbers in m, got {r_p!r}") from exc
     if r.shape != (3,) or not np.all(np.isfinite(r)):
-        raise GlidectlError(f"r_p must be three finite numbers in m, got {r_p!r}")
-    if m0 == 0 or not math.isfinite(m0):
+        raise ModelError(f"r_p must be three finite numbers in m, got {r_p!r}")
+    try:
+        m0 = float(m0)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"m0 must be a finite number in kg, got {m0!r}") from exc
+    if not math.isfinite(m0):
+        raise ModelError(f"m0 must be a finite number in kg, got {m0!r}")
+    if m0 == 0:
         raise InfeasibleGlideError("m0 = 0: a neutrally buoyant glider has no steady glide (no net weight to balance "
                                    "drag); use m0 != 0")
+    if int(continuation_steps) != continuation_steps or continuation_steps < 1:
+        raise ModelError(f"continuation_steps must be an integer >= 1, got {continuation_steps!r}")
+    if int(n_random) != n_random or n_random < 0:
+        raise ModelError(f"n_random must be an integer >= 0, got {n_random!r}")
     model = FixedMassGlider3D(veh, (float(r[0]), float(r[1]), float(r[2])), m0)
     tried: list[str] = []
     y = None
     if guess is not None:
         y0 = guess.unknowns if isinstance(guess, Helix) else np.asarray(guess, float)
+        if y0.shape != (6,) or not np.all(np.isfinite(y0)):
+            raise ModelError(f"guess must be a Helix or six finite numbers (v1, v2, v3, psidot, theta, phi), got "
+                             f"{guess!r}")
         y1, res, ok = _newton(model, y0)
         tried.append("warm start")
         if ok:
@@ -304,8 +363,8 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
     if y is None:
         raise InfeasibleGlideError(
             f"no steady helix or glide found for r_P = {tuple(np.round(r, 5))} m, m0 = {m0:g} kg on vehicle "
-            f"'{veh.name}' (tried: {'; '.join(tried)}). The thesis reports none for m0 > 0 with r_P1 < 0 or m0 < 0 "
-            "with r_P1 > 0 (8.2.2)")
+            f"'{veh.name}' (tried: {'; '.join(tried)}). Try a warm start from a nearby solution "
+            "(glidectl.helix_sweep continues along a parameter) or more random starts")
     res = float(np.max(np.abs(_equations(model, y))))
     if abs(y[3]) < 1e-13:
         y = y.copy()

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..errors import GlidectlError, InfeasibleGlideError
+from ..errors import GlidectlError, InfeasibleGlideError, ModelError
 from ..params import Vehicle
 from .helix import Helix, helix_trim
 
@@ -68,16 +68,16 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
         the best attempt.
     """
     if (pitch is None) == (speed is None):
-        raise GlidectlError("give radius and exactly one of pitch= (m per turn) or speed= (m/s)")
+        raise ModelError("give radius and exactly one of pitch= (m per turn) or speed= (m/s)")
     if not (math.isfinite(radius) and radius > 0):
-        raise GlidectlError(f"radius must be a positive number of metres, got {radius!r}")
+        raise ModelError(f"radius must be a positive number of metres, got {radius!r}")
     key, val = ("pitch", float(pitch)) if pitch is not None else ("speed", float(speed))  # type: ignore[arg-type]
     if not math.isfinite(val) or val == 0 or (key == "speed" and val < 0):
-        raise GlidectlError(f"{key} must be finite and nonzero (speed > 0), got {val!r}")
+        raise ModelError(f"{key} must be finite and nonzero (speed > 0), got {val!r}")
     lo = np.array([b[0] for b in r_p_bounds] + [m0_bounds[0]], float)
     hi = np.array([b[1] for b in r_p_bounds] + [m0_bounds[1]], float)
     if lo.shape != (4,) or np.any(lo >= hi):
-        raise GlidectlError("bounds must be three (lo, hi) pairs for r_P (m) and one for m0 (kg) with lo < hi")
+        raise ModelError("bounds must be three (lo, hi) pairs for r_P (m) and one for m0 (kg) with lo < hi")
     sign = 1.0 if (key == "speed" or val > 0) else -1.0  # descending helices need m0 > 0
     if key == "pitch" and not (lo[3] < 0 < hi[3] or (sign > 0 and hi[3] > 0) or (sign < 0 and lo[3] < 0)):
         raise InfeasibleGlideError(f"a pitch of {val:g} m needs m0 of sign {sign:+.0f}, outside {m0_bounds}")
