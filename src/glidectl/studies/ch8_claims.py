@@ -245,8 +245,8 @@ def r_p3_claims(veh: Vehicle, heavy: HelixSweep, light: HelixSweep) -> list[Clai
                  f"psidot changes sign on the continued branch at {txt or 'no point'}. The map also jumps between "
                  f"branches after r_P3 = {', '.join(_cm(x) for x in jumps_h) or 'nowhere'}. Walking each branch in "
                  f"{100 * FOLD_STEP:g} cm steps: {fold_txt or '-'}. Overlapping ends are a hysteresis pair of "
-                 "folds (saddle-nodes: a real eigenvalue approaches 0), with two coexisting helices between them; the thesis's figure "
-                 "shows one smooth curve.")]
+                 "folds (saddle-nodes: a real eigenvalue approaches 0), with two coexisting helices between them; "
+                 "the thesis's figure shows one smooth curve.")]
     sg_l = straight_glides(veh, light)
     jumps_l = list(light.branch_jumps)
     smooth = bool(np.all(light.exists)) and not jumps_l and not sg_l
