@@ -83,6 +83,13 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
+def _clip(text: str, width: float) -> str:
+    """Cut a ledger cell to what fits a column of ``width`` (fraction of the A4-landscape table) at 7 pt; the full
+    text goes to the ledger notes."""
+    n = max(int(width * 150), 6)
+    return text if len(text) <= n else text[:n - 1] + "\u2026"
+
+
 def _fmt(v: Any) -> str:
     if v is None:
         return "-"
@@ -181,13 +188,23 @@ class Report:
                 rows = [[k, val, u, s[:70]] for k, val, u, s in v.summary_rows()]
                 self._table_pages(pdf, f"Vehicle parameters: {v.title}", ["key", "value", "unit", "source"],
                                   rows, [0.12, 0.12, 0.14, 0.62])
-            rows = [[n.name, _fmt(_jsonable(n.value)), _fmt(_jsonable(n.thesis)), n.unit,
-                     "-" if n.rel_err is None else f"{n.rel_err:.2%}",
-                     {True: "yes", False: "NO", None: "-"}[n.reproduced], n.source[:40]] for n in self.numbers]
+            widths = [0.2, 0.22, 0.16, 0.07, 0.07, 0.07, 0.21]
+            rows = [[_clip(c, w) for c, w in zip(
+                [n.name, _fmt(_jsonable(n.value)), _fmt(_jsonable(n.thesis)), n.unit,
+                 "-" if n.rel_err is None else f"{n.rel_err:.2%}",
+                 {True: "yes", False: "NO", None: "-"}[n.reproduced], n.source], widths, strict=True)]
+                    for n in self.numbers]
             self._table_pages(pdf, "Ledger: thesis value vs glidectl value",
                               ["name", "glidectl", "thesis", "unit", "rel. err", "reproduced", "source"], rows,
-                              [0.2, 0.22, 0.16, 0.07, 0.07, 0.07, 0.21])
-            notes = [f"{n.name}: {n.note}" for n in self.numbers if n.note]
+                              widths)
+            notes = []
+            for n, row in zip(self.numbers, rows, strict=True):
+                full = [("glidectl", _fmt(_jsonable(n.value)), row[1]), ("thesis", _fmt(_jsonable(n.thesis)), row[2]),
+                        ("unit", n.unit, row[3])]
+                clipped = "; ".join(f"{k}: {v}" for k, v, shown in full if v != shown)
+                text = " ".join(t for t in (clipped + "." if clipped else "", n.note) if t)
+                if text:
+                    notes.append(f"{n.name}: {text}")
             if notes:
                 self._text_pages(pdf, "Ledger notes", notes)
             for caption, header, trows in self.tables:

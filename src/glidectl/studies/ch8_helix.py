@@ -251,7 +251,9 @@ def _map_figure(sw: Any, key: str) -> tuple[Any, str]:
         if np.any(unstable):
             a.plot(x[unstable], np.asarray(sw.column(c))[unstable] * f, "x", color="C3", ms=4,
                    label="unstable" if c in ("alpha", "theta") else None)
-        if c in ("radius", "period"):
+        yv = np.asarray(sw.column(c))
+        yv = yv[np.isfinite(yv) & (yv > 0)]
+        if c in ("radius", "period") and yv.size and yv.max() > 20 * yv.min():
             a.set_yscale("log")
         if c in ("alpha", "theta"):
             a.legend(fontsize=7)
@@ -267,7 +269,8 @@ def _map_figure(sw: Any, key: str) -> tuple[Any, str]:
     cap = (f"Analogue of Fig {key[3:].replace('_', '.')}: helix parameters versus {MAP_TITLES[key]} "
            f"(fixed: {', '.join(f'{k} = {v:g}' for k, v in fixed.items())}; r_P in m, m0 in kg), by continuation. "
            f"Points without a steady motion: {n_missing}; unstable points (x): {n_unstable}. Radius and period on log "
-           "scales (infinite at a straight glide); pitch is the drop per turn (negative: ascending). Curves are broken "
+           "scales when they span more than a factor 20 (infinite at a straight glide); pitch is the drop per turn "
+           "(negative: ascending). Curves are broken "
            f"where the continuation jumps between branches{jumps}.")
     return fig, cap
 
@@ -338,7 +341,7 @@ def report(res: Ch8Results) -> Report:
                     "r_bh does change the equilibrium, strongly below about -0.005 m, against 8.3's statement.")
     bps = res.rbh_frozen.locus.breakpoints
     rep.number("rbh_break_points_frozen", [[b.parameter, b.eigenvalue] for b in bps], "m, 1/s", "8.3 B, C, D",
-               verdict=False, note="(r_bh, eigenvalue) of the break-away/break-in points of the frozen locus: "
+               verdict=None, note="(r_bh, eigenvalue) of the break-away/break-in points of the frozen locus: "
                     + "; ".join(f"{b.kind} at {b.parameter:.5f} m" for b in bps)
                     + ". The thesis names two break-away (B, D) and one break-in (C) point without values.")
     for tgt, d, why in res.designs:
@@ -353,8 +356,9 @@ def report(res: Ch8Results) -> Report:
     for key, sw in res.maps.items():
         ex = np.asarray(sw.exists)
         rep.number(f"{key}_points_without_motion", int(np.sum(~ex)), "-", f"Fig {key[3:].replace('_', '.')}",
-                   note=f"of {ex.size} points; branch jumps (folds) at {list(np.round(sw.branch_jumps, 5))}; unstable "
-                        f"points {int(np.sum(ex & ~sw.stable))}.")
+                   note=f"of {ex.size} points; branch jumps (folds) after "
+                        f"{[round(float(v), 5) for v in sw.branch_jumps]}; unstable points "
+                        f"{int(np.sum(ex & ~sw.stable))}.")
     for c in res.claims:
         rep.number(c.name, c.value, c.unit, c.source, thesis=c.thesis, verdict=c.holds, note=c.note)
     for name, eq, printed, used, why in THESIS_TYPOS:
