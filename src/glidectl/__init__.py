@@ -14,6 +14,13 @@ Chapter 8 (3D glider, circular helices)::
     h = gc.helix_trim(veh, r_p=(0.02, 0.02, 0.04), m0=0.25)   # h.radius, h.pitch, h.period, h.eigenvalues
     sw = gc.helix_sweep(veh, "r_P1", np.linspace(0.002, 0.06, 59))   # maps; any Executor via executor=
     d = gc.design_helix(veh, radius=50.0, pitch=150.0)         # d.r_p, d.m0, d.helix
+
+Chapter 7 (CTOL aircraft, normalized units)::
+
+    veh = gc.load_vehicle("dc8_ctol")
+    gl = gc.ctol_glide(veh, speed=0.155, gamma=0.1)   # gl.alpha_e, gl.k1, gl.k2, gl.thrust (Theorem 4)
+    cert = gc.ctol_lyapunov(veh, gl, k3=10.0, k4=5.0)  # Theorem 5 constants, cert.verify() samples every bound
+    # controllers, tracking and baselines: glidectl.controllers.ctol, ctol_tracking, ctol_inversion
 """
 
 from .analysis.helix_maps import ExistenceScan, HelixSweep, existence_scan, helix_sweep, straight_glides
@@ -50,8 +57,10 @@ from .models.reduced import ReducedLongitudinalGlider
 from .params import Vehicle, list_presets, load_vehicle
 from .sim import Simulation, simulate
 from .stability.composite import CompositeCertificate, Domain, composite_lyapunov
+from .stability.ctol_lyapunov import CTOLLyapunovCertificate, ctol_lyapunov
 from .stability.singular_perturbation import SingularPerturbation, SlowModel, singular_perturbation
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
+from .trim.ctol import CTOLGlide, ctol_glide
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
 from .trim.helix_design import HelixDesign, design_helix
@@ -61,6 +70,8 @@ __version__ = "0.1.0"
 __all__ = [
     "AccelerationControlledGlider",
     "BreakPoint",
+    "CTOLGlide",
+    "CTOLLyapunovCertificate",
     "CompositeCertificate",
     "DecoupledAccelerationFeedback",
     "Domain",
@@ -94,6 +105,8 @@ __all__ = [
     "classify_motion",
     "composite_lyapunov",
     "controllability",
+    "ctol_glide",
+    "ctol_lyapunov",
     "decoupled_gain_matrix",
     "design_helix",
     "existence_scan",

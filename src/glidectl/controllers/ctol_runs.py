@@ -1,0 +1,98 @@
+"""Common result of every CTOL tracking method (steady gliding, feedback linearization, stable inversion,
+approximate linearization): time histories and the metrics compared in the §7.3.3 baseline table."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+
+__all__ = ["TrackingRun"]
+
+
+@dataclass(frozen=True, eq=False)
+class TrackingRun:
+    """A tracking run of the CTOL aircraft, common to every tracking method (exact, approximate, steady gliding).
+
+    Attributes
+    ----------
+    method : str
+        Method name and settings.
+    t : ndarray (N,)
+        Times (s).
+    x : ndarray (N, 6)
+        States ``(x, y, xdot, ydot, theta, Omega2)`` (m, m, m/s, m/s, rad, rad/s).
+    u : ndarray (N, 2)
+        Inputs ``(u1, u2)`` (N, N m).
+    error : ndarray (N, 2)
+        Position error ``p - p_d`` (m).
+    peak_u1, peak_u2 : float
+        ``max |u1|`` (N), ``max |u2|`` (N m).
+    rms_u1, rms_u2 : float
+        Time-weighted RMS (trapezoid over ``t``) of ``u1`` (N) and ``u2`` (N m).
+    max_error : float
+        ``max ||p - p_d||`` (m).
+    effort : float
+        Time-RMS of ``||u|| = sqrt(u1^2 + u2^2)`` (the effort axis of the Pareto study; ``u1`` in N and ``u2`` in
+        N m are both O(1) in the normalized units of §7.1).
+    note : str
+        What happened (settings, start, why it stopped).
+    stopped_at : float or None
+        Time (s) at which the run was ended early (divergence), None if it ran to the end.
+    """
+
+    method: str
+    t: np.ndarray = field(repr=False)
+    x: np.ndarray = field(repr=False)
+    u: np.ndarray = field(repr=False)
+    error: np.ndarray = field(repr=False)
+    peak_u1: float
+    peak_u2: float
+    rms_u1: float
+    rms_u2: float
+    max_error: float
+    effort: float
+    note: str = ""
+    stopped_at: float | None = None
+
+    @classmethod
+    def from_arrays(cls, method: str, t: Any, x: Any, u: Any, error: Any, *, note: str = "",
+                    stopped_at: float | None = None,
+                    mean_squares: tuple[float, float, float] | None = None) -> TrackingRun:
+        """Build a run and compute its metrics from the time histories (arrays as in the class docstring).
+
+        ``mean_squares``: exact time means of ``(u1^2, u2^2, |u|^2)`` when the caller integrated them (quadrature
+        states); otherwise they are the trapezoid rule over ``t``.
+        """
+        t = np.asarray(t, dtype=float)
+        x, u, error = (np.asarray(a, dtype=float) for a in (x, u, error))
+        if t.ndim != 1 or t.size < 1 or u.shape != (t.size, 2) or error.shape != (t.size, 2) or x.shape[0] != t.size:
+            raise ModelError(f"inconsistent run arrays: t {t.shape}, x {x.shape}, u {u.shape}, error {error.shape}")
+
+        def rms(a: np.ndarray) -> float:
+            if t[-1] <= t[0]:
+                return float(np.sqrt(np.mean(a**2)))
+            return float(np.sqrt(np.trapezoid(a**2, t) / (t[-1] - t[0])))
+
+        if mean_squares is None:
+            r1, r2, re = rms(u[:, 0]), rms(u[:, 1]), rms(np.hypot(u[:, 0], u[:, 1]))
+        else:
+            r1, r2, re = (math.sqrt(max(float(v), 0.0)) for v in mean_squares)
+        return cls(method, t, x, u, error, float(np.max(np.abs(u[:, 0]))), float(np.max(np.abs(u[:, 1]))),
+                   r1, r2, float(np.max(np.hypot(error[:, 0], error[:, 1]))), re, note,
+                   None if stopped_at is None else float(stopped_at))
+
+    @property
+    def completed(self) -> bool:
+        """True when the run reached its final time."""
+        return self.stopped_at is None
+
+    def summary(self) -> dict[str, Any]:
+        """The metrics as a plain dict (for tables and ``numbers.json``)."""
+        return {"method": self.method, "max_error": self.max_error, "peak_u1": self.peak_u1,
+                "peak_u2": self.peak_u2, "rms_u1": self.rms_u1, "rms_u2": self.rms_u2, "effort": self.effort,
+                "completed": self.completed, "stopped_at": self.stopped_at, "note": self.note}

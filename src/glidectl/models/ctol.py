@@ -1,0 +1,145 @@
+"""CTOL aircraft of Hauser, Sastry and Meyer, thesis chapter 7: the longitudinal model (7.1)-(7.7) and its reduced,
+nondimensional form (7.8)-(7.15) about a steady glide.
+
+Units. The vehicle file carries ``rho_AW_half``, ``m``, ``g`` and ``J``; §7.1 sets all four to 1, which makes the
+printed equations (7.12)-(7.15) exact (they are written with ``m = g = J = rho A_W / 2 = 1``). The right-hand sides
+here keep the four parameters, so the normalized model is the special case, and (7.12)-(7.15) are implemented in the
+general form::
+
+    V' = (1/m) (-m g sin gamma - D + u1 cos alpha + eps u2 sin alpha)
+    gamma' = (1/(m V)) (-m g cos gamma + L + u1 sin alpha - eps u2 cos alpha),   theta'' = u2 / J
+
+The physical DC-8 values quoted in §7.3.3 (m = 85000 kg, J2 = 4e6 kg m^2) do **not** enter the normalized model:
+in §7.1 the mass, inertia, rho A_W/2 and g are all 1, so the lift and drag coefficients a_L, a_D are per unit mass
+(and per rho A_W/2) and the time unit is fixed by g = 1. Substituting the physical m and J into (7.5)-(7.7) while
+keeping a_L = 30 and g = 1 would mix dimensional and normalized quantities; the only consistent use of them is the
+ratio J/m = 47.1 m^2, which would rescale the pitch dynamics relative to the translational ones, and the thesis's
+simulation sets J = 1. We keep them in the vehicle file for reference only (``m_physical``, ``J2_physical``).
+
+States and inputs are named; arrays may carry leading batch dimensions and may be complex (complex-step Jacobians).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..params import Vehicle
+
+__all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "drag_coefficient",
+           "lift_coefficient"]
+
+CTOL_STATES = ("x", "y", "xdot", "ydot", "theta", "Omega2")
+CTOL_INPUTS = ("u1", "u2")
+REDUCED_STATES = ("Vbar", "gammabar", "thetabar", "Omega2bar")
+
+
+def _check(veh: Vehicle) -> None:
+    if veh.kind != "ctol":
+        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not a CTOL aircraft (kind = \"ctol\")")
+
+
+def lift_coefficient(veh: Vehicle, alpha: Any) -> Any:
+    """``K_Li(alpha) = a_L (1 + c alpha)`` (7.1), times ``rho A_W / 2`` (kg/m; 1 when normalized)."""
+    return veh.rho_AW_half * veh.a_L * (1 + veh.c * alpha)
+
+
+def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
+    """``K_Dr(alpha) = a_D (1 + b (1 + c alpha)^2)`` (7.2), times ``rho A_W / 2`` (kg/m)."""
+    return veh.rho_AW_half * veh.a_D * (1 + veh.b * (1 + veh.c * alpha) ** 2)
+
+
+@dataclass(frozen=True)
+class CTOLAircraft:
+    """The CTOL model (7.5)-(7.7).
+
+    State ``(x, y, xdot, ydot, theta, Omega2)`` (m, m, m/s, m/s, rad, rad/s; y up), input ``(u1, u2)``: thrust
+    along the body axis (N) and elevator moment (N m), which also produces the force ``eps u2`` perpendicular to
+    the body axis. The flight-path angle is ``gamma = atan2(ydot, xdot)`` and ``alpha = theta - gamma``.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = CTOL_STATES
+    input_names: tuple[str, ...] = CTOL_INPUTS
+
+    def __post_init__(self) -> None:
+        _check(self.vehicle)
+
+    def rhs(self, x: Any, u: Any) -> Any:
+        """(7.5)-(7.7)."""
+        x, u = np.asarray(x), np.asarray(u)
+        veh = self.vehicle
+        xd, yd, th, Om = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
+        u1, u2 = u[..., 0], u[..., 1]
+        V2 = xd * xd + yd * yd
+        V = np.sqrt(V2)
+        cg, sg = xd / V, yd / V  # cos gamma, sin gamma
+        # gamma by the half-angle formula (complex-step safe, exact except at gamma = pi); alpha wrapped to (-pi, pi]
+        alpha = th - 2 * np.arctan(yd / (V + xd))
+        alpha = alpha - 2 * np.pi * np.round(np.real(alpha) / (2 * np.pi))
+        L = lift_coefficient(veh, alpha) * V2
+        D = drag_coefficient(veh, alpha) * V2
+        eps, m = veh.epsilon, veh.m
+        xdd = (-D * cg - L * sg + u1 * np.cos(th) + eps * u2 * np.sin(th)) / m
+        ydd = (-D * sg + L * cg + u1 * np.sin(th) - eps * u2 * np.cos(th)) / m - veh.g
+        return np.stack(np.broadcast_arrays(xd, yd, xdd, ydd, Om, u2 / veh.J), axis=-1)
+
+    @staticmethod
+    def speed_gamma_alpha(x: Any) -> tuple[Any, Any, Any]:
+        """``(V, gamma, alpha)`` of full states (m/s, rad, rad; angles wrapped to (-pi, pi])."""
+        x = np.asarray(x, dtype=float)
+        V = np.hypot(x[..., 2], x[..., 3])
+        gam = np.arctan2(x[..., 3], x[..., 2])
+        a = np.angle(np.exp(1j * (x[..., 4] - gam)))
+        return V, gam, a
+
+
+@dataclass(frozen=True)
+class CTOLReduced:
+    """Reduced nondimensional CTOL dynamics (7.12)-(7.15) about the steady glide ``(V_e, gamma_e, theta_e)``.
+
+    State ``(Vbar, gammabar, thetabar, Omega2bar)`` = ``((V - V_e)/V_e, gamma - gamma_e, theta - theta_e, T Omega2)``
+    (7.8)-(7.11), input ``(u1, u2)``; ``T`` (s) is the reference time of (7.11). Time is not rescaled: (7.14) reads
+    ``thetabar' = Omega2bar / T``.
+    """
+
+    vehicle: Vehicle
+    V_e: float
+    gamma_e: float
+    theta_e: float
+    T: float = 1.0
+    state_names: tuple[str, ...] = REDUCED_STATES
+    input_names: tuple[str, ...] = CTOL_INPUTS
+
+    def __post_init__(self) -> None:
+        _check(self.vehicle)
+        if not (np.isfinite(self.V_e) and self.V_e > 0):
+            raise ModelError(f"V_e must be a positive speed, got {self.V_e!r}")
+        if not (np.isfinite(self.T) and self.T > 0):
+            raise ModelError(f"the reference time T must be positive (s), got {self.T!r}")
+
+    def rhs(self, s: Any, u: Any) -> Any:
+        """(7.12)-(7.15) with ``alpha = thetabar + theta_e - (gammabar + gamma_e)``."""
+        s, u = np.asarray(s), np.asarray(u)
+        veh = self.vehicle
+        Vb, gb, tb, Ob = s[..., 0], s[..., 1], s[..., 2], s[..., 3]
+        u1, u2 = u[..., 0], u[..., 1]
+        gam = gb + self.gamma_e
+        alpha = tb + self.theta_e - gam
+        V = self.V_e * (1 + Vb)
+        m, g, eps = veh.m, veh.g, veh.epsilon
+        Vbd = (-m * g * np.sin(gam) - drag_coefficient(veh, alpha) * V * V + u1 * np.cos(alpha)
+               + eps * u2 * np.sin(alpha)) / (m * self.V_e)
+        gbd = (-m * g * np.cos(gam) + lift_coefficient(veh, alpha) * V * V + u1 * np.sin(alpha)
+               - eps * u2 * np.cos(alpha)) / (m * V)
+        return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / veh.J), axis=-1)
+
+    def from_full(self, x: Any) -> np.ndarray:
+        """Reduced state of full states ``(x, y, xdot, ydot, theta, Omega2)`` (the map (7.8)-(7.11))."""
+        x = np.asarray(x, dtype=float)
+        V, gam, _ = CTOLAircraft.speed_gamma_alpha(x)
+        return np.stack([V / self.V_e - 1, np.angle(np.exp(1j * (gam - self.gamma_e))),
+                         np.angle(np.exp(1j * (x[..., 4] - self.theta_e))), self.T * x[..., 5]], -1)
