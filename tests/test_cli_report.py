@@ -113,3 +113,31 @@ def test_ch5_report_builds_with_required_numbers(tmp_path, monkeypatch):
     assert nums["worst_bound_ratio"]["value"] <= 1.0 + 1e-9
     assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig5_1_reduction.png", "fig5_2_roa.png",
                                                            "fig5_3_unequal_mass.png"}
+
+
+def test_ch7_report_builds_with_required_numbers(tmp_path, monkeypatch):
+    """The chapter-7 design end to end on a short horizon with cheap settings (the real build uses the defaults:
+    the printed gains alone take about two minutes)."""
+    from glidectl.studies import ch7_ctol as ch7
+
+    cheap = {"dt": 1.0, "k3": 10.0, "k4": 10.0}
+    monkeypatch.setattr(ch7, "PRINTED", cheap)
+    monkeypatch.setattr(ch7, "LITERAL", {"dt": 2.0, "k3": 10.0, "k4": 10.0})
+    monkeypatch.setattr(ch7, "GRID_DT", (0.5, 1.0))
+    monkeypatch.setattr(ch7, "GRID_GAINS", ((10.0, 10.0),))
+    monkeypatch.setattr(ch7, "T_FINAL", 8.0)
+    monkeypatch.setattr(ch7, "MAP_V", np.linspace(0.1, 0.4, 5))
+    monkeypatch.setattr(ch7, "MAP_GAMMA", np.radians(np.linspace(-60.0, 60.0, 7)))
+    monkeypatch.setattr(ch7, "LYAP_GAINS", ((10.0, 5.0),))
+    monkeypatch.setattr(ch7, "N_VERIFY", 4000)
+    pdf = ch7.build(tmp_path)
+    assert pdf.exists()
+    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
+    assert nums["level_alpha_e_rad"]["value"] == pytest.approx(0.0632962, abs=1e-6)
+    for name in ("level_k1", "level_k2", "zero_dynamics_eigenvalues", "lower_effort_than_inversion",
+                 "theorem5_certified_k3_10_k4_5", "approx_lin_stopped_at"):
+        assert name in nums, name
+    lo, hi = nums["zero_dynamics_eigenvalues"]["value"]
+    assert lo < 0 < hi and lo == pytest.approx(-hi)
+    assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig7_2_trajectory.png", "fig7_3_error.png",
+                                                           "fig7_4_inputs.png", "pareto_front.png"}

@@ -212,9 +212,10 @@ def figures(res: Ch7Results) -> dict[str, tuple[Any, str]]:
     for a in ax.flat:
         a.grid(True, alpha=0.3)
     chord = [g.speed for g in printed.glides]
+    chord = chord[min(20, len(chord) // 2):]  # after the start-up
     out["fig7_3_error"] = (fig, "Analogue of Fig 7.3: position tracking error. Left, the printed settings: the "
                            "replanning locks into a period-2 oscillation (chord speeds alternate between about "
-                           f"{np.percentile(chord[20:], 10):.0f} and {np.percentile(chord[20:], 90):.0f} against a "
+                           f"{np.percentile(chord, 10):.0f} and {np.percentile(chord, 90):.0f} against a "
                            f"cruise speed of {traj.speed:.3f}); max |e| = {printed.max_error:.2f} m. The thesis calls "
                            "the tracking 'good'; we cannot reproduce that. Right: the chosen Pareto point and exact "
                            f"tracking by stable inversion with feedback (max |e| = {res.inv_level.max_error:.2g} m, "
@@ -248,7 +249,7 @@ def figures(res: Ch7Results) -> dict[str, tuple[Any, str]]:
 
     recs = res.pareto.records
     fig, ax = new_figure(1, 1, width=8.5, height=5.2)
-    markers = dict(zip(GRID_DT, "os^Dv", strict=True))
+    markers = {dt: "os^Dv<>ph"[i % 9] for i, dt in enumerate(GRID_DT)}
     for i, r in enumerate(recs):
         if not r["completed"]:
             continue
