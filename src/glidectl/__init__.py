@@ -20,6 +20,11 @@ Chapter 7 (CTOL aircraft, normalized units)::
     veh = gc.load_vehicle("dc8_ctol")
     gl = gc.ctol_glide(veh, speed=0.155, gamma=0.1)   # gl.alpha_e, gl.k1, gl.k2, gl.thrust (Theorem 4)
     cert = gc.ctol_lyapunov(veh, gl, k3=10.0, k4=5.0)  # Theorem 5 constants, cert.verify() samples every bound
+
+Chapter 6 (nonlinear steady-glide controllers)::
+
+    eq = gc.elevator_equilibrium(gc.load_vehicle("elevator_ch6"), speed=1.0, gamma=-np.pi / 4)
+    eq.m0e, eq.alpha_e, eq.u2e, eq.eps1, eq.eps2, eq.K_De_eff    # K_De_eff = K'_De of Theorem 3 (corrected)
     # controllers, tracking and baselines: glidectl.controllers.ctol, ctol_tracking, ctol_inversion
 """
 
@@ -42,6 +47,19 @@ from .analysis.locus import (
     parameter_locus,
     rbh_locus,
     uncontrolled_eigs,
+)
+from .controllers.buoyancy import (
+    BuoyancyController,
+    BuoyancyEquilibrium,
+    BuoyancyGlider,
+    buoyancy_equilibrium,
+    buoyancy_lyapunov_check,
+)
+from .controllers.elevator import (
+    ElevatorBuoyancyController,
+    ElevatorBuoyancyGlider,
+    ElevatorEquilibrium,
+    elevator_equilibrium,
 )
 from .controllers.linear import (
     DecoupledAccelerationFeedback,
@@ -70,11 +88,17 @@ __version__ = "0.1.0"
 __all__ = [
     "AccelerationControlledGlider",
     "BreakPoint",
+    "BuoyancyController",
+    "BuoyancyEquilibrium",
+    "BuoyancyGlider",
     "CTOLGlide",
     "CTOLLyapunovCertificate",
     "CompositeCertificate",
     "DecoupledAccelerationFeedback",
     "Domain",
+    "ElevatorBuoyancyController",
+    "ElevatorBuoyancyGlider",
+    "ElevatorEquilibrium",
     "ExistenceScan",
     "FixedMassGlider3D",
     "GlidePathModel",
@@ -101,6 +125,8 @@ __all__ = [
     "Vehicle",
     "VehicleFileError",
     "allowable_delta_m_ratio",
+    "buoyancy_equilibrium",
+    "buoyancy_lyapunov_check",
     "central_difference_jacobians",
     "classify_motion",
     "composite_lyapunov",
@@ -109,6 +135,7 @@ __all__ = [
     "ctol_lyapunov",
     "decoupled_gain_matrix",
     "design_helix",
+    "elevator_equilibrium",
     "existence_scan",
     "glide_model",
     "helix_rbh_locus",

@@ -67,33 +67,45 @@ class ReducedLongitudinalGlider:
         M1, M3 = self.masses
         return M3 - M1
 
-    def body_rates(self, x: Any) -> tuple[Any, Any, Any]:
-        """Body-frame ``(v1', v3', Omega2')`` for state ``x = (V, gamma, alpha, Omega2)``."""
+    def body_rates(self, x: Any, m0: Any = None) -> tuple[Any, Any, Any]:
+        """Body-frame ``(v1', v3', Omega2')`` for state ``x = (V, gamma, alpha, Omega2)``.
+
+        ``m0`` (kg, scalar or broadcastable to ``x[..., 0]``, may be complex) replaces the vehicle's buoyancy mass
+        in the weight and, for the ``added`` mass model, in the masses (used by the buoyancy-controlled models of
+        chapter 6, where ``m0`` is a state); default the vehicle's ``m0``.
+        """
         x = np.asarray(x)
         veh = self.vehicle
-        M1, M3 = self.masses
+        if m0 is None:
+            M1, M3 = self.masses
+            m0 = veh.m0
+        else:
+            m0 = np.asarray(m0)
+            M1, M3 = veh.mass(1, m0) + veh.mbar, veh.mass(3, m0) + veh.mbar
         V, gam, al, Om = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
         sa, ca = np.sin(al), np.cos(al)
         v1, v3 = V * ca, V * sa
         th = gam + al
         L, D, M = loads_at(veh, V * V, al, Om)
-        m0g = veh.m0 * veh.g
+        m0g = m0 * veh.g
         v1d = (-M3 * v3 * Om - m0g * np.sin(th) + L * sa - D * ca) / M1
         v3d = (M1 * v1 * Om + m0g * np.cos(th) - L * ca - D * sa) / M3
         Omd = ((M3 - M1) * v1 * v3 + M) / veh.J2
         return v1d, v3d, Omd
 
-    def rhs(self, x: Any, u: Any = None) -> Any:
+    def rhs(self, x: Any, u: Any = None, *, m0: Any = None) -> Any:
         """``(V', gamma', alpha', Omega2')`` of (5.4)-(5.7) / (5.86)-(5.89); defined for ``V > 0``.
 
         Parameters
         ----------
         x : array_like, shape (..., 4)
         u : ignored (the model has no inputs; accepted for :func:`glidectl.sim.simulate`)
+        m0 : array_like, optional
+            Buoyancy mass (kg) per state, see :meth:`body_rates`; default the vehicle's.
         """
         x = np.asarray(x)
         V, al, Om = x[..., 0], x[..., 2], x[..., 3]
-        v1d, v3d, Omd = self.body_rates(x)
+        v1d, v3d, Omd = self.body_rates(x, m0)
         sa, ca = np.sin(al), np.cos(al)
         Vd = ca * v1d + sa * v3d
         ald = (ca * v3d - sa * v1d) / V

@@ -1,0 +1,534 @@
+"""Buoyancy control of the chapter-5 glider, §6.2: equilibrium buoyancy (6.7), pump model (6.8) with rate limit and
+range saturation, the proportional law (6.9), and a sampled check of the Lyapunov argument (6.10)-(6.13).
+
+Model
+-----
+:class:`BuoyancyGlider` has the dimensional state ``(V, gamma, alpha, Omega2, m0)`` (m/s, rad, rad, rad/s, kg) and
+the input ``u1 = dm0/dt`` (kg/s). Its right-hand side is :meth:`glidectl.models.reduced.ReducedLongitudinalGlider.rhs`
+evaluated with the vehicle's ``m0`` replaced by the state's ``m0`` (so for the ``added`` mass model ``m1 = m3 = m +
+m0`` follows the buoyancy, as in §6.3), plus the buoyancy engine ``m0' = pump(m0, u1)``:
+
+* rate limit ``|m0'| <= u4_max`` (vehicle parameter, kg/s; the saturation of ``u4`` of (2.8), §2.2 assumption 2);
+* range ``|m0| <= m0_max`` (vehicle parameter, kg): at a bound the pump cannot push further out.
+
+A limit the vehicle does not define is not applied. :func:`loaded_rates` adds an external body-3 force and pitch
+moment to the same right-hand side (the elevator of §6.3, :mod:`glidectl.controllers.elevator`), so there is still
+one vector field.
+
+Law (6.8)-(6.9)
+---------------
+``mbar0 = (m0 - m0e) / m_e`` and ``dmbar0/dt_n = u = -K_b mbar0`` with ``t_n = t / tau_s``. In seconds this is
+``dm0/dt = (m_e / tau_s) u = -(K_b / tau_s)(m0 - m0e)`` kg/s (``m_e`` cancels); :class:`BuoyancyController`
+returns that rate after the pump limits.
+
+What (6.10)-(6.12) do and do not prove (checked by :func:`buoyancy_lyapunov_check`)
+------------------------------------------------------------------------------------
+The text says that ``nu`` (5.83) does not depend on ``mbar0``, so ``dnu/dt_n`` is still bounded by (5.55). The
+function ``nu`` indeed does not depend on ``mbar0``, but its derivative does: ``dnu/dt_n = grad nu(z) . zdot(z,
+mbar0)`` and the vector field ``zdot`` depends on ``m0 = m0e + m_e mbar0`` (weight ``m0 g`` and, for the added-mass
+model, the masses). The cross term ``C(z, mbar0) = grad nu(z) . [zdot(z, mbar0) - zdot(z, 0)]`` is not zero; it
+vanishes at ``z = 0`` (``grad nu(0) = 0``) and is ``O(|z| |mbar0|)``. Hence
+
+* (6.12) is false as stated for an arbitrary ``K_b > 0``: ``dnu_b/dt_n <= -c|z|^2 + b|z||mbar0| - K_b mbar0^2``
+  is negative definite only if ``K_b > b^2 / (4 c)``; the check reports the sampled threshold ``K_b_required``
+  on the whole box and on a small ball;
+* local asymptotic stability is still true for every ``K_b > 0`` by a cascade argument: the closed-loop ``m0``
+  equation does not depend on the glide state and converges exponentially, and the glide is exponentially stable
+  at ``m0 = m0e`` (Theorem 2 / Proposition 2);
+* the region estimate (6.13) is not implied by (6.10)-(6.12); it holds only where the sampled ``dnu_b/dt_n < 0``
+  (e.g. for ``K_b >= K_b_required`` on the sampled set).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from ..models.reduced import ReducedLongitudinalGlider
+from ..params import Vehicle
+from ..stability.composite import CompositeCertificate, composite_lyapunov
+from ..stability.singular_perturbation import SingularPerturbation, singular_perturbation
+
+__all__ = [
+    "BUOYANCY_STATES",
+    "BUOYANCY_UNITS",
+    "ActuatorLimits",
+    "BuoyancyController",
+    "BuoyancyEquilibrium",
+    "BuoyancyGlider",
+    "BuoyancyLyapunovCheck",
+    "actuator_limits",
+    "buoyancy_equilibrium",
+    "buoyancy_lyapunov_check",
+    "loaded_rates",
+    "nu_b_derivative",
+]
+
+BUOYANCY_STATES = ("V", "gamma", "alpha", "Omega2", "m0")
+BUOYANCY_UNITS = {"V": "m/s", "gamma": "rad", "alpha": "rad", "Omega2": "rad/s", "m0": "kg", "u1": "kg/s",
+                  "u2": "rad"}
+
+_M0_TINY = 1e-12  # kg: ReducedLongitudinalGlider refuses m0 = 0 exactly (chapter-5 assumption 2)
+
+
+# ------------------------------------------------------------------------------------------------ actuators
+@dataclass(frozen=True)
+class ActuatorLimits:
+    """Actuator limits of a vehicle (``inf`` where the vehicle file defines none).
+
+    Attributes
+    ----------
+    u4_max : float
+        Buoyancy pump rate limit ``|dm0/dt| <= u4_max`` (kg/s).
+    m0_max : float
+        Buoyancy range ``|m0| <= m0_max`` (kg).
+    u2_max : float
+        Elevator saturation ``|u2| <= u2_max`` (rad, control angle of attack of §6.3).
+    """
+
+    u4_max: float = math.inf
+    m0_max: float = math.inf
+    u2_max: float = math.inf
+
+    def pump(self, m0: Any, u1: Any) -> Any:
+        """Rate ``dm0/dt`` (kg/s) the pump delivers for the command ``u1`` (kg/s) at buoyancy ``m0`` (kg).
+
+        ``clip(u1, -u4_max, u4_max)``, and 0 where ``m0`` is at (or beyond) a range bound and the command
+        pushes outward.
+        """
+        m0 = np.real(np.asarray(m0))
+        rate = np.clip(np.asarray(u1, dtype=float), -self.u4_max, self.u4_max)
+        blocked = ((m0 >= self.m0_max) & (rate > 0)) | ((m0 <= -self.m0_max) & (rate < 0))
+        return np.where(blocked, 0.0, rate)
+
+    def elevator(self, u2: Any) -> Any:
+        """Saturated elevator input ``clip(u2, -u2_max, u2_max)`` (rad)."""
+        return np.clip(u2, -self.u2_max, self.u2_max)
+
+
+def actuator_limits(veh: Vehicle) -> ActuatorLimits:
+    """The vehicle's ``u4_max`` (kg/s), ``m0_max`` (kg) and ``u2_max`` (rad); ``inf`` for those it does not set."""
+    p = veh.params
+    return ActuatorLimits(float(p.get("u4_max", math.inf)), float(p.get("m0_max", math.inf)),
+                          float(p.get("u2_max", math.inf)))
+
+
+# ------------------------------------------------------------------------------------------------ model
+def _reduced_at(veh: Vehicle, m0: float) -> ReducedLongitudinalGlider:
+    m0 = float(m0)
+    if m0 == 0.0:
+        m0 = _M0_TINY
+    return ReducedLongitudinalGlider(veh.with_overrides(m0=m0))
+
+
+def loaded_rates(veh: Vehicle, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
+    """``(V', gamma', alpha', Omega2')`` of the chapter-5 glider at the buoyancy ``m0 = x[..., 4]``, with an extra
+    force ``f3`` along body 3 (N, positive down) and pitch moment ``M2`` (N m, positive nose up).
+
+    The rates are :meth:`ReducedLongitudinalGlider.rhs` with the per-state buoyancy ``m0`` (vectorized; ``m0``
+    may carry a complex step too) plus the exact effect of the extra load on the body-frame equations (2.18)-(2.20):
+    ``v3' += f3 / M3`` and ``Omega2' += M2 / J2``, i.e. ``V' += sin(alpha) f3 / M3``,
+    ``alpha' += cos(alpha) f3 / (M3 V)``, ``gamma' -= cos(alpha) f3 / (M3 V)``.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider (``r_P = 0``).
+    x : array_like, shape (..., 5)
+        ``(V, gamma, alpha, Omega2, m0)`` in m/s, rad, rad, rad/s, kg (may be complex: complex-step derivatives).
+    f3, M2 : array_like, broadcastable to ``x[..., 0]``
+        Extra body-3 force (N) and pitch moment (N m).
+    """
+    x = np.asarray(x)
+    if x.shape[-1] != 5:
+        raise ModelError(f"state must have 5 components {BUOYANCY_STATES}, got shape {x.shape}")
+    model = _reduced_at(veh, veh.m0)
+    m0 = x[..., 4]
+    r = np.asarray(model.rhs(x[..., :4], m0=m0))
+    M3 = veh.mass(3, m0) + veh.mbar
+    V, al = x[..., 0], x[..., 2]
+    a3 = np.asarray(f3) / M3
+    dal = np.cos(al) * a3 / V
+    dOm = np.asarray(M2) / veh.J2
+    return np.stack(np.broadcast_arrays(r[..., 0] + np.sin(al) * a3, r[..., 1] - dal, r[..., 2] + dal,
+                                        r[..., 3] + dOm), axis=-1)
+
+
+@dataclass(frozen=True)
+class BuoyancyGlider:
+    """Chapter-5 glider with a buoyancy engine, §6.2: state ``(V, gamma, alpha, Omega2, m0)``, input ``u1``.
+
+    ``(V, gamma, alpha, Omega2)' `` are (5.4)-(5.7) at the current ``m0`` (:func:`loaded_rates` without extra
+    load); ``m0' = pump(m0, u1)`` is (6.8) in seconds with the vehicle's rate limit ``u4_max`` and range ``m0_max``
+    (:class:`ActuatorLimits`).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Underwater glider; ``u4_max`` (kg/s) and ``m0_max`` (kg) are used when defined.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = BUOYANCY_STATES
+    input_names: tuple[str, ...] = ("u1",)
+
+    def __post_init__(self) -> None:
+        if self.vehicle.kind != "underwater_glider":
+            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
+
+    @property
+    def limits(self) -> ActuatorLimits:
+        return actuator_limits(self.vehicle)
+
+    def rhs(self, x: Any, u: Any) -> np.ndarray:
+        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s)."""
+        x = np.asarray(x)
+        u1 = np.asarray(u)[..., 0]
+        r = loaded_rates(self.vehicle, x)
+        return np.concatenate([r, self.limits.pump(x[..., 4], u1)[..., None]], axis=-1)
+
+
+# ------------------------------------------------------------------------------------------------ equilibrium
+@dataclass(frozen=True)
+class BuoyancyEquilibrium:
+    """Steady glide reached by buoyancy control at a requested speed, (6.7).
+
+    Attributes
+    ----------
+    speed, gamma_e, alpha_e : float
+        ``V_e`` (m/s), flight-path angle (5.9) and angle of attack (5.10) (rad); ``alpha_e`` does not depend on
+        the buoyancy (§6.2), so ``gamma_e`` is fixed up to its sign.
+    m0e : float
+        Equilibrium buoyancy (kg), (6.7): positive for a descent.
+    m_e : float
+        ``M1 = m1 + mbar`` at ``m0e`` (kg), the mass scaling ``mbar0 = (m0 - m0e)/m_e`` of (6.8).
+    K_De, K_Le : float
+        Drag and lift coefficients at ``alpha_e`` (kg/m).
+    tau_s, eps1, eps2 : float
+        Time scale (s) and small parameters of the closed-loop glide (5.16)-(5.18).
+    residual : float
+        ``max |x'|`` of :class:`BuoyancyGlider` at the equilibrium with ``u1 = 0``.
+    sp : SingularPerturbation
+        Chapter-5 analysis of the vehicle at ``m0 = m0e`` (nondimensional coordinates of (5.12)-(5.15)).
+    vehicle, provenance : str
+    """
+
+    speed: float
+    gamma_e: float
+    alpha_e: float
+    m0e: float
+    m_e: float
+    K_De: float
+    K_Le: float
+    tau_s: float
+    eps1: float
+    eps2: float
+    residual: float
+    sp: SingularPerturbation = field(repr=False)
+    vehicle: str = ""
+    provenance: str = field(default="", repr=False)
+
+    @property
+    def state(self) -> np.ndarray:
+        """``(V_e, gamma_e, alpha_e, 0, m0e)``."""
+        return np.array([self.speed, self.gamma_e, self.alpha_e, 0.0, self.m0e])
+
+
+def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True) -> BuoyancyEquilibrium:
+    """Equilibrium buoyancy ``m0e = +-(1/g) sqrt(K_De^2 + K_Le^2) V_e^2`` (6.7) for the speed ``V_e``.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Chapter-5 glider (``K_q < 0``, ``K_M < 0``); ``m0_max`` (kg) is enforced when defined.
+    speed : float
+        Requested steady speed ``V_e`` (m/s), > 0.
+    descending : bool
+        Sign of (6.7): ``m0e > 0`` (descent, ``gamma_e < 0``) or ``m0e < 0`` (climb). Only the sign of ``K_Le``
+        (fixed by ``alpha_e``) gives an upright glide; the other raises.
+
+    Raises
+    ------
+    InfeasibleGlideError
+        Non-positive speed, ``|m0e| > m0_max``, or a direction that would need an inverted glide.
+    """
+    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
+        raise InfeasibleGlideError(f"speed must be a positive number of m/s, got {speed!r}")
+    a_e = ReducedLongitudinalGlider(veh).trim_alpha()
+    K_De = veh.K_D0 + veh.K_D * a_e**2
+    K_Le = veh.K_L0 + veh.K_L * a_e
+    m0e = (1.0 if descending else -1.0) * math.hypot(K_De, K_Le) * speed**2 / veh.g          # (6.7)
+    lim = actuator_limits(veh)
+    if abs(m0e) > lim.m0_max:
+        vmax = math.sqrt(lim.m0_max * veh.g / math.hypot(K_De, K_Le))
+        raise InfeasibleGlideError(
+            f"speed {speed:g} m/s needs buoyancy |m0e| = {abs(m0e):.4g} kg (6.7), beyond the range m0_max = "
+            f"{lim.m0_max:g} kg of vehicle '{veh.name}'; the fastest steady glide is {vmax:.4g} m/s")
+    if K_Le * m0e < 0:
+        raise InfeasibleGlideError(
+            f"buoyancy alone cannot make vehicle '{veh.name}' {'descend' if descending else 'climb'} upright: its "
+            f"angle of attack alpha_e = {a_e:.4g} rad is fixed by the pitching moment (§6.2) and gives lift "
+            f"coefficient K_Le = {K_Le:.4g} kg/m, so m0e must have the sign of K_Le (m0 g cos(gamma_e) = K_Le V_e^2); "
+            "the other sign is an inverted glide. Change alpha_e (moving mass, elevator) to reverse the glide")
+    veh_e = veh.with_overrides(m0=m0e)
+    sp = singular_perturbation(veh_e)
+    M1, _ = sp.model.masses
+    x_e = np.array([sp.V_e, sp.gamma_e, sp.alpha_e, 0.0, m0e])
+    res = float(np.max(np.abs(BuoyancyGlider(veh).rhs(x_e, np.zeros(1)))))
+    return BuoyancyEquilibrium(float(sp.V_e), float(sp.gamma_e), float(sp.alpha_e), float(m0e), float(M1),
+                               float(K_De), float(K_Le), float(sp.tau_s), float(sp.eps1), float(sp.eps2), res, sp,
+                               veh.name, veh.provenance)
+
+
+# ------------------------------------------------------------------------------------------------ controller
+@dataclass(frozen=True)
+class BuoyancyController:
+    """Proportional buoyancy law (6.9), ``controller(t, x) -> (u1,)`` in kg/s, pump limits applied.
+
+    ``u1 = (m_e / tau_s) (-K_b mbar0) = -(K_b / tau_s)(m0 - m0e)``, then the vehicle's rate limit and range
+    (:meth:`ActuatorLimits.pump`).
+
+    Parameters
+    ----------
+    eq : BuoyancyEquilibrium
+        Target (``m0e`` in kg, ``tau_s`` in s).
+    vehicle : Vehicle
+        The controlled vehicle (its ``u4_max``, ``m0_max``).
+    K_b : float
+        Nondimensional gain of (6.9), > 0 (the closed-loop buoyancy time constant is ``tau_s / K_b`` seconds when
+        the pump is not rate limited).
+    """
+
+    eq: BuoyancyEquilibrium
+    vehicle: Vehicle
+    K_b: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.K_b) and self.K_b > 0):
+            raise GlidectlError(f"the buoyancy gain K_b of (6.9) must be > 0, got {self.K_b!r}")
+
+    @property
+    def rate_gain(self) -> float:
+        """``K_b / tau_s`` (1/s)."""
+        return self.K_b / self.eq.tau_s
+
+    def __call__(self, t: float, x: Any) -> np.ndarray:
+        m0 = np.real(np.asarray(x)[..., 4])
+        u = -self.rate_gain * (m0 - self.eq.m0e)
+        return np.asarray(actuator_limits(self.vehicle).pump(m0, u))[..., None]
+
+
+# ------------------------------------------------------------------------------------------------ (6.10)-(6.12)
+@dataclass(frozen=True)
+class BuoyancyLyapunovCheck:
+    """Sampled check of ``dnu_b/dt_n`` (6.11) along the true closed loop of (5.20)-(5.23), (6.8)-(6.9).
+
+    Samples ``z = (Vbar, gammabar, alphabar, Omegabar2)`` uniformly in the certificate's box ``B_p x B_q`` and
+    ``mbar0`` on a grid in ``[-mbar0_max, mbar0_max]``.
+
+    Attributes
+    ----------
+    K_b, mbar0_max : float
+        Gain of (6.9) and the sampled ``|mbar0|`` range.
+    certified : bool
+        Whether ``nu`` is itself a certificate for the glide at ``m0e`` (``mu < mu_d``, Theorem 2).
+    dnu_max_at_m0e : float
+        ``max dnu/dt_n`` at ``mbar0 = 0`` (Theorem 2 says <= 0 when certified).
+    cross_term_max : float
+        ``max |C(z, mbar0)|`` with ``C = grad nu . [zdot(z, mbar0) - zdot(z, 0)]``: the term (6.11) omits. Zero
+        would confirm the text; it is not.
+    cross_coefficient : float
+        ``max |C| / (|z| |mbar0|)`` over the samples (the ``b`` of ``|C| <= b |z| |mbar0|``).
+    n_samples, n_positive : int
+        Samples and samples with ``dnu_b/dt_n > 0`` for the gain ``K_b`` (unsaturated law, as in (6.11)).
+    worst_ratio : float
+        ``max dnu_b/dt_n / (|z|^2 + mbar0^2)`` (must be < 0 for (6.12)).
+    worst_point : ndarray
+        ``(Vbar, gammabar, alphabar, Omegabar2, mbar0)`` of ``worst_ratio``.
+    K_b_required : float
+        ``max over samples with mbar0 != 0 of (dnu/dt_n) / mbar0^2``: the smallest gain for which
+        ``dnu_b/dt_n <= 0`` on every sample (``inf``-free lower bound of the true threshold on the box).
+    K_b_required_local : float
+        The same on the ball ``|z| <= local_radius``, ``0 < |mbar0| <= local_radius``.
+    n_positive_local : int
+        Samples in that ball with ``dnu_b/dt_n > 0`` for the gain ``K_b``.
+    K_b_star : float
+        Exact local threshold from the quadratic parts at the origin: with ``H`` the Hessian of ``nu``,
+        ``A = d zdot/dz``, ``B = d zdot/d mbar0`` and ``S = sym(H A)`` (negative definite when ``nu`` is a local
+        Lyapunov function), ``dnu_b/dt_n = z^T S z + z^T H B mbar0 - K_b mbar0^2 + O(3)`` is negative definite
+        iff ``K_b > K_b_star = (H B)^T (-S)^-1 (H B) / 4``. For ``K_b < K_b_star`` there are points arbitrarily
+        close to the origin where ``dnu_b/dt_n > 0``: (6.12) fails for small gains.
+    z_star : ndarray
+        ``-S^-1 H B / 2``: along ``z = z_star mbar0`` the quadratic part of ``dnu/dt_n`` equals ``K_b_star
+        mbar0^2`` (the worst direction).
+    local_radius : float
+    vehicle, provenance : str
+    """
+
+    K_b: float
+    mbar0_max: float
+    certified: bool
+    mu: float
+    mu_d: float
+    dnu_max_at_m0e: float
+    cross_term_max: float
+    cross_coefficient: float
+    n_samples: int
+    n_positive: int
+    worst_ratio: float
+    worst_point: np.ndarray = field(repr=False)
+    K_b_required: float = math.nan
+    K_b_required_local: float = math.nan
+    n_positive_local: int = 0
+    K_b_star: float = math.nan
+    z_star: np.ndarray = field(default_factory=lambda: np.full(4, np.nan), repr=False)
+    local_radius: float = 0.0
+    seed: int = 0
+    vehicle: str = ""
+    provenance: str = field(default="", repr=False)
+
+    @property
+    def thesis_claim_holds(self) -> bool:
+        """(6.12) with this ``K_b``: no positive sample (box and ball) and ``K_b > K_b_star``."""
+        return self.n_positive == 0 and self.n_positive_local == 0 and self.K_b > self.K_b_star
+
+
+def _nd_rates(veh: Vehicle, sp: SingularPerturbation, z: np.ndarray, m0: np.ndarray,
+              f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
+    """``dz/dt_n`` of (5.20)-(5.23) (with extra load) at nondimensional ``z`` and dimensional buoyancy ``m0``."""
+    x = sp.to_dimensional(z)
+    r = loaded_rates(veh, np.concatenate([x, m0[..., None]], axis=-1), f3, M2)
+    return sp.tau_s * np.stack([r[..., 0] / sp.V_e, r[..., 1], r[..., 2], sp.omega_scale * r[..., 3]], axis=-1)
+
+
+def _grad_nu(cert: CompositeCertificate, z: np.ndarray) -> np.ndarray:
+    h = 1e-30
+    g = np.empty_like(z)
+    for j in range(4):
+        zc = z.astype(complex)
+        zc[:, j] += 1j * h
+        g[:, j] = np.imag(cert.nu(zc)) / h
+    return g
+
+
+def nu_b_derivative(eq: BuoyancyEquilibrium, veh: Vehicle, cert: CompositeCertificate, z: Any, mbar0: Any,
+                    K_b: float) -> tuple[np.ndarray, np.ndarray]:
+    """``dnu_b/dt_n`` (6.11) along the true closed loop, and the cross term the text omits.
+
+    Parameters
+    ----------
+    eq : BuoyancyEquilibrium
+        Target glide (coordinates (5.12)-(5.15), ``tau_s``, ``m0e``, ``m_e``).
+    veh : Vehicle
+    cert : CompositeCertificate
+        ``nu`` (5.83) of the vehicle at ``m0e``.
+    z : array_like, shape (N, 4)
+        ``(Vbar, gammabar, alphabar, Omegabar2)``.
+    mbar0 : array_like, shape (N,)
+        ``(m0 - m0e)/m_e``.
+    K_b : float
+        Gain of (6.9) (unsaturated law, as in (6.11)).
+
+    Returns
+    -------
+    dnu_b : ``grad nu(z) . zdot(z, mbar0) - K_b mbar0^2``
+    cross : ``grad nu(z) . [zdot(z, mbar0) - zdot(z, 0)]`` (zero according to the text)
+    """
+    z = np.atleast_2d(np.asarray(z, dtype=float))
+    mb = np.broadcast_to(np.asarray(mbar0, dtype=float), z.shape[:1])
+    gn = _grad_nu(cert, z)
+    dnu_m = np.sum(gn * _nd_rates(veh, eq.sp, z, eq.m0e + eq.m_e * mb), axis=1)
+    dnu_0 = np.sum(gn * _nd_rates(veh, eq.sp, z, np.full(len(z), eq.m0e)), axis=1)
+    return dnu_m - K_b * mb**2, dnu_m - dnu_0
+
+
+def _local_threshold(cert: CompositeCertificate, veh: Vehicle,
+                     eq: BuoyancyEquilibrium) -> tuple[float, np.ndarray]:
+    """``K_b_star`` of :class:`BuoyancyLyapunovCheck` (Hessian of ``nu`` by central differences of its exact
+    complex-step gradient; ``A`` by complex step; ``B`` by a central difference in ``m0``)."""
+    sp = eq.sp
+    h = 1e-6
+    E = np.eye(4)
+    H = (_grad_nu(cert, h * E) - _grad_nu(cert, -h * E)) / (2 * h)
+    H = 0.5 * (H + H.T)
+    hc = 1e-30
+    Z = (1j * hc * E).astype(complex)
+    A = np.imag(_nd_rates(veh, sp, Z, np.full(4, eq.m0e))).T / hc
+    dm = 1e-6
+    z0 = np.zeros((1, 4))
+    B = ((_nd_rates(veh, sp, z0, np.array([eq.m0e + eq.m_e * dm]))
+          - _nd_rates(veh, sp, z0, np.array([eq.m0e - eq.m_e * dm]))) / (2 * dm))[0]
+    S = 0.5 * (H @ A + (H @ A).T)
+    if np.max(np.linalg.eigvalsh(S)) >= 0:
+        return math.inf, np.full(4, np.nan)  # nu is not a strict local Lyapunov function: no gain helps
+    b = H @ B
+    return float(b @ np.linalg.solve(-S, b) / 4), -0.5 * np.linalg.solve(S, b)
+
+
+def buoyancy_lyapunov_check(eq: BuoyancyEquilibrium, veh: Vehicle, *, K_b: float = 1.0, mbar0_max: float = 0.01,
+                            n: int = 20_000, n_m0: int = 21, local_radius: float = 0.02, seed: int = 0,
+                            cert: CompositeCertificate | None = None) -> BuoyancyLyapunovCheck:
+    """Sample ``dnu_b/dt_n`` of (6.11) along the true closed loop and measure the cross term the text omits.
+
+    Parameters
+    ----------
+    eq : BuoyancyEquilibrium
+        Target glide (its ``sp`` defines the nondimensional coordinates (5.12)-(5.15) and ``tau_s``).
+    veh : Vehicle
+        The vehicle (any nominal ``m0``; the dynamics use ``m0 = m0e + m_e mbar0``).
+    K_b : float
+        Gain of (6.9).
+    mbar0_max : float
+        Half-width of the sampled ``mbar0`` interval (nondimensional; ``|m0 - m0e| <= m_e mbar0_max`` kg).
+    n, n_m0 : int
+        Number of samples of ``z`` and of grid values of ``mbar0`` (odd, so that 0 is on the grid).
+    local_radius : float
+        Radius of the small ball on which ``K_b_required_local`` is measured.
+    seed : int
+    cert : CompositeCertificate, optional
+        ``composite_lyapunov`` of the vehicle at ``m0e`` (default: its default domain ``|Vbar| <= 0.4``,
+        ``|alphabar| <= 0.2``).
+    """
+    if not (mbar0_max > 0 and n > 0 and n_m0 >= 3 and n_m0 % 2 == 1 and local_radius > 0):
+        raise GlidectlError("need mbar0_max > 0, n > 0, an odd n_m0 >= 3 and local_radius > 0")
+    if cert is None:
+        cert = composite_lyapunov(veh.with_overrides(m0=eq.m0e))
+    rng = np.random.default_rng(seed)
+    grid = np.linspace(-mbar0_max, mbar0_max, n_m0)
+
+    def evaluate(z: np.ndarray, mb: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        dnu_m, C = nu_b_derivative(eq, veh, cert, z, mb, 0.0)
+        return dnu_m, dnu_m - C, C
+
+    z = cert.domain.sample(n, rng, omega_extent=cert.omega_extent)
+    mb = rng.choice(grid, n)
+    dnu_m, dnu_0, C = evaluate(z, mb)
+    zn = np.linalg.norm(z, axis=1)
+    dnub = dnu_m - K_b * mb**2
+    r2 = zn**2 + mb**2
+    ok = r2 > 1e-14
+    ratio = np.where(ok, dnub / np.where(ok, r2, 1.0), -np.inf)
+    i = int(np.argmax(ratio))
+    nz = (np.abs(mb) > 0) & (zn > 0)
+    coef = float(np.max(np.abs(C[nz]) / (zn[nz] * np.abs(mb[nz])))) if np.any(nz) else 0.0
+    mnz = np.abs(mb) > 0
+    Kreq = float(np.max(dnu_m[mnz] / mb[mnz] ** 2))
+    # small ball around the origin: z uniform in the 4-ball of radius local_radius, mbar0 on a nonzero grid
+    d = rng.standard_normal((n, 4))
+    d *= (local_radius * rng.random(n) ** 0.25 / np.linalg.norm(d, axis=1))[:, None]
+    lgrid = np.linspace(-local_radius, local_radius, n_m0 + 1)
+    mb_l = rng.choice(lgrid, n)
+    dm_l, _, _ = evaluate(d, mb_l)
+    npos_l = int(np.sum(dm_l - K_b * mb_l**2 > 0))
+    kstar, zstar = _local_threshold(cert, veh, eq)
+    Kreq_l = float(np.max(dm_l / mb_l**2))
+    return BuoyancyLyapunovCheck(float(K_b), float(mbar0_max), cert.certified, float(cert.mu), float(cert.mu_d),
+                                 float(np.max(dnu_0)), float(np.max(np.abs(C))), coef, int(n),
+                                 int(np.sum(dnub[ok] > 0)), float(ratio[i]),
+                                 np.concatenate([z[i], [mb[i]]]), Kreq, Kreq_l, npos_l, kstar, zstar,
+                                 float(local_radius), int(seed),
+                                 veh.name, veh.provenance)

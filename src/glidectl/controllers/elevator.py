@@ -1,0 +1,444 @@
+"""Elevator and buoyancy control, §6.3: model (6.14)-(6.19), equilibrium (6.20) for a requested ``(V_e, gamma_e)``,
+the laws (6.21)-(6.22), Theorem 3's condition (6.23), and the numerical example of Fig 6.2.
+
+Sign convention, and the corrections it implies
+------------------------------------------------
+The text defines the elevator action as "an external torque ``K_M u2 V^2``" (§6.3 and the caption of Fig 6.1) with
+a coupling force of magnitude ``delta u2 V^2`` along body 3, and writes the closed-loop moment (6.19) as
+``(K_M0 + K_M alpha + K_q Omega2 + K_M u2) V^2``. glidectl keeps that definition:
+
+* elevator moment ``M_el = K_M u2 V^2`` (N m, positive nose up; ``K_M < 0``);
+* elevator force ``f = -delta u2 V^2 e3`` (N, body 3 points down; ``delta >= 0``).
+
+The force direction is fixed by physics, not by choice: an aft elevator at ``r = (-l, 0, 0)`` with force
+``f3 e3`` gives the moment ``l f3``, so a nose-up elevator moment (``K_M u2 > 0``, i.e. ``u2 < 0``) needs a down
+force ``f3 > 0``; hence ``f3 = -delta u2 V^2`` (implied arm ``l = -K_M / delta > 0``). The body velocity is
+``V (cos a, 0, sin a)`` and the lift direction ``(sin a, 0, -cos a)``, so ``f3`` contributes ``+f3 sin a`` along
+the velocity and ``-f3 cos a`` along the lift. With ``h = delta u2 V^2 = -f3`` the equations are
+
+``m1 V'     = -m0 g sin(gamma) - D - h sin(alpha)``   ((6.14) prints ``- D + h sin``: sign error),
+``m1 V gam' = -m0 g cos(gamma) + L + h cos(alpha)``   ((6.15) as printed),
+``eps2 dOmegabar/dt_n = -(alphabar + Omegabar2 + ubar2)(1 + Vbar)^2``   ((6.18) prints ``- ubar2``),
+``alpha_e = -K_M0/K_M - u2e``   ((6.20) prints ``+ u2e``),
+``K'_De = K_D0 + K_D alpha_e^2 + delta u2e sin(alpha_e)``   ((6.23) prints ``- delta u2e V_e^2 sin``: sign error
+and a spurious ``V_e^2``, which makes the sum dimensionally inconsistent),
+``K'_Le = K_L0 + K_L alpha_e + delta u2e cos(alpha_e)``   ((6.26) as printed),
+and (6.25) should have ``(1 + Vbar)``, not ``(1 + Vbar)^2``, in its denominator (as (6.15) and (5.21)).
+
+The other self-consistent reading, ``u2`` a "control angle of attack" with moment ``K_M (alpha - u2) V^2`` and
+force ``+delta u2 V^2 e3``, makes (6.14), (6.18), (6.20), (6.23) right and (6.15), (6.19), (6.26) and the stated
+torque ``K_M u2 V^2`` wrong. It only flips the sign of ``u2``; the equilibria, ``K'_De``, ``K'_Le`` and all
+trajectories are the same. No reading makes all of (6.14), (6.15), (6.19), (6.20) right: (6.14) and (6.15) together
+describe a force that is not along body 3, and (6.14) with (6.19) an elevator ahead of the centre of mass.
+
+Physically, for the Fig 6.2 glide the elevator must pitch the nose up (``alpha_e > -K_M0/K_M``), so its force points
+down the body 3-axis: it adds a small thrust (``K'_De < K_De``) and removes lift (``K'_Le < K_Le``).
+
+Fig 6.2 numbers
+---------------
+``J2`` is not printed; the vehicle file's ``J2 = 0.1 kg m^2`` is inferred from the printed ``eps2 = 0.012``
+(:func:`infer_J2`). ``alpha_e`` does not depend on ``g``; the printed ``m0e = 2.657 kg`` is reproduced with
+``g = 9.8`` (2.6573 kg), while the vehicle file's ``g = 9.81`` gives 2.6546 kg.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from ..params import Vehicle
+from ..sim import Simulation, simulate
+from ..stability.singular_perturbation import singular_perturbation
+from .buoyancy import BUOYANCY_STATES, ActuatorLimits, actuator_limits, loaded_rates
+
+__all__ = [
+    "ALPHA_MAX",
+    "FIG62",
+    "ElevatorBuoyancyController",
+    "ElevatorBuoyancyGlider",
+    "ElevatorEquilibrium",
+    "ElevatorExample",
+    "closed_loop_eigenvalues",
+    "effective_coefficients",
+    "elevator_equilibrium",
+    "elevator_example",
+    "elevator_loads",
+    "infer_J2",
+]
+
+ALPHA_MAX = 0.35  # rad: largest |alpha_e| accepted (validity of the linear lift / quadratic drag model)
+
+FIG62 = {"speed": 1.0, "gamma": -math.pi / 4, "alpha_e_deg": 3.51, "m0e": 2.657, "eps1": 0.075, "eps2": 0.012}
+"""Printed numbers of the §6.3 example (m/s, rad, deg, kg, -, -)."""
+
+
+def elevator_loads(veh: Vehicle, V2: Any, u2: Any) -> tuple[Any, Any]:
+    """Elevator force along body 3 and pitching moment, §6.3 with the sign convention of the module docstring.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Uses ``delta`` (kg/m/rad) and ``K_M`` (kg/rad).
+    V2 : array_like
+        Squared speed (m^2/s^2).
+    u2 : array_like
+        Elevator input (rad).
+
+    Returns
+    -------
+    f3 : body-3 force (N, positive down), ``-delta u2 V^2``
+    M_el : pitching moment (N m, positive nose up), ``K_M u2 V^2`` (6.19)
+    """
+    return -veh.delta * u2 * V2, veh.K_M * u2 * V2
+
+
+def effective_coefficients(veh: Vehicle, alpha: Any, u2: Any) -> tuple[Any, Any]:
+    """``(K'_D, K'_L)`` (kg/m) of drag and lift including the elevator force, corrected (6.23) and (6.26).
+
+    ``K'_D = K_D0 + K_D alpha^2 + delta u2 sin(alpha)``, ``K'_L = K_L0 + K_L alpha + delta u2 cos(alpha)``, so that
+    the hydrodynamic plus elevator force is ``-K'_D V^2`` along the velocity and ``K'_L V^2`` along the lift.
+    """
+    d = veh.delta
+    return (veh.K_D0 + veh.K_D * alpha**2 + d * u2 * np.sin(alpha),
+            veh.K_L0 + veh.K_L * alpha + d * u2 * np.cos(alpha))
+
+
+@dataclass(frozen=True)
+class ElevatorBuoyancyGlider:
+    """Glider with aft elevator and buoyancy engine, §6.3: state ``(V, gamma, alpha, Omega2, m0)``, inputs
+    ``(u1, u2)``.
+
+    ``(V, gamma, alpha, Omega2)'`` is the chapter-5 right-hand side at the current ``m0`` plus the elevator force
+    and moment of :func:`elevator_loads` (:func:`glidectl.controllers.buoyancy.loaded_rates`); ``m0' = u1``
+    (kg/s) through the pump limits. ``u2`` (rad) is clipped to ``|u2| <= u2_max`` (the elevator cannot exceed its
+    travel). This is (6.14)-(6.18) in dimensional form, with the corrections of the module docstring.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Needs ``delta``; ``u2_max`` (rad), ``u4_max`` (kg/s), ``m0_max`` (kg) are used when defined.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = BUOYANCY_STATES
+    input_names: tuple[str, ...] = ("u1", "u2")
+
+    def __post_init__(self) -> None:
+        if self.vehicle.kind != "underwater_glider":
+            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
+        self.vehicle.delta  # noqa: B018 - raises ModelError naming the file when the coupling factor is missing
+
+    @property
+    def limits(self) -> ActuatorLimits:
+        return actuator_limits(self.vehicle)
+
+    def rhs(self, x: Any, u: Any) -> np.ndarray:
+        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)), ``u = (u1 [kg/s], u2 [rad])``."""
+        x = np.asarray(x)
+        u = np.asarray(u)
+        lim = self.limits
+        u2 = lim.elevator(u[..., 1])
+        V = x[..., 0]
+        f3, M = elevator_loads(self.vehicle, V * V, u2)
+        r = loaded_rates(self.vehicle, x, f3, M)
+        return np.concatenate([r, lim.pump(x[..., 4], u[..., 0])[..., None]], axis=-1)
+
+
+@dataclass(frozen=True)
+class ElevatorEquilibrium:
+    """Closed-loop steady glide of §6.3 for a requested ``(V_e, gamma_e)``.
+
+    Attributes
+    ----------
+    speed, gamma : float
+        Requested ``V_e`` (m/s) and ``gamma_e`` (rad).
+    alpha_e : float
+        Equilibrium angle of attack (rad).
+    m0e : float
+        Equilibrium buoyancy (kg).
+    u2e : float
+        Equilibrium elevator input (rad), ``-K_M0/K_M - alpha_e`` (corrected (6.20)).
+    K_De, K_Le : float
+        ``K_D0 + K_D alpha_e^2`` and ``K_L0 + K_L alpha_e`` (kg/m), without the elevator.
+    K_De_eff, K_Le_eff : float
+        ``K'_De``, ``K'_Le`` of Theorem 3 (kg/m), corrected (6.23) and (6.26).
+    K_De_eff_printed : float
+        (6.23) as printed, ``K_D0 + K_D alpha_e^2 - delta u2e V_e^2 sin(alpha_e)`` (mixed units), for comparison.
+    m_e : float
+        ``M3 = m3 + mbar`` at ``m0e`` (kg) (``m1 = m3 = m + m0e`` in §6.3).
+    tau_s : float
+        ``m_e / (K'_De V_e)`` (s), (6.27).
+    eps1, eps2 : float
+        ``(K_q/K_M)/tau_s`` and ``-J2/(K_q V_e^2 tau_s)``, (5.16)-(5.17) with (6.27).
+    g : float
+        Gravity used (m/s^2).
+    alpha_roots : tuple of float
+        All roots of the force balance with ``|alpha| <= alpha_max`` (rad); ``alpha_e`` is the smallest in size.
+    residual : float
+        ``max |x'|`` of :class:`ElevatorBuoyancyGlider` at the equilibrium with ``u = (0, u2e)``.
+    vehicle, provenance : str
+    """
+
+    speed: float
+    gamma: float
+    alpha_e: float
+    m0e: float
+    u2e: float
+    K_De: float
+    K_Le: float
+    K_De_eff: float
+    K_Le_eff: float
+    K_De_eff_printed: float
+    m_e: float
+    tau_s: float
+    eps1: float
+    eps2: float
+    g: float
+    alpha_roots: tuple[float, ...]
+    residual: float
+    vehicle: str = ""
+    provenance: str = field(default="", repr=False)
+
+    @property
+    def theorem3(self) -> bool:
+        """Theorem 3's condition (6.23), corrected: ``K'_De > 0``."""
+        return self.K_De_eff > 0
+
+    @property
+    def state(self) -> np.ndarray:
+        """``(V_e, gamma_e, alpha_e, 0, m0e)``."""
+        return np.array([self.speed, self.gamma, self.alpha_e, 0.0, self.m0e])
+
+    @property
+    def alpha_e_printed_620(self) -> float:
+        """(6.20) as printed, ``-K_M0/K_M + u2e`` (rad): not the equilibrium with the stated torque."""
+        return self.alpha_e + 2 * self.u2e
+
+
+def _angle_balance(veh: Vehicle, gamma: float, a: Any) -> Any:
+    """``K'_D(a) cos(gamma) + K'_L(a) sin(gamma)`` with ``u2 = -K_M0/K_M - a``: zero at a steady glide."""
+    kd, kl = effective_coefficients(veh, a, -veh.K_M0 / veh.K_M - a)
+    return kd * np.cos(gamma) + kl * np.sin(gamma)
+
+
+def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
+                         alpha_max: float = ALPHA_MAX) -> ElevatorEquilibrium:
+    """Equilibrium ``(m0e, alpha_e, u2e)`` of §6.3 for the requested steady glide ``(V_e, gamma_e)``.
+
+    Moment balance (6.19) at ``Omega2 = 0``: ``u2e = -K_M0/K_M - alpha_e`` (corrected (6.20)). Force balance along
+    and across the velocity ((6.14)-(6.15) at equilibrium, corrected):
+    ``m0 g sin(gamma_e) = -K'_D V_e^2`` and ``m0 g cos(gamma_e) = K'_L V_e^2``, so ``alpha_e`` solves
+    ``K'_D cos(gamma_e) + K'_L sin(gamma_e) = 0`` and ``m0e = (K'_L cos(gamma_e) - K'_D sin(gamma_e)) V_e^2 / g``.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with ``delta``; ``u2_max`` (rad) and ``m0_max`` (kg) are enforced when defined.
+    speed : float
+        ``V_e`` (m/s), > 0.
+    gamma : float
+        ``gamma_e`` (rad), ``0 < |gamma_e| < pi/2`` (positive climbing).
+    alpha_max : float
+        Largest ``|alpha_e|`` accepted (rad); the root of smallest ``|alpha|`` is returned.
+
+    Raises
+    ------
+    InfeasibleGlideError
+        Bad speed or angle, no force balance with ``|alpha| <= alpha_max`` (e.g. ``gamma_e = 0``: level gliding
+        needs zero drag), ``|u2e| > u2_max`` or ``|m0e| > m0_max``.
+    """
+    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
+        raise InfeasibleGlideError(f"speed must be a positive number of m/s, got {speed!r}")
+    if not (isinstance(gamma, int | float) and math.isfinite(gamma) and abs(gamma) < math.pi / 2):
+        raise InfeasibleGlideError(f"gamma_e must be a finite angle with |gamma_e| < pi/2 rad, got {gamma!r}")
+    model = ElevatorBuoyancyGlider(veh)
+    if veh.K_M == 0:
+        raise ModelError(f"vehicle '{veh.name}' has K_M = 0: the elevator moment K_M u2 V^2 vanishes")
+    grid = np.linspace(-alpha_max, alpha_max, 4001)
+    F = _angle_balance(veh, gamma, grid)
+    roots = []
+    for i in np.nonzero(np.sign(F[:-1]) * np.sign(F[1:]) <= 0)[0]:
+        if F[i] == 0:
+            roots.append(float(grid[i]))
+        elif F[i + 1] != 0:
+            roots.append(brentq(lambda a: float(_angle_balance(veh, gamma, a)), grid[i], grid[i + 1], xtol=1e-15,
+                                rtol=4 * np.finfo(float).eps))
+    roots = sorted(set(roots))
+    if not roots:
+        kd, kl = effective_coefficients(veh, grid, -veh.K_M0 / veh.K_M - grid)
+        shallow = float(np.degrees(np.min(np.arctan2(np.abs(kd), np.abs(kl)))))
+        raise InfeasibleGlideError(
+            f"no steady glide at gamma_e = {math.degrees(gamma):.4g} deg for vehicle '{veh.name}': with |alpha| <= "
+            f"{alpha_max:g} rad the drag/lift balance allows only |gamma_e| >= {shallow:.3g} deg (level or "
+            "shallower gliding would need less drag); ask for a steeper glide")
+    a_e = min(roots, key=abs)
+    u2e = -veh.K_M0 / veh.K_M - a_e                                                        # (6.20), corrected
+    lim = actuator_limits(veh)
+    if abs(u2e) > lim.u2_max:
+        a_lo, a_hi = sorted((-veh.K_M0 / veh.K_M - lim.u2_max, -veh.K_M0 / veh.K_M + lim.u2_max))
+        raise InfeasibleGlideError(
+            f"gamma_e = {math.degrees(gamma):.4g} deg needs alpha_e = {a_e:.4g} rad and elevator u2e = {u2e:.4g} "
+            f"rad, beyond the saturation u2_max = {lim.u2_max:g} rad of vehicle '{veh.name}'; reachable angles of "
+            f"attack are [{a_lo:.4g}, {a_hi:.4g}] rad")
+    kd, kl = effective_coefficients(veh, a_e, u2e)
+    m0e = float((kl * math.cos(gamma) - kd * math.sin(gamma)) * speed**2 / veh.g)
+    if abs(m0e) > lim.m0_max:
+        raise InfeasibleGlideError(
+            f"V_e = {speed:g} m/s, gamma_e = {math.degrees(gamma):.4g} deg needs buoyancy m0e = {m0e:.4g} kg, beyond "
+            f"the range m0_max = {lim.m0_max:g} kg of vehicle '{veh.name}'; ask for a lower speed")
+    if m0e == 0:
+        raise InfeasibleGlideError("the requested glide needs neutral buoyancy m0e = 0 (no steady glide)")
+    K_De = veh.K_D0 + veh.K_D * a_e**2
+    K_Le = veh.K_L0 + veh.K_L * a_e
+    printed = K_De - veh.delta * u2e * speed**2 * math.sin(a_e)                            # (6.23) as printed
+    m_e = float(veh.mass(3, m0e) + veh.mbar)
+    tau_s = m_e / (kd * speed)                                                             # (6.27)
+    eps1 = (veh.K_q / veh.K_M) / tau_s                                                     # (5.16)
+    eps2 = -(veh.J2 / (veh.K_q * speed**2)) / tau_s                                        # (5.17)
+    x_e = np.array([speed, gamma, a_e, 0.0, m0e])
+    res = float(np.max(np.abs(model.rhs(x_e, np.array([0.0, u2e])))))
+    return ElevatorEquilibrium(float(speed), float(gamma), float(a_e), m0e, float(u2e), float(K_De), float(K_Le),
+                               float(kd), float(kl), float(printed), m_e, float(tau_s), float(eps1), float(eps2),
+                               float(veh.g), tuple(roots), res, veh.name, veh.provenance)
+
+
+def infer_J2(veh: Vehicle, eps2: float = FIG62["eps2"], speed: float = FIG62["speed"],
+             gamma: float = FIG62["gamma"]) -> float:
+    """``J2`` (kg m^2) for which :func:`elevator_equilibrium` gives the printed ``eps2``: ``J2 = eps2 |K_q| V_e^2
+    tau_s`` with ``tau_s`` of (6.27) (independent of ``J2``)."""
+    eq = elevator_equilibrium(veh, speed, gamma)
+    return float(-eps2 * veh.K_q * speed**2 * eq.tau_s)
+
+
+@dataclass(frozen=True)
+class ElevatorBuoyancyController:
+    """Laws (6.21)-(6.22): ``controller(t, x) -> (u1 [kg/s], u2 [rad])``, saturations applied.
+
+    ``u1 = (m_e/tau_s)(-K mbar0) = -(K/tau_s)(m0 - m0e)`` through the pump limits (rate ``u4_max``, range
+    ``m0_max``), ``u2 = clip(u2e, -u2_max, u2_max)``.
+
+    Parameters
+    ----------
+    eq : ElevatorEquilibrium
+    vehicle : Vehicle
+    K : float
+        Gain of (6.21), > 0 (nondimensional, time ``t_n = t/tau_s`` of (6.27)).
+    """
+
+    eq: ElevatorEquilibrium
+    vehicle: Vehicle
+    K: float = 1.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.K) and self.K > 0):
+            raise GlidectlError(f"the buoyancy gain K of (6.21) must be > 0, got {self.K!r}")
+
+    def __call__(self, t: float, x: Any) -> np.ndarray:
+        lim = actuator_limits(self.vehicle)
+        m0 = np.real(np.asarray(x)[..., 4])
+        u1 = lim.pump(m0, -(self.K / self.eq.tau_s) * (m0 - self.eq.m0e))
+        u2 = np.broadcast_to(lim.elevator(self.eq.u2e), np.shape(u1))
+        return np.stack([u1, u2], axis=-1)
+
+
+def closed_loop_eigenvalues(eq: ElevatorEquilibrium, veh: Vehicle, K: float = 1.0) -> np.ndarray:
+    """Eigenvalues (1/s) of the closed loop (6.14)-(6.18), (6.21)-(6.22) linearized at the equilibrium.
+
+    Theorem 3 claims local asymptotic stability when ``K'_De > 0``; all real parts negative confirms it for this
+    vehicle. Columns for ``(V, gamma, alpha, Omega2)`` are exact (complex step); the ``m0`` column, which enters
+    through the vehicle parameters, is a central difference (step ``1e-6 m0e``; the pump is linear there).
+    """
+    model = ElevatorBuoyancyGlider(veh)
+    ctrl = ElevatorBuoyancyController(eq, veh, K)
+    x_e = eq.state
+
+    def f(x: np.ndarray) -> np.ndarray:
+        return model.rhs(x, ctrl(0.0, x))
+
+    h = 1e-30
+    X = np.tile(x_e, (4, 1)).astype(complex)
+    X[np.arange(4), np.arange(4)] += 1j * h
+    A = np.empty((5, 5))
+    A[:, :4] = (np.imag(f(X)) / h).T
+    dm = 1e-6 * max(abs(eq.m0e), 1.0)
+    e4 = np.array([0, 0, 0, 0, dm])
+    A[:, 4] = (f(x_e + e4) - f(x_e - e4)) / (2 * dm)
+    lam = np.linalg.eigvals(A)
+    return lam[np.lexsort((lam.imag, lam.real))]
+
+
+@dataclass(frozen=True)
+class ElevatorExample:
+    """Closed-loop run of the §6.3 example (Fig 6.2).
+
+    Attributes
+    ----------
+    eq : ElevatorEquilibrium
+    sim : Simulation
+    x0 : ndarray
+        Initial state ``(V, gamma, alpha, Omega2, m0)``.
+    initial_condition : str
+        How ``x0`` was chosen (the thesis does not print it).
+    final_error : ndarray
+        ``x(t_final) - x_e``.
+    max_abs_u2, max_abs_m0dot, max_abs_m0 : float
+        Largest elevator input (rad), pump rate (kg/s) and buoyancy (kg) along the run.
+    limits : ActuatorLimits
+    """
+
+    eq: ElevatorEquilibrium
+    sim: Simulation = field(repr=False)
+    x0: np.ndarray
+    initial_condition: str
+    final_error: np.ndarray
+    max_abs_u2: float
+    max_abs_m0dot: float
+    max_abs_m0: float
+    limits: ActuatorLimits
+
+
+def elevator_example(veh: Vehicle, *, speed: float = FIG62["speed"], gamma: float = FIG62["gamma"],
+                     t_final: float = 10.0, K: float = 1.0, m0_start: float = 2.5,
+                     x0: Any = None) -> ElevatorExample:
+    """Fig 6.2: close the loop (6.21)-(6.22) on :class:`ElevatorBuoyancyGlider` and simulate ``t_final`` seconds.
+
+    The thesis prints no initial condition. The default start is the steady glide the same vehicle flies with the
+    elevator neutral (``u2 = 0``) and buoyancy ``m0_start`` kg (chapter-5 equilibrium (5.8)-(5.10), from
+    :func:`glidectl.stability.singular_perturbation.singular_perturbation`): for ``elevator_ch6`` and 2.5 kg that is
+    ``V = 1.120 m/s``, ``gamma = -67.46 deg``, ``alpha = -K_M0/K_M = 1.43 deg``; the controller then brings the glide to
+    ``(1 m/s, -45 deg)``, the pump working at its rate limit at first.
+
+    Parameters
+    ----------
+    veh : Vehicle
+    speed, gamma : float
+        Target ``V_e`` (m/s), ``gamma_e`` (rad).
+    t_final : float
+        Duration (s).
+    K : float
+        Gain of (6.21).
+    m0_start : float
+        Buoyancy (kg) of the default initial glide.
+    x0 : array_like, optional
+        Explicit initial state ``(V, gamma, alpha, Omega2, m0)``.
+    """
+    eq = elevator_equilibrium(veh, speed, gamma)
+    model = ElevatorBuoyancyGlider(veh)
+    ctrl = ElevatorBuoyancyController(eq, veh, K)
+    if x0 is None:
+        sp = singular_perturbation(veh.with_overrides(m0=m0_start))
+        x0 = np.array([sp.V_e, sp.gamma_e, sp.alpha_e, 0.0, m0_start])
+        how = (f"steady glide of the vehicle with u2 = 0 and m0 = {m0_start:g} kg (thesis prints no initial "
+               "condition)")
+    else:
+        x0 = np.asarray(x0, dtype=float)
+        how = "given by the caller"
+    sim = simulate(model, x0, t_final, ctrl, method="LSODA", rtol=1e-9, atol=1e-11)
+    m0dot = model.rhs(sim.x, sim.u)[:, 4]
+    return ElevatorExample(eq, sim, x0, how, sim.x[-1] - eq.state, float(np.max(np.abs(sim.u[:, 1]))),
+                           float(np.max(np.abs(m0dot))), float(np.max(np.abs(sim.x[:, 4]))), model.limits)
