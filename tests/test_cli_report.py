@@ -141,3 +141,22 @@ def test_ch7_report_builds_with_required_numbers(tmp_path, monkeypatch):
     assert lo < 0 < hi and lo == pytest.approx(-hi)
     assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig7_2_trajectory.png", "fig7_3_error.png",
                                                            "fig7_4_inputs.png", "pareto_front.png"}
+
+
+def test_ch6_report_builds_with_required_numbers(tmp_path, monkeypatch):
+    """The chapter-6 design end to end with few batch runs (the real build uses the module defaults)."""
+    from glidectl.studies import ch6_controllers as ch6
+
+    monkeypatch.setattr(ch6, "N_BOX", 12)
+    monkeypatch.setattr(ch6, "T_TORQUE", 20.0)
+    monkeypatch.setattr(ch6, "T_ELEV", 20.0)
+    monkeypatch.setattr(ch6, "REALIZED_T", 5.0)
+    monkeypatch.setattr(ch6, "BUOY_T", 30.0)
+    pdf = ch6.build(tmp_path)
+    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
+    for name in ("elevator_alpha_e_deg", "elevator_m0e_kg", "elevator_eps1", "elevator_eps2"):
+        assert nums[name]["reproduced"] is True, name
+    assert nums["elevator_K_De_eff"]["value"] > 0  # Theorem 3
+    assert nums["buoyancy_nu_b_Kb_1"]["value"] is False and nums["buoyancy_nu_b_Kb_1000"]["value"] is True
+    assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig6_2_elevator.png", "realized_torque.png",
+                                                           "roa_comparison.png"}

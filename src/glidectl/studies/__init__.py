@@ -15,6 +15,7 @@ REGISTRY: dict[str, str] = {
     "ch2_longitudinal": "glidectl.studies.ch2_longitudinal",
     "ch4_phugoid": "glidectl.studies.ch4_phugoid",
     "ch5_singular_perturbation": "glidectl.studies.ch5_singular_perturbation",
+    "ch6_controllers": "glidectl.studies.ch6_controllers",
     "ch7_ctol": "glidectl.studies.ch7_ctol",
     "ch8_helix": "glidectl.studies.ch8_helix",
 }
