@@ -61,9 +61,11 @@ BUOY_T = 150.0
 N_BOX = 300
 BOX_SEED = 7
 TORQUE_BOX = np.array([0.45, 1.2, 0.5, 1.5])  # half-widths (Vbar, gammabar, alphabar, Omegabar2), nondimensional
-ELEV_BOX = np.array([0.6, 0.8, 0.3, 1.0, 1.5])  # half-widths (V m/s, gamma, alpha, Omega2 rad/s, m0 kg)
+ELEV_BOX = np.array([0.6, 0.8, 0.3, 1.0, 1.3])  # half-widths (V m/s, gamma, alpha, Omega2 rad/s, m0 kg)
 T_TORQUE = 60.0
 T_ELEV = 150.0
+BUOY_BOX = np.array([0.3, 0.3, 0.1, 0.3, 0.3])  # half-widths (V m/s, gamma, alpha, Omega2 rad/s, m0 kg)
+T_BUOY = 300.0
 
 
 @dataclass(frozen=True)
@@ -90,6 +92,8 @@ class Ch6Results:
     torque_cmp: BatchComparison
     elev_lqr: StateFeedback
     elev_cmp: BatchComparison
+    buoy_lqr: StateFeedback
+    buoy_cmp: BatchComparison
 
 
 def compute(progress: Callable[[str], None] = lambda s: None) -> Ch6Results:
@@ -152,8 +156,15 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> Ch6Results:
     ecmp = compare_controllers(emodel, {"nonlinear (6.21)-(6.22)": ElevatorBuoyancyController(eq, ev, 1.0),
                                         "LQR": elqr}, X0e, eq.state, ue, T_ELEV, scale=ELEV_BOX,
                                diverged=lambda X: X[:, 0] < 0.1)
+    bmodel = BuoyancyGlider(sph)
+    blim = bmodel.limits
+    blqr = lqr_state_feedback(bmodel, beq.state, [0.0], Q=1 / BUOY_BOX**2, R=[1 / blim.u4_max**2],
+                              u_min=[-blim.u4_max], u_max=[blim.u4_max], jacobian="central")
+    X0b = beq.state + rng.uniform(-1.0, 1.0, (N_BOX, 5)) * BUOY_BOX
+    bcmp = compare_controllers(bmodel, {"nonlinear (6.9)": BuoyancyController(beq, sph, BUOY_KB), "LQR": blqr}, X0b,
+                               beq.state, np.zeros(1), T_BUOY, scale=BUOY_BOX, diverged=lambda X: X[:, 0] < 0.1)
     return Ch6Results(sph, ev, d_speed, d_gamma, formulas, infeasible, realized, veh_mm, beq, bsim, checks, eq, eq98,
-                      eigs, ex, J2, tlqr, tcmp, elqr, ecmp)
+                      eigs, ex, J2, tlqr, tcmp, elqr, ecmp, blqr, bcmp)
 
 
 def _buoy_start(veh: Vehicle) -> np.ndarray:
@@ -212,8 +223,8 @@ def figures(res: Ch6Results) -> dict[str, tuple[Any, str]]:
                               + " (dashed: hull velocity).")
 
     fig, ax = new_figure(1, 2, width=10, height=4.2)
-    for a, (cmp, title, idx) in zip(ax, ((res.torque_cmp, "pure torque: Vbar vs alphabar at t = 0", (0, 2)),
-                                         (res.elev_cmp, "elevator + buoyancy: V vs m0 at t = 0", (0, 4))),
+    for a, (cmp, title, idx) in zip(ax, ((res.torque_cmp, "pure torque: initial (V, alpha)", (0, 2)),
+                                         (res.elev_cmp, "elevator + buoyancy: initial (V, m0)", (0, 4))),
                                     strict=True):
         x0 = cmp.x0
         for k, (name, rec) in enumerate(cmp.records.items()):
@@ -228,9 +239,15 @@ def figures(res: Ch6Results) -> dict[str, tuple[Any, str]]:
     ax[0].set_ylabel(r"$\alpha$ [rad]")
     ax[1].set_xlabel("V [m/s]")
     ax[1].set_ylabel("$m_0$ [kg]")
+    fr = {k: {n: r.fraction for n, r in c.records.items()} for k, c in (("torque", res.torque_cmp),
+                                                                       ("elevator", res.elev_cmp))}
     out["roa_comparison"] = (fig, f"Batch simulation from the same {N_BOX} random initial states (projection on two "
-                             "coordinates): which converge under the nonlinear law and under LQR on the same model "
-                             f"(torque: {T_TORQUE:g} s, elevator + buoyancy with actuator saturation: {T_ELEV:g} s).")
+                             "coordinates; the other states are random too): which converge under the nonlinear law "
+                             f"and under LQR on the same model (torque: {T_TORQUE:g} s, box half-widths "
+                             f"{TORQUE_BOX.tolist()} in (Vbar, gammabar, alphabar, Omegabar2); elevator + buoyancy "
+                             f"with actuator saturation: {T_ELEV:g} s, half-widths {ELEV_BOX.tolist()} in SI units). "
+                             f"Fractions converged: {fr}. In these boxes the simulated regions do not separate the "
+                             "two designs; effort and settling do (tables).")
 
     b = res.buoy_sim
     fig, ax = new_figure(1, 3, width=11, height=3.6)
@@ -344,7 +361,7 @@ def report(res: Ch6Results) -> Report:
     bs = res.buoy_sim
     rep.number("buoyancy_final_error", float(np.abs(bs.x[-1] - res.buoy_eq.state).max()), "-", "6.2",
                note=f"sphere_ch5 to V_e = {BUOY_SPEED} m/s, K_b = {BUOY_KB:g}, {BUOY_T:g} s, pump limits of the file.")
-    for tag, cmp in (("torque", res.torque_cmp), ("elevator", res.elev_cmp)):
+    for tag, cmp in (("torque", res.torque_cmp), ("elevator", res.elev_cmp), ("buoyancy", res.buoy_cmp)):
         for name, rec in cmp.records.items():
             key = f"{tag}_roa_fraction_{'lqr' if name == 'LQR' else 'nonlinear'}"
             rep.number(key, rec.fraction, "-", "comparison", note=f"{name}: fraction of {N_BOX} initial states that "
@@ -357,6 +374,10 @@ def report(res: Ch6Results) -> Report:
               "nonlinear (6.21)-(6.22) vs LQR; inputs (u1 pump [kg/s], u2 elevator [rad])",
               ["controller", "converged", "median peak |u - u_e|", "max peak", "median int |u - u_e| dt",
                "median settling [s]"], comparison_rows(res.elev_cmp))
+    rep.table(f"Buoyancy only (sphere_ch5 to V_e = {BUOY_SPEED} m/s, pump limits of the file, {T_BUOY:g} s): nonlinear "
+              f"(6.9) with K_b = {BUOY_KB:g} vs LQR on the pump rate; input u1 [kg/s]",
+              ["controller", "converged", "median peak |u - u_e|", "max peak", "median int |u - u_e| dt",
+               "median settling [s]"], comparison_rows(res.buoy_cmp))
     for stem, (fig, cap) in figures(res).items():
         rep.figure(stem, fig, cap)
     rep.text("Corrections to chapter 6", (
