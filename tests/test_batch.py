@@ -1,0 +1,126 @@
+"""Vectorized stiff batch integrator (glidectl.batch)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+import glidectl
+from glidectl.batch import DIVERGED, FINISHED, STEP_UNDERFLOW, batch_jacobian, integrate_batch
+from glidectl.errors import GlidectlError, ModelError
+
+A_STIFF = np.array([[-1.0, 1.0, 0.0], [0.0, -2000.0, 10.0], [0.0, 3.0, -0.5]])
+
+
+@pytest.fixture(scope="module")
+def glider():
+    sp = glidectl.singular_perturbation(glidectl.load_vehicle("sphere_ch5"))
+    scale = sp.tau_s * np.array([1.0 / sp.V_e, 1.0, 1.0, sp.omega_scale])
+    return sp, (lambda z: sp.model.rhs(sp.to_dimensional(z)) * scale)
+
+
+@pytest.mark.parametrize("jac", ["complex", "central"])
+def test_linear_stiff_matches_expm(jac):
+    X0 = np.random.default_rng(1).normal(size=(40, 3))
+    res = integrate_batch(lambda X: X @ A_STIFF.T, X0, 4.0, t_eval=[0.5, 2.0, 4.0], rtol=1e-8, atol=1e-10,
+                          jacobian=jac)
+    assert res.success and res.samples.shape == (40, 3, 3)
+    for k, tk in enumerate(res.t_eval):
+        np.testing.assert_allclose(res.samples[:, k], X0 @ expm(tk * A_STIFF).T, atol=1e-7)
+    np.testing.assert_array_equal(res.samples[:, -1], res.x_final)
+    np.testing.assert_array_equal(res.t, 4.0)
+    # stiffness: far fewer steps than an explicit method would need (|lambda| h < ~3 -> > 2600 steps)
+    assert res.n_steps.max() < 1000
+
+
+def test_fourth_order_convergence():
+    X0 = np.array([[1.0, -1.0, 0.5]])
+    exact = X0 @ expm(2.0 * A_STIFF).T
+    errs = [np.abs(integrate_batch(lambda X: X @ A_STIFF.T, X0, 2.0, rtol=r, atol=r).x_final - exact).max()
+            for r in (1e-5, 1e-9)]
+    assert errs[1] < errs[0] * 1e-3
+
+
+def test_batch_jacobian_methods_agree(glider):
+    sp, f = glider
+    Z = np.random.default_rng(2).uniform(-1, 1, (7, 4)) * [0.4, 1.5, 0.2, 0.1]
+    Jc = batch_jacobian(f, Z, method="complex")
+    Jd = batch_jacobian(f, Z, method="central")
+    assert Jc.shape == (7, 4, 4)
+    np.testing.assert_allclose(Jd, Jc, rtol=1e-5, atol=1e-5 * np.abs(Jc).max())
+    lam = np.sort_complex(np.linalg.eigvals(batch_jacobian(f, np.zeros((1, 4)))[0]))
+    np.testing.assert_allclose(lam, np.sort_complex(sp.full_eigenvalues), rtol=1e-8)
+    assert lam.real.min() < -1000  # stiff on the t_n scale
+
+
+def test_glider_matches_radau(glider):
+    sp, f = glider
+    np.testing.assert_allclose(f(np.full((1, 4), 0.05)), sp.full_rhs_nondimensional(np.full((1, 4), 0.05)),
+                               rtol=1e-12, atol=1e-12)
+    Z0 = np.random.default_rng(3).uniform(-1, 1, (20, 4)) * [0.4, np.pi / 2, 0.2, 0.1]
+    res = integrate_batch(f, Z0, 10.0, t_eval=[3.0], rtol=1e-8, atol=1e-10)
+    assert res.success
+    for i, z0 in enumerate(Z0):
+        sol = solve_ivp(lambda t, z: f(z), (0, 10.0), z0, method="Radau", rtol=1e-9, atol=1e-11, t_eval=[3.0, 10.0],
+                        jac=lambda t, z: batch_jacobian(f, z[None])[0])
+        np.testing.assert_allclose(res.samples[i, 0], sol.y[:, 0], rtol=1e-5, atol=1e-7)
+        np.testing.assert_allclose(res.x_final[i], sol.y[:, 1], rtol=1e-5, atol=1e-7)
+
+
+def test_divergent_runs_flagged_without_breaking_others():
+    # x' = x^2 blows up at t = 1/x0: x0 = 2 blows up before t = 1, the others do not
+    X0 = np.array([[0.5], [2.0], [-1.0], [np.nan], [0.9]])
+    res = integrate_batch(lambda X: X**2, X0, 1.0, rtol=1e-9, atol=1e-12, bound=1e6)
+    assert res.status[1] in (DIVERGED, STEP_UNDERFLOW) and res.t[1] < 0.51
+    assert res.status[3] == DIVERGED
+    good = [0, 2, 4]
+    np.testing.assert_array_equal(res.status[good], FINISHED)
+    np.testing.assert_allclose(res.x_final[good, 0], X0[good, 0] / (1 - X0[good, 0]), rtol=1e-7)
+    assert not res.success and res.diverged[3] and "diverged" in res.summary()
+
+
+def test_user_diverged_mask(glider):
+    _, f = glider
+    Z0 = np.array([[0.0, 0.3, 0.0, 0.0], [0.3, -1.0, 0.1, 0.0], [-0.95, 0.0, 0.0, 0.0]])
+    res = integrate_batch(f, Z0, 10.0, diverged=lambda Z: Z[:, 0] < -0.9)
+    assert res.status[2] == DIVERGED and res.t[2] == 0.0
+    assert np.all(res.status[:2] == FINISHED)
+    assert np.all(np.isnan(res.samples[2])) and res.samples.shape == (3, 0, 4)
+
+
+@pytest.mark.parametrize("kwargs", [
+    dict(X0=np.zeros((2, 2, 2))),
+    dict(t_final=0.0),
+    dict(t_final=np.nan),
+    dict(rtol=-1.0),
+    dict(rtol=0.0),
+    dict(atol=[1.0, 2.0, 3.0]),
+    dict(t_eval=[0.5, 0.2]),
+    dict(t_eval=[2.0]),
+    dict(max_steps=0),
+    dict(h0=-1.0),
+    dict(jacobian="forward"),
+    dict(f=lambda X: X[:, :1]),
+])
+def test_bad_inputs(kwargs):
+    args = dict(f=lambda X: -X, X0=np.ones((3, 2)), t_final=1.0)
+    args.update(kwargs)
+    with pytest.raises(ModelError):
+        integrate_batch(args.pop("f"), args.pop("X0"), args.pop("t_final"), **args)
+    assert issubclass(ModelError, GlidectlError)
+
+
+@pytest.mark.filterwarnings("ignore::numpy.exceptions.ComplexWarning")
+def test_not_complex_safe_rhs_needs_central():
+    def f(X):
+        return -np.asarray(X, dtype=float)
+    with pytest.raises(ModelError, match="central"):
+        integrate_batch(f, np.ones((2, 2)), 1.0)
+    assert integrate_batch(f, np.ones((2, 2)), 1.0, jacobian="central").success
+
+
+def test_max_steps_status():
+    res = integrate_batch(lambda X: X @ A_STIFF.T, np.ones((2, 3)), 10.0, max_steps=3)
+    assert np.all(res.status == 3) and np.all(res.t < 10.0)
