@@ -19,7 +19,7 @@ from scipy import sparse
 from scipy.integrate import solve_ivp
 
 from ..errors import ModelError, SolverError
-from .jacobian import central_difference_jacobians, jacobians
+from .jacobian import jacobians
 
 __all__ = ["BatchComparison", "ControllerRecord", "StateFeedback", "compare_controllers", "lqr_state_feedback"]
 
@@ -61,7 +61,7 @@ class StateFeedback:
 
 def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any = None,
                        u_min: Sequence[float] | None = None, u_max: Sequence[float] | None = None,
-                       name: str = "LQR", jacobian: str = "complex") -> StateFeedback:
+                       name: str = "LQR") -> StateFeedback:
     """LQR (python-control ``lqr``) on the complex-step linearization of ``model`` at ``(x_e, u_e)``.
 
     Parameters
@@ -74,9 +74,6 @@ def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any 
         Weights (default identity); a 1-D array is a diagonal.
     u_min, u_max : sequence of float, optional
         Input saturation applied by the controller.
-    jacobian : {"complex", "central"}
-        Complex step (exact; needs an analytic rhs) or central differences (for models with parameters that
-        cannot carry a complex step, e.g. a state that enters through vehicle parameters, or with clipping).
 
     Raises
     ------
@@ -93,9 +90,7 @@ def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any 
     if np.max(np.abs(f0)) > 1e-8 * (1 + np.max(np.abs(x_e))):
         raise ModelError(f"(x_e, u_e) is not an equilibrium of {type(model).__name__}: "
                          f"|rhs| = {np.max(np.abs(f0)):.3g}")
-    if jacobian not in ("complex", "central"):
-        raise ModelError(f"jacobian must be 'complex' or 'central', got {jacobian!r}")
-    A, B = (jacobians if jacobian == "complex" else central_difference_jacobians)(model.rhs, x_e, u_e)
+    A, B = jacobians(model.rhs, x_e, u_e)
     Qm = np.eye(n) if Q is None else np.asarray(Q, dtype=float)
     Rm = np.eye(m) if R is None else np.asarray(R, dtype=float)
     Qm = np.diag(Qm) if Qm.ndim == 1 else Qm

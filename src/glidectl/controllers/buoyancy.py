@@ -101,13 +101,22 @@ class ActuatorLimits:
         pushes outward.
         """
         m0 = np.real(np.asarray(m0))
-        rate = np.clip(np.asarray(u1, dtype=float), -self.u4_max, self.u4_max)
-        blocked = ((m0 >= self.m0_max) & (rate > 0)) | ((m0 <= -self.m0_max) & (rate < 0))
+        rate = _saturate(u1, self.u4_max)
+        re = np.real(rate)
+        blocked = ((m0 >= self.m0_max) & (re > 0)) | ((m0 <= -self.m0_max) & (re < 0))
         return np.where(blocked, 0.0, rate)
 
     def elevator(self, u2: Any) -> Any:
         """Saturated elevator input ``clip(u2, -u2_max, u2_max)`` (rad)."""
-        return np.clip(u2, -self.u2_max, self.u2_max)
+        return _saturate(u2, self.u2_max)
+
+
+def _saturate(u: Any, bound: float) -> Any:
+    """``clip(u, -bound, bound)`` that carries a complex step: the input passes unchanged (derivative 1) inside the
+    bound, the bound (derivative 0) outside."""
+    u = np.asarray(u)
+    re = np.real(u)
+    return np.where(np.abs(re) <= bound, u, np.sign(re) * bound)
 
 
 def actuator_limits(veh: Vehicle) -> ActuatorLimits:
@@ -317,7 +326,7 @@ class BuoyancyController:
         return self.K_b / self.eq.tau_s
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
-        m0 = np.real(np.asarray(x)[..., 4])
+        m0 = np.asarray(x)[..., 4]
         u = -self.rate_gain * (m0 - self.eq.m0e)
         return np.asarray(actuator_limits(self.vehicle).pump(m0, u))[..., None]
 

@@ -10,12 +10,12 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from .._checks import positive_number
 from ..analysis.jacobian import jacobians
 from ..errors import ModelError
 from ..models.ctol import REDUCED_STATES, CTOLReduced
@@ -61,9 +61,7 @@ class SteadyGlideController:
         if self.vehicle.epsilon <= 0:
             raise ModelError("the steady-glide controller divides by eps: it needs epsilon > 0")
         for name in ("k3", "k4", "T"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise ModelError(f"{name} must be a positive finite number, got {v!r}")
+            positive_number(name, getattr(self, name))
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
         x = np.asarray(x)

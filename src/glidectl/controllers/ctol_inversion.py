@@ -54,9 +54,10 @@ from scipy.integrate import solve_bvp, solve_ivp
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
+from .._checks import positive_number
 from ..analysis.jacobian import central_difference_jacobians, jacobians
 from ..errors import ModelError, SolverError
-from ..models.ctol import CTOL_STATES, CTOLAircraft
+from ..models.ctol import CTOL_STATES, CTOLAircraft, require_ctol
 from ..params import Vehicle
 from ..sim import simulate
 from .ctol_runs import TrackingRun
@@ -89,17 +90,10 @@ _H = 1e-30  # complex step
 
 
 def _check_vehicle(veh: Vehicle, need_eps: bool = True) -> None:
-    if getattr(veh, "kind", None) != "ctol":
-        raise ModelError(f"vehicle '{getattr(veh, 'name', veh)}' is not a CTOL aircraft (kind = \"ctol\")")
+    require_ctol(veh)
     if need_eps and veh.epsilon == 0:
         raise ModelError("epsilon = 0: u2 produces no force, so (7.81) cannot be solved for u2; use the approximate "
                          "linearization (ApproximateLinearizationController) for eps = 0")
-
-
-def _positive(name: str, v: Any) -> float:
-    if not (isinstance(v, int | float | np.floating | np.integer) and math.isfinite(v) and v > 0):
-        raise ModelError(f"{name} must be a positive finite number, got {v!r}")
-    return float(v)
 
 
 def _aero_force(model: CTOLAircraft, v: Any, theta: Any) -> Any:
@@ -188,8 +182,8 @@ class FeedbackLinearizingController:
 
     def __post_init__(self) -> None:
         _check_vehicle(self.vehicle)
-        _positive("kp", self.kp)
-        _positive("kd", self.kd)
+        positive_number("kp", self.kp)
+        positive_number("kd", self.kd)
         object.__setattr__(self, "_desired", self.trajectory)
 
     def outer(self, t: Any, x: Any) -> Any:
@@ -294,7 +288,7 @@ def zero_dynamics(veh: Vehicle, speed: float) -> ZeroDynamics:
         No equilibrium on ``(-pi/2, pi/2)``.
     """
     _check_vehicle(veh)
-    V = _positive("speed", speed)
+    V = positive_number("speed", speed)
     x = _level_state(V, 0.0)
     w = np.zeros(2)
 
@@ -479,7 +473,7 @@ def stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *, t0: f
     if not (math.isfinite(t0) and math.isfinite(t1) and t0 < 0 < t1):
         raise ModelError(f"need t0 < 0 < t1 (the window must contain the level flight before t = 0), got "
                          f"[{t0!r}, {t1!r}]")
-    _positive("tol", tol)
+    positive_number("tol", tol)
     if nodes < 10:
         raise ModelError(f"nodes must be >= 10, got {nodes}")
     desired = traj
@@ -607,9 +601,9 @@ def feedback_linearization_blowup(veh: Vehicle, traj: ClimbTrajectory | None = N
     """
     _check_vehicle(veh)
     traj = climb_trajectory(veh) if traj is None else traj
-    _positive("t_final", t_final)
-    _positive("theta_max", theta_max)
-    _positive("u_max", u_max)
+    positive_number("t_final", t_final)
+    positive_number("theta_max", theta_max)
+    positive_number("u_max", u_max)
     inv = stable_inversion(veh, traj, t1=max(45.0, t_final + 5.0)) if inversion is None else inversion
     if inv.t1 < t_final:
         raise ModelError(f"the inversion ends at {inv.t1:g} s < t_final = {t_final:g} s")
@@ -684,8 +678,8 @@ class InversionTracker:
         q = np.asarray(self.q, dtype=float)
         if q.shape != (6,) or not np.all(np.isfinite(q)) or np.any(q < 0):
             raise ModelError(f"q must be 6 nonnegative weights, got {self.q!r}")
-        _positive("r", self.r)
-        _positive("dt_gain", self.dt_gain)
+        positive_number("r", self.r)
+        positive_number("dt_gain", self.dt_gain)
         object.__setattr__(self, "_outer", FeedbackLinearizingController(inv.vehicle, inv.trajectory, self.kp,
                                                                          self.kd))
         tg = np.linspace(inv.t0, inv.t1, math.ceil((inv.t1 - inv.t0) / self.dt_gain) + 1)
@@ -785,7 +779,7 @@ def track_stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *,
     _check_vehicle(veh)
     traj = climb_trajectory(veh) if traj is None else traj
     inv = stable_inversion(veh, traj, t1=max(45.0, t_final + 5.0)) if inversion is None else inversion
-    _positive("t_final", t_final)
+    positive_number("t_final", t_final)
     if t_final > inv.t1:
         raise ModelError(f"t_final = {t_final:g} s is past the end of the inversion window ({inv.t1:g} s)")
     if start not in ("reference", "level"):
@@ -864,7 +858,7 @@ class ApproximateLinearizationController:
 
     def __post_init__(self) -> None:
         _check_vehicle(self.vehicle, need_eps=False)
-        _positive("pole", self.pole)
+        positive_number("pole", self.pole)
         object.__setattr__(self, "_design", CTOLAircraft(self.vehicle.with_overrides(epsilon=0.0)))
         object.__setattr__(self, "_desired", self.trajectory)
 
@@ -952,9 +946,9 @@ def track_approximate_linearization(veh: Vehicle, traj: ClimbTrajectory | None =
     """
     _check_vehicle(veh, need_eps=False)
     traj = climb_trajectory(veh) if traj is None else traj
-    _positive("t_final", t_final)
-    _positive("max_error", max_error)
-    _positive("u_max", u_max)
+    positive_number("t_final", t_final)
+    positive_number("max_error", max_error)
+    positive_number("u_max", u_max)
     ctrl = ApproximateLinearizationController(veh, traj, pole)
     if veh.epsilon != 0:
         zd = zero_dynamics(veh, traj.speed)
@@ -993,7 +987,7 @@ def approximate_linearization_eigenvalues(veh: Vehicle, speed: float, *, pole: f
     ``eps = 0.01`` (central differences: the controller itself uses complex steps).
     """
     _check_vehicle(veh, need_eps=False)
-    V = _positive("speed", speed)
+    V = positive_number("speed", speed)
     level = ClimbTrajectory(V, forcing=0.0)
     ctrl = ApproximateLinearizationController(veh, level, pole)
     zd = zero_dynamics(veh if veh.epsilon != 0 else veh.with_overrides(epsilon=1.0), V)

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .._checks import positive_number
 from ..errors import GlidectlError, InfeasibleGlideError, ModelError
 from ..models.ctol import CTOLAircraft
 from ..params import Vehicle
@@ -114,8 +115,7 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
         the integration fails; the run up to that time is returned.
     """
     for name, v in (("dt", dt), ("k3", k3), ("k4", k4), ("T", T), ("t_final", t_final)):
-        if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-            raise ModelError(f"{name} must be a positive finite number, got {v!r}")
+        positive_number(name, v)
     model = CTOLAircraft(veh)
     x = _level_start(veh, traj) if x0 is None else np.asarray(x0, dtype=float)
     if x.shape != (6,) or not np.all(np.isfinite(x)):

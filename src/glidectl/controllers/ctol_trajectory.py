@@ -19,6 +19,7 @@ import numpy as np
 from scipy.linalg import expm
 
 from ..errors import ModelError
+from ..models.ctol import require_ctol
 from ..params import Vehicle
 
 __all__ = ["CLIMB_COEFFS", "ClimbTrajectory", "climb_trajectory"]
@@ -109,6 +110,5 @@ class ClimbTrajectory:
 
 def climb_trajectory(veh: Vehicle, mach_like: float = 0.85) -> ClimbTrajectory:
     """The §7.3.3 trajectory for ``veh``: horizontal speed ``0.85 / sqrt(a_L)`` (normalized units)."""
-    if veh.kind != "ctol":
-        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not a CTOL aircraft")
+    require_ctol(veh)
     return ClimbTrajectory(mach_like / math.sqrt(veh.a_L))

@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from .._checks import positive_number
 from ..errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError
 from ..models.reduced import REDUCED_STATES, ReducedLongitudinalGlider
 from ..params import Vehicle
@@ -350,7 +351,7 @@ def torque_gain_family(veh: Vehicle, alpha_e: float, *, eps_ratio: float | None 
                              "eps_ratio= (eps1/eps2) explicitly") from None
         return TorqueGainFamily(veh, float(alpha_e), V_e, veh.K_q, veh.K_M * (V_e / sp_ol.V_e) ** 2,
                                 sp_ol.eps1 / sp_ol.eps2)
-    eps_ratio = _number("eps_ratio", eps_ratio, positive=True)
+    eps_ratio = positive_number("eps_ratio", eps_ratio)
     Kq_ref = veh.K_q if veh.K_q < 0 else -J2 / (V_e**2 * sp_t.tau_s)  # else eps2 = 1 at s = 1 (5.17)
     return TorqueGainFamily(veh, float(alpha_e), V_e, Kq_ref, -Kq_ref**2 * V_e**2 / (eps_ratio * J2), eps_ratio)
 
@@ -476,14 +477,6 @@ def peak_torque(law: TorqueLaw, cert: CompositeCertificate) -> float:
                        cert.domain.alphabar, _omegabar_reach(cert)))
 
 
-def _number(name: str, v: Any, *, positive: bool = False) -> float:
-    if not (isinstance(v, (int, float, np.floating, np.integer)) and not isinstance(v, bool) and not math.isnan(v)):
-        raise GlidectlError(f"{name} must be a number, got {v!r}")
-    if positive and not v > 0:
-        raise GlidectlError(f"{name} must be > 0, got {v!r}")
-    return float(v)
-
-
 def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: float | None = None,
                           Vbar: tuple[float, float] = (-0.4, 0.4), alphabar: tuple[float, float] = (-0.2, 0.2),
                           gammabar: tuple[float, float] = (-math.pi, math.pi),
@@ -529,11 +522,11 @@ def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: fl
     GlidectlError
         Bad arguments (both/neither target, non-positive bounds, bad domain).
     """
-    torque_max = _number("torque_max", torque_max, positive=True)
-    margin = _number("margin", margin, positive=True)
+    torque_max = positive_number("torque_max", torque_max, allow_inf=True)
+    margin = positive_number("margin", margin)
     if margin >= 1:
         raise GlidectlError(f"margin must be in (0, 1), got {margin}")
-    s_max = _number("s_max", s_max, positive=True)
+    s_max = positive_number("s_max", s_max)
     a_e = alpha_for_target(veh, speed=speed, gamma=gamma)
     target, tval = ("speed", float(speed)) if speed is not None else ("gamma", float(gamma))  # type: ignore[arg-type]
     fam = torque_gain_family(veh, a_e, eps_ratio=eps_ratio)

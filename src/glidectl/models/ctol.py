@@ -30,14 +30,15 @@ from ..errors import ModelError
 from ..params import Vehicle
 
 __all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "drag_coefficient",
-           "lift_coefficient"]
+           "lift_coefficient", "require_ctol"]
 
 CTOL_STATES = ("x", "y", "xdot", "ydot", "theta", "Omega2")
 CTOL_INPUTS = ("u1", "u2")
 REDUCED_STATES = ("Vbar", "gammabar", "thetabar", "Omega2bar")
 
 
-def _check(veh: Vehicle) -> None:
+def require_ctol(veh: Vehicle) -> None:
+    """Raise :class:`ModelError` unless ``veh`` is a CTOL aircraft (``kind = "ctol"``)."""
     if veh.kind != "ctol":
         raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not a CTOL aircraft (kind = \"ctol\")")
 
@@ -66,7 +67,7 @@ class CTOLAircraft:
     input_names: tuple[str, ...] = CTOL_INPUTS
 
     def __post_init__(self) -> None:
-        _check(self.vehicle)
+        require_ctol(self.vehicle)
 
     def rhs(self, x: Any, u: Any) -> Any:
         """(7.5)-(7.7)."""
@@ -115,7 +116,7 @@ class CTOLReduced:
     input_names: tuple[str, ...] = CTOL_INPUTS
 
     def __post_init__(self) -> None:
-        _check(self.vehicle)
+        require_ctol(self.vehicle)
         if not (np.isfinite(self.V_e) and self.V_e > 0):
             raise ModelError(f"V_e must be a positive speed, got {self.V_e!r}")
         if not (np.isfinite(self.T) and self.T > 0):

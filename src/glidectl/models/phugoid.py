@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from .._checks import positive_number
 from ..errors import InfeasibleGlideError, ModelError
 
 if TYPE_CHECKING:
@@ -55,15 +56,6 @@ __all__ = [
 
 PHUGOID_STATES = ("x", "z", "xdot", "zdot")
 C_STEADY = 2.0 / 3.0  #: Lanchester's C of steady level flight, the largest value C takes (4.5)
-
-
-def _positive_finite(name: str, value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
-        raise ModelError(f"phugoid model: {name} ({what}) must be a number, got {value!r}")
-    v = float(value)
-    if not (math.isfinite(v) and v > 0):
-        raise ModelError(f"phugoid model: {name} ({what}) must be a positive finite number, got {v!r}")
-    return v
 
 
 @dataclass(frozen=True)
@@ -102,7 +94,7 @@ class PhugoidModel:
     def __post_init__(self) -> None:
         for name, what in (("mass", "m1 + mbar in kg"), ("m0", "net buoyancy in kg; m0 > 0 means heavy"),
                            ("K", "lift coefficient K_L0 + K_L alpha in kg/m"), ("g", "gravity in m/s^2")):
-            object.__setattr__(self, name, _positive_finite(name, getattr(self, name), what))
+            object.__setattr__(self, name, positive_number(f"phugoid model: {name} ({what})", getattr(self, name)))
 
     @classmethod
     def from_vehicle(cls, veh: Vehicle, alpha: float, m0: float | None = None) -> PhugoidModel:

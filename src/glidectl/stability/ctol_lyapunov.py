@@ -81,9 +81,10 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
+from .._checks import positive_number
 from ..controllers.ctol import ClosedLoopCTOL
 from ..errors import ModelError
-from ..models.ctol import drag_coefficient, lift_coefficient
+from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
 
@@ -533,16 +534,6 @@ def _printed(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, kp:
     return Theorem5Constants(c11, c12, c21, c22, lam1, lam2, beta1, beta2, 0.0, 0.0, 0.0, 0.0), lam1
 
 
-def _positive_number(name: str, v: Any) -> float:
-    try:
-        f = float(v)
-    except (TypeError, ValueError) as exc:
-        raise ModelError(f"{name} must be a number, got {v!r}") from exc
-    if not (math.isfinite(f) and f > 0):
-        raise ModelError(f"{name} must be a positive finite number, got {v!r}")
-    return f
-
-
 def _composite(c: Theorem5Constants) -> tuple[float, float, float]:
     """``(d1, d2, lambda)`` for ``gamma11 = gamma2j = 0``: ``d1 = 1``, ``d2`` maximizing ``lambda_min(M) /
     max(c12, d2 c22)``; zeros if Theorem 5 does not apply."""
@@ -602,14 +593,13 @@ def ctol_lyapunov(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float
         Not a CTOL vehicle or glide; non-positive or non-finite gains, ``T``; ``k'`` or ``r`` outside (0, 1);
         ``k3 + k'' <= 0`` (``Q2`` (7.48) not positive definite); bad ``margin`` or ``n``.
     """
-    if getattr(veh, "kind", None) != "ctol":
-        raise ModelError(f"ctol_lyapunov needs a CTOL vehicle (kind = \"ctol\"), got {getattr(veh, 'name', veh)!r}")
+    require_ctol(veh)
     if not isinstance(glide, CTOLGlide):
         raise ModelError(f"glide must be a CTOLGlide from ctol_glide(), got {type(glide).__name__}")
     if veh.epsilon <= 0:
         raise ModelError("the steady-glide controller (7.19)-(7.20) divides by eps: it needs epsilon > 0")
-    k3, k4, T = _positive_number("k3", k3), _positive_number("k4", k4), _positive_number("T", T)
-    kp, r = _positive_number("k_prime", k_prime), _positive_number("r", r)
+    k3, k4, T = positive_number("k3", k3), positive_number("k4", k4), positive_number("T", T)
+    kp, r = positive_number("k_prime", k_prime), positive_number("r", r)
     if not kp < 1:
         raise ModelError(f"k' (k_prime) must lie in (0, 1) for Q2 (7.48) to be positive definite, got {kp!r}")
     if not r < 1:

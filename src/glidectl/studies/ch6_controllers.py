@@ -151,7 +151,7 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> Ch6Results:
     lim = emodel.limits
     ue = np.array([0.0, eq.u2e])
     elqr = lqr_state_feedback(emodel, eq.state, ue, Q=1 / ELEV_BOX**2, R=1 / np.array([lim.u4_max, lim.u2_max])**2,
-                              u_min=[-lim.u4_max, -lim.u2_max], u_max=[lim.u4_max, lim.u2_max], jacobian="central")
+                              u_min=[-lim.u4_max, -lim.u2_max], u_max=[lim.u4_max, lim.u2_max])
     X0e = eq.state + rng.uniform(-1.0, 1.0, (N_BOX, 5)) * ELEV_BOX
     ecmp = compare_controllers(emodel, {"nonlinear (6.21)-(6.22)": ElevatorBuoyancyController(eq, ev, 1.0),
                                         "LQR": elqr}, X0e, eq.state, ue, T_ELEV, scale=ELEV_BOX,
@@ -159,7 +159,7 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> Ch6Results:
     bmodel = BuoyancyGlider(sph)
     blim = bmodel.limits
     blqr = lqr_state_feedback(bmodel, beq.state, [0.0], Q=1 / BUOY_BOX**2, R=[1 / blim.u4_max**2],
-                              u_min=[-blim.u4_max], u_max=[blim.u4_max], jacobian="central")
+                              u_min=[-blim.u4_max], u_max=[blim.u4_max])
     X0b = beq.state + rng.uniform(-1.0, 1.0, (N_BOX, 5)) * BUOY_BOX
     bcmp = compare_controllers(bmodel, {"nonlinear (6.9)": BuoyancyController(beq, sph, BUOY_KB), "LQR": blqr}, X0b,
                                beq.state, np.zeros(1), T_BUOY, scale=BUOY_BOX, diverged=lambda X: X[:, 0] < 0.1)
@@ -312,10 +312,12 @@ def report(res: Ch6Results) -> Report:
     rep.number("elevator_u2e_rad", eq.u2e, "rad", "(6.20) corrected",
                note="u2e = -K_M0/K_M - alpha_e (the printed (6.20) has + u2e: at the printed relation the pitch "
                     "acceleration is not zero).")
-    rep.number("elevator_eps1", eq.eps1, "-", "6.3 example", thesis=0.075, tolerance=REPRO_TOL)
-    rep.number("elevator_eps2", eq.eps2, "-", "6.3 example", thesis=0.012, tolerance=REPRO_TOL,
-               note=f"J2 is not printed: eps2 = 0.012 needs J2 = {res.J2_inferred:.5f} kg m^2; the vehicle file uses "
-                    "0.1 kg m^2.")
+    rep.number("elevator_eps1", eq.eps1, "-", "6.3 example", thesis=FIG62["eps1"], tolerance=REPRO_TOL,
+               note="Independent of J2: eps1 = (K_q/K_M)/tau_s.")
+    rep.number("elevator_eps2", eq.eps2, "-", "6.3 example", thesis=FIG62["eps2"],
+               note=f"Not an independent check: J2 is not printed and was inferred from this number (eps2 = 0.012 "
+                    f"needs J2 = {res.J2_inferred:.5f} kg m^2; the vehicle file uses 0.1 kg m^2), so the agreement "
+                    "holds by construction. reproduced = null.")
     rep.number("elevator_J2_inferred", res.J2_inferred, "kg*m^2", "6.3 (from eps2 = 0.012)")
     rep.number("elevator_K_De_eff", eq.K_De_eff, "kg/m", "(6.23) corrected",
                note=f"K'_De = K_D0 + K_D alpha_e^2 + delta u2e sin(alpha_e) (sign corrected; the printed formula "

@@ -28,7 +28,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InfeasibleGlideError, ModelError
-from ..models.ctol import drag_coefficient, lift_coefficient
+from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
 from ..params import Vehicle
 
 __all__ = ["CTOLGlide", "angle_equation", "ctol_glide"]
@@ -150,8 +150,7 @@ def ctol_glide(veh: Vehicle, speed: float, gamma: float, *, alpha_max: float = A
     InfeasibleGlideError
         No root of (7.25) with ``|alpha_e| <= alpha_max`` (the message lists the roots that exist).
     """
-    if veh.kind != "ctol":
-        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not a CTOL aircraft")
+    require_ctol(veh)
     try:
         speed, gamma = float(speed), float(gamma)
     except (TypeError, ValueError) as exc:
