@@ -161,3 +161,27 @@ def test_ch6_report_builds_with_required_numbers(tmp_path, monkeypatch):
     assert nums["buoyancy_nu_b_Kb_1"]["value"] is False and nums["buoyancy_nu_b_Kb_1000"]["value"] is True
     assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig6_2_elevator.png", "realized_torque.png",
                                                            "roa_comparison.png"}
+
+
+def test_roa_report_builds_with_required_numbers(tmp_path, monkeypatch):
+    """The ROA design end to end with low degrees and few samples (the real build uses the module defaults)."""
+    from glidectl.studies import roa_certification as roa
+
+    monkeypatch.setattr(roa, "VDP", {"degree": 4, "iterations": 2})
+    monkeypatch.setattr(roa, "REDUCED", {"degree": 4, "iterations": 1})
+    monkeypatch.setattr(roa, "FULL", {"degree": 2, "iterations": 1})
+    monkeypatch.setattr(roa, "FULL_KM", (-100.0,))
+    monkeypatch.setattr(roa, "N_VOLUME", 2**12)
+    monkeypatch.setattr(roa, "N_TRUTH_2D", 21)
+    monkeypatch.setattr(roa, "N_TRUTH_4D", 64)
+    monkeypatch.setattr(roa, "N_GUIDE", 256)
+    pdf = roa.build(tmp_path)
+    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
+    assert nums["vdp_fixed_V_rho"]["reproduced"] is True          # Drake's rho = 2.3045 within 1e-3
+    assert nums["vdp_true_area"]["reproduced"] is True
+    assert nums["vdp_verified"]["value"] is True and nums["reduced_verified"]["value"] is True
+    assert nums["vdp_fraction_of_true"]["value"] > nums["vdp_drake_fraction_of_true"]["value"]
+    assert nums["reduced_ratio_to_thesis"]["value"] > 1.0
+    assert nums["full_KM100_verified"]["value"] is True
+    assert 0 < nums["full_KM100_certified_volume"]["value"] <= nums["full_KM100_true_volume"]["value"] + 1e-2
+    assert {p.name for p in pdf.parent.glob("*.png")} >= {"vdp_roa.png", "reduced_roa.png", "full_roa_slices.png"}

@@ -26,8 +26,15 @@ Chapter 6 (nonlinear steady-glide controllers)::
     eq = gc.elevator_equilibrium(gc.load_vehicle("elevator_ch6"), speed=1.0, gamma=-np.pi / 4)
     eq.m0e, eq.alpha_e, eq.u2e, eq.eps1, eq.eps2, eq.K_De_eff    # K_De_eff = K'_De of Theorem 3 (corrected)
     # controllers, tracking and baselines: glidectl.controllers.ctol, ctol_tracking, ctol_inversion
+
+Region-of-attraction certificates (SOS programs in cvxpy)::
+
+    cert = gc.certify_roa(gc.benchmarks.van_der_pol(), degree=6)   # cert.verified, cert.contains(X), cert.volume()
+    sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    cert = gc.certify_roa(sp.reduced_model(), degree=4)          # exact recasting (sin, 1 - cos, 1/V cleared)
 """
 
+from . import benchmarks
 from .analysis.helix_maps import ExistenceScan, HelixSweep, existence_scan, helix_sweep, straight_glides
 from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from .analysis.jacobian import central_difference_jacobians, jacobians
@@ -73,6 +80,7 @@ from .models.glider3d import FixedMassGlider3D, Glider3D
 from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
 from .models.reduced import ReducedLongitudinalGlider
 from .params import Vehicle, list_presets, load_vehicle
+from .roa import PolySystem, ROACertificate, certify_roa, recast
 from .sim import Simulation, simulate
 from .stability.composite import CompositeCertificate, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, ctol_lyapunov
@@ -114,6 +122,8 @@ __all__ = [
     "ModelError",
     "Modes",
     "ParameterLocus",
+    "PolySystem",
+    "ROACertificate",
     "RankTest",
     "ReducedLongitudinalGlider",
     "Simulation",
@@ -125,9 +135,11 @@ __all__ = [
     "Vehicle",
     "VehicleFileError",
     "allowable_delta_m_ratio",
+    "benchmarks",
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
     "central_difference_jacobians",
+    "certify_roa",
     "classify_motion",
     "composite_lyapunov",
     "controllability",
@@ -153,6 +165,7 @@ __all__ = [
     "permissible_gamma",
     "place_glide",
     "rbh_locus",
+    "recast",
     "resolved_crossing",
     "simulate",
     "singular_perturbation",

@@ -24,7 +24,7 @@ from ..errors import ModelError
 from ..models.reduced import ReducedLongitudinalGlider
 from ..params import Vehicle
 
-__all__ = ["SingularPerturbation", "SlowModel", "singular_perturbation"]
+__all__ = ["NondimensionalModel", "SingularPerturbation", "SlowModel", "singular_perturbation"]
 
 
 @dataclass(frozen=True)
@@ -148,6 +148,59 @@ class SingularPerturbation:
         full = np.stack([x[..., 0], x[..., 1], np.full_like(x[..., 0], self.alpha_e),
                          np.zeros_like(x[..., 0])], axis=-1)
         return self.model.rhs(full)[..., :2]
+
+    # ---------------------------------------------------------------- models for region-of-attraction work
+    def reduced_model(self) -> NondimensionalModel:
+        """The reduced subsystem (5.33) as a model: states ``(Vbar, gammabar)``, time ``t_n``, equilibrium 0."""
+        return NondimensionalModel(self, "reduced", ("Vbar", "gammabar"),
+                                   (np.array([-0.9, -math.pi]), np.array([1.5, math.pi])))
+
+    def full_model(self) -> NondimensionalModel:
+        """The full model (5.28)-(5.29): states ``(Vbar, gammabar, alphabar, Omegabar2)``, time ``t_n``.
+
+        Its region of interest is the box of the ROA study, ``|Vbar| <= 0.4``, ``|gammabar| <= pi/2``,
+        ``|alphabar| <= 0.2``, ``|Omegabar2| <= 0.1``."""
+        return NondimensionalModel(self, "full", ("Vbar", "gammabar", "alphabar", "Omegabar2"),
+                                   (np.array([-0.4, -math.pi / 2, -0.2, -0.1]),
+                                    np.array([0.4, math.pi / 2, 0.2, 0.1])))
+
+
+@dataclass(frozen=True)
+class NondimensionalModel:
+    """A nondimensional chapter-5 model at its steady glide (equilibrium at 0), time ``t_n``.
+
+    ``rhs`` is :meth:`SingularPerturbation.reduced_rhs` or :meth:`SingularPerturbation.full_rhs_nondimensional`
+    (the dimensional model seen through (5.12)-(5.19)). ``angle_states`` and ``positive_state`` tell
+    :func:`glidectl.roa.recast` how to make it polynomial: ``gammabar`` is an angle and the right-hand side has the
+    factor ``1/(1 + Vbar)`` (``1/V``). ``box`` is the region of interest ``(lo, hi)``.
+    """
+
+    sp: SingularPerturbation = field(repr=False)
+    kind: str
+    state_names: tuple[str, ...]
+    box: tuple[np.ndarray, np.ndarray] = field(repr=False)
+    angle_states: tuple[int, ...] = (1,)
+    positive_state: int = 0
+    time_unit: str = "t_n"
+    input_names: tuple[str, ...] = ()
+
+    @property
+    def name(self) -> str:
+        return f"{self.sp.vehicle} {self.kind} (K_M = {self.sp.model.vehicle.K_M:g})"
+
+    @property
+    def provenance(self) -> str:
+        return self.sp.provenance
+
+    @property
+    def equilibrium(self) -> np.ndarray:
+        return np.zeros(len(self.state_names))
+
+    def rhs(self, x: Any, u: Any = None) -> np.ndarray:
+        """``dx/dt_n``."""
+        if self.kind == "reduced":
+            return self.sp.reduced_rhs(x)
+        return self.sp.full_rhs_nondimensional(x)
 
 
 def singular_perturbation(veh: Vehicle) -> SingularPerturbation:

@@ -18,6 +18,7 @@ REGISTRY: dict[str, str] = {
     "ch6_controllers": "glidectl.studies.ch6_controllers",
     "ch7_ctol": "glidectl.studies.ch7_ctol",
     "ch8_helix": "glidectl.studies.ch8_helix",
+    "roa_certification": "glidectl.studies.roa_certification",
 }
 
 

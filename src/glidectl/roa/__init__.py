@@ -1,0 +1,24 @@
+"""Region-of-attraction certification by SOS/LMI programs in cvxpy (polynomial layer, exact recasting of the
+glidectl models, level maximization, V-lambda alternation with rising degree, a-posteriori verification)."""
+
+from .certify import LevelResult, ROACertificate, Verification, certify_roa, lyapunov_quadratic, max_level
+from .polynomial import Poly, monomials
+from .sos import GramCheck, LinPoly, SOSProgram
+from .systems import PolySystem, polynomial_system, recast
+
+__all__ = [
+    "GramCheck",
+    "LevelResult",
+    "LinPoly",
+    "Poly",
+    "PolySystem",
+    "ROACertificate",
+    "SOSProgram",
+    "Verification",
+    "certify_roa",
+    "lyapunov_quadratic",
+    "max_level",
+    "monomials",
+    "polynomial_system",
+    "recast",
+]

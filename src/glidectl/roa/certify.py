@@ -1,0 +1,528 @@
+"""Region-of-attraction certificates by SOS programs: level maximization, V-lambda alternation, verification.
+
+For ``dz/dt = F(z)/den(z)`` on ``{h = 0} ∩ {g >= 0}`` (:class:`~glidectl.roa.systems.PolySystem`) and a polynomial
+``V`` with ``V(0) = 0``, the *level problem* (one SDP, linear in the level ``rho``; the form used by Drake's
+``RegionOfAttraction``, extended by S-procedure terms for cuts and equality multipliers) is::
+
+    maximize rho  s.t.  (V - rho) N + lambda * (grad V . F) - sum_k tau_k g_k + sum_j psi_j h_j  is SOS,
+                        (V - rho) + sigma_k g_k + sum_j phi_kj h_j                             is SOS (each k),
+                        tau_k, sigma_k SOS,  lambda, psi, phi free,   N = (z . z)^m.
+
+The first line says: wherever ``dV/dt = 0`` inside the cuts, ``V >= rho``; with ``dV/dt < 0`` near the equilibrium
+(checked from the linearization) the connected component of ``{V < rho}`` containing the equilibrium has
+``dV/dt < 0`` except at the equilibrium. The second says: outside a cut, ``V >= rho``, so that component stays
+where the denominator is positive. Its closure is compact (``V >= eps |z|^2``), hence positively invariant and in
+the region of attraction (LaSalle).
+
+The *V step* fixes ``lambda`` and solves for ``V`` (and every other multiplier) at ``rho = 1``, minimizing
+``∫_box V dx`` (a linear volume surrogate that pushes ``{V <= 1}`` outwards in the region of interest) with
+``V - eps |z|^2`` SOS. Alternating the two steps never loses the previous certificate (it stays feasible), and the
+degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as the starting point.
+
+Every certificate is stated at a backed-off level ``rho_c = (1 - backoff) rho*``, re-solved at that fixed level,
+and verified a posteriori (:class:`Verification`): exact SOS by Gram eigenvalue margins against coefficient
+residuals, the local conditions at the equilibrium, ``dV/dt < 0`` of the *true model* at sampled points of the set,
+and convergence of simulations started in it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import cvxpy as cp
+import numpy as np
+from scipy.linalg import solve_continuous_lyapunov
+from scipy.stats import qmc
+
+from ..analysis.jacobian import jacobians
+from ..batch import integrate_batch
+from ..errors import GlidectlError, SolverError
+from .polynomial import Poly, monomials
+from .sos import GramCheck, LinPoly, SOSProgram
+from .systems import PolySystem, recast
+
+__all__ = ["LevelResult", "ROACertificate", "Verification", "certify_roa", "lyapunov_quadratic", "max_level"]
+
+
+# --------------------------------------------------------------------------------------------- helpers
+def _zsq(nz: int) -> Poly:
+    return sum((Poly.var(i, nz) ** 2 for i in range(nz)), Poly({}, nz))
+
+
+def _even_up(k: int) -> int:
+    return k + (k % 2)
+
+
+@dataclass(frozen=True)
+class _Degrees:
+    D: int          # degree of the decrease polynomial
+    lam: int        # degree of lambda
+    m: int          # N = (z.z)^m
+
+
+def _degrees(degV: int, degF: int, extra: int = 0) -> _Degrees:
+    dVd = degV - 1 + degF
+    D = _even_up(max(degV + 2, dVd)) + 2 * extra
+    return _Degrees(D, D - dVd, (D - degV) // 2)
+
+
+def _scaled(ps: PolySystem) -> list[Poly]:
+    """F divided by its largest coefficient (a positive factor: signs of dV/dt unchanged, better conditioning)."""
+    s = max(f.max_abs_coefficient() for f in ps.F)
+    return [f / s for f in ps.F]
+
+
+def lyapunov_quadratic(ps: PolySystem) -> Poly:
+    """``V0`` of the linearization in ``z``: ``x^T P x`` with ``A^T P + P A = -I`` (the Lyapunov equation Drake
+    uses), an angle ``x_i`` entering as ``s_i`` in cross terms and as ``2 c_i`` (``= x_i^2 + O(x_i^4)``) squared."""
+    n, nz = ps.n, ps.nz
+    A, _ = jacobians(lambda x, u: ps.rhs(x[None, :])[0], ps.equilibrium, np.zeros(0))
+    if np.max(np.linalg.eigvals(A).real) >= 0:
+        raise GlidectlError(f"the equilibrium of '{ps.name}' is not exponentially stable (eigenvalues "
+                            f"{np.linalg.eigvals(A)}): no region of attraction to certify")
+    P = solve_continuous_lyapunov(A.T, -np.eye(n))
+    P = 0.5 * (P + P.T)
+    Z = Poly.variables(nz)
+    lin: list[Poly] = []
+    sq: list[Poly] = []
+    k = 0
+    for i in range(n):
+        if i in ps.angle_states:
+            lin.append(Z[k])
+            sq.append(2.0 * Z[k + 1])
+            k += 2
+        else:
+            lin.append(Z[k])
+            sq.append(Z[k] ** 2)
+            k += 1
+    V = Poly({}, nz)
+    for i in range(n):
+        V = V + P[i, i] * sq[i]
+        for j in range(i + 1, n):
+            V = V + 2 * P[i, j] * lin[i] * lin[j]
+    return V
+
+
+def _V_of(V: Poly, ps: PolySystem, X: np.ndarray) -> np.ndarray:
+    return V(ps.lift(X))
+
+
+def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 33) -> np.ndarray:
+    """``V(lift(t x)) <= rho`` and the cuts for ``t`` on a grid of ``[0, 1]`` (component of the equilibrium)."""
+    ok = np.all(np.isfinite(X), axis=-1)
+    for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
+        Y = np.where(ok[:, None], t * X, 0.0)
+        ok &= (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
+    return ok
+
+
+def _Vdot_true(V: Poly, ps: PolySystem, X: np.ndarray) -> np.ndarray:
+    """``dV/dt`` along the model's own right-hand side (complex step through the lift: exact to rounding)."""
+    h = 1e-30
+    f = np.asarray(ps.rhs(X))
+    return np.imag(V(ps.lift(X + 1j * h * f))) / h
+
+
+# --------------------------------------------------------------------------------------------- level problem
+@dataclass(frozen=True)
+class LevelResult:
+    """Solution of the level problem for a fixed ``V``."""
+
+    rho: float
+    lam: Poly = field(repr=False)
+    checks: tuple[GramCheck, ...]
+    solve_time: float
+    status: str
+
+
+def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Poly | None, rho: float | None,
+           eps: float, extra: int = 0) -> tuple[SOSProgram, dict[str, Any]]:
+    """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given."""
+    nz = ps.nz
+    degF = max(f.degree for f in F)
+    dg = _degrees(degV, degF, extra)
+    prog = SOSProgram(nz)
+    out: dict[str, Any] = {}
+    N = _zsq(nz) ** dg.m
+    if V is not None:
+        Vl = LinPoly(V)
+        Vdot: LinPoly = LinPoly(V.lie(F))
+        lam_u, lam_l = prog.free_poly("lambda", monomials(nz, dg.lam))
+        out["lambda"] = lam_u
+        dec = Vl * N + lam_l * V.lie(F)
+    else:
+        V_u, Vl = prog.free_poly("V", monomials(nz, degV, 1))
+        out["V"] = V_u
+        Vdot = Vl.lie(F)
+        dec = Vl * N + Vdot * lam
+    if rho is None:
+        rho_u, rho_l = prog.scalar("rho")
+        out["rho"] = rho_u
+    else:
+        rho_l = LinPoly(Poly.const(rho, nz))
+    dec = dec - rho_l * N
+    for k, g in enumerate(ps.cuts):
+        _, tau = prog.sos_poly(f"tau{k}", monomials(nz, (dg.D - g.degree) // 2))
+        dec = dec - tau * g
+    for j, h in enumerate(ps.equalities):
+        _, psi = prog.free_poly(f"psi{j}", monomials(nz, dg.D - h.degree))
+        dec = dec + psi * h
+    prog.add_sos("decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
+    for k, g in enumerate(ps.cuts):
+        dk = _even_up(max(degV, g.degree))
+        _, sig = prog.sos_poly(f"sigma{k}", monomials(nz, (dk - g.degree) // 2))
+        cont = Vl - rho_l + sig * g
+        for j, h in enumerate(ps.equalities):
+            _, phi = prog.free_poly(f"phi{k}_{j}", monomials(nz, dk - h.degree))
+            cont = cont + phi * h
+        prog.add_sos(f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
+    if V is None:
+        pos = Vl - _zsq(nz) * eps
+        for j, h in enumerate(ps.equalities):
+            _, phi = prog.free_poly(f"chi{j}", monomials(nz, degV - h.degree))
+            pos = pos + phi * h
+        prog.add_sos("positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
+    return prog, out
+
+
+def _scaling(ps: PolySystem) -> np.ndarray:
+    """Scale of each polynomial variable (largest ``|z_i|`` over the box; angle pairs keep 1)."""
+    lo, hi = ps.box
+    Z = ps.lift(lo + (hi - lo) * qmc.Sobol(ps.n, seed=3).random(1024))
+    k = np.max(np.abs(Z), axis=0)
+    for i in ps.s_caps:
+        k[i] = k[i + 1] = 1.0
+    return np.where(k > 0, k, 1.0)
+
+
+def _rescale(ps: PolySystem, k: np.ndarray) -> PolySystem:
+    """The same system in ``zhat = z / k`` (better conditioned SDPs; SOS is invariant under the scaling)."""
+    Z = Poly.variables(ps.nz)
+    Kz = [Z[i] * float(k[i]) for i in range(ps.nz)]
+    lift0 = ps.lift
+    return dataclasses.replace(
+        ps, F=tuple(f.substitute(Kz) / float(k[i]) for i, f in enumerate(ps.F)), den=ps.den.substitute(Kz),
+        equalities=tuple(h.substitute(Kz) for h in ps.equalities), cuts=tuple(g.substitute(Kz) for g in ps.cuts),
+        lift=lambda X: lift0(X) / k)
+
+
+def _to_scaled(V: Poly, k: np.ndarray) -> Poly:
+    Z = Poly.variables(V.nvars)
+    return V.substitute([Z[i] * float(k[i]) for i in range(V.nvars)])
+
+
+def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
+    Z = Poly.variables(V.nvars)
+    return V.substitute([Z[i] / float(k[i]) for i in range(V.nvars)])
+
+
+def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
+           extra: int) -> LevelResult:
+    degV = _even_up(V.degree)
+    prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra)
+    prog.constraints.append(out["rho"].var <= rho_cap)
+    prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
+    rho = float(out["rho"].value()[0])
+    checks, t, status, lam = tuple(prog.check()), prog.solve_time, prog.status, out["lambda"].poly()
+    if center > 0:
+        # a multiplier with slack for the V step: feasibility at a lower level (interior-point solution)
+        prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra)
+        prog2.solve(cp.Minimize(0), solver=solver)
+        lam, t = out2["lambda"].poly(), t + prog2.solve_time
+    return LevelResult(rho, lam, checks, t, status)
+
+
+def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLARABEL",
+              extra: int | None = None) -> LevelResult:
+    """Largest ``rho`` of the level problem for a fixed ``V`` (one SDP, no bisection).
+
+    Parameters
+    ----------
+    system : PolySystem or glidectl model (recast with :func:`~glidectl.roa.systems.recast`)
+    V : Poly
+        Candidate in the system's polynomial variables, ``V(0) = 0``, positive definite.
+    rho_cap : float
+        Upper bound on ``rho`` (a globally valid ``V`` would make the program unbounded).
+    extra : int, optional
+        Extra degree (in steps of 2) of the multipliers above the smallest that balances the degrees; default 2
+        for up to 3 polynomial variables, else 0 (with the smallest multipliers the level depends on the scaling
+        of ``N = (z.z)^m``; richer multipliers remove that dependence).
+
+    Returns
+    -------
+    LevelResult
+        ``lam`` is returned in the scaled variables used internally (see :func:`certify_roa`).
+    """
+    ps = recast(system)
+    k = _scaling(ps)
+    pss = _rescale(ps, k)
+    ex = (2 if ps.nz <= 3 else 0) if extra is None else int(extra)
+    return _level(pss, _scaled(pss), _to_scaled(V, k), rho_cap=rho_cap, solver=solver, center=0.0, extra=ex)
+
+
+# --------------------------------------------------------------------------------------------- certificate
+@dataclass(frozen=True)
+class Verification:
+    """A-posteriori checks of a certificate (all must pass for ``verified``)."""
+
+    gram: tuple[GramCheck, ...]
+    hessian_V_min: float            # smallest eigenvalue of the Hessian of V(lift(x)) at the equilibrium
+    lyapunov_max: float             # largest eigenvalue of A^T H + H A (must be < 0)
+    n_sampled: int                  # sampled points of the certified set
+    max_Vdot: float                 # largest true dV/dt / |x - x_e|^2 over them (must be < 0)
+    n_simulated: int
+    n_converged: int
+    horizon: float
+
+    @property
+    def gram_exact(self) -> bool:
+        return all(c.exact for c in self.gram)
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.gram_exact and self.hessian_V_min > 0 and self.lyapunov_max < 0 and self.n_sampled > 0
+                    and self.max_Vdot < 0 and self.n_converged == self.n_simulated)
+
+    def summary(self) -> str:
+        g = min((c.margin for c in self.gram), default=float("nan"))
+        return (f"Gram margin {g:.3g} ({'exact' if self.gram_exact else 'NOT exact'}), Hessian min "
+                f"{self.hessian_V_min:.3g}, A'H+HA max {self.lyapunov_max:.3g}, max dV/dt/|x|^2 on "
+                f"{self.n_sampled} samples {self.max_Vdot:.3g}, simulations {self.n_converged}/{self.n_simulated} "
+                f"converged in {self.horizon:g}")
+
+
+@dataclass(frozen=True)
+class ROACertificate:
+    """Certified region of attraction ``{x : V(lift(x)) <= rho}`` (component of the equilibrium).
+
+    Attributes
+    ----------
+    system : PolySystem
+    V : Poly
+        Lyapunov function in the polynomial variables ``z = lift(x)``.
+    rho : float
+        Certified (backed-off) level.
+    rho_star : float
+        Optimal level of the last level problem (``rho = (1 - backoff) rho_star``).
+    degree : int
+        Degree of ``V``.
+    history : tuple of dict
+        Per iteration: degree, level, sampled volume in the box, SDP time.
+    verification : Verification
+    solve_time : float
+        Total SDP solver time (s); ``wall_time`` includes building and verification.
+    """
+
+    system: PolySystem = field(repr=False)
+    V: Poly = field(repr=False)
+    rho: float
+    rho_star: float
+    degree: int
+    history: tuple[dict[str, Any], ...] = field(repr=False)
+    verification: Verification = field(repr=False)
+    solve_time: float
+    wall_time: float
+    provenance: str = ""
+
+    @property
+    def verified(self) -> bool:
+        """True only if every a-posteriori check passed."""
+        return self.verification.passed
+
+    def value(self, X: Any) -> np.ndarray:
+        """``V(lift(x))`` at states ``X`` (N, n)."""
+        return _V_of(self.V, self.system, np.atleast_2d(np.asarray(X, dtype=float)))
+
+    def contains(self, X: Any, n_path: int = 33) -> np.ndarray:
+        """Membership of the certified set for states ``X`` (N, n) in the system's coordinates.
+
+        A point belongs when it and the straight segment from the equilibrium to it satisfy ``V <= rho`` and the
+        cuts (so it lies in the connected component of the equilibrium; ``n_path`` points on the segment).
+        """
+        X = np.atleast_2d(np.asarray(X, dtype=float))
+        if X.shape[-1] != self.system.n:
+            raise GlidectlError(f"contains: states of dimension {self.system.n} expected "
+                                f"({', '.join(self.system.state_names)}), got {X.shape[-1]}")
+        return _contains(self.system, self.V, self.rho, X, n_path)
+
+    def volume(self, box: tuple[Any, Any] | None = None, n: int = 2**16, seed: int = 0) -> float:
+        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC."""
+        lo, hi = (np.asarray(b, dtype=float) for b in (box or self.system.box))
+        X = lo + (hi - lo) * qmc.Sobol(len(lo), seed=seed).random(n)
+        return float(np.prod(hi - lo) * np.mean(self.contains(X)))
+
+
+def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
+            n_simulate: int, horizon: float, seed: int) -> Verification:
+    n = ps.n
+    x0 = ps.equilibrium
+    h = 1e-6
+    H = np.zeros((n, n))
+    E = np.eye(n) * h
+    for i in range(n):
+        for j in range(n):
+            pts = np.stack([x0 + E[i] + E[j], x0 + E[i] - E[j], x0 - E[i] + E[j], x0 - E[i] - E[j]])
+            v = _V_of(V, ps, pts)
+            H[i, j] = (v[0] - v[1] - v[2] + v[3]) / (4 * h * h)
+    H = 0.5 * (H + H.T)
+    A, _ = jacobians(lambda x, u: ps.rhs(x[None, :])[0], x0, np.zeros(0))
+    hmin = float(np.linalg.eigvalsh(H)[0])
+    lmax = float(np.linalg.eigvalsh(A.T @ H + H @ A)[-1])
+    # sample the certified set (rejection from the system's box; angles over a full turn)
+    lo, hi = (b.copy() for b in ps.box)
+    rng = np.random.default_rng(seed)
+    X = lo + (hi - lo) * rng.random((n_verify, n))
+    inside = _contains(ps, V, rho, X)
+    Xs = X[inside]
+    if Xs.shape[0]:
+        vd = _Vdot_true(V, ps, Xs)
+        r2 = np.sum((Xs - x0) ** 2, axis=1)
+        max_vd = float(np.max(vd / np.maximum(r2, 1e-300)))
+    else:
+        max_vd = float("nan")
+    # simulations from the outermost sampled points
+    nsim = min(n_simulate, Xs.shape[0])
+    conv = 0
+    if nsim:
+        vals = _V_of(V, ps, Xs)
+        pick = Xs[np.argsort(vals)[::-1][:nsim]]
+        res = integrate_batch(lambda Y: ps.rhs(Y), pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000)
+        dist = np.linalg.norm(res.x_final - x0, axis=1)
+        conv = int(np.sum(res.finished & (dist < 1e-3 * max(1.0, float(np.max(np.abs(hi - lo)))))))
+    return Verification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
+
+
+def _default_horizon(ps: PolySystem) -> float:
+    A, _ = jacobians(lambda x, u: ps.rhs(x[None, :])[0], ps.equilibrium, np.zeros(0))
+    slow = float(np.min(np.abs(np.linalg.eigvals(A).real)))
+    return 25.0 / slow
+
+
+def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Sobol points of the box and whether their simulations converge to the equilibrium (batch integrator)."""
+    lo, hi = ps.box
+    X = lo + (hi - lo) * qmc.Sobol(ps.n, seed=seed + 5).random(n)
+    X = X[ps.in_cuts(X)]
+    res = integrate_batch(lambda Y: ps.rhs(Y), X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
+                          bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
+    conv = res.finished & (np.linalg.norm(res.x_final - ps.equilibrium, axis=1) < 1e-3)
+    return X, conv
+
+
+def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
+                initial: Poly | None = None, speed_floor: float = 0.1, extra: int | None = None,
+                n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
+                solver: str = "CLARABEL", seed: int = 0, center: float = 0.05) -> ROACertificate:
+    """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
+
+    Parameters
+    ----------
+    system : PolySystem or glidectl model
+        A polynomial system (e.g. :func:`glidectl.benchmarks.van_der_pol`) or a model at an equilibrium with the
+        attributes :func:`~glidectl.roa.systems.recast` needs (``sp.reduced_model()``, ``sp.full_model()``).
+    degree : int
+        Final (even) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
+    iterations : int
+        Alternations (V step + level problem) per degree; the best ``V`` (largest sampled volume) is kept.
+    backoff : float
+        Certified level ``(1 - backoff) rho*``.
+    eps : float
+        ``V - eps |z|^2`` must be SOS in the V step (strict positivity).
+    initial : Poly, optional
+        Starting ``V`` (default :func:`lyapunov_quadratic`).
+    speed_floor : float
+        ``delta`` of the denominator cut for recast models.
+    extra : int, optional
+        Extra multiplier degree (steps of 2); default 2 for up to 3 polynomial variables, else 0.
+    n_truth : int
+        Box points simulated once; the V step minimizes ``mean(max(V - 1, 0))`` over those that converge
+        (the simulated region of attraction guides the search, the certificate never depends on it).
+    n_verify, n_simulate, horizon :
+        Sampling of the certified set on the true model, number of simulations (from the outermost samples) and
+        their length (default 25 slowest time constants).
+    center : float
+        The multiplier of the V step comes from the level problem re-solved at ``(1 - center) rho*``.
+
+    Returns
+    -------
+    ROACertificate
+
+    Raises
+    ------
+    SolverError
+        If the first level problem fails (no certificate at all).
+    GlidectlError
+        For an odd or too small degree or an unstable equilibrium.
+    """
+    t_wall = time.perf_counter()
+    if int(degree) != degree or degree < 2 or degree % 2:
+        raise GlidectlError(f"degree must be an even integer >= 2, got {degree}")
+    ps = system if isinstance(system, PolySystem) else recast(system, speed_floor=speed_floor)
+    k = _scaling(ps)
+    pss = _rescale(ps, k)
+    F = _scaled(pss)
+    ex = (2 if ps.nz <= 3 else 0) if extra is None else int(extra)
+    hz = horizon or _default_horizon(ps)
+    V = _to_scaled(initial if initial is not None else lyapunov_quadratic(ps), k)
+    history: list[dict[str, Any]] = []
+    t_solve = 0.0
+    lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex)
+    t_solve += lvl.solve_time
+    V, lam = V / lvl.rho, lvl.lam
+    lo, hi = ps.box
+    Xv = lo + (hi - lo) * qmc.Sobol(ps.n, seed=2).random(2**13)
+
+    def vol(Vc: Poly) -> float:
+        return float(np.prod(hi - lo) * np.mean(_contains(pss, Vc, 1.0, Xv)))
+
+    cur_vol = vol(V)
+    best = (cur_vol, V)
+    history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
+                    "sdp_time": lvl.solve_time})
+    Xt, conv = _ground_truth(ps, n_truth, hz, seed)
+    Zt = pss.lift(Xt[conv])
+    for degV in range(2, int(degree) + 1, 2):
+        if degV < _even_up(V.degree):
+            continue
+        basis = monomials(ps.nz, degV, 1)
+        M = np.stack([Poly({e: 1.0}, ps.nz)(Zt) for e in basis], axis=1)
+        worse = 0
+        for _ in range(iterations):
+            try:
+                prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex)
+                prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / max(len(Zt), 1)), solver=solver)
+                t_solve += prog.solve_time
+                Vn = out["V"].poly()
+                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex)
+                t_solve += lv.solve_time
+            except SolverError as exc:
+                history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
+                                "volume": math.nan, "sdp_time": 0.0})
+                break
+            V, lam = Vn / lv.rho, lv.lam
+            cur_vol = vol(V)
+            history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
+                            "sdp_time": prog.solve_time + lv.solve_time})
+            if cur_vol > best[0]:
+                best, worse = (cur_vol, V), 0
+            else:
+                worse += 1
+                if worse >= 2:
+                    break
+    V = best[1]
+    # final certificate at a backed-off level, re-solved at that level, then verified
+    fin = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
+    t_solve += fin.solve_time
+    rho_c = (1 - backoff) * fin.rho
+    prog, _ = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=rho_c, eps=0.0, extra=ex)
+    prog.solve(cp.Minimize(0), solver=solver)
+    t_solve += prog.solve_time
+    gram = tuple(prog.check())
+    Vz = _from_scaled(V, k)
+    ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
+    return ROACertificate(ps, Vz, rho_c, fin.rho, Vz.degree, tuple(history), ver, t_solve,
+                          time.perf_counter() - t_wall, ps.provenance)
