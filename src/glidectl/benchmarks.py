@@ -7,7 +7,7 @@ import numpy as np
 from .roa.polynomial import Poly
 from .roa.systems import PolySystem, polynomial_system
 
-__all__ = ["VAN_DER_POL_AREA", "van_der_pol", "van_der_pol_limit_cycle"]
+__all__ = ["VAN_DER_POL_AREA", "drake_van_der_pol", "van_der_pol", "van_der_pol_limit_cycle"]
 
 #: Area enclosed by the limit cycle of the Van der Pol oscillator with mu = 1 (the true region of attraction of
 #: the time-reversed system); :func:`van_der_pol_limit_cycle` recomputes it (13.7222).
@@ -44,3 +44,28 @@ def van_der_pol_limit_cycle(n: int = 2001) -> tuple[np.ndarray, float]:
     area = 0.5 * abs(float(np.sum(X[:-1, 0] * X[1:, 1] - X[1:, 0] * X[:-1, 1])))
     idx = np.linspace(0, X.shape[0] - 1, n).astype(int)
     return X[idx], area
+
+
+def drake_van_der_pol(repeats: int = 5) -> dict[str, float] | None:
+    """Drake's ``RegionOfAttraction`` on :func:`van_der_pol` (optional extra ``drake``): ``{"rho", "time"}`` (level
+    of ``V = x'Px``, median seconds over ``repeats`` calls), or ``None`` when pydrake is not installed."""
+    import time
+
+    try:
+        from pydrake.symbolic import Variable
+        from pydrake.systems.analysis import RegionOfAttraction
+        from pydrake.systems.primitives import SymbolicVectorSystem
+    except ImportError:
+        return None
+    x1, x2 = Variable("x1"), Variable("x2")
+    system = SymbolicVectorSystem(state=[x1, x2], dynamics=[-x2, x1 + (x1 * x1 - 1) * x2])
+    ctx = system.CreateDefaultContext()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        V = RegionOfAttraction(system=system, context=ctx)
+        times.append(time.perf_counter() - t0)
+    env = dict(zip(sorted(V.GetVariables(), key=lambda v: v.get_name()), (0.3, -0.7), strict=True))
+    x = np.array([0.3, -0.7])
+    P = np.array([[1.5, -0.5], [-0.5, 1.0]])
+    return {"rho": float(x @ P @ x / V.Evaluate(env)), "time": float(np.median(times))}

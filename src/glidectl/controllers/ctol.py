@@ -22,7 +22,7 @@ from ..models.ctol import REDUCED_STATES, CTOLReduced
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
 
-__all__ = ["ClosedLoopCTOL", "SteadyGlideController", "closed_loop_eigenvalues"]
+__all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "SteadyGlideController", "closed_loop_eigenvalues"]
 
 
 def _inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, theta: Any, Omega2: Any) -> Any:
@@ -94,6 +94,57 @@ class ClosedLoopCTOL:
     def jacobian(self) -> np.ndarray:
         """Exact (complex-step) Jacobian at the origin."""
         return jacobians(lambda s, u: self.rhs(s), np.zeros(4), np.zeros(0))[0]
+
+    def roa_model(self, box: tuple[Any, Any] | None = None) -> ClosedLoopCTOLAlpha:
+        """This closed loop in ``(Vbar, gammabar, alphabar, Omega2bar)``, ``alphabar = thetabar - gammabar``, for
+        region-of-attraction certification (:func:`glidectl.certify_roa`); ``box`` is the region of interest
+        (default ``|Vbar| <= 0.5``, ``|gammabar| <= 0.5``, ``|alphabar| <= 0.3``, ``|Omega2bar| <= 1``)."""
+        if box is None:
+            box = (np.array([-0.5, -0.5, -0.3, -1.0]), np.array([0.5, 0.5, 0.3, 1.0]))
+        return ClosedLoopCTOLAlpha(self, (np.asarray(box[0], dtype=float), np.asarray(box[1], dtype=float)))
+
+
+@dataclass(frozen=True)
+class ClosedLoopCTOLAlpha:
+    """:class:`ClosedLoopCTOL` with ``thetabar`` replaced by ``alphabar = thetabar - gammabar`` (a shear, volume
+    preserving). The right-hand side is the closed loop's own, ``alphabar' = thetabar' - gammabar'``.
+
+    In these states ``gammabar`` enters only through ``sin``/``cos`` and ``alphabar`` both polynomially (lift and
+    drag (7.1)-(7.2)) and through ``sin``/``cos`` (``angle_states``, ``mixed_angle_states`` for
+    :func:`glidectl.roa.recast`); the ``1/V`` of (7.13) is the ``positive_state``.
+    """
+
+    closed_loop: ClosedLoopCTOL
+    box: tuple[np.ndarray, np.ndarray]
+    state_names: tuple[str, ...] = ("Vbar", "gammabar", "alphabar", "Omega2bar")
+    input_names: tuple[str, ...] = ()
+    angle_states: tuple[int, ...] = (1,)
+    mixed_angle_states: tuple[int, ...] = (2,)
+    positive_state: int = 0
+    time_unit: str = "s"
+
+    @property
+    def name(self) -> str:
+        cl = self.closed_loop
+        return (f"{cl.vehicle.name} closed loop (7.16)-(7.20), V_e = {cl.glide.speed:.4g}, "
+                f"gamma_e = {cl.glide.gamma:.4g}, k3 = {cl.k3:g}, k4 = {cl.k4:g}")
+
+    @property
+    def provenance(self) -> str:
+        return self.closed_loop.vehicle.provenance
+
+    @property
+    def equilibrium(self) -> np.ndarray:
+        return np.zeros(4)
+
+    def to_theta(self, x: Any) -> np.ndarray:
+        """``(Vbar, gammabar, alphabar, Omega2bar) -> (Vbar, gammabar, thetabar, Omega2bar)``."""
+        x = np.asarray(x)
+        return np.stack([x[..., 0], x[..., 1], x[..., 2] + x[..., 1], x[..., 3]], axis=-1)
+
+    def rhs(self, x: Any, u: Any = None) -> np.ndarray:
+        d = self.closed_loop.rhs(self.to_theta(x))
+        return np.stack([d[..., 0], d[..., 1], d[..., 2] - d[..., 1], d[..., 3]], axis=-1)
 
 
 def closed_loop_eigenvalues(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float = 1.0) -> np.ndarray:

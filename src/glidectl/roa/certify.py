@@ -95,6 +95,10 @@ def lyapunov_quadratic(ps: PolySystem) -> Poly:
             lin.append(Z[k])
             sq.append(2.0 * Z[k + 1])
             k += 2
+        elif i in ps.mixed_states:
+            lin.append(Z[k])
+            sq.append(Z[k] ** 2)
+            k += 3
         else:
             lin.append(Z[k])
             sq.append(Z[k] ** 2)
@@ -140,13 +144,15 @@ class LevelResult:
 
 
 def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Poly | None, rho: float | None,
-           eps: float, extra: int = 0) -> tuple[SOSProgram, dict[str, Any]]:
+           eps: float, extra: int = 0, margin: bool = False) -> tuple[SOSProgram, dict[str, Any]]:
     """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given."""
     nz = ps.nz
     degF = max(f.degree for f in F)
     dg = _degrees(degV, degF, extra)
     prog = SOSProgram(nz)
     out: dict[str, Any] = {}
+    if margin:
+        out["margin"] = prog.enable_margin()
     N = _zsq(nz) ** dg.m
     if V is not None:
         Vl = LinPoly(V)
@@ -165,7 +171,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     else:
         rho_l = LinPoly(Poly.const(rho, nz))
     dec = dec - rho_l * N
-    for k, g in enumerate(ps.cuts):
+    for k, g in enumerate(ps.cuts + ps.valid):
         _, tau = prog.sos_poly(f"tau{k}", monomials(nz, (dg.D - g.degree) // 2))
         dec = dec - tau * g
     for j, h in enumerate(ps.equalities):
@@ -196,6 +202,7 @@ def _scaling(ps: PolySystem) -> np.ndarray:
     k = np.max(np.abs(Z), axis=0)
     for i in ps.s_caps:
         k[i] = k[i + 1] = 1.0
+    k[[i for i, nm in enumerate(ps.z_names) if any(nm == ps.state_names[j] for j in ps.mixed_states)]] = 1.0
     return np.where(k > 0, k, 1.0)
 
 
@@ -207,6 +214,7 @@ def _rescale(ps: PolySystem, k: np.ndarray) -> PolySystem:
     return dataclasses.replace(
         ps, F=tuple(f.substitute(Kz) / float(k[i]) for i, f in enumerate(ps.F)), den=ps.den.substitute(Kz),
         equalities=tuple(h.substitute(Kz) for h in ps.equalities), cuts=tuple(g.substitute(Kz) for g in ps.cuts),
+        valid=tuple(g.substitute(Kz) for g in ps.valid),
         lift=lambda X: lift0(X) / k)
 
 
@@ -429,7 +437,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     iterations : int
         Alternations (V step + level problem) per degree; the best ``V`` (largest sampled volume) is kept.
     backoff : float
-        Certified level ``(1 - backoff) rho*``.
+        Certified level ``(1 - backoff) rho*``; tripled (up to 3 times, at most 0.25) when the Gram margins at that
+        level do not exceed the coefficient residuals (recorded in ``history``).
     eps : float
         ``V - eps |z|^2`` must be SOS in the V step (strict positivity).
     initial : Poly, optional
@@ -517,11 +526,20 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     # final certificate at a backed-off level, re-solved at that level, then verified
     fin = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
     t_solve += fin.solve_time
-    rho_c = (1 - backoff) * fin.rho
-    prog, _ = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=rho_c, eps=0.0, extra=ex)
-    prog.solve(cp.Minimize(0), solver=solver)
-    t_solve += prog.solve_time
-    gram = tuple(prog.check())
+    # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
+    # further (x3, at most 3 times) and re-solve
+    bo = backoff
+    for _ in range(4):
+        rho_c = (1 - bo) * fin.rho
+        prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=rho_c, eps=0.0, extra=ex, margin=True)
+        prog.solve(cp.Maximize(outf["margin"]), solver=solver)
+        t_solve += prog.solve_time
+        gram = tuple(prog.check())
+        if all(c.exact for c in gram) or bo >= 0.25:
+            break
+        history.append({"degree": V.degree, "step": f"Gram margin {min(c.margin for c in gram):.2g} at backoff "
+                        f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": prog.solve_time})
+        bo = min(3 * bo, 0.25)
     Vz = _from_scaled(V, k)
     ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
     return ROACertificate(ps, Vz, rho_c, fin.rho, Vz.degree, tuple(history), ver, t_solve,

@@ -150,6 +150,14 @@ class SOSProgram:
     equalities: list[LinPoly] = field(default_factory=list)
     solve_time: float = 0.0
     status: str = ""
+    margin: Any = None      # optional cvxpy scalar t: Gram matrices of add_sos constraints satisfy Q >= t I
+
+    def enable_margin(self, cap: float = 1.0) -> Any:
+        """Make every later :meth:`add_sos` Gram matrix satisfy ``Q >= t I`` for a new scalar ``t <= cap``
+        (maximize ``t`` for a certificate with the largest eigenvalue margin); returns ``t``."""
+        self.margin = cp.Variable(name="gram_margin")
+        self.constraints.append(self.margin <= cap)
+        return self.margin
 
     def scalar(self, name: str) -> tuple[Unknown, LinPoly]:
         v = cp.Variable(1, name=name)
@@ -164,14 +172,18 @@ class SOSProgram:
         self.unknowns.append(u)
         return u, LinPoly(Poly({}, self.nvars), {u: [Poly({e: 1.0}, self.nvars) for e in basis]})
 
-    def sos_poly(self, name: str, half_basis: Sequence[Exp]) -> tuple[Unknown, LinPoly]:
-        """SOS polynomial ``m^T Q m``, ``Q >= 0`` on the monomials ``half_basis``."""
+    def sos_poly(self, name: str, half_basis: Sequence[Exp], *, margin: bool = False) -> tuple[Unknown, LinPoly]:
+        """SOS polynomial ``m^T Q m``, ``Q >= 0`` (``Q >= t I`` with ``margin`` and :meth:`enable_margin`) on the
+        monomials ``half_basis``."""
         hb = [tuple(e) for e in half_basis]
         n = len(hb)
         Q = cp.Variable((n, n), symmetric=True, name=name)
         u = Unknown(name, Q, n * n, hb, gram=True, nvars=self.nvars)
         self.unknowns.append(u)
-        self.constraints.append(Q >> 0)
+        if margin and self.margin is not None:
+            self.constraints.append(Q - self.margin * np.eye(n) >> 0)
+        else:
+            self.constraints.append(Q >> 0)
         cols = []
         for j in range(n):          # column-major: index i + n j
             for i in range(n):
@@ -181,7 +193,7 @@ class SOSProgram:
 
     def add_sos(self, name: str, expr: LinPoly, half_basis: Sequence[Exp]) -> Unknown:
         """Constrain ``expr`` to be SOS on ``half_basis`` (returns the Gram unknown)."""
-        u, g = self.sos_poly(name + ".gram", half_basis)
+        u, g = self.sos_poly(name + ".gram", half_basis, margin=True)
         self.add_zero(expr - g)
         self.sos_constraints.append((name, expr, u))
         return u

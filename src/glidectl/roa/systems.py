@@ -12,6 +12,13 @@ from the model's right-hand side* by least squares on the monomial basis of the 
 linear), which is exact when the model is polynomial in the lift, and the recovery is checked at fresh random
 points (relative residual ``< 1e-9``, recorded as ``recast_residual``); a model that is not polynomial in the lift
 (e.g. ``sin(alpha)`` together with ``alpha``) is refused with :class:`~glidectl.errors.ModelError`.
+
+**Taylor-with-remainder route** for an angle that enters both polynomially and through ``sin``/``cos`` (the CTOL
+angle of attack: lift and drag polynomial in ``alpha``, forces rotated by ``alpha``): the state is kept *and* lifted,
+``(x_i, s_i, c_i)``, and the graph of ``(sin, 1 - cos)`` is enclosed by the Taylor bounds with their remainders,
+valid for every real ``x``: ``x (x - s) >= 0``, ``x (s - x + x^3/6) >= 0``, ``x^2/2 - c >= 0``,
+``c - x^2/2 + x^4/24 >= 0`` (``valid`` inequalities: S-procedure terms of the decrease condition, nothing to
+contain). A certificate then holds for every ``(s, c)`` in the enclosure, the true ``(sin x, 1 - cos x)`` included.
 """
 
 from __future__ import annotations
@@ -45,6 +52,8 @@ class PolySystem:
         Positive denominator (``1`` for polynomial models).
     equalities, cuts : tuple of Poly
         ``h_j(z) = 0`` (angle pairs) and ``g_k(z) >= 0`` (denominator cut); the certified set lies in the cuts.
+    valid : tuple of Poly
+        ``v_k(z) >= 0`` on the whole lifted graph (Taylor enclosures of mixed angles); used by the S-procedure only.
     lift : callable
         ``x (N, n) -> z (N, nz)``, complex-safe.
     rhs : callable
@@ -79,6 +88,8 @@ class PolySystem:
     recast_residual: float = 0.0
     time_unit: str = "s"
     provenance: str = ""
+    valid: tuple[Poly, ...] = field(default=(), repr=False)
+    mixed_states: tuple[int, ...] = ()
 
     @property
     def n(self) -> int:
@@ -153,6 +164,9 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     if eq.shape != (n,) or np.max(np.abs(eq)) != 0.0:
         raise ModelError(f"recast needs the model in coordinates with the equilibrium at 0; got {eq}")
     angles = tuple(int(i) for i in getattr(model, "angle_states", ()))
+    mixed = tuple(int(i) for i in getattr(model, "mixed_angle_states", ()))
+    if set(mixed) & set(angles):
+        raise ModelError(f"states {set(mixed) & set(angles)} are listed both as pure and as mixed angles")
     pos = getattr(model, "positive_state", None)
     lo, hi = (np.asarray(b, dtype=float) for b in model.box)
     if not (0 < speed_floor < 1):
@@ -163,6 +177,9 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         if i in angles:
             slot.append((len(z_names), len(z_names) + 1))
             z_names += [f"sin({nm})", f"1-cos({nm})"]
+        elif i in mixed:
+            slot.append((len(z_names), len(z_names) + 1, len(z_names) + 2))
+            z_names += [nm, f"sin({nm})", f"1-cos({nm})"]
         else:
             slot.append((len(z_names),))
             z_names.append(nm)
@@ -174,19 +191,26 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         for i in range(n):
             if i in angles:
                 cols += [np.sin(X[..., i]), 1.0 - np.cos(X[..., i])]
+            elif i in mixed:
+                cols += [X[..., i], np.sin(X[..., i]), 1.0 - np.cos(X[..., i])]
             else:
                 cols.append(X[..., i])
         return np.stack(cols, axis=-1)
 
     Z = Poly.variables(nz)
-    equalities = tuple(Z[slot[i][0]] ** 2 + Z[slot[i][1]] ** 2 - 2.0 * Z[slot[i][1]] for i in angles)
-    s_caps = {slot[i][0]: 1 for i in angles}
+    pairs = [slot[i][:2] for i in angles] + [slot[i][1:] for i in mixed]
+    equalities = tuple(Z[a] ** 2 + Z[b] ** 2 - 2.0 * Z[b] for a, b in pairs)
+    s_caps = {a: 1 for a, _ in pairs}
+    valid: list[Poly] = []
+    for i in mixed:
+        x, sn, c = (Z[k] for k in slot[i])
+        valid += [x * (x - sn), x * (sn - x + x**3 / 6.0), x**2 / 2.0 - c, c - x**2 / 2.0 + x**4 / 24.0]
     den = Poly.const(1.0, nz) if pos is None else 1.0 + Z[slot[pos][0]]
     cuts = () if pos is None else (den - speed_floor,)
     rng = np.random.default_rng(seed)
     # sampling box: the region of interest, angles over a full turn, the positive state above the floor
     slo, shi = lo.copy(), hi.copy()
-    for i in angles:
+    for i in angles + mixed:   # a full turn: (x, sin x, cos x) well separated, so the fit is well conditioned
         slo[i], shi[i] = -np.pi, np.pi
     if pos is not None:
         slo[pos] = max(slo[pos], -1 + speed_floor)
@@ -201,25 +225,37 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     def design(Zx: np.ndarray, basis: list[tuple[int, ...]]) -> np.ndarray:
         return np.stack([Poly({e: 1.0}, nz)(Zx) for e in basis], axis=1)
 
-    last = np.inf
-    for deg in range(1, max_degree + 1):
-        basis = monomials(nz, deg, 0, s_caps)
-        m = max(4 * len(basis), 200)
-        X = slo + (shi - slo) * rng.random((m, n))
-        Zx, T = targets(X)
+    def fit(Zx: np.ndarray, T: np.ndarray, basis: list[tuple[int, ...]]) -> np.ndarray:
         M = design(Zx, basis)
         scale = np.max(np.abs(M), axis=0)
         coef, *_ = np.linalg.lstsq(M / scale, T, rcond=None)
-        coef = coef / scale[:, None]
-        F = []
-        for k in range(nz):
-            ck = coef[:, k]
-            tol = 1e-11 * max(np.max(np.abs(ck)), 1e-300)
-            F.append(Poly({e: c for e, c in zip(basis, ck, strict=True) if abs(c) > tol}, nz))
+        return coef / scale[:, None]
+
+    def residual(F: list[Poly]) -> float:
         Xt = slo + (shi - slo) * rng.random((2000, n))
         Zt, Tt = targets(Xt)
         Ft = np.stack([f(Zt) for f in F], axis=1)
-        last = float(np.max(np.abs(Ft - Tt)) / max(np.max(np.abs(Tt)), 1e-300))
+        return float(np.max(np.abs(Ft - Tt)) / max(np.max(np.abs(Tt)), 1e-300))
+
+    last = np.inf
+    for deg in range(1, max_degree + 1):
+        basis = monomials(nz, deg, 0, s_caps)
+        X = slo + (shi - slo) * rng.random((max(4 * len(basis), 200), n))
+        Zx, T = targets(X)
+        coef = fit(Zx, T, basis)
+        F = [Poly(dict(zip(basis, coef[:, k], strict=True)), nz) for k in range(nz)]
+        last = residual(F)
+        if last < 1e-6:
+            # exact up to conditioning: keep the support that matters and refit on it (sparse, exact polynomials)
+            Fs = []
+            for k in range(nz):
+                ck = coef[:, k]
+                keep = [e for e, c in zip(basis, ck, strict=True) if abs(c) > 1e-8 * max(np.max(np.abs(ck)), 1e-300)]
+                ck2 = fit(Zx, T[:, [k]], keep)[:, 0] if keep else np.zeros(0)
+                Fs.append(Poly(dict(zip(keep, ck2, strict=True)), nz))
+            res_s = residual(Fs)
+            if res_s < last:
+                F, last = Fs, res_s
         if last < 1e-9:
             break
     else:
@@ -228,7 +264,7 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
                          f"relative residual {last:.2e}. Use a Taylor-with-remainder model instead.")
     return PolySystem(getattr(model, "name", type(model).__name__), names, tuple(z_names), tuple(F), den,
                       equalities, cuts, lift, model.rhs, eq, angles, s_caps, (lo, hi), last,
-                      getattr(model, "time_unit", "s"), getattr(model, "provenance", ""))
+                      getattr(model, "time_unit", "s"), getattr(model, "provenance", ""), tuple(valid), mixed)
 
 
 def taylor_system(system: Any, order: int = 3) -> PolySystem:
@@ -246,7 +282,7 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
     X = Poly.variables(n)
     subs: list[Poly] = []
     for i in range(n):
-        if i in ps.angle_states:
+        if i in ps.angle_states or i in ps.mixed_states:
             s = Poly({}, n)
             c = Poly({}, n)
             for k in range(1, order + 1):
@@ -255,7 +291,7 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
                     s = s + term * (-1.0) ** ((k - 1) // 2)
                 else:
                     c = c + term * -((-1.0) ** (k // 2))
-            subs += [s, c]
+            subs += [s, c] if i in ps.angle_states else [X[i], s, c]
         else:
             subs.append(X[i])
     # 1/den as a geometric series in (den - 1)
@@ -274,6 +310,9 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
             s, c = Poly.var(k, ps.nz), Poly.var(k + 1, ps.nz)
             num = (1.0 - c) * ps.F[k] + s * ps.F[k + 1]        # gamma' den = (1 - c) s' den + s c' den
             k += 2
+        elif i in ps.mixed_states:
+            num = ps.F[k]
+            k += 3
         else:
             num = ps.F[k]
             k += 1

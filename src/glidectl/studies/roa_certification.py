@@ -22,14 +22,17 @@ from scipy.integrate import quad
 from scipy.stats import qmc
 
 from ..batch import integrate_batch
-from ..benchmarks import van_der_pol, van_der_pol_limit_cycle
+from ..benchmarks import drake_van_der_pol, van_der_pol, van_der_pol_limit_cycle
+from ..controllers.ctol import ClosedLoopCTOL
 from ..controllers.torque import design_torque_control
 from ..params import load_vehicle
 from ..report.document import Report
 from ..roa import ROACertificate, certify_roa, lyapunov_quadratic, max_level, recast
 from ..roa.systems import taylor_system
 from ..stability.composite import CompositeCertificate, composite_lyapunov
+from ..stability.ctol_lyapunov import ctol_lyapunov
 from ..stability.singular_perturbation import SingularPerturbation, singular_perturbation
+from ..trim.ctol import ctol_glide
 
 NAME = "roa_certification"
 TITLE = "Region-of-attraction certification by SOS programs: Van der Pol and the chapter-5 glider"
@@ -45,6 +48,7 @@ N_VOLUME = 2**16            # quasi-MC points for areas and volumes
 N_TRUTH_2D = 201            # grid per axis for the simulated true region (2-state models)
 N_TRUTH_4D = 4096           # Sobol points for the simulated true region (4-state model)
 TORQUE_SPEED: float | None = 1.5   # m/s: the chapter-6 torque design certified as a closed loop (None: skip)
+CTOL: dict[str, Any] | None = {"degree": 2, "iterations": 1, "k3": 10.0, "k4": 5.0}   # None: skip (~20 min)
 TAYLOR_ORDER = 3
 N_TRAP = 200_000
 N_GUIDE = 2048              # simulated box points that steer the V step (certify_roa's n_truth)
@@ -77,28 +81,7 @@ class ROAResults:
     trap: dict[str, Any]
     full: dict[str, Problem]
     full_composite: dict[str, CompositeCertificate]
-
-
-def _drake_vdp() -> dict[str, float] | None:
-    """Drake's ``RegionOfAttraction`` on the same Van der Pol system, when the optional ``drake`` is installed."""
-    try:
-        from pydrake.symbolic import Variable
-        from pydrake.systems.analysis import RegionOfAttraction
-        from pydrake.systems.primitives import SymbolicVectorSystem
-    except ImportError:
-        return None
-    x1, x2 = Variable("x1"), Variable("x2")
-    system = SymbolicVectorSystem(state=[x1, x2], dynamics=[-x2, x1 + (x1 * x1 - 1) * x2])
-    ctx = system.CreateDefaultContext()
-    times = []
-    for _ in range(5):
-        t0 = time.perf_counter()
-        V = RegionOfAttraction(system=system, context=ctx)
-        times.append(time.perf_counter() - t0)
-    env = {v: val for v, val in zip(sorted(V.GetVariables(), key=lambda v: v.get_name()), (0.3, -0.7), strict=True)}
-    x = np.array([0.3, -0.7])
-    P = np.array([[1.5, -0.5], [-0.5, 1.0]])
-    return {"rho": float(x @ P @ x / V.Evaluate(env)), "time": float(np.median(times))}
+    ctol: dict[str, Any] | None
 
 
 def _converged(rhs: Any, X: np.ndarray, horizon: float) -> np.ndarray:
@@ -118,7 +101,7 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> ROAResults:
     t0 = time.perf_counter()
     lvl = max_level(vdp, lyapunov_quadratic(vdp))
     t_lvl = time.perf_counter() - t0
-    drake = _drake_vdp()
+    drake = drake_van_der_pol()
     cycle, area = van_der_pol_limit_cycle()
     vc = certify_roa(vdp, backoff=BACKOFF, n_truth=N_GUIDE, **VDP)
     P = np.array([[1.5, -0.5], [-0.5, 1.0]])
@@ -168,7 +151,36 @@ def compute(progress: Callable[[str], None] = lambda s: None) -> ROAResults:
                             {"mu": spk.mu, "mu_d": cl.mu_d, "thesis_certified": cl.certified, "K_M": veh.K_M,
                              "K_q": veh.K_q, "K_M0": veh.K_M0})
         comp[key] = cl
-    return ROAResults(vprob, lvl.rho, t_lvl, drake, cycle, rprob, sp, (VV, GG, conv), trap, full, comp)
+    ctol = _ctol(progress) if CTOL is not None else None
+    return ROAResults(vprob, lvl.rho, t_lvl, drake, cycle, rprob, sp, (VV, GG, conv), trap, full, comp, ctol)
+
+
+def _ctol(progress: Callable[[str], None]) -> dict[str, Any]:
+    """The chapter-7 closed loop at the level glide: certificate against Theorem 5's estimate and simulations."""
+    assert CTOL is not None
+    veh = load_vehicle("dc8_ctol")
+    gl = ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)
+    cl = ClosedLoopCTOL(veh, gl, CTOL["k3"], CTOL["k4"])
+    model = cl.roa_model()
+    progress(f"CTOL closed loop (k3, k4) = ({CTOL['k3']:g}, {CTOL['k4']:g}) at the level glide: degree-"
+             f"{CTOL['degree']} certificate in 7 lifted variables (slow: ~100 s per SDP), Theorem 5, simulations")
+    cert = certify_roa(model, degree=CTOL["degree"], iterations=CTOL["iterations"], backoff=BACKOFF,
+                       n_truth=N_GUIDE // 2)
+    th5 = ctol_lyapunov(veh, gl, CTOL["k3"], CTOL["k4"])
+    # {Q <= level} is tiny: its volume is that of the ellipsoid of the Hessian of Q at 0 (level ~ 1e-8)
+    h = 1e-4
+    E = np.eye(4) * h
+    H = np.array([[(th5.Q(E[i] + E[j]) - th5.Q(E[i] - E[j]) - th5.Q(-E[i] + E[j]) + th5.Q(-E[i] - E[j]))
+                   / (4 * h * h) for j in range(4)] for i in range(4)])
+    ball4 = math.pi**2 / 2
+    th_vol = ball4 * (2 * th5.level) ** 2 / math.sqrt(np.linalg.det(H)) if th5.certified else 0.0
+    lo, hi = model.box
+    bvol = float(np.prod(hi - lo))
+    Xt = lo + (hi - lo) * qmc.Sobol(4, seed=9).random(N_TRUTH_4D)
+    truth = bvol * float(np.mean(_converged(model.rhs, Xt, 40.0)))
+    return {"cert": cert, "model": model, "volume": cert.volume(n=N_VOLUME), "theorem5_volume": th_vol,
+            "r_a": th5.r_a, "ball_volume": ball4 * th5.r_a**4, "true_volume": truth, "box_volume": bvol,
+            "theorem5_certified": th5.certified}
 
 
 def _taylor_trap(model: Any) -> dict[str, Any]:
@@ -271,6 +283,27 @@ def figures(res: ROAResults) -> dict[str, tuple[Any, str]]:
                                    "certified set (shaded) and of the thesis's L* (dashed) through the equilibrium, "
                                    f"over the box of the study. Simulations from {N_TRUTH_4D} box points that "
                                    f"converge: {conv}.")
+    if res.ctol is not None:
+        c = res.ctol["cert"]
+        lo, hi = res.ctol["model"].box
+        fig, axs = new_figure(1, 2, width=11, height=4.6)
+        for ax, (i, j) in zip(axs, ((0, 1), (2, 3)), strict=True):
+            A, B = np.meshgrid(np.linspace(lo[i], hi[i], 161), np.linspace(lo[j], hi[j], 161))
+            Xsl = np.zeros((A.size, 4))
+            Xsl[:, i], Xsl[:, j] = A.ravel(), B.ravel()
+            ins = c.contains(Xsl).reshape(A.shape).astype(float)
+            ax.contourf(A, B, ins, levels=[0.5, 1.5], colors=["C0"], alpha=0.35)
+            ax.contour(A, B, ins, levels=[0.5], colors="C0")
+            names = c.system.state_names
+            rest = [names[k] for k in range(4) if k not in (i, j)]
+            ax.set(xlabel=names[i], ylabel=names[j], title=f"slice {rest[0]} = {rest[1]} = 0")
+            ax.title.set_fontsize(9)
+        fig.suptitle(f"CTOL closed loop, level glide, (k3, k4) = ({CTOL['k3']:g}, {CTOL['k4']:g}): certified set "
+                     f"(volume {res.ctol['volume']:.3g}); Theorem 5 certifies ||x|| <= {res.ctol['r_a']:.2g}",
+                     fontsize=9)
+        out["ctol_roa_slices"] = (fig, "CTOL closed loop (7.16)-(7.20) at the level glide: slices of the certified "
+                                       "set (shaded) through the equilibrium (alphabar = thetabar - gammabar). The "
+                                       "Theorem 5 estimate is far too small to draw at this scale.")
     return out
 
 
@@ -331,9 +364,26 @@ def report(res: ROAResults) -> Report:
         rep.number(f"{k}_wall_time_s", p.cert.wall_time, "s", "certify_roa",
                    note=f"SDP solver time {p.cert.solve_time:.1f} s; closed-loop K_M0 = {p.extra['K_M0']:.4g} kg, "
                         f"K_M = {p.extra['K_M']:.4g} kg/rad, K_q = {p.extra['K_q']:.4g} kg s/rad")
+    if res.ctol is not None:
+        ct = res.ctol
+        rep.number("ctol_certified_volume", ct["volume"], "-", f"degree-{ct['cert'].degree} certificate in the box "
+                   "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1")
+        rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "
+                   "the Hessian of Q; the level is ~1e-8)",
+                   note=f"Theorem 5 certified: {ct['theorem5_certified']}; its ball r_a = {ct['r_a']:.3g} has "
+                        f"volume {ct['ball_volume']:.3g}.")
+        rep.number("ctol_ratio_to_theorem5", ct["volume"] / ct["theorem5_volume"] if ct["theorem5_volume"] > 0
+                   else math.inf, "-", "certified / Theorem 5 estimate")
+        rep.number("ctol_true_volume", ct["true_volume"], "-", f"{N_TRUTH_4D} simulations, 40 s")
+        rep.number("ctol_fraction_of_true", ct["volume"] / ct["true_volume"], "-", "in the box")
+        rep.number("ctol_verified", ct["cert"].verified, "-", ct["cert"].verification.summary())
+        rep.number("ctol_wall_time_s", ct["cert"].wall_time, "s", "certify_roa (7 lifted variables)",
+                   note=f"SDP solver time {ct['cert'].solve_time:.0f} s")
     rows = _history_rows("Van der Pol", v.cert) + _history_rows("reduced", r.cert)
     for p in res.full.values():
         rows += _history_rows(p.name, p.cert)
+    if res.ctol is not None:
+        rows += _history_rows("CTOL", res.ctol["cert"])
     rep.table("Alternation history: degree, step, level of the level problem (1 = the V step's level kept), sampled "
               "area/volume in the box, SDP time [s]", ["problem", "deg", "step", "rho", "measure", "SDP s"], rows)
     for stem, (fig, cap) in figures(res).items():
