@@ -81,6 +81,23 @@ def test_divergent_runs_flagged_without_breaking_others():
     assert not res.success and res.diverged[3] and "diverged" in res.summary()
 
 
+def test_converged_to_classifies_region_of_attraction():
+    """x' = -x + x^3: the origin attracts exactly (-1, 1); 1.2 blows up, 0.99 converges slowly, -0.5 fast."""
+    X0 = np.array([[0.5], [-0.5], [0.99], [1.2]])
+    res = integrate_batch(lambda X: -X + X**3, X0, 20.0, bound=1e6)
+    np.testing.assert_array_equal(res.converged_to([0.0], 1e-3), [True, True, True, False])
+    np.testing.assert_array_equal(res.converged_to([0.0], 1e-12), [False, False, False, False])
+
+
+def test_hessian_matches_closed_form():
+    from glidectl.analysis.jacobian import hessian
+
+    f = lambda X: np.sin(X[..., 0]) * X[..., 1] ** 2 + X[..., 0] ** 3  # noqa: E731
+    x, y = 0.3, -0.7
+    exact = np.array([[-np.sin(x) * y**2 + 6 * x, 2 * np.cos(x) * y], [2 * np.cos(x) * y, 2 * np.sin(x)]])
+    np.testing.assert_allclose(hessian(f, [x, y]), exact, rtol=1e-9, atol=1e-10)
+
+
 def test_user_diverged_mask(glider):
     _, f = glider
     Z0 = np.array([[0.0, 0.3, 0.0, 0.0], [0.3, -1.0, 0.1, 0.0], [-0.95, 0.0, 0.0, 0.0]])

@@ -126,20 +126,27 @@ def test_recast_glider_models_exact():
             assert np.max(np.abs(hq(ps.lift(X)))) < 1e-14
 
 
-def test_recast_refuses_non_polynomial_model():
-    class Pendulum:  # x' = sin(x) * x is not polynomial in (x) nor in (sin x, 1 - cos x) with x kept
+def test_recast_refuses_non_polynomial_model_unless_mixed_angle():
+    """x' = -x + sin(x) y^2 is not polynomial in x alone: refused; declared a mixed angle it is recast exactly."""
+
+    class Model:
         state_names = ("x", "y")
         equilibrium = np.zeros(2)
-        angle_states = ()
         positive_state = None
         box = (np.array([-1.0, -1.0]), np.array([1.0, 1.0]))
 
+        def __init__(self, mixed):
+            self.mixed_angle_states = mixed
+
         def rhs(self, X):
             X = np.asarray(X)
-            return np.stack([-X[..., 0] + np.sin(X[..., 0]) * X[..., 1] ** 2, -np.exp(X[..., 1]) + 1], axis=-1)
+            return np.stack([-X[..., 0] + np.sin(X[..., 0]) * X[..., 1] ** 2, -X[..., 1]], axis=-1)
 
     with pytest.raises(ModelError, match="not polynomial"):
-        recast(Pendulum(), max_degree=3)
+        recast(Model(()), max_degree=4)
+    ps = recast(Model((0,)))
+    assert ps.recast_residual < 1e-9 and ps.z_names == ("x", "sin(x)", "1-cos(x)", "y")
+    assert ps.slots == ((0, 1, 2), (3,))
 
 
 def test_certify_rejects_bad_inputs():
@@ -179,9 +186,9 @@ def test_certificate_soundness_van_der_pol(vdp_cert):
     res = integrate_batch(c.system.rhs, X[inside], 40.0, bound=1e3)
     assert np.all(res.finished) and np.max(np.linalg.norm(res.x_final, axis=1)) < 1e-4
     # true dV/dt < 0 on the certified samples (true model, not the polynomial)
-    from glidectl.roa.certify import _Vdot_true
+    from glidectl.roa import dVdt
 
-    vd = _Vdot_true(c.V, c.system, X[inside])
+    vd = dVdt(c.V, c.system.lift, c.system.rhs, X[inside])
     assert np.all(vd[np.linalg.norm(X[inside], axis=1) > 1e-6] < 0)
     # contains: equilibrium in, far point out, shape check
     assert c.contains(np.zeros((1, 2)))[0] and not c.contains(np.array([[2.5, 2.5]]))[0]

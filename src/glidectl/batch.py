@@ -110,6 +110,11 @@ class BatchResult:
         """Boolean mask of runs flagged as diverged."""
         return self.status == DIVERGED
 
+    def converged_to(self, x_eq: Any, tol: float) -> np.ndarray:
+        """Runs that reached ``t_final`` within ``tol`` (Euclidean) of ``x_eq``: the simulated region of
+        attraction of an equilibrium."""
+        return self.finished & (np.linalg.norm(self.x_final - np.asarray(x_eq, dtype=float), axis=1) < tol)
+
     @property
     def success(self) -> bool:
         """True if every run reached ``t_final``."""

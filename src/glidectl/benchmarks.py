@@ -51,6 +51,8 @@ def drake_van_der_pol(repeats: int = 5) -> dict[str, float] | None:
     of ``V = x'Px``, median seconds over ``repeats`` calls), or ``None`` when pydrake is not installed."""
     import time
 
+    from .roa.certify import lyapunov_matrix
+
     try:
         from pydrake.symbolic import Variable
         from pydrake.systems.analysis import RegionOfAttraction
@@ -67,5 +69,5 @@ def drake_van_der_pol(repeats: int = 5) -> dict[str, float] | None:
         times.append(time.perf_counter() - t0)
     env = dict(zip(sorted(V.GetVariables(), key=lambda v: v.get_name()), (0.3, -0.7), strict=True))
     x = np.array([0.3, -0.7])
-    P = np.array([[1.5, -0.5], [-0.5, 1.0]])
+    P = lyapunov_matrix(van_der_pol())       # Drake returns V = x'Px / rho
     return {"rho": float(x @ P @ x / V.Evaluate(env)), "time": float(np.median(times))}

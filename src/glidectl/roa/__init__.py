@@ -1,8 +1,17 @@
 """Region-of-attraction certification by SOS/LMI programs in cvxpy (polynomial layer, exact recasting of the
 glidectl models, level maximization, V-lambda alternation with rising degree, a-posteriori verification)."""
 
-from .certify import LevelResult, ROACertificate, Verification, certify_roa, lyapunov_quadratic, max_level
-from .polynomial import Poly, monomials
+from .certify import (
+    LevelResult,
+    ROACertificate,
+    Verification,
+    certify_roa,
+    dVdt,
+    lyapunov_matrix,
+    lyapunov_quadratic,
+    max_level,
+)
+from .polynomial import Poly, monomial_matrix, monomials
 from .sos import GramCheck, LinPoly, SOSProgram
 from .systems import PolySystem, polynomial_system, recast
 
@@ -16,8 +25,11 @@ __all__ = [
     "SOSProgram",
     "Verification",
     "certify_roa",
+    "dVdt",
+    "lyapunov_matrix",
     "lyapunov_quadratic",
     "max_level",
+    "monomial_matrix",
     "monomials",
     "polynomial_system",
     "recast",

@@ -14,15 +14,16 @@ The first line says: wherever ``dV/dt = 0`` inside the cuts, ``V >= rho``; with 
 where the denominator is positive. Its closure is compact (``V >= eps |z|^2``), hence positively invariant and in
 the region of attraction (LaSalle).
 
-The *V step* fixes ``lambda`` and solves for ``V`` (and every other multiplier) at ``rho = 1``, minimizing
-``∫_box V dx`` (a linear volume surrogate that pushes ``{V <= 1}`` outwards in the region of interest) with
-``V - eps |z|^2`` SOS. Alternating the two steps never loses the previous certificate (it stays feasible), and the
-degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as the starting point.
+The *V step* fixes ``lambda`` (taken from the level problem re-solved slightly below its optimum, so that it has
+slack) and solves for ``V`` and every other multiplier at ``rho = 1`` with ``V - eps |z|^2`` SOS, minimizing
+``mean(max(V - 1, 0))`` over box points whose simulations converge: the simulated region of attraction steers the
+search, the certificate never depends on it. The previous ``V`` stays feasible, the best ``V`` by sampled volume is
+kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as the starting point.
 
-Every certificate is stated at a backed-off level ``rho_c = (1 - backoff) rho*``, re-solved at that fixed level,
-and verified a posteriori (:class:`Verification`): exact SOS by Gram eigenvalue margins against coefficient
-residuals, the local conditions at the equilibrium, ``dV/dt < 0`` of the *true model* at sampled points of the set,
-and convergence of simulations started in it.
+Every certificate is stated at a backed-off level ``rho_c = (1 - backoff) rho*``, re-solved at that fixed level
+with the largest Gram eigenvalue margin, and verified a posteriori (:class:`Verification`): exact SOS by Gram
+eigenvalue margins against coefficient residuals, the local conditions at the equilibrium, ``dV/dt < 0`` of the
+*true model* at sampled points of the set, and convergence of simulations started in it.
 """
 
 from __future__ import annotations
@@ -38,14 +39,15 @@ import numpy as np
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.stats import qmc
 
-from ..analysis.jacobian import jacobians
+from ..analysis.jacobian import hessian, jacobians
 from ..batch import integrate_batch
 from ..errors import GlidectlError, SolverError
-from .polynomial import Poly, monomials
+from .polynomial import Poly, monomial_matrix, monomials
 from .sos import GramCheck, LinPoly, SOSProgram
 from .systems import PolySystem, recast
 
-__all__ = ["LevelResult", "ROACertificate", "Verification", "certify_roa", "lyapunov_quadratic", "max_level"]
+__all__ = ["LevelResult", "ROACertificate", "Verification", "certify_roa", "dVdt", "lyapunov_matrix",
+           "lyapunov_quadratic", "max_level"]
 
 
 # --------------------------------------------------------------------------------------------- helpers
@@ -70,43 +72,45 @@ def _degrees(degV: int, degF: int, extra: int = 0) -> _Degrees:
     return _Degrees(D, D - dVd, (D - degV) // 2)
 
 
+def _auto_extra(ps: PolySystem, extra: int | None) -> int:
+    """Extra multiplier degree: 2 for up to 3 polynomial variables (cheap, removes the dependence on ``N``), else 0
+    (larger systems would not fit the SDP solver)."""
+    return (2 if ps.nz <= 3 else 0) if extra is None else int(extra)
+
+
+def _linearization(ps: PolySystem) -> np.ndarray:
+    return jacobians(lambda x, u: ps.rhs(x[None, :])[0], ps.equilibrium, np.zeros(0))[0]
+
+
 def _scaled(ps: PolySystem) -> list[Poly]:
     """F divided by its largest coefficient (a positive factor: signs of dV/dt unchanged, better conditioning)."""
     s = max(f.max_abs_coefficient() for f in ps.F)
     return [f / s for f in ps.F]
 
 
+def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
+    """``P`` of ``A^T P + P A = -I`` for the linearization ``A`` of the model at its equilibrium (the Lyapunov
+    equation Drake's ``RegionOfAttraction`` uses); raises if the equilibrium is not exponentially stable."""
+    A = _linearization(ps)
+    lam = np.linalg.eigvals(A)
+    if np.max(lam.real) >= 0:
+        raise GlidectlError(f"the equilibrium of '{ps.name}' is not exponentially stable (eigenvalues {lam}): no "
+                            "region of attraction to certify")
+    P = solve_continuous_lyapunov(A.T, -np.eye(ps.n))
+    return 0.5 * (P + P.T)
+
+
 def lyapunov_quadratic(ps: PolySystem) -> Poly:
-    """``V0`` of the linearization in ``z``: ``x^T P x`` with ``A^T P + P A = -I`` (the Lyapunov equation Drake
-    uses), an angle ``x_i`` entering as ``s_i`` in cross terms and as ``2 c_i`` (``= x_i^2 + O(x_i^4)``) squared."""
-    n, nz = ps.n, ps.nz
-    A, _ = jacobians(lambda x, u: ps.rhs(x[None, :])[0], ps.equilibrium, np.zeros(0))
-    if np.max(np.linalg.eigvals(A).real) >= 0:
-        raise GlidectlError(f"the equilibrium of '{ps.name}' is not exponentially stable (eigenvalues "
-                            f"{np.linalg.eigvals(A)}): no region of attraction to certify")
-    P = solve_continuous_lyapunov(A.T, -np.eye(n))
-    P = 0.5 * (P + P.T)
-    Z = Poly.variables(nz)
-    lin: list[Poly] = []
-    sq: list[Poly] = []
-    k = 0
-    for i in range(n):
-        if i in ps.angle_states:
-            lin.append(Z[k])
-            sq.append(2.0 * Z[k + 1])
-            k += 2
-        elif i in ps.mixed_states:
-            lin.append(Z[k])
-            sq.append(Z[k] ** 2)
-            k += 3
-        else:
-            lin.append(Z[k])
-            sq.append(Z[k] ** 2)
-            k += 1
-    V = Poly({}, nz)
-    for i in range(n):
+    """``V0 = x^T P x`` (:func:`lyapunov_matrix`) in ``z``: an angle ``x_i`` enters as ``s_i`` in cross terms and as
+    ``2 c_i`` (``= x_i^2 + O(x_i^4)``, positive on the whole circle) when squared; other states as themselves."""
+    P = lyapunov_matrix(ps)
+    Z = Poly.variables(ps.nz)
+    lin = [Z[sl[0]] for sl in ps.slots]
+    sq = [2.0 * Z[sl[1]] if i in ps.angle_states else Z[sl[0]] ** 2 for i, sl in enumerate(ps.slots)]
+    V = Poly({}, ps.nz)
+    for i in range(ps.n):
         V = V + P[i, i] * sq[i]
-        for j in range(i + 1, n):
+        for j in range(i + 1, ps.n):
             V = V + 2 * P[i, j] * lin[i] * lin[j]
     return V
 
@@ -124,11 +128,12 @@ def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 
     return ok
 
 
-def _Vdot_true(V: Poly, ps: PolySystem, X: np.ndarray) -> np.ndarray:
-    """``dV/dt`` along the model's own right-hand side (complex step through the lift: exact to rounding)."""
+def dVdt(V: Poly, lift: Any, rhs: Any, X: Any) -> np.ndarray:
+    """``d/dt V(lift(x))`` along ``x' = rhs(x)`` at states ``X`` (N, n), by complex step through the lift (exact to
+    rounding). With a certificate's ``system.lift`` and ``system.rhs`` this is the true model's derivative."""
+    X = np.asarray(X, dtype=float)
     h = 1e-30
-    f = np.asarray(ps.rhs(X))
-    return np.imag(V(ps.lift(X + 1j * h * f))) / h
+    return np.imag(V(lift(X + 1j * h * np.asarray(rhs(X))))) / h
 
 
 # --------------------------------------------------------------------------------------------- level problem
@@ -156,15 +161,13 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     N = _zsq(nz) ** dg.m
     if V is not None:
         Vl = LinPoly(V)
-        Vdot: LinPoly = LinPoly(V.lie(F))
         lam_u, lam_l = prog.free_poly("lambda", monomials(nz, dg.lam))
         out["lambda"] = lam_u
         dec = Vl * N + lam_l * V.lie(F)
     else:
         V_u, Vl = prog.free_poly("V", monomials(nz, degV, 1))
         out["V"] = V_u
-        Vdot = Vl.lie(F)
-        dec = Vl * N + Vdot * lam
+        dec = Vl * N + Vl.lie(F) * lam
     if rho is None:
         rho_u, rho_l = prog.scalar("rho")
         out["rho"] = rho_u
@@ -200,9 +203,8 @@ def _scaling(ps: PolySystem) -> np.ndarray:
     lo, hi = ps.box
     Z = ps.lift(lo + (hi - lo) * qmc.Sobol(ps.n, seed=3).random(1024))
     k = np.max(np.abs(Z), axis=0)
-    for i in ps.s_caps:
-        k[i] = k[i + 1] = 1.0
-    k[[i for i, nm in enumerate(ps.z_names) if any(nm == ps.state_names[j] for j in ps.mixed_states)]] = 1.0
+    for i in ps.angle_states + ps.mixed_states:   # (x, s, c) of angles keep their natural scale
+        k[list(ps.slots[i])] = 1.0
     return np.where(k > 0, k, 1.0)
 
 
@@ -268,7 +270,7 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
     ps = recast(system)
     k = _scaling(ps)
     pss = _rescale(ps, k)
-    ex = (2 if ps.nz <= 3 else 0) if extra is None else int(extra)
+    ex = _auto_extra(ps, extra)
     return _level(pss, _scaled(pss), _to_scaled(V, k), rho_cap=rho_cap, solver=solver, center=0.0, extra=ex)
 
 
@@ -366,59 +368,43 @@ class ROACertificate:
 
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
             n_simulate: int, horizon: float, seed: int) -> Verification:
-    n = ps.n
     x0 = ps.equilibrium
-    h = 1e-6
-    H = np.zeros((n, n))
-    E = np.eye(n) * h
-    for i in range(n):
-        for j in range(n):
-            pts = np.stack([x0 + E[i] + E[j], x0 + E[i] - E[j], x0 - E[i] + E[j], x0 - E[i] - E[j]])
-            v = _V_of(V, ps, pts)
-            H[i, j] = (v[0] - v[1] - v[2] + v[3]) / (4 * h * h)
-    H = 0.5 * (H + H.T)
-    A, _ = jacobians(lambda x, u: ps.rhs(x[None, :])[0], x0, np.zeros(0))
+    H = hessian(lambda X: _V_of(V, ps, X), x0)
+    A = _linearization(ps)
     hmin = float(np.linalg.eigvalsh(H)[0])
     lmax = float(np.linalg.eigvalsh(A.T @ H + H @ A)[-1])
-    # sample the certified set (rejection from the system's box; angles over a full turn)
-    lo, hi = (b.copy() for b in ps.box)
+    # sample the certified set (rejection from the system's box)
+    lo, hi = ps.box
     rng = np.random.default_rng(seed)
-    X = lo + (hi - lo) * rng.random((n_verify, n))
-    inside = _contains(ps, V, rho, X)
-    Xs = X[inside]
+    X = lo + (hi - lo) * rng.random((n_verify, ps.n))
+    Xs = X[_contains(ps, V, rho, X)]
+    max_vd = float("nan")
     if Xs.shape[0]:
-        vd = _Vdot_true(V, ps, Xs)
         r2 = np.sum((Xs - x0) ** 2, axis=1)
-        max_vd = float(np.max(vd / np.maximum(r2, 1e-300)))
-    else:
-        max_vd = float("nan")
+        max_vd = float(np.max(dVdt(V, ps.lift, ps.rhs, Xs) / np.maximum(r2, 1e-300)))
     # simulations from the outermost sampled points
     nsim = min(n_simulate, Xs.shape[0])
     conv = 0
     if nsim:
-        vals = _V_of(V, ps, Xs)
-        pick = Xs[np.argsort(vals)[::-1][:nsim]]
-        res = integrate_batch(lambda Y: ps.rhs(Y), pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000)
-        dist = np.linalg.norm(res.x_final - x0, axis=1)
-        conv = int(np.sum(res.finished & (dist < 1e-3 * max(1.0, float(np.max(np.abs(hi - lo)))))))
+        pick = Xs[np.argsort(_V_of(V, ps, Xs))[::-1][:nsim]]
+        res = integrate_batch(ps.rhs, pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000)
+        conv = int(np.sum(res.converged_to(x0, 1e-3 * max(1.0, float(np.max(hi - lo))))))
     return Verification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
 
 
 def _default_horizon(ps: PolySystem) -> float:
-    A, _ = jacobians(lambda x, u: ps.rhs(x[None, :])[0], ps.equilibrium, np.zeros(0))
-    slow = float(np.min(np.abs(np.linalg.eigvals(A).real)))
-    return 25.0 / slow
+    """25 time constants of the slowest mode of the linearization."""
+    return 25.0 / float(np.min(np.abs(np.linalg.eigvals(_linearization(ps)).real)))
 
 
-def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """Sobol points of the box and whether their simulations converge to the equilibrium (batch integrator)."""
+def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarray:
+    """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium."""
     lo, hi = ps.box
     X = lo + (hi - lo) * qmc.Sobol(ps.n, seed=seed + 5).random(n)
     X = X[ps.in_cuts(X)]
-    res = integrate_batch(lambda Y: ps.rhs(Y), X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
+    res = integrate_batch(ps.rhs, X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
                           bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
-    conv = res.finished & (np.linalg.norm(res.x_final - ps.equilibrium, axis=1) < 1e-3)
-    return X, conv
+    return X[res.converged_to(ps.equilibrium, 1e-3)]
 
 
 def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
@@ -463,7 +449,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     Raises
     ------
     SolverError
-        If the first level problem fails (no certificate at all).
+        If the first level problem fails (no certificate at all) or no simulated box point converges.
     GlidectlError
         For an odd or too small degree or an unstable equilibrium.
     """
@@ -474,7 +460,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     k = _scaling(ps)
     pss = _rescale(ps, k)
     F = _scaled(pss)
-    ex = (2 if ps.nz <= 3 else 0) if extra is None else int(extra)
+    ex = _auto_extra(ps, extra)
     hz = horizon or _default_horizon(ps)
     V = _to_scaled(initial if initial is not None else lyapunov_quadratic(ps), k)
     history: list[dict[str, Any]] = []
@@ -492,18 +478,19 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     best = (cur_vol, V)
     history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
                     "sdp_time": lvl.solve_time})
-    Xt, conv = _ground_truth(ps, n_truth, hz, seed)
-    Zt = pss.lift(Xt[conv])
+    Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed))
+    if Zt.shape[0] == 0:
+        raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
+                          "nothing to steer the V step towards (check the box and the horizon)")
     for degV in range(2, int(degree) + 1, 2):
         if degV < _even_up(V.degree):
             continue
-        basis = monomials(ps.nz, degV, 1)
-        M = np.stack([Poly({e: 1.0}, ps.nz)(Zt) for e in basis], axis=1)
+        M = monomial_matrix(Zt, monomials(ps.nz, degV, 1))
         worse = 0
         for _ in range(iterations):
             try:
                 prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex)
-                prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / max(len(Zt), 1)), solver=solver)
+                prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
                 t_solve += prog.solve_time
                 Vn = out["V"].poly()
                 lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex)

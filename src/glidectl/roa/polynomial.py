@@ -11,14 +11,14 @@ Nothing here is specific to gliders; :mod:`glidectl.roa.sos` builds SOS programs
 from __future__ import annotations
 
 import itertools
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from ..errors import GlidectlError
 
-__all__ = ["Poly", "monomials"]
+__all__ = ["Poly", "monomial_matrix", "monomials"]
 
 Exp = tuple[int, ...]
 
@@ -60,14 +60,6 @@ class Poly:
     @classmethod
     def variables(cls, nvars: int) -> list[Poly]:
         return [cls.var(i, nvars) for i in range(nvars)]
-
-    @classmethod
-    def from_arrays(cls, exps: np.ndarray, coef: np.ndarray) -> Poly:
-        exps = np.asarray(exps, dtype=int)
-        out: dict[Exp, float] = {}
-        for e, c in zip(map(tuple, exps), np.asarray(coef, dtype=float), strict=True):
-            out[e] = out.get(e, 0.0) + float(c)
-        return cls(out, exps.shape[1])
 
     # ------------------------------------------------------------------ arithmetic
     def _coerce(self, other: Any) -> Poly:
@@ -129,9 +121,6 @@ class Poly:
     def is_zero(self) -> bool:
         return not self.terms
 
-    def coefficient(self, e: Exp) -> float:
-        return self.terms.get(tuple(e), 0.0)
-
     def max_abs_coefficient(self) -> float:
         return max((abs(c) for c in self.terms.values()), default=0.0)
 
@@ -173,9 +162,6 @@ class Poly:
                 t[tuple(e2)] = t.get(tuple(e2), 0.0) + c * e[i]
         return Poly(t, self.nvars)
 
-    def gradient(self) -> list[Poly]:
-        return [self.diff(i) for i in range(self.nvars)]
-
     def lie(self, F: Sequence[Poly]) -> Poly:
         """Lie derivative ``grad(self) . F`` along the polynomial vector field ``F``."""
         out = Poly({}, self.nvars)
@@ -201,10 +187,6 @@ class Poly:
                     term = term * cache[(i, k)]
             out = out + term
         return out
-
-    def truncate(self, tol: float) -> Poly:
-        """Drop coefficients with ``|c| <= tol``."""
-        return Poly({e: c for e, c in self.terms.items() if abs(c) > tol}, self.nvars)
 
     def __repr__(self) -> str:
         if not self.terms:
@@ -235,9 +217,9 @@ def monomials(nvars: int, max_degree: int, min_degree: int = 0,
     return out
 
 
-def poly_from_basis(basis: Iterable[Exp], coef: Sequence[float], nvars: int) -> Poly:
-    """``sum_k coef_k z^{basis_k}``."""
-    t: dict[Exp, float] = {}
-    for e, c in zip(basis, coef, strict=True):
-        t[tuple(e)] = t.get(tuple(e), 0.0) + float(c)
-    return Poly(t, nvars)
+def monomial_matrix(Z: Any, basis: Sequence[Exp]) -> np.ndarray:
+    """``M[k, j] = z_k^{basis_j}`` for points ``Z`` (N, nvars): the design matrix of a polynomial fit, or the linear
+    map from coefficients on ``basis`` to values at ``Z``."""
+    Z = np.asarray(Z, dtype=float)
+    E = np.asarray(list(basis), dtype=int).reshape(len(basis), Z.shape[-1])
+    return np.prod(Z[:, None, :] ** E[None, :, :], axis=2)

@@ -11,7 +11,8 @@ cut ``1 + x_j - delta >= 0`` keeps it positive. The polynomial ``F`` is not type
 from the model's right-hand side* by least squares on the monomial basis of the quotient ring (``s_i`` at most
 linear), which is exact when the model is polynomial in the lift, and the recovery is checked at fresh random
 points (relative residual ``< 1e-9``, recorded as ``recast_residual``); a model that is not polynomial in the lift
-(e.g. ``sin(alpha)`` together with ``alpha``) is refused with :class:`~glidectl.errors.ModelError`.
+(e.g. ``sin(alpha)`` together with ``alpha`` for an ``alpha`` not declared a mixed angle, below) is refused with
+:class:`~glidectl.errors.ModelError`.
 
 **Taylor-with-remainder route** for an angle that enters both polynomially and through ``sin``/``cos`` (the CTOL
 angle of attack: lift and drag polynomial in ``alpha``, forces rotated by ``alpha``): the state is kept *and* lifted,
@@ -30,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import GlidectlError, ModelError
-from .polynomial import Poly, monomials
+from .polynomial import Poly, monomial_matrix, monomials
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
 
@@ -61,7 +62,11 @@ class PolySystem:
     equilibrium : ndarray
         Equilibrium in ``x`` (mapped to ``z = 0``).
     angle_states : tuple of int
-        Indices of angle states in ``x``.
+        Indices of angle states in ``x`` (lifted to ``(s, c)``).
+    mixed_states : tuple of int
+        Indices of mixed angle states (kept and lifted: ``(x, s, c)``).
+    slots : tuple of tuple of int
+        For each state of ``x``, the indices of its variables in ``z``.
     s_caps : dict
         ``{index of s_i in z: 1}`` (basis of the quotient ring).
     box : (ndarray, ndarray)
@@ -90,6 +95,7 @@ class PolySystem:
     provenance: str = ""
     valid: tuple[Poly, ...] = field(default=(), repr=False)
     mixed_states: tuple[int, ...] = ()
+    slots: tuple[tuple[int, ...], ...] = ()
 
     @property
     def n(self) -> int:
@@ -133,8 +139,10 @@ def polynomial_system(name: str, state_names: tuple[str, ...], F: list[Poly], *,
         return np.stack([f(X) for f in Ft], axis=-1)
 
     lo, hi = (np.asarray(b, dtype=float) for b in box)
-    return PolySystem(name, tuple(state_names), tuple(state_names), Ft, Poly.const(1.0, n), (), (),
-                      lambda X: np.asarray(X), rhs, np.zeros(n), (), {}, (lo, hi), 0.0, time_unit, provenance)
+    return PolySystem(name=name, state_names=tuple(state_names), z_names=tuple(state_names), F=Ft,
+                      den=Poly.const(1.0, n), equalities=(), cuts=(), lift=lambda X: np.asarray(X), rhs=rhs,
+                      equilibrium=np.zeros(n), box=(lo, hi), time_unit=time_unit, provenance=provenance,
+                      slots=tuple((i,) for i in range(n)))
 
 
 def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: int = 0) -> PolySystem:
@@ -144,8 +152,9 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     ----------
     model : object
         Needs ``state_names``, ``equilibrium`` (``x`` with the equilibrium at ``0``), ``rhs(X)`` (batch, complex
-        safe), ``angle_states`` (indices), ``positive_state`` (index ``j`` of a state with a ``1/(1 + x_j)``
-        factor, or ``None``), ``box`` (``(lo, hi)`` region of interest) and ``time_unit``.
+        safe), ``box`` (``(lo, hi)`` region of interest); optionally ``angle_states`` and ``mixed_angle_states``
+        (indices), ``positive_state`` (index ``j`` of a state with a ``1/(1 + x_j)`` factor), ``name``,
+        ``time_unit`` and ``provenance``.
     speed_floor : float
         ``delta`` of the cut ``1 + x_j - delta >= 0``.
     max_degree : int
@@ -222,11 +231,8 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         Zx = lift(X)
         return Zx, Zd * den(Zx)[:, None]
 
-    def design(Zx: np.ndarray, basis: list[tuple[int, ...]]) -> np.ndarray:
-        return np.stack([Poly({e: 1.0}, nz)(Zx) for e in basis], axis=1)
-
     def fit(Zx: np.ndarray, T: np.ndarray, basis: list[tuple[int, ...]]) -> np.ndarray:
-        M = design(Zx, basis)
+        M = monomial_matrix(Zx, basis)
         scale = np.max(np.abs(M), axis=0)
         coef, *_ = np.linalg.lstsq(M / scale, T, rcond=None)
         return coef / scale[:, None]
@@ -261,10 +267,14 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     else:
         raise ModelError(f"model '{getattr(model, 'name', type(model).__name__)}' is not polynomial in the lift "
                          f"(angles {angles} -> (sin, 1 - cos), denominator 1 + x_{pos}) up to degree {max_degree}: "
-                         f"relative residual {last:.2e}. Use a Taylor-with-remainder model instead.")
-    return PolySystem(getattr(model, "name", type(model).__name__), names, tuple(z_names), tuple(F), den,
-                      equalities, cuts, lift, model.rhs, eq, angles, s_caps, (lo, hi), last,
-                      getattr(model, "time_unit", "s"), getattr(model, "provenance", ""), tuple(valid), mixed)
+                         f"relative residual {last:.2e}. An angle that also enters polynomially must be declared in "
+                         "mixed_angle_states (Taylor enclosure).")
+    return PolySystem(name=getattr(model, "name", type(model).__name__), state_names=names,
+                      z_names=tuple(z_names), F=tuple(F), den=den, equalities=equalities, cuts=cuts, lift=lift,
+                      rhs=model.rhs, equilibrium=eq, angle_states=angles, s_caps=s_caps, box=(lo, hi),
+                      recast_residual=last, time_unit=getattr(model, "time_unit", "s"),
+                      provenance=getattr(model, "provenance", ""), valid=tuple(valid), mixed_states=mixed,
+                      slots=tuple(slot))
 
 
 def taylor_system(system: Any, order: int = 3) -> PolySystem:
@@ -304,18 +314,12 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
         return Poly({e: c for e, c in p.terms.items() if sum(e) <= order}, n)
 
     Fx: list[Poly] = []
-    k = 0
-    for i in range(n):
+    for i, sl in enumerate(ps.slots):
         if i in ps.angle_states:
-            s, c = Poly.var(k, ps.nz), Poly.var(k + 1, ps.nz)
-            num = (1.0 - c) * ps.F[k] + s * ps.F[k + 1]        # gamma' den = (1 - c) s' den + s c' den
-            k += 2
-        elif i in ps.mixed_states:
-            num = ps.F[k]
-            k += 3
+            s, c = Poly.var(sl[0], ps.nz), Poly.var(sl[1], ps.nz)
+            num = (1.0 - c) * ps.F[sl[0]] + s * ps.F[sl[1]]        # gamma' den = (1 - c) s' den + s c' den
         else:
-            num = ps.F[k]
-            k += 1
+            num = ps.F[sl[0]]                                      # plain or mixed: x itself is a variable
         Fx.append(trunc(trunc(num.substitute(subs)) * trunc(inv)))
     return polynomial_system(f"{ps.name} (Taylor order {order})", ps.state_names, Fx, box=ps.box,
                              time_unit=ps.time_unit, provenance=ps.provenance)
