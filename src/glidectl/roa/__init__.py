@@ -13,7 +13,7 @@ from .certify import (
 )
 from .polynomial import Poly, monomial_matrix, monomials
 from .sos import GramCheck, LinPoly, SOSProgram
-from .systems import PolySystem, polynomial_system, recast
+from .systems import PolySystem, polynomial_system, recast, taylor_system
 
 __all__ = [
     "GramCheck",
@@ -33,4 +33,5 @@ __all__ = [
     "monomials",
     "polynomial_system",
     "recast",
+    "taylor_system",
 ]
