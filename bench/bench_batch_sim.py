@@ -44,7 +44,7 @@ def main() -> None:
 
     veh = glidectl.load_vehicle("sphere_ch5").with_overrides(K_M=args.km)
     sp = glidectl.singular_perturbation(veh)
-    scale = sp.tau_s * np.array([1.0 / sp.V_e, 1.0, 1.0, sp.omega_scale])
+    scale = sp.tau_s * np.array([1.0 / sp.speed, 1.0, 1.0, sp.omega_scale])
 
     def rhs(z: np.ndarray) -> np.ndarray:
         return sp.model.rhs(sp.to_dimensional(z)) * scale

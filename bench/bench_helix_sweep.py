@@ -35,7 +35,8 @@ import numpy as np
 import scipy
 
 import glidectl
-from glidectl.analysis.helix_maps import AGREE_TOL, COLUMNS, HelixSweep, helix_sweep
+from glidectl.analysis.continuation import AGREE_TOL, COLUMNS
+from glidectl.analysis.helix_sweeps import HelixSweep, helix_sweep
 
 VEHICLE = "slocum_ch8"
 R_P1 = np.linspace(-0.06, 0.06, 200)  # m
@@ -125,7 +126,7 @@ def run_case(veh: glidectl.Vehicle, m0: float, repeats: int, pool: ProcessPoolEx
         with np.errstate(invalid="ignore"):
             d = float(np.nanmax(np.abs(swp.data - sw.data) / np.maximum(1.0, np.abs(sw.data))))
         case["executor"] = {"times_s": t_c, "median_s": statistics.median(t_c), "success": int(swp.exists.sum()),
-                            "chunks": swp.provenance["chunks"], "reconciliation": swp.provenance["reconciliation"],
+                            "chunks": swp.context["chunks"], "reconciliation": swp.context["reconciliation"],
                             "max_rel_diff_vs_serial": d}
     return case
 

@@ -59,7 +59,8 @@ def make_baseline(veh: glidectl.params.Vehicle):
 
     def run(values: np.ndarray) -> ParameterLocus:
         return parameter_locus(eig_fn, values, "r_bh", "m",
-                               {"vehicle": veh.name, "jacobian": "control.linearize (forward differences)"})
+                               {"vehicle": veh.name, "jacobian": "control.linearize (forward differences)"},
+                               vehicle=veh)
 
     return run, idx
 

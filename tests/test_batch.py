@@ -17,7 +17,7 @@ A_STIFF = np.array([[-1.0, 1.0, 0.0], [0.0, -2000.0, 10.0], [0.0, 3.0, -0.5]])
 @pytest.fixture(scope="module")
 def glider():
     sp = glidectl.singular_perturbation(glidectl.load_vehicle("sphere_ch5"))
-    scale = sp.tau_s * np.array([1.0 / sp.V_e, 1.0, 1.0, sp.omega_scale])
+    scale = sp.tau_s * np.array([1.0 / sp.speed, 1.0, 1.0, sp.omega_scale])
     return sp, (lambda z: sp.model.rhs(sp.to_dimensional(z)) * scale)
 
 
@@ -26,7 +26,7 @@ def test_linear_stiff_matches_expm(jac):
     X0 = np.random.default_rng(1).normal(size=(40, 3))
     res = integrate_batch(lambda X: X @ A_STIFF.T, X0, 4.0, t_eval=[0.5, 2.0, 4.0], rtol=1e-8, atol=1e-10,
                           jacobian=jac)
-    assert res.success and res.samples.shape == (40, 3, 3)
+    assert res.all_finished and res.samples.shape == (40, 3, 3)
     for k, tk in enumerate(res.t_eval):
         np.testing.assert_allclose(res.samples[:, k], X0 @ expm(tk * A_STIFF).T, atol=1e-7)
     np.testing.assert_array_equal(res.samples[:, -1], res.x_final)
@@ -61,7 +61,7 @@ def test_glider_matches_radau(glider):
                                rtol=1e-12, atol=1e-12)
     Z0 = np.random.default_rng(3).uniform(-1, 1, (20, 4)) * [0.4, np.pi / 2, 0.2, 0.1]
     res = integrate_batch(f, Z0, 10.0, t_eval=[3.0], rtol=1e-8, atol=1e-10)
-    assert res.success
+    assert res.all_finished
     for i, z0 in enumerate(Z0):
         sol = solve_ivp(lambda t, z: f(z), (0, 10.0), z0, method="Radau", rtol=1e-9, atol=1e-11, t_eval=[3.0, 10.0],
                         jac=lambda t, z: batch_jacobian(f, z[None])[0])
@@ -78,7 +78,7 @@ def test_divergent_runs_flagged_without_breaking_others():
     good = [0, 2, 4]
     np.testing.assert_array_equal(res.status[good], FINISHED)
     np.testing.assert_allclose(res.x_final[good, 0], X0[good, 0] / (1 - X0[good, 0]), rtol=1e-7)
-    assert not res.success and res.diverged[3] and "diverged" in res.summary()
+    assert not res.all_finished and res.diverged[3] and "diverged" in res.summary()
 
 
 def test_converged_to_classifies_region_of_attraction():
@@ -135,7 +135,7 @@ def test_not_complex_safe_rhs_needs_central():
         return -np.asarray(X, dtype=float)
     with pytest.raises(ModelError, match="central"):
         integrate_batch(f, np.ones((2, 2)), 1.0)
-    assert integrate_batch(f, np.ones((2, 2)), 1.0, jacobian="central").success
+    assert integrate_batch(f, np.ones((2, 2)), 1.0, jacobian="central").all_finished
 
 
 def test_max_steps_status():

@@ -10,26 +10,24 @@ import pytest
 
 from glidectl import GlidectlError, InfeasibleGlideError, composite_lyapunov, load_vehicle, simulate
 from glidectl.controllers.buoyancy import (
-    ActuatorLimits,
     BuoyancyController,
-    BuoyancyGlider,
     buoyancy_equilibrium,
     buoyancy_lyapunov_check,
-    loaded_rates,
     nu_b_derivative,
 )
 from glidectl.controllers.elevator import (
-    FIG62,
     ElevatorBuoyancyController,
-    ElevatorBuoyancyGlider,
     closed_loop_eigenvalues,
-    effective_coefficients,
     elevator_equilibrium,
     elevator_example,
-    elevator_loads,
     infer_J2,
 )
+from glidectl.models.buoyancy_glider import ActuatorLimits, BuoyancyGlider, loaded_rates
+from glidectl.models.elevator_glider import ElevatorBuoyancyGlider, effective_coefficients, elevator_loads
 from glidectl.models.reduced import ReducedLongitudinalGlider
+
+#: the thesis's Fig 6.2 example (section 6.3): speed (m/s), gamma (rad), printed alpha_e (deg), m0e (kg), eps1, eps2
+FIG62 = {"speed": 1.0, "gamma": -math.pi / 4, "alpha_e_deg": 3.51, "m0e": 2.657, "eps1": 0.075, "eps2": 0.012}
 
 ELEV = load_vehicle("elevator_ch6")
 SPHERE = load_vehicle("sphere_ch5")
@@ -43,7 +41,7 @@ def eq62():
 
 @pytest.fixture(scope="module")
 def example62():
-    return elevator_example(ELEV)
+    return elevator_example(ELEV, FIG62["speed"], FIG62["gamma"])
 
 
 # ------------------------------------------------------------------------------------------- model consistency
@@ -88,7 +86,7 @@ def test_elevator_equilibrium_residual_and_api(eq62):
     assert eq62.residual < 1e-10
     model = ElevatorBuoyancyGlider(ELEV)
     assert np.max(np.abs(model.rhs(eq62.state, [0.0, eq62.u2e]))) < 1e-10
-    for name in ("m0e", "alpha_e", "u2e", "eps1", "eps2", "K_De_eff"):
+    for name in ("m0e", "alpha", "u2e", "eps1", "eps2", "K_De_eff"):
         assert math.isfinite(getattr(eq62, name))
     assert eq62.provenance == ELEV.provenance
 
@@ -96,9 +94,9 @@ def test_elevator_equilibrium_residual_and_api(eq62):
 def test_printed_fig62_numbers_and_g_sensitivity(eq62):
     eq98 = elevator_equilibrium(ELEV.with_overrides(g=9.8), 1.0, -math.pi / 4)
     # alpha_e does not depend on g: 3.5189 deg (printed 3.51)
-    assert math.degrees(eq62.alpha_e) == pytest.approx(3.51894674, abs=1e-6)
-    assert math.degrees(eq62.alpha_e) == pytest.approx(FIG62["alpha_e_deg"], abs=0.01)
-    assert eq98.alpha_e == pytest.approx(eq62.alpha_e, abs=1e-14)
+    assert math.degrees(eq62.alpha) == pytest.approx(3.51894674, abs=1e-6)
+    assert math.degrees(eq62.alpha) == pytest.approx(FIG62["alpha_e_deg"], abs=0.01)
+    assert eq98.alpha == pytest.approx(eq62.alpha, abs=1e-14)
     # m0e: g = 9.8 reproduces the printed 2.657 kg, the file's g = 9.81 gives 2.6546 kg
     assert eq98.m0e == pytest.approx(2.657316, abs=1e-6)
     assert eq62.m0e == pytest.approx(2.654607, abs=1e-6)
@@ -112,18 +110,19 @@ def test_printed_fig62_numbers_and_g_sensitivity(eq62):
 
 def test_J2_inference():
     assert ELEV.J2 == 0.1
-    J2 = infer_J2(ELEV)
+    J2 = infer_J2(ELEV, FIG62["eps2"], FIG62["speed"], FIG62["gamma"])
     assert J2 == pytest.approx(0.09988, abs=1e-4)
-    assert infer_J2(ELEV.with_overrides(g=9.8)) == pytest.approx(0.09989, abs=1e-4)
+    J2_98 = infer_J2(ELEV.with_overrides(g=9.8), FIG62["eps2"], FIG62["speed"], FIG62["gamma"])
+    assert J2_98 == pytest.approx(0.09989, abs=1e-4)
     eq = elevator_equilibrium(ELEV.with_overrides(J2=J2), 1.0, -math.pi / 4)
     assert eq.eps2 == pytest.approx(FIG62["eps2"], rel=1e-12)
 
 
 def test_620_sign_correction(eq62):
     """alpha_e = -K_M0/K_M - u2e with the stated torque K_M u2 V^2; the printed + u2e is not an equilibrium."""
-    assert eq62.alpha_e == pytest.approx(-ELEV.K_M0 / ELEV.K_M - eq62.u2e, abs=1e-15)
+    assert eq62.alpha == pytest.approx(-ELEV.K_M0 / ELEV.K_M - eq62.u2e, abs=1e-15)
     assert eq62.u2e == pytest.approx(-0.0364172, abs=1e-7)
-    a_printed = eq62.alpha_e_printed_620
+    a_printed = eq62.alpha_printed_620
     assert a_printed == pytest.approx(-ELEV.K_M0 / ELEV.K_M + eq62.u2e)
     x = eq62.state.copy()
     x[2] = a_printed
@@ -132,15 +131,15 @@ def test_620_sign_correction(eq62):
 
 
 def test_theorem3_condition_corrected_vs_printed(eq62):
-    d, a, u = ELEV.delta, eq62.alpha_e, eq62.u2e
+    d, a, u = ELEV.delta, eq62.alpha, eq62.u2e
     # corrected (6.23): + delta u2e sin(alpha_e), no V_e^2
     assert eq62.K_De_eff == pytest.approx(ELEV.K_D0 + ELEV.K_D * a**2 + d * u * math.sin(a), rel=1e-14)
     assert eq62.K_De_eff == pytest.approx(18.4142575, abs=1e-6)
     assert eq62.K_De_eff_printed == pytest.approx(18.4155986, abs=1e-6)
     assert eq62.K_De_eff < eq62.K_De < eq62.K_De_eff_printed   # the down force at the tail is a small thrust
-    assert eq62.theorem3
+    assert eq62.certified
     # it is the drag the model really sees: -(force along the velocity) / V^2 at the equilibrium
-    V, al = eq62.speed, eq62.alpha_e
+    V, al = eq62.speed, eq62.alpha
     L, D = (ELEV.K_L0 + ELEV.K_L * al) * V**2, eq62.K_De * V**2
     f3, _ = elevator_loads(ELEV, V**2, eq62.u2e)
     assert (D - f3 * math.sin(al)) / V**2 == pytest.approx(eq62.K_De_eff, rel=1e-14)
@@ -161,13 +160,13 @@ def test_theorem3_reduced_subsystem_is_lanchester_with_effective_coefficients(eq
     rng = np.random.default_rng(3)
     V = rng.uniform(0.6, 1.4, 20)
     gam = rng.uniform(-1.5, 0.5, 20)
-    x = np.column_stack([V, gam, np.full(20, eq62.alpha_e), np.zeros(20), np.full(20, eq62.m0e)])
+    x = np.column_stack([V, gam, np.full(20, eq62.alpha), np.zeros(20), np.full(20, eq62.m0e)])
     r = ElevatorBuoyancyGlider(ELEV).rhs(x, np.tile([0.0, eq62.u2e], (20, 1)))
     m1, mg = eq62.m_e, eq62.m0e * ELEV.g
     np.testing.assert_allclose(r[:, 0], -(mg * np.sin(gam) + eq62.K_De_eff * V**2) / m1, rtol=1e-12, atol=1e-14)
     np.testing.assert_allclose(r[:, 1], (-mg * np.cos(gam) + eq62.K_Le_eff * V**2) / (m1 * V), rtol=1e-12,
                                atol=1e-14)
-    kd, kl = effective_coefficients(ELEV, eq62.alpha_e, eq62.u2e)
+    kd, kl = effective_coefficients(ELEV, eq62.alpha, eq62.u2e)
     assert (kd, kl) == (eq62.K_De_eff, eq62.K_Le_eff)
 
 
@@ -192,7 +191,7 @@ def test_elevator_infeasible(speed, gamma_deg, match):
 
 def test_climb_is_mirror_of_descent(eq62):
     up = elevator_equilibrium(ELEV, 1.0, math.pi / 4)
-    assert up.m0e < 0 and up.alpha_e < 0 and up.residual < 1e-10 and up.theorem3
+    assert up.m0e < 0 and up.alpha < 0 and up.residual < 1e-10 and up.certified
 
 
 # ------------------------------------------------------------------------------------------- Fig 6.2 closed loop
@@ -234,12 +233,12 @@ def test_buoyancy_equilibrium_67():
     eq = buoyancy_equilibrium(SPHERE, 1.5)
     assert eq.residual < 1e-12
     assert eq.m0e == pytest.approx(math.hypot(eq.K_De, eq.K_Le) * 1.5**2 / SPHERE.g, rel=1e-14)
-    assert eq.speed == pytest.approx(1.5, rel=1e-12) and eq.gamma_e < 0
-    assert eq.alpha_e == pytest.approx(-SPHERE.K_M0 / SPHERE.K_M)       # buoyancy does not move alpha_e
+    assert eq.speed == pytest.approx(1.5, rel=1e-12) and eq.gamma < 0
+    assert eq.alpha == pytest.approx(-SPHERE.K_M0 / SPHERE.K_M)       # buoyancy does not move alpha_e
     with pytest.raises(InfeasibleGlideError, match="inverted"):   # alpha_e > 0 fixed: no upright climb
         buoyancy_equilibrium(SPHERE, 1.5, descending=False)
     up = buoyancy_equilibrium(load_vehicle("sphere_ch5", K_M0=-1.0), 1.5, descending=False)
-    assert up.m0e < 0 and 0 < up.gamma_e < math.pi / 2 and up.residual < 1e-12
+    assert up.m0e < 0 and 0 < up.gamma < math.pi / 2 and up.residual < 1e-12
     with pytest.raises(InfeasibleGlideError, match="m0_max"):
         buoyancy_equilibrium(SPHERE, 2.5)
     with pytest.raises(InfeasibleGlideError, match="speed"):
@@ -264,11 +263,12 @@ def test_buoyancy_lyapunov_cross_term_and_local_threshold():
     assert eq.m0e == pytest.approx(0.7, rel=1e-12)
     cert = composite_lyapunov(SPHERE100)
     chk = buoyancy_lyapunov_check(eq, SPHERE100, K_b=1.0, n=4000, cert=cert)
-    assert chk.certified
+    assert chk.nu_certified
     assert chk.dnu_max_at_m0e < 0            # Theorem 2 at m0 = m0e
     assert chk.cross_term_max > 0.1          # (6.11) drops this term: it is not zero
     assert chk.K_b_star == pytest.approx(191.63, rel=1e-3)
-    assert chk.n_positive_local > 0 and not chk.thesis_claim_holds
+    assert chk.n_positive_local > 0 and not chk.passed
+    assert {"K_b > K_b_star", "K_b >= K_b_required (near 0)"} <= set(chk.failing())
     # along the worst direction dnu_b/dt_n > 0 arbitrarily close to the origin when K_b < K_b_star ...
     m = np.array([1e-4, 1e-5])
     z = np.outer(m, chk.z_star)
@@ -278,4 +278,4 @@ def test_buoyancy_lyapunov_cross_term_and_local_threshold():
     dnub, _ = nu_b_derivative(eq, SPHERE100, cert, z, m, K_b=1.1 * chk.K_b_star)
     assert np.all(dnub < 0)
     big = buoyancy_lyapunov_check(eq, SPHERE100, K_b=2 * chk.K_b_star, n=4000, cert=cert)
-    assert big.n_positive == 0 and big.n_positive_local == 0 and big.thesis_claim_holds
+    assert big.n_positive == 0 and big.n_positive_local == 0 and big.passed and big.failing() == {}

@@ -1,9 +1,10 @@
 """The §8.2.2 statements about the helix maps, tested as properties of the model (symmetry, sign rules, straight
-glides out of the plane, coexisting helices) and through the claim checks of the ch8 study."""
+glides out of the plane, coexisting helices) and through the claim checks of the ch8 design (designs/ch8_helix.py)."""
 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,9 +20,11 @@ from glidectl import (
     load_vehicle,
     straight_glides,
 )
-from glidectl.studies import ch8_claims
-from glidectl.trim.helix import _equations
+from glidectl.report import load_design
+from glidectl.trim.helix import helix_equations
 
+ROOT = Path(__file__).resolve().parents[1]
+ch8_claims = load_design(ROOT / "designs" / "ch8_helix.py").module  # the claim checks live in the design file
 SLOCUM = load_vehicle("slocum_ch8")
 SETTINGS = settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
@@ -41,7 +44,7 @@ def test_reflected_helix_is_a_helix_of_the_reflected_mass_position(r1, r2, r3, m
         r1, m0 = -r1, -m0
     h = helix_trim(SLOCUM, (r1, r2, r3), m0)
     mirrored = FixedMassGlider3D(SLOCUM, (r1, -r2, r3), m0)
-    res = np.max(np.abs(_equations(mirrored, _mirror(h.unknowns))))
+    res = np.max(np.abs(helix_equations(mirrored, _mirror(h.unknowns))))
     assert res < 1e-10
     hm = helix_trim(SLOCUM, (r1, -r2, r3), m0)  # cold solve: lands on the mirrored branch
     np.testing.assert_allclose(hm.unknowns, _mirror(h.unknowns), atol=1e-8)
@@ -101,7 +104,7 @@ def test_two_stable_helices_coexist_between_the_folds_of_fig8_9():
 def test_existence_claim_is_refuted_with_stable_upright_motions():
     scan = existence_scan(SLOCUM, [-0.02, 0.02], [-0.25, 0.25], n_starts=4, continuation=False)
     c = ch8_claims.existence_claim(scan)
-    assert c.holds is False and c.value == 2
+    assert c.reproduced is False and c.value == 2
     for ce in scan.counterexamples(stable_only=True, upright_only=True):
         h = helix_trim(SLOCUM, (ce["r_P1"], 0.02, 0.04), ce["m0"], guess=ce["unknowns"], n_random=0)
         assert h.residual < 1e-10 and h.stable and abs(h.phi) < math.pi / 2
@@ -114,9 +117,9 @@ def test_speed_scales_like_the_square_root_of_buoyancy():
     heavy = helix_sweep(SLOCUM, "m0", vals, r_p=(0.02, 0.02, 0.04))
     light = helix_sweep(SLOCUM, "m0", -vals[::-1], r_p=(-0.02, 0.02, 0.04))
     speed, radius = ch8_claims.m0_claims(heavy, light)
-    assert speed.holds is False
+    assert speed.reproduced is False
     assert all(0.4 < n < 0.6 for n in speed.value)
-    assert radius.holds is True
+    assert radius.reproduced is True
 
 
 def test_r_p2_claims_on_a_coarse_map():
@@ -124,8 +127,8 @@ def test_r_p2_claims_on_a_coarse_map():
     heavy = helix_sweep(SLOCUM, "r_P2", vals, r_p=(0.02, 0.02, 0.04), m0=0.25)
     light = helix_sweep(SLOCUM, "r_P2", vals, r_p=(-0.02, 0.02, 0.04), m0=-0.25)
     claims = {c.name: c for c in ch8_claims.r_p2_claims(heavy, light)}
-    assert claims["claim_beta_sign_rule"].holds is False
+    assert claims["claim_beta_sign_rule"].reproduced is False
     assert claims["claim_beta_sign_rule"].value == "0/16"
-    assert claims["claim_fig8_7_8_symmetry"].holds is True
+    assert claims["claim_fig8_7_8_symmetry"].reproduced is True
     assert claims["claim_fig8_7_8_symmetry"].value < 1e-8
-    assert claims["claim_fig8_7_8_roll_range"].holds is True
+    assert claims["claim_fig8_7_8_roll_range"].reproduced is True

@@ -67,15 +67,15 @@ def test_every_bound_holds_on_samples(name: str) -> None:
     cert = CERT[name]
     ver = cert.verify(n=N, seed=0)
     assert ver.n_samples == N and ver.seed == 0
-    assert ver.all_valid, ver.failing()
+    assert ver.passed, ver.failing()
     assert ver.failing() == {}
     # every inequality of Propositions 1-2 and Theorem 2 was checked, and the lower/upper bounds are not vacuous
     for key in ("Prop2.1 lower", "Prop2.1 upper", "Prop2.2: dPhi", "Prop1.1 lower", "Prop1.1 upper",
                 "Prop1.2: dW", "Thm2.1", "Thm2.2", "Thm2.3", "F1"):
-        assert any(k.startswith(key) for k in ver.ratios), key
-    r = ver.ratios
-    assert r["Prop1.1 lower: k3|q|^2 <= W"] > 0.9      # k3, k4 are tight (eigenvalue bounds)
-    assert r["Prop1.1 upper: W <= k4|q|^2"] > 0.9
+        assert any(k.startswith(key) for k in ver.margins), key
+    r = ver.margins
+    assert r["Prop1.1 lower: k3|q|^2 <= W"] < 1 / 0.9  # k3, k4 are tight (eigenvalue bounds)
+    assert r["Prop1.1 upper: W <= k4|q|^2"] < 1 / 0.9
     assert r["Prop2.2: dPhi/dt_n <= -a1 psi^2"] == pytest.approx(1.0, rel=1e-9)  # (5.44): equality
     if cert.certified:
         assert "Thm2: dnu/dt_n <= 0 on B_p x B_q" in r
@@ -145,7 +145,7 @@ def test_bounds_hold_on_random_domains(dom: dict) -> None:
                               alphabar=(-dom["amax"], dom["amax"]), gammabar=(-dom["gmax"], dom["gmax"]))
     assert cert.domain.Vbar == (dom["Vlo"], dom["Vhi"])
     ver = cert.verify(n=N, seed=1)
-    assert ver.all_valid, (dom, ver.failing())
+    assert ver.passed, (dom, ver.failing())
     assert cert.certified == (cert.mu < cert.mu_d)
     assert cert.mu_d <= cert.mu_star * (1 + 1e-12)
     assert cert.mu_d_best == pytest.approx(cert.mu_star, rel=1e-8)
@@ -198,17 +198,19 @@ def test_boundary_layer_lyapunov_derivative(name: str, V: float, gb: float, ab: 
 
 @pytest.mark.parametrize("name", sorted(VARIANTS))
 def test_printed_C_W_does_not_give_a2_equal_r2(name: str) -> None:
-    """With the printed C_W and the printed a2 = r2, Proposition 1 condition 2 fails on samples (ratio > 1); with
+    """With the printed C_W and the printed a2 = r2, Proposition 1 condition 2 fails on samples (margin < 1); with
     the a2 the code derives for that matrix (smaller than r2) every bound holds; the corrected C_W has a2 = r2."""
     thesis = composite_lyapunov(VARIANTS[name], cw="thesis")
     assert thesis.cw == "thesis" and CERT[name].cw == "corrected"
     assert CERT[name].a2 == pytest.approx(CERT[name].sp.r2, rel=1e-9)
     forced = dataclasses.replace(thesis, a2=thesis.sp.r2)
-    ratio = forced.verify(n=N, seed=2).ratios["Prop1.2: dW/dtau <= -a2 sigma^2"]
-    assert ratio > 1.2
+    forced_ver = forced.verify(n=N, seed=2)
+    margin = forced_ver.margins["Prop1.2: dW/dtau <= -a2 sigma^2"]
+    assert margin < 1 / 1.2
+    assert not forced_ver.passed and forced_ver.failing()["Prop1.2: dW/dtau <= -a2 sigma^2"] == margin
     assert 0 < thesis.a2 < thesis.sp.r2
     ver = thesis.verify(n=N, seed=2)
-    assert ver.all_valid, ver.failing()
+    assert ver.passed, ver.failing()
 
 
 @pytest.mark.parametrize("name", ["baseline", "K_M=-100"])
@@ -378,4 +380,4 @@ def test_finite_omega_bound_limits_w0() -> None:
     V = np.linspace(*c_fin.domain.Vbar, 2001)
     Cinv = np.linalg.inv(_cw_by_hand(c_fin.sp.r1, c_fin.sp.r2, (1 + V) ** 2))
     assert np.all(np.sqrt(2 * c_fin.w0 * Cinv[:, 1, 1]) <= 0.05 * (1 + 1e-9))
-    assert c_fin.verify(n=N).all_valid
+    assert c_fin.verify(n=N).passed

@@ -11,18 +11,15 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import glidectl as gc
-from glidectl.controllers.ctol import ClosedLoopCTOL, SteadyGlideController, closed_loop_eigenvalues
-from glidectl.controllers.ctol_inversion import (
-    feedback_linearization_blowup,
-    feedback_linearizing_inputs,
-    stable_inversion,
-    track_stable_inversion,
-    zero_dynamics,
-)
+from glidectl.controllers.ctol import SteadyGlideController, closed_loop_eigenvalues
+from glidectl.controllers.ctol_feedback_linearization import feedback_linearization_blowup
 from glidectl.controllers.ctol_runs import TrackingRun
+from glidectl.controllers.ctol_stable_inversion import stable_inversion, track_stable_inversion
 from glidectl.controllers.ctol_tracking import pareto_front, track_with_steady_glides
 from glidectl.controllers.ctol_trajectory import ClimbTrajectory, climb_trajectory
+from glidectl.controllers.ctol_zero_dynamics import feedback_linearizing_inputs, zero_dynamics
 from glidectl.models.ctol import CTOLAircraft, CTOLReduced
+from glidectl.models.ctol_closed_loop import ClosedLoopCTOL
 from glidectl.trim.ctol import angle_equation, residuals
 
 VEH = gc.load_vehicle("dc8_ctol")
@@ -69,14 +66,14 @@ def test_model_rejects_non_ctol_vehicle():
 # ---------------------------------------------------------------------------------------------- Theorem 4
 def test_level_glide_values():
     gl = gc.ctol_glide(VEH, speed=V_LEVEL, gamma=0.0)
-    assert gl.alpha_e == pytest.approx(0.0632962, abs=1e-7)
+    assert gl.alpha == pytest.approx(0.0632962, abs=1e-7)
     assert gl.k1 == pytest.approx(-0.00311096, abs=1e-8)
     assert gl.k2 == pytest.approx(-0.0490837, abs=1e-7)
     assert gl.thrust > 0
-    assert len(gl.alpha_roots) >= 3 and min(gl.alpha_roots, key=abs) == gl.alpha_e
+    assert len(gl.alpha_roots) >= 3 and min(gl.alpha_roots, key=abs) == gl.alpha
     # level flight: lift = weight + k1 (vertical control force -k1), drag balanced by -k2
-    lift = VEH.a_L * (1 + VEH.c * gl.alpha_e) * V_LEVEL**2
-    drag = VEH.a_D * (1 + VEH.b * (1 + VEH.c * gl.alpha_e) ** 2) * V_LEVEL**2
+    lift = VEH.a_L * (1 + VEH.c * gl.alpha) * V_LEVEL**2
+    drag = VEH.a_D * (1 + VEH.b * (1 + VEH.c * gl.alpha) ** 2) * V_LEVEL**2
     assert lift == pytest.approx(1 + gl.k1, rel=1e-12)
     assert drag == pytest.approx(-gl.k2, rel=1e-12)
 
@@ -85,9 +82,9 @@ def test_level_glide_values():
 @given(V=st.floats(0.13, 0.6), gamma=st.floats(-1.3, 1.3))
 def test_theorem4_residuals_and_closed_loop_equilibrium(V, gamma):
     gl = gc.ctol_glide(VEH, speed=V, gamma=gamma)
-    assert abs(gl.alpha_e) <= 0.35
-    assert np.max(np.abs(residuals(VEH, V, gamma, gl.alpha_e, gl.k1, gl.k2))) < 1e-12
-    assert abs(angle_equation(VEH, V, gamma, gl.alpha_e)) < 1e-12
+    assert abs(gl.alpha) <= 0.35
+    assert np.max(np.abs(residuals(VEH, V, gamma, gl.alpha, gl.k1, gl.k2))) < 1e-12
+    assert abs(angle_equation(VEH, V, gamma, gl.alpha)) < 1e-12
     # the full closed loop is at rest in (velocity, theta, Omega2) on the glide
     ctrl = SteadyGlideController(VEH, gl, k3=10.0, k4=5.0)
     x = gl.full_state((3.0, -2.0))
@@ -188,7 +185,7 @@ def test_theorem6_constant_velocity_tracking_error_bounded_and_decaying():
     assert r.max_error < 0.06
     assert e[-1] < 1e-3
     # each replanned glide is a Theorem-4 glide of the chord
-    assert all(abs(g.alpha_e) <= 0.35 for g in r.glides)
+    assert all(abs(g.alpha) <= 0.35 for g in r.glides)
 
 
 def test_tracking_from_the_trajectory_stays_on_it():
@@ -235,7 +232,7 @@ def test_pareto_front():
 def test_zero_dynamics_is_a_saddle():
     zd = zero_dynamics(VEH, V_LEVEL)
     assert zd.is_saddle
-    assert zd.theta_star == pytest.approx(gc.ctol_glide(VEH, V_LEVEL, 0.0).alpha_e, abs=1e-10)
+    assert zd.theta == pytest.approx(gc.ctol_glide(VEH, V_LEVEL, 0.0).alpha, abs=1e-10)
     assert zd.eigenvalues[1] == pytest.approx(-zd.eigenvalues[0], rel=1e-9)
     # small-angle estimate sqrt(a_L c V^2 / eps)
     assert zd.rate == pytest.approx(math.sqrt(VEH.a_L * VEH.c * V_LEVEL**2 / VEH.epsilon), rel=0.01)
@@ -258,7 +255,7 @@ def test_stable_inversion_tracks_exactly_and_feedback_linearization_blows_up(inv
     assert inversion.max_residual < 1e-5
     # bounded before the climb starts, and it moves before t = 0 (pre-action)
     th = inversion.pitch(np.array([inversion.t0, -1.0]))[:, 0]
-    assert abs(th[0] - zero_dynamics(VEH, V_LEVEL).theta_star) < 1e-8
+    assert abs(th[0] - zero_dynamics(VEH, V_LEVEL).theta) < 1e-8
     assert abs(th[1] - th[0]) > 1e-4
     run = track_stable_inversion(VEH, TRAJ, inversion=inversion, t_final=20.0)
     assert run.completed and run.max_error < 1e-5
@@ -268,7 +265,7 @@ def test_stable_inversion_tracks_exactly_and_feedback_linearization_blows_up(inv
 
 
 def test_approximate_linearization_exact_on_design_model_unstable_on_aircraft():
-    from glidectl.controllers.ctol_inversion import (
+    from glidectl.controllers.ctol_approximate_linearization import (
         approximate_linearization_eigenvalues,
         track_approximate_linearization,
     )

@@ -58,7 +58,7 @@ def test_helix_is_a_relative_equilibrium(helix):
     d = model.rhs(h.initial_state(psi=0.7, position=(3.0, -2.0, 10.0)))
     np.testing.assert_allclose(d[7:13], 0.0, atol=1e-10)
     np.testing.assert_allclose(reduced_rhs(model, _reduced_state(h)), 0.0, atol=1e-10)
-    assert h.r_p == R_P and h.m0 == M0 and h.vehicle == "slocum_ch8" and h.provenance == SLOCUM.provenance
+    assert h.r_p == R_P and h.m0 == M0 and h.vehicle.name == "slocum_ch8" and h.provenance == SLOCUM.provenance
 
 
 def test_helix_reproduces_822_numbers(helix):

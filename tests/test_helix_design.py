@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.analysis.helix_stability import _r_p_at
+from glidectl.analysis.helix_stability import mass_position_at_rbh
 
 SLOCUM = gc.load_vehicle("slocum_ch8")
 NOMINAL_83 = (0.02, -0.02, 0.04)
@@ -62,10 +62,10 @@ def test_nominal_bottom_heaviness_matches_thesis(frozen):
 def test_frozen_locus_crossing_is_a_zero_real_part(frozen):
     (rc,) = frozen.crossings
     assert -0.02 < rc < 0.0
-    model = gc.FixedMassGlider3D(SLOCUM, _r_p_at(frozen.nominal, rc), 0.25)
-    from glidectl.trim.helix import _eigs
+    model = gc.FixedMassGlider3D(SLOCUM, mass_position_at_rbh(frozen.nominal, rc), 0.25)
+    from glidectl.trim.helix import helix_eigenvalues
 
-    lam = _eigs(model, frozen.nominal.unknowns)
+    lam = helix_eigenvalues(model, frozen.nominal.unknowns)
     assert abs(np.max(lam.real)) < 1e-8
     # stable above, unstable below
     vals = frozen.locus.values
@@ -90,8 +90,8 @@ def test_resolved_crossing_brackets_the_loss_of_stability():
     rc, h = gc.resolved_crossing(SLOCUM, NOMINAL_83, 0.25)
     assert rc is not None and rc < 0
     assert h.stable and abs(np.max(h.eigenvalues.real)) < 1e-6  # a true crossing, not a branch jump
-    below = gc.helix_trim(SLOCUM, _r_p_at(gc.helix_trim(SLOCUM, NOMINAL_83, 0.25), rc - 1e-6), 0.25, guess=h,
-                          n_random=0, continuation_steps=1)
+    below = gc.helix_trim(SLOCUM, mass_position_at_rbh(gc.helix_trim(SLOCUM, NOMINAL_83, 0.25), rc - 1e-6), 0.25,
+                          guess=h, n_random=0, continuation_steps=1)
     assert not below.stable
 
 

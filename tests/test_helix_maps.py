@@ -15,7 +15,9 @@ import numpy as np
 import pytest
 
 from glidectl import FixedMassGlider3D, GlidectlError, InfeasibleGlideError, ModelError, helix_trim, load_vehicle
-from glidectl.analysis.helix_maps import COLUMNS, HelixSweep, existence_scan, helix_sweep
+from glidectl.analysis.continuation import COLUMNS
+from glidectl.analysis.helix_existence import existence_scan
+from glidectl.analysis.helix_sweeps import HelixSweep, helix_sweep
 from glidectl.trim.helix import zeta_of
 
 SLOCUM = load_vehicle("slocum_ch8")
@@ -76,7 +78,8 @@ def test_result_is_frozen_picklable_and_documented(maps):
     back = pickle.loads(pickle.dumps(sw))
     _assert_same(back, sw, 0.0)
     assert sw.unit == "m" and sw.columns == COLUMNS and sw.data.shape == (30, len(COLUMNS))
-    assert sw.provenance["vehicle_provenance"] == SLOCUM.provenance and sw.provenance["continuation"]
+    assert sw.context["vehicle_provenance"] == SLOCUM.provenance and sw.context["continuation"]
+    assert sw.provenance == SLOCUM.provenance and sw.vehicle.name == SLOCUM.name
     assert sw.controls(3) == ((float(sw.values[3]), 0.02, 0.04), 0.25)
     rec = sw.records()[0]
     assert rec["r_P1"] == sw.values[0] and rec["exists"] and rec["how"] == "cold"
@@ -116,7 +119,7 @@ def test_chunked_sweeps_equal_serial_including_seed_search_and_branch_changes():
     vals = np.linspace(-0.02, 0.06, 41)
     serial = _sweep("r_P1", vals, LIGHT)
     chunked = _sweep("r_P1", vals, LIGHT, chunks=7)
-    assert any("re-walked" in s for s in chunked.provenance["reconciliation"])
+    assert any("re-walked" in s for s in chunked.context["reconciliation"])
     _assert_same(chunked, serial, 1e-9)
 
 
@@ -135,7 +138,7 @@ def test_process_pool_and_dask_executors_equal_serial():
     with ProcessPoolExecutor(2) as ex:
         pooled = _sweep("r_P1", vals, LIGHT, executor=ex, chunks=4)
     _assert_same(pooled, serial, 1e-9)
-    assert pooled.provenance["executor"].endswith("ProcessPoolExecutor") and pooled.provenance["chunks"] == 4
+    assert pooled.context["executor"].endswith("ProcessPoolExecutor") and pooled.context["chunks"] == 4
     distributed = pytest.importorskip("distributed")
     with (distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cl,
           distributed.Client(cl) as client):
@@ -258,7 +261,7 @@ def test_existence_claim_of_822():
     across r_P1 = 0. For m0 > 0, r_P1 < 0 they are stable, upright (|phi| < 90 deg), nose-up (theta > 0) descents at a
     high angle of attack (alpha > theta > 0, gamma < 0); for m0 < 0, r_P1 > 0 stable upright ones are steeply banked."""
     scan = existence_scan(SLOCUM, [-0.01, 0.01], [-0.25, 0.25], n_starts=8)
-    assert not scan.claim_holds and scan.exists.all()
+    assert not scan.reproduced and scan.exists.all()
     assert scan.claim_region.tolist() == [[False, True], [True, False]]
     heavy_aft = [c for c in scan.counterexamples(stable_only=True, upright_only=True) if c["m0"] > 0]
     assert heavy_aft, scan.summary()

@@ -12,7 +12,7 @@ from glidectl import GlidectlError, load_vehicle
 from glidectl.analysis.jacobian import jacobians
 from glidectl.analysis.locus import (
     UNCONTROLLED_BLOCK,
-    _eta_r_eigs,
+    eta_r_eigenvalues,
     mbar_locus,
     parameter_locus,
     rbh_locus,
@@ -43,7 +43,7 @@ def mb():
 
 
 def eta(r: float) -> np.ndarray:
-    return _eta_r_eigs(ROGUE, SPEED, GAMMA, r_bh=r)
+    return eta_r_eigenvalues(ROGUE, SPEED, GAMMA, r_bh=r)
 
 
 def n_real(lam: np.ndarray) -> int:

@@ -8,7 +8,6 @@ of (4.23); the cusp period against its closed form. Thesis typos are pinned by t
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
@@ -481,26 +480,3 @@ def test_formulation_domain_errors():
         ph.euler_lagrange_field(m, np.array([0.0, -0.1, 0.2, 0.0]))
     with pytest.raises(ModelError, match="last dimension 4"):
         ph.symplectic_field(m, np.zeros(3))
-
-
-# ------------------------------------------------------------------------------------------- the report
-def test_ch4_report_builds(tmp_path):
-    from glidectl.studies import REGISTRY, ch4_phugoid, get
-
-    assert get("ch4_phugoid") is ch4_phugoid and "ch4_phugoid" in REGISTRY
-    pdf = ch4_phugoid.build(tmp_path)
-    out = pdf.parent
-    assert pdf.exists() and pdf.stat().st_size > 10_000
-    for stem in ("fig4_1_trajectories", "conservation", "period_vs_C"):
-        assert (out / f"{stem}.png").exists()
-    nums = {n["name"]: n for n in json.loads((out / "numbers.json").read_text())}
-    for name in ("xdot_e_mps", "C_steady_level", "class_C_0_4", "class_C_m0_5", "cusp_period_s",
-                 "mismatch_omega_B", "mismatch_legendre_E0", "typo_4_31_matrix", "typo_4_46_pdot"):
-        assert name in nums
-    assert nums["C_steady_level"]["reproduced"] is True
-    assert all(nums[f"class_C_{t}"]["reproduced"] for t in ("2_3", "0_4", "0", "m0_5"))
-    for key in ("canonical_2d", "omega_B", "charged_particle", "euler_lagrange_E0", "legendre_E0",
-                "pendulum_driven_base"):
-        assert nums[f"mismatch_{key}"]["value"] < 1e-12
-    assert nums["mismatch_omega_B_printed"]["reproduced"] is False
-    assert max(nums[f"drift_E_rel_C_{t}"]["value"] for t in ("2_3", "0_4", "0", "m0_5")) < 1e-8

@@ -104,8 +104,9 @@ def equilibrium(veh: Vehicle) -> dict[str, float]:
 @pytest.mark.parametrize("name", sorted(SP))
 def test_equilibrium_and_small_parameters_match_printed_formulas(name: str) -> None:
     sp, e = SP[name], equilibrium({**VARIANTS, **UNEQUAL}[name])
-    for key in ("alpha_e", "K_De", "K_Le", "V_e", "gamma_e", "tau_s", "eps1", "eps2"):
-        assert getattr(sp, key) == pytest.approx(e[key], rel=1e-13, abs=1e-15), key
+    for attr, key in (("alpha", "alpha_e"), ("K_De", "K_De"), ("K_Le", "K_Le"), ("speed", "V_e"), ("gamma", "gamma_e"),
+                      ("tau_s", "tau_s"), ("eps1", "eps1"), ("eps2", "eps2")):
+        assert getattr(sp, attr) == pytest.approx(e[key], rel=1e-13, abs=1e-15), key
     assert sp.mu == max(sp.eps1, sp.eps2)                                                     # (5.26)
     assert sp.r1 == pytest.approx(sp.mu / sp.eps1, rel=1e-15)                                 # (5.27)
     assert sp.r2 == pytest.approx(sp.mu / sp.eps2, rel=1e-15)
@@ -114,8 +115,8 @@ def test_equilibrium_and_small_parameters_match_printed_formulas(name: str) -> N
     np.testing.assert_allclose(sp.model.rhs(sp.equilibrium), 0.0, atol=1e-12)
     # equilibrium relations used throughout §5.1.2: m0 g sin(gamma_e) = -K_De V_e^2, m0 g cos(gamma_e) = K_Le V_e^2
     m0g = sp.model.vehicle.m0 * sp.model.vehicle.g
-    assert m0g * math.sin(sp.gamma_e) == pytest.approx(-sp.K_De * sp.V_e**2, rel=1e-13)
-    assert m0g * math.cos(sp.gamma_e) == pytest.approx(sp.K_Le * sp.V_e**2, rel=1e-13)
+    assert m0g * math.sin(sp.gamma) == pytest.approx(-sp.K_De * sp.speed**2, rel=1e-13)
+    assert m0g * math.cos(sp.gamma) == pytest.approx(sp.K_Le * sp.speed**2, rel=1e-13)
 
 
 def test_section_5_3_1_numbers() -> None:
@@ -125,10 +126,10 @@ def test_section_5_3_1_numbers() -> None:
     assert round(sp.eps1 * 1e3, 3) == 4.784
     assert round(sp.eps2 * 1e4, 3) == 4.403
     assert round(sp.mu * 1e3, 3) == 4.784
-    assert round(math.degrees(sp.gamma_e), 3) == -53.566
+    assert round(math.degrees(sp.gamma), 3) == -53.566
     # the thesis prints V_e = 1.684 m/s: a digit transposition of the 1.648 m/s that (5.8) gives (and that its own
     # tau_s = 8.361 s requires: 28 / (2.032 * 1.684) = 8.183 s)
-    assert round(sp.V_e, 3) == 1.648
+    assert round(sp.speed, 3) == 1.648
     assert round(sp.model.masses[0] / (sp.K_De * 1.684), 3) != 8.361
     lam = sp.reduced_eigenvalues
     assert lam.shape == (2,)
@@ -157,7 +158,7 @@ def test_sum_of_reciprocal_eigenvalues_is_not_3_tau_s(name: str) -> None:
     sum of reciprocals is trace/det = -3 tau_s / (2 (1 + c^2)), c = K_Le/K_De, which is negative and never 3 tau_s."""
     sp = SP[name]
     slow = SlowModel(sp)
-    A, _ = jacobians(slow.rhs, np.array([sp.V_e, sp.gamma_e]), np.zeros(0))
+    A, _ = jacobians(slow.rhs, np.array([sp.speed, sp.gamma]), np.zeros(0))
     lam = np.linalg.eigvals(A)
     np.testing.assert_allclose(_srt(lam * sp.tau_s), _srt(sp.reduced_eigenvalues), rtol=1e-11, atol=1e-12)
     assert np.sum(lam).real == pytest.approx(-3.0 / sp.tau_s, rel=1e-12)
@@ -200,8 +201,8 @@ def test_negative_buoyancy_equilibrium_is_the_mirror_glide() -> None:
     the moment balance, so the rising steady glide is the inverted one); it is an equilibrium of the model."""
     up = singular_perturbation(load_vehicle("sphere_ch5", m0=-0.7))
     down = SP["baseline"]
-    assert up.V_e == pytest.approx(down.V_e, rel=1e-14)
-    assert up.gamma_e == pytest.approx(down.gamma_e + math.pi, rel=1e-14)
+    assert up.speed == pytest.approx(down.speed, rel=1e-14)
+    assert up.gamma == pytest.approx(down.gamma + math.pi, rel=1e-14)
     np.testing.assert_allclose(up.model.rhs(up.equilibrium), 0.0, atol=1e-12)
 
 
@@ -215,7 +216,7 @@ def test_nondimensional_round_trip(name: str, V: float, gam: float, al: float, O
     z = sp.to_nondimensional(x)
     # (5.12)-(5.15) by hand
     v = sp.model.vehicle
-    np.testing.assert_allclose(z, [(V - sp.V_e) / sp.V_e, gam - sp.gamma_e, al - sp.alpha_e, v.K_q / v.K_M * Om],
+    np.testing.assert_allclose(z, [(V - sp.speed) / sp.speed, gam - sp.gamma, al - sp.alpha, v.K_q / v.K_M * Om],
                                rtol=1e-14, atol=1e-14)
     np.testing.assert_allclose(sp.to_dimensional(z), x, rtol=1e-13, atol=1e-13)
     # batches too
@@ -278,7 +279,7 @@ def test_compact_form_is_the_dimensional_model_in_new_variables(name: str, p: np
     x = sp.to_dimensional(z)
     d = sp.model.rhs(x)
     v = sp.model.vehicle
-    ref = sp.tau_s * np.array([d[0] / sp.V_e, d[1], d[2], v.K_q / v.K_M * d[3]])
+    ref = sp.tau_s * np.array([d[0] / sp.speed, d[1], d[2], v.K_q / v.K_M * d[3]])
     got = sp.full_rhs_nondimensional(z)
     scale = np.max(np.abs(ref)) + 1.0
     np.testing.assert_allclose(got, ref, rtol=0, atol=1e-11 * scale)
@@ -295,12 +296,12 @@ def test_slow_model_is_the_reduced_subsystem_in_dimensional_form() -> None:
     assert slow.vehicle is sp.model.vehicle
     rng = np.random.default_rng(11)
     P = np.column_stack([rng.uniform(-0.6, 0.8, 50), rng.uniform(-3, 3, 50)])
-    X = np.column_stack([sp.V_e * (1 + P[:, 0]), P[:, 1] + sp.gamma_e])
+    X = np.column_stack([sp.speed * (1 + P[:, 0]), P[:, 1] + sp.gamma])
     d = slow.rhs(X)
-    np.testing.assert_allclose(sp.reduced_rhs(P), sp.tau_s * np.column_stack([d[:, 0] / sp.V_e, d[:, 1]]),
+    np.testing.assert_allclose(sp.reduced_rhs(P), sp.tau_s * np.column_stack([d[:, 0] / sp.speed, d[:, 1]]),
                                rtol=1e-12, atol=1e-12)
     # equal to the full model at alpha = alpha_e, Omega2 = 0
-    full = sp.model.rhs(np.column_stack([X, np.full(50, sp.alpha_e), np.zeros(50)]))
+    full = sp.model.rhs(np.column_stack([X, np.full(50, sp.alpha), np.zeros(50)]))
     np.testing.assert_array_equal(d, full[:, :2])
 
 
@@ -327,7 +328,7 @@ def test_dPhi_dtn_equals_minus_psi_squared(name: str, p: np.ndarray) -> None:
 # --------------------------------------------------------------------------------- §5.4, unequal added masses
 def _f_5_105(sp: SingularPerturbation, p: np.ndarray) -> float:
     veh = sp.model.vehicle
-    th_e = sp.gamma_e + sp.alpha_e
+    th_e = sp.gamma + sp.alpha
     return veh.m0 * veh.g * (math.sin(th_e) * (1 + p[0]) ** 2 - math.sin(p[1] + th_e))
 
 
@@ -341,11 +342,11 @@ def reduced_5_103_5_104(sp: SingularPerturbation, p: np.ndarray, printed_sign: b
     f = _f_5_105(sp, p)
     m0g = veh.m0 * veh.g
     s = 1.0 if printed_sign else -1.0
-    dV = -sp.tau_s / (m3 * sp.V_e) * (m0g * math.sin(gb + sp.gamma_e) + sp.K_De * sp.V_e**2 * (1 + Vb) ** 2
-                                      + s * dm * math.cos(sp.alpha_e) / m1 * f)
-    dg = sp.tau_s / (m3 * sp.V_e * (1 + Vb)) * (sp.K_Le * sp.V_e**2 * (1 + Vb) ** 2
-                                                 - m0g * math.cos(gb + sp.gamma_e)
-                                                 + dm * math.sin(sp.alpha_e) / m1 * f)
+    dV = -sp.tau_s / (m3 * sp.speed) * (m0g * math.sin(gb + sp.gamma) + sp.K_De * sp.speed**2 * (1 + Vb) ** 2
+                                      + s * dm * math.cos(sp.alpha) / m1 * f)
+    dg = sp.tau_s / (m3 * sp.speed * (1 + Vb)) * (sp.K_Le * sp.speed**2 * (1 + Vb) ** 2
+                                                 - m0g * math.cos(gb + sp.gamma)
+                                                 + dm * math.sin(sp.alpha) / m1 * f)
     return np.array([dV, dg])
 
 
@@ -365,7 +366,7 @@ def test_unequal_reduced_subsystem_matches_corrected_5_103_5_104(name: str, p: n
         printed = reduced_5_103_5_104(sp, p, printed_sign=True)
         assert abs(printed[0] - got[0]) > 1e-6
     # tau_s = m3 / (K_De V_e) is the choice that makes (5.103)-(5.107) hold as printed
-    assert sp.tau_s == pytest.approx(sp.model.masses[1] / (sp.K_De * sp.V_e), rel=1e-15)
+    assert sp.tau_s == pytest.approx(sp.model.masses[1] / (sp.K_De * sp.speed), rel=1e-15)
 
 
 @pytest.mark.parametrize("name", sorted(UNEQUAL))
@@ -380,8 +381,8 @@ def test_unequal_dPhi_is_minus_psi_squared_plus_R(name: str, p: np.ndarray) -> N
     grad = np.array([-math.cos(gb) + (1 + Vb) ** 2, (1 + Vb) * math.sin(gb)])
     dPhi = grad @ sp.reduced_rhs(p)
     psi2 = (Vb * Vb + 2 * Vb) ** 2 + 4 * (1 + Vb) ** 2 * math.sin(gb / 2) ** 2
-    R = ((m3 - m1) / (m1 * sp.K_De * sp.V_e**2)
-         * (2 * math.sin((gb + 2 * sp.alpha_e) / 2) * math.sin(gb / 2) + math.cos(sp.alpha_e) * (Vb * Vb + 2 * Vb))
+    R = ((m3 - m1) / (m1 * sp.K_De * sp.speed**2)
+         * (2 * math.sin((gb + 2 * sp.alpha) / 2) * math.sin(gb / 2) + math.cos(sp.alpha) * (Vb * Vb + 2 * Vb))
          * _f_5_105(sp, p))                                                                    # (5.108)
     assert dPhi == pytest.approx(-psi2 + R, rel=0, abs=1e-12 * (1 + (1 + Vb) ** 4))
 
@@ -399,10 +400,10 @@ def test_unequal_boundary_layer_matches_corrected_5_91_5_92(name: str, p: np.nda
     ab, Ob = q
     a = (1 + p[0]) ** 2
     ref = np.array([sp.r1 * Ob,                                                                 # (5.91)
-                    -sp.r2 * (ab + dm / veh.K_M * math.sin(ab) * math.cos(ab + 2 * sp.alpha_e) + Ob) * a])
+                    -sp.r2 * (ab + dm / veh.K_M * math.sin(ab) * math.cos(ab + 2 * sp.alpha) + Ob) * a])
     got = sp.boundary_layer_rhs(p, q)
     np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12 * sp.r2 * (1 + a) * (1 + np.max(np.abs(q))))
-    printed_at_0 = -sp.r2 * (dm / veh.K_M * math.sin(2 * sp.alpha_e)) * a
+    printed_at_0 = -sp.r2 * (dm / veh.K_M * math.sin(2 * sp.alpha)) * a
     assert abs(printed_at_0) > 1e-4 and np.max(np.abs(sp.boundary_layer_rhs(p, np.zeros(2)))) < 1e-12
 
 
@@ -423,14 +424,17 @@ def test_unequal_mass_bound_5_109_holds_and_5_110_by_hand(ratio: float) -> None:
     lhs = 2 * abs(28.0 * ratio * veh.m0 * veh.g) / (28.0 * equilibrium(veh)["K_De"] * equilibrium(veh)["V_e"] ** 2
                                                     * (1 + Vbar[0]) ** 2)                       # (5.110)
     assert chk.condition_lhs == pytest.approx(lhs, rel=1e-12)
-    assert chk.condition_holds == (lhs < 1)
-    assert 0 < chk.bound_ratio <= 1.0            # (5.109) holds on the samples
+    assert chk.certified == (lhs < 1)
+    assert 1.0 <= chk.bound_margin < math.inf    # (5.109) holds on the samples
     # consistency with Fig 5.3's trade-off curve: lhs * allowable ratio = |Delta m| / m1 exactly
     assert chk.condition_lhs * allowable_delta_m_ratio(chk.kappa, Vbar[0]) == pytest.approx(abs(ratio), rel=1e-12)
     # when (5.110) holds, Phi decreases along the reduced subsystem on the samples
-    if chk.condition_holds:
+    if chk.certified:
         assert chk.max_dPhi < 0
         assert chk.max_dPhi <= -(1 - chk.condition_lhs) + 1e-12
+        assert chk.passed and chk.failing() == {}
+    else:
+        assert not chk.passed and "(5.110) kappa_dm < 1" in chk.failing()
 
 
 def test_5_109_needs_absolute_delta_m() -> None:
@@ -445,17 +449,18 @@ def test_5_109_needs_absolute_delta_m() -> None:
     dPhi = np.sum(np.column_stack([-np.cos(gb) + (1 + Vb) ** 2, (1 + Vb) * np.sin(gb)]) * sp.reduced_rhs(P), axis=1)
     psi2 = (Vb * Vb + 2 * Vb) ** 2 + 4 * (1 + Vb) ** 2 * np.sin(gb / 2) ** 2
     R = dPhi + psi2
-    k = 2 * (m3 - m1) * abs(veh.m0 * veh.g) / (m1 * sp.K_De * sp.V_e**2 * (1 - 0.4) ** 2)
+    k = 2 * (m3 - m1) * abs(veh.m0 * veh.g) / (m1 * sp.K_De * sp.speed**2 * (1 - 0.4) ** 2)
     assert k < 0 and np.max(R) > 0                        # the signed bound R <= k psi^2 fails ...
     assert np.all(R <= abs(k) * psi2 + 1e-12)             # ... the |Delta m| bound holds
-    assert unequal_mass_check(veh, n=20_000, seed=4).bound_ratio <= 1
+    assert unequal_mass_check(veh, n=20_000, seed=4).bound_margin >= 1
 
 
 def test_equal_masses_have_no_remainder() -> None:
     """Delta m = 0: R = 0 (dPhi/dt_n = -psi^2 exactly) and kappa = 1.243 (the value quoted for Fig 5.3)."""
     chk = unequal_mass_check(SPHERE, n=5000)
-    assert chk.delta_m == 0.0 and chk.condition_lhs == 0.0 and chk.condition_holds
-    assert chk.bound_ratio < 1e-12                  # max |R| with lhs = 0
+    assert chk.delta_m == 0.0 and chk.condition_lhs == 0.0 and chk.certified
+    assert chk.bound_margin > 1e12                  # 1 / max |R| with lhs = 0
+    assert chk.margins["(5.110) kappa_dm < 1"] == math.inf and chk.passed
     assert chk.max_dPhi == pytest.approx(-1.0, abs=1e-10)
     assert round(chk.kappa, 3) == 1.243
 

@@ -14,7 +14,6 @@ from glidectl.controllers.moving_mass import (
     compare_realized_torque,
 )
 from glidectl.controllers.torque import (
-    TorqueControlledGlider,
     TorqueLaw,
     alpha_for_target,
     closed_loop_formulas,
@@ -24,6 +23,7 @@ from glidectl.controllers.torque import (
 )
 from glidectl.errors import GlidectlError, InfeasibleGlideError, ModelError
 from glidectl.models.reduced import ReducedLongitudinalGlider
+from glidectl.models.torque_glider import TorqueControlledGlider
 from glidectl.params import load_vehicle
 from glidectl.stability.composite import composite_lyapunov
 from glidectl.stability.singular_perturbation import singular_perturbation
@@ -92,27 +92,27 @@ def test_bad_inputs_raise(sphere):
 def test_closed_loop_formulas_and_eps2_correction(sphere):
     law = TorqueLaw(K_M0u=2.0, K_Mu=-60.0, K_qu=-1.5)
     sp = singular_perturbation(law.closed_loop_vehicle(sphere))
-    assert abs(sp.V_e - 1.0) > 0.3  # the printed and the corrected eps2 differ by V_e^4
+    assert abs(sp.speed - 1.0) > 0.3  # the printed and the corrected eps2 differ by V_e^4
     fixed = closed_loop_formulas(sphere, law)
     printed = closed_loop_formulas(sphere, law, printed=True)
-    assert fixed["alpha_e"] == pytest.approx(sp.alpha_e, rel=1e-12)
+    assert fixed["alpha_e"] == pytest.approx(sp.alpha, rel=1e-12)
     assert fixed["eps1"] == pytest.approx(sp.eps1, rel=1e-12)
     assert fixed["eps2"] == pytest.approx(sp.eps2, rel=1e-12)         # -K_De J2 / (m1 K_q' V_e), (5.17)
-    assert printed["eps2"] / sp.eps2 == pytest.approx(sp.V_e**4, rel=1e-12)  # printed V_e^3 is wrong
+    assert printed["eps2"] / sp.eps2 == pytest.approx(sp.speed**4, rel=1e-12)  # printed V_e^3 is wrong
     # closed-loop alpha_e is the open-loop glider's with the shifted coefficients
-    assert sp.alpha_e == pytest.approx(-(sphere.K_M0 + law.K_M0u) / (sphere.K_M + law.K_Mu), rel=1e-14)
+    assert sp.alpha == pytest.approx(-(sphere.K_M0 + law.K_M0u) / (sphere.K_M + law.K_Mu), rel=1e-14)
 
 
 def test_constraint_6_6_keeps_eps_ratio(sphere, designs):
     sp_ol = singular_perturbation(sphere)
     ratio_ol = sp_ol.eps1 / sp_ol.eps2
-    lhs_ol = -sphere.K_q**2 * sp_ol.V_e**2 / sphere.K_M
+    lhs_ol = -sphere.K_q**2 * sp_ol.speed**2 / sphere.K_M
     for d in (*designs.values(), design_torque_control(sphere, speed=1.5)):
         assert d.eps_ratio == pytest.approx(ratio_ol, rel=1e-10)
         # corrected (6.6): J2 eps1/eps2 = -K_q'^2 V_e^2 / K_M' = -K_q^2 V_eol^2 / K_M  (> 0)
-        assert sphere.J2 * d.eps1 / d.eps2 == pytest.approx(-d.K_q**2 * d.V_e**2 / d.K_M, rel=1e-10)
-        assert -d.K_q**2 * d.V_e**2 / d.K_M == pytest.approx(lhs_ol, rel=1e-10)
-        assert d.K_q**2 * d.V_e**2 / d.K_M < 0 < sphere.J2 * d.eps1 / d.eps2  # printed sign is wrong
+        assert sphere.J2 * d.eps1 / d.eps2 == pytest.approx(-d.K_q**2 * d.speed**2 / d.K_M, rel=1e-10)
+        assert -d.K_q**2 * d.speed**2 / d.K_M == pytest.approx(lhs_ol, rel=1e-10)
+        assert d.K_q**2 * d.speed**2 / d.K_M < 0 < sphere.J2 * d.eps1 / d.eps2  # printed sign is wrong
         r = composite_lyapunov(d.closed_loop_vehicle).sp
         assert (r.r1, r.r2) == pytest.approx((sp_ol.r1, sp_ol.r2), rel=1e-10)
 
@@ -120,11 +120,11 @@ def test_constraint_6_6_keeps_eps_ratio(sphere, designs):
 # ------------------------------------------------------------------------------------------------ design
 def test_design_hits_target_and_equilibrium(sphere, designs):
     d = designs["speed"]
-    assert d.V_e == pytest.approx(SPEED, rel=1e-12)
-    assert designs["gamma"].gamma_e == pytest.approx(GAMMA, rel=1e-12)
-    assert alpha_for_target(sphere, speed=SPEED) == pytest.approx(d.alpha_e, rel=1e-12)
+    assert d.speed == pytest.approx(SPEED, rel=1e-12)
+    assert designs["gamma"].gamma == pytest.approx(GAMMA, rel=1e-12)
+    assert alpha_for_target(sphere, speed=SPEED) == pytest.approx(d.alpha, rel=1e-12)
     for dd in designs.values():
-        xe = np.array([dd.V_e, dd.gamma_e, dd.alpha_e, 0.0])
+        xe = np.array([dd.speed, dd.gamma, dd.alpha, 0.0])
         res = TorqueControlledGlider(sphere).rhs(xe, dd.law(0.0, xe))
         assert np.max(np.abs(res)) < 1e-10
 
@@ -133,7 +133,7 @@ def test_design_certifies_with_smallest_torque(sphere, designs):
     for d in designs.values():
         assert d.certified and d.mu < d.mu_d and d.certificate.certified
         assert d.certificate.verify(n=20_000, seed=3).failing() == {}
-        fam = torque_gain_family(sphere, d.alpha_e)
+        fam = torque_gain_family(sphere, d.alpha)
         # just below the boundary scale the certificate fails; the design sits just above it
         below = composite_lyapunov(fam.law(d.scale_boundary * (1 - 1e-4)).closed_loop_vehicle(sphere))
         assert not below.certified
@@ -175,7 +175,7 @@ def massive():
 
 def test_realized_loop_shares_equilibrium_and_system_feedback_is_needed(massive):
     d = design_torque_control(massive, speed=SPEED)
-    xe = [d.V_e, d.gamma_e, d.alpha_e, 0.0]
+    xe = [d.speed, d.gamma, d.alpha, 0.0]
     eig = {}
     for fb in ("system", "hull"):
         loop = RealizedTorqueLoop(MovingMassTorque(massive, d.law, omega_n=2000.0, feedback=fb))
@@ -188,8 +188,8 @@ def test_realized_loop_shares_equilibrium_and_system_feedback_is_needed(massive)
 
 def test_moving_mass_realizes_torque_law(massive):
     d = design_torque_control(massive, speed=SPEED)
-    xe = np.array([d.V_e, d.gamma_e, d.alpha_e, 0.0])
-    x0 = xe + np.array([0.1 * d.V_e, 0.1, 0.0, 0.0])
+    xe = np.array([d.speed, d.gamma, d.alpha, 0.0])
+    x0 = xe + np.array([0.1 * d.speed, 0.1, 0.0, 0.0])
     c = compare_realized_torque(massive, d.law, x0, 60.0)
     assert np.allclose(c.equilibrium, xe, rtol=1e-12, atol=1e-14)
     # both converge to the same steady glide ...

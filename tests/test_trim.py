@@ -78,7 +78,7 @@ def test_steady_glide_is_an_equilibrium(req):
         assert a0 < gl.alpha <= a0 + root
     else:
         assert a0 - root <= gl.alpha < a0
-    assert gl.provenance == veh.provenance and gl.vehicle == veh.name
+    assert gl.provenance == veh.provenance and gl.vehicle is veh and gl.vehicle.name == veh.name
 
 
 @FAST

@@ -21,8 +21,9 @@ from .analysis.closed_loop import (
     compare_controllers,
     lqr_state_feedback,
 )
-from .analysis.helix_maps import ExistenceScan, HelixSweep, existence_scan, helix_sweep, straight_glides
+from .analysis.helix_existence import ExistenceScan, existence_scan
 from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
+from .analysis.helix_sweeps import HelixSweep, helix_sweep, straight_glides
 from .analysis.jacobian import hessian, jacobians
 from .analysis.linear import Modes, RankTest, controllability, glide_model, linearize_glide, modes, observability
 from .analysis.locus import BreakPoint, ParameterLocus, mbar_locus, parameter_locus, rbh_locus, uncontrolled_eigs
@@ -30,37 +31,35 @@ from .batch import BatchResult, integrate_batch
 from .controllers.buoyancy import (
     BuoyancyController,
     BuoyancyEquilibrium,
-    BuoyancyGlider,
     BuoyancyLyapunovCheck,
     buoyancy_equilibrium,
     buoyancy_lyapunov_check,
 )
-from .controllers.ctol import ClosedLoopCTOL, SteadyGlideController
+from .controllers.closed_loop import closed_loop
+from .controllers.ctol import SteadyGlideController
 from .controllers.ctol import closed_loop_eigenvalues as ctol_closed_loop_eigenvalues
-from .controllers.ctol_inversion import (
+from .controllers.ctol_approximate_linearization import (
     ApproximateLinearizationController,
-    BlowUp,
-    ExtendedCTOL,
-    FeedbackLinearizingController,
-    StableInversion,
-    ZeroDynamics,
     approximate_linearization_eigenvalues,
-    feedback_linearization_blowup,
-    stable_inversion,
     track_approximate_linearization,
-    track_stable_inversion,
-    zero_dynamics,
+)
+from .controllers.ctol_feedback_linearization import (
+    BlowUp,
+    FeedbackLinearizingController,
+    feedback_linearization_blowup,
 )
 from .controllers.ctol_runs import TrackingRun
+from .controllers.ctol_stable_inversion import StableInversion, stable_inversion, track_stable_inversion
 from .controllers.ctol_tracking import GlideTracking, ParetoStudy, pareto_front, track_with_steady_glides, tracking_grid
 from .controllers.ctol_trajectory import ClimbTrajectory, climb_trajectory
+from .controllers.ctol_zero_dynamics import ZeroDynamics, zero_dynamics
 from .controllers.elevator import (
     ElevatorBuoyancyController,
-    ElevatorBuoyancyGlider,
     ElevatorEquilibrium,
     ElevatorExample,
     elevator_equilibrium,
     elevator_example,
+    infer_J2,
 )
 from .controllers.elevator import closed_loop_eigenvalues as elevator_closed_loop_eigenvalues
 from .controllers.linear import (
@@ -72,24 +71,37 @@ from .controllers.linear import (
 )
 from .controllers.moving_mass import RealizedTorqueComparison, compare_realized_torque
 from .controllers.torque import (
-    TorqueControlledGlider,
     TorqueDesign,
     TorqueGainFamily,
     closed_loop_formulas,
     design_torque_control,
     torque_gain_family,
 )
-from .errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError, VehicleFileError
+from .errors import (
+    DesignError,
+    GlidectlError,
+    InfeasibleGlideError,
+    ModelError,
+    OutputError,
+    SolverError,
+    VehicleFileError,
+)
 from .models import phugoid_hamiltonian
-from .models.ctol import CTOLAircraft, CTOLReduced
+from .models.buoyancy_glider import BuoyancyGlider
+from .models.closed_loop import ClosedLoop
+from .models.ctol import CTOLAircraft, CTOLReduced, ExtendedCTOL
+from .models.ctol_closed_loop import ClosedLoopCTOL
+from .models.elevator_glider import ElevatorBuoyancyGlider
 from .models.glider3d import FixedMassGlider3D, Glider3D, R_to_ypr, quat_to_R, ypr_to_quat, ypr_to_R
 from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
 from .models.phugoid import C_STEADY, PhugoidClass, PhugoidModel, classify_C, initial_state_for_C, orbit_period
 from .models.reduced import ReducedLongitudinalGlider
+from .models.torque_glider import TorqueControlledGlider
 from .params import Vehicle, list_presets, load_vehicle
 from .roa import (
     PolySystem,
     ROACertificate,
+    ROAVerification,
     certify_roa,
     dVdt,
     lyapunov_matrix,
@@ -99,8 +111,8 @@ from .roa import (
     taylor_system,
 )
 from .sim import Ensemble, Simulation, simulate, simulate_many
-from .stability.composite import CompositeCertificate, Domain, composite_lyapunov
-from .stability.ctol_lyapunov import CTOLLyapunovCertificate, ctol_lyapunov
+from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
+from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov
 from .stability.singular_perturbation import NondimensionalModel, SingularPerturbation, SlowModel, singular_perturbation
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.ctol import CTOLGlide, ctol_glide
@@ -112,48 +124,56 @@ __version__ = "0.1.0"
 
 #: public names grouped by task (docs/api.md lists the same groups)
 API_GROUPS: dict[str, tuple[str, ...]] = {
-    "vehicles": ("Vehicle", "list_presets", "load_vehicle"),
+    "vehicles": (
+        "list_presets", "load_vehicle", "Vehicle",
+    ),
     "models": (
-        "AccelerationControlledGlider", "BuoyancyGlider", "CTOLAircraft", "CTOLReduced", "ElevatorBuoyancyGlider",
-        "ExtendedCTOL", "FixedMassGlider3D", "GlidePathModel", "Glider3D", "LongitudinalGlider", "NondimensionalModel",
-        "PhugoidClass", "PhugoidModel", "ReducedLongitudinalGlider", "TorqueControlledGlider", "C_STEADY",
-        "classify_C", "initial_state_for_C", "orbit_period", "phugoid_hamiltonian", "R_to_ypr", "quat_to_R",
-        "ypr_to_R", "ypr_to_quat", "benchmarks",
+        "AccelerationControlledGlider", "benchmarks", "BuoyancyGlider", "C_STEADY", "classify_C", "ClosedLoop",
+        "ClosedLoopCTOL", "CTOLAircraft", "CTOLReduced", "ElevatorBuoyancyGlider", "ExtendedCTOL",
+        "FixedMassGlider3D", "GlidePathModel", "Glider3D", "initial_state_for_C", "LongitudinalGlider",
+        "NondimensionalModel", "orbit_period", "phugoid_hamiltonian", "PhugoidClass", "PhugoidModel",
+        "quat_to_R", "R_to_ypr", "ReducedLongitudinalGlider", "TorqueControlledGlider", "ypr_to_quat",
+        "ypr_to_R",
     ),
     "trims": (
-        "BuoyancyEquilibrium", "CTOLGlide", "ElevatorEquilibrium", "Helix", "HelixDesign", "SteadyGlide",
-        "buoyancy_equilibrium", "classify_motion", "ctol_glide", "design_helix", "elevator_equilibrium",
-        "helix_trim", "permissible_gamma", "steady_glide",
+        "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
+        "design_helix", "elevator_equilibrium", "ElevatorEquilibrium", "Helix", "helix_trim", "HelixDesign",
+        "permissible_gamma", "steady_glide", "SteadyGlide",
     ),
     "linear analysis": (
-        "BreakPoint", "ExistenceScan", "HelixRbhLocus", "HelixSweep", "Modes", "ParameterLocus", "RankTest",
-        "controllability", "existence_scan", "glide_model", "helix_rbh_locus", "helix_sweep", "hessian", "jacobians",
-        "linearize_glide", "mbar_locus", "modes", "observability", "parameter_locus", "rbh_locus",
+        "BreakPoint", "controllability", "existence_scan", "ExistenceScan", "glide_model", "helix_rbh_locus",
+        "helix_sweep", "HelixRbhLocus", "HelixSweep", "hessian", "jacobians", "linearize_glide", "mbar_locus",
+        "Modes", "modes", "observability", "parameter_locus", "ParameterLocus", "RankTest", "rbh_locus",
         "resolved_crossing", "straight_glides", "uncontrolled_eigs",
     ),
     "controllers": (
-        "ApproximateLinearizationController", "BlowUp", "BuoyancyController", "ClimbTrajectory", "ClosedLoopCTOL",
-        "DecoupledAccelerationFeedback", "ElevatorBuoyancyController", "ElevatorExample",
-        "FeedbackLinearizingController", "GlideTracking", "LinearGlideController", "ParetoStudy",
-        "RealizedTorqueComparison", "StableInversion", "StateFeedback", "SteadyGlideController", "TorqueDesign",
-        "TorqueGainFamily", "TrackingRun", "ZeroDynamics", "approximate_linearization_eigenvalues",
-        "climb_trajectory", "closed_loop_formulas", "compare_realized_torque", "ctol_closed_loop_eigenvalues",
-        "decoupled_gain_matrix", "design_torque_control", "elevator_closed_loop_eigenvalues", "elevator_example",
-        "feedback_linearization_blowup", "lqr_glide", "lqr_state_feedback", "pareto_front", "place_glide",
-        "stable_inversion", "torque_gain_family", "track_approximate_linearization", "track_stable_inversion",
-        "track_with_steady_glides", "tracking_grid", "zero_dynamics",
+        "approximate_linearization_eigenvalues", "ApproximateLinearizationController", "BlowUp",
+        "BuoyancyController", "climb_trajectory", "ClimbTrajectory", "closed_loop", "closed_loop_formulas",
+        "compare_realized_torque", "ctol_closed_loop_eigenvalues", "decoupled_gain_matrix",
+        "DecoupledAccelerationFeedback", "design_torque_control", "elevator_closed_loop_eigenvalues",
+        "elevator_example", "ElevatorBuoyancyController", "ElevatorExample", "feedback_linearization_blowup",
+        "FeedbackLinearizingController", "GlideTracking", "infer_J2", "LinearGlideController", "lqr_glide",
+        "lqr_state_feedback", "pareto_front", "ParetoStudy", "place_glide", "RealizedTorqueComparison",
+        "stable_inversion", "StableInversion", "StateFeedback", "SteadyGlideController", "torque_gain_family",
+        "TorqueDesign", "TorqueGainFamily", "track_approximate_linearization", "track_stable_inversion",
+        "track_with_steady_glides", "tracking_grid", "TrackingRun", "zero_dynamics", "ZeroDynamics",
     ),
     "stability and certificates": (
-        "BuoyancyLyapunovCheck", "CTOLLyapunovCertificate", "CompositeCertificate", "Domain", "PolySystem",
-        "ROACertificate", "SingularPerturbation", "SlowModel", "UnequalMassCheck", "allowable_delta_m_ratio",
-        "buoyancy_lyapunov_check", "certify_roa", "composite_lyapunov", "ctol_lyapunov", "dVdt", "lyapunov_matrix",
-        "lyapunov_quadratic", "max_level", "recast", "singular_perturbation", "taylor_system", "unequal_mass_check",
+        "allowable_delta_m_ratio", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck", "certify_roa",
+        "composite_lyapunov", "CompositeCertificate", "CompositeVerification", "ctol_lyapunov",
+        "CTOLLyapunovCertificate", "CTOLVerification", "Domain", "dVdt", "lyapunov_matrix",
+        "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
+        "singular_perturbation", "SingularPerturbation", "SlowModel", "taylor_system", "unequal_mass_check",
+        "UnequalMassCheck",
     ),
     "simulation": (
-        "BatchComparison", "BatchResult", "ControllerRecord", "Ensemble", "Simulation", "compare_controllers",
-        "integrate_batch", "simulate", "simulate_many",
+        "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
+        "integrate_batch", "simulate", "simulate_many", "Simulation",
     ),
-    "errors": ("GlidectlError", "InfeasibleGlideError", "ModelError", "SolverError", "VehicleFileError"),
+    "errors": (
+        "DesignError", "GlidectlError", "InfeasibleGlideError", "ModelError", "OutputError", "SolverError",
+        "VehicleFileError",
+    ),
 }
 
 __all__ = [
@@ -172,11 +192,15 @@ __all__ = [
     "CTOLGlide",
     "CTOLLyapunovCertificate",
     "CTOLReduced",
+    "CTOLVerification",
     "ClimbTrajectory",
+    "ClosedLoop",
     "ClosedLoopCTOL",
     "CompositeCertificate",
+    "CompositeVerification",
     "ControllerRecord",
     "DecoupledAccelerationFeedback",
+    "DesignError",
     "Domain",
     "ElevatorBuoyancyController",
     "ElevatorBuoyancyGlider",
@@ -201,12 +225,14 @@ __all__ = [
     "ModelError",
     "Modes",
     "NondimensionalModel",
+    "OutputError",
     "ParameterLocus",
     "ParetoStudy",
     "PhugoidClass",
     "PhugoidModel",
     "PolySystem",
     "ROACertificate",
+    "ROAVerification",
     "R_to_ypr",
     "RankTest",
     "RealizedTorqueComparison",
@@ -236,6 +262,7 @@ __all__ = [
     "classify_C",
     "classify_motion",
     "climb_trajectory",
+    "closed_loop",
     "closed_loop_formulas",
     "compare_controllers",
     "compare_realized_torque",
@@ -258,6 +285,7 @@ __all__ = [
     "helix_sweep",
     "helix_trim",
     "hessian",
+    "infer_J2",
     "initial_state_for_C",
     "integrate_batch",
     "jacobians",

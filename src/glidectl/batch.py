@@ -116,8 +116,8 @@ class BatchResult:
         return self.finished & (np.linalg.norm(self.x_final - np.asarray(x_eq, dtype=float), axis=1) < tol)
 
     @property
-    def success(self) -> bool:
-        """True if every run reached ``t_final``."""
+    def all_finished(self) -> bool:
+        """True if every run reached ``t_final`` (not convergence: see :meth:`converged_to`)."""
         return bool(np.all(self.status == FINISHED))
 
     def summary(self) -> str:

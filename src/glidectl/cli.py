@@ -1,4 +1,9 @@
-"""The ``glidectl`` command: list presets and designs, build reports."""
+"""The ``glidectl`` command: list designs and vehicle presets, build design reports.
+
+``glidectl report NAME|PATH|all [--designs DIR] [--out DIR] [--quick]`` builds designs found in ``./designs`` (or
+``--designs DIR``), or any design file; ``glidectl list`` shows the designs found and the vehicle presets. Every
+error exits with status 2 and a one-line message; the output folder is checked before anything is computed.
+"""
 
 from __future__ import annotations
 
@@ -6,10 +11,13 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+from pathlib import Path
 
-from . import studies
 from .errors import GlidectlError
 from .params import list_presets, load_vehicle
+from .report.designs import check_writable, find_designs, load_design
+
+__all__ = ["main"]
 
 
 def _progress(prefix: str, t0: float):
@@ -23,35 +31,65 @@ def _progress(prefix: str, t0: float):
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
-    print("vehicle presets:")
+    print("vehicle presets (gc.load_vehicle(NAME)):")
     for name in list_presets():
         v = load_vehicle(name)
         print(f"  {name:<14} {v.kind:<18} {v.title}")
-    print("designs (glidectl report NAME):")
-    for name in sorted(studies.REGISTRY):
-        print(f"  {name:<20} {studies.get(name).TITLE}")
+    try:
+        found = find_designs(args.designs)
+    except GlidectlError as exc:
+        print(f"designs: none ({exc})")
+        return 0
+    print(f"designs in {args.designs}/ (glidectl report NAME):")
+    for name, path in found.items():
+        try:
+            title = load_design(path).title
+        except GlidectlError as exc:
+            title = f"(cannot load: {exc})"
+        print(f"  {name:<26} {title}")
     return 0
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    names = sorted(studies.REGISTRY) if args.name == "all" else [args.name]
-    for i, name in enumerate(names, 1):
-        mod = studies.get(name)
+    specs: list[str | Path] = list(find_designs(args.designs).values()) if args.name == "all" else [args.name]
+    designs = [load_design(s, args.designs) for s in specs]
+    for d in designs:  # every output folder is checked before anything is computed
+        check_writable(Path(args.out) / d.name)
+    for i, d in enumerate(designs, 1):
         t0 = time.perf_counter()
-        print(f"[{i}/{len(names)}] {name}: {mod.TITLE}", flush=True)
-        pdf = mod.build(args.out, _progress(name, t0))
-        print(f"[{i}/{len(names)}] {name}: done in {time.perf_counter() - t0:.1f} s -> {pdf}", flush=True)
+        print(f"[{i}/{len(designs)}] {d.name}: {d.title}" + (" (quick settings)" if args.quick else ""), flush=True)
+        pdf = d.build(args.out, _progress(d.name, t0), quick=args.quick)
+        print(f"[{i}/{len(designs)}] {d.name}: done in {time.perf_counter() - t0:.1f} s -> {pdf}", flush=True)
     return 0
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``glidectl`` command."""
+    """Entry point of the ``glidectl`` command.
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Command-line arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        Exit status: 0 on success, 2 on any glidectl error (a one-line message on stderr).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")  # the command builds files; it never opens windows
     parser = argparse.ArgumentParser(prog="glidectl", description="Control design for gliding vehicles.")
     sub = parser.add_subparsers(dest="cmd", required=True)
-    sub.add_parser("list", help="list vehicle presets and designs").set_defaults(func=_cmd_list)
-    rp = sub.add_parser("report", help="build a design report (PDF, PNGs, numbers.json)")
-    rp.add_argument("name", nargs="?", default="all", help="design name or 'all' (default)")
-    rp.add_argument("--out", default="reports", help="output folder (default: ./reports)")
+    lp = sub.add_parser("list", help="list vehicle presets and designs")
+    lp.add_argument("--designs", default="designs", help="folder of design files (default: ./designs)")
+    lp.set_defaults(func=_cmd_list)
+    rp = sub.add_parser("report", help="build design reports (PDF, PNGs, numbers.json)")
+    rp.add_argument("name", nargs="?", default="all",
+                    help="design name (looked up in --designs), path of a design file, or 'all' (default)")
+    rp.add_argument("--designs", default="designs", help="folder of design files (default: ./designs)")
+    rp.add_argument("--out", default="reports", help="output folder; a design writes OUT/NAME/ (default: ./reports)")
+    rp.add_argument("--quick", action="store_true", help="use each design's quick settings (smaller studies)")
     rp.set_defaults(func=_cmd_report)
     args = parser.parse_args(argv)
     try:

@@ -7,9 +7,11 @@ wrong and what would work instead. Nothing in glidectl returns ``None`` or NaN t
 from __future__ import annotations
 
 __all__ = [
+    "DesignError",
     "GlidectlError",
     "InfeasibleGlideError",
     "ModelError",
+    "OutputError",
     "SolverError",
     "VehicleFileError",
 ]
@@ -33,3 +35,11 @@ class ModelError(GlidectlError, ValueError):
 
 class SolverError(GlidectlError, RuntimeError):
     """A numerical solver (root finder, integrator, SDP) did not converge or returned an invalid result."""
+
+
+class DesignError(GlidectlError, ValueError):
+    """A design file cannot be found or loaded, or does not define ``TITLE`` and ``design(progress, quick)``."""
+
+
+class OutputError(GlidectlError, OSError):
+    """An output folder cannot be created or written (checked before any computation starts)."""

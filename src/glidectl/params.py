@@ -226,7 +226,18 @@ def _presets_dir() -> Any:
 
 
 def list_presets() -> list[str]:
-    """Names of the vehicle presets shipped with glidectl."""
+    """Names of the vehicle presets shipped with glidectl.
+
+    Returns
+    -------
+    list of str
+        Sorted preset names (the ``.toml`` files of ``glidectl/vehicles``), each accepted by :func:`load_vehicle`.
+
+    Raises
+    ------
+    OSError
+        If the package's ``vehicles`` folder cannot be listed (a broken installation).
+    """
     return sorted(p.name[:-5] for p in _presets_dir().iterdir() if p.name.endswith(".toml"))
 
 

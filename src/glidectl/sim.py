@@ -24,6 +24,16 @@ class Model(Protocol):
     def rhs(self, x: Any, u: Any) -> Any: ...
 
 
+def _model_provenance(model: Any) -> str:
+    """Provenance string of a model: its own ``provenance`` if it has one (a ``str``), else its vehicle's parameter
+    hash, else ``""``."""
+    prov = getattr(model, "provenance", None)
+    if isinstance(prov, str):
+        return prov
+    prov = getattr(getattr(model, "vehicle", None), "provenance", None)
+    return prov if isinstance(prov, str) else ""
+
+
 @dataclass(frozen=True)
 class Simulation:
     """A simulated trajectory.
@@ -39,10 +49,12 @@ class Simulation:
     method, rtol, atol : integrator settings
     nfev : int
         Right-hand-side evaluations.
-    model : str
-        Model class and vehicle, for provenance.
+    model_name : str
+        Model class and vehicle name, ``"Class(vehicle)"``.
     stopped_at : float or None
         Time (s) at which the ``stop`` condition of :func:`simulate` ended the run (None: ran to ``t_final``).
+    provenance : str
+        The simulated model's provenance: its vehicle's parameter hash (``""`` for a model without a vehicle).
     """
 
     t: np.ndarray
@@ -54,8 +66,9 @@ class Simulation:
     rtol: float
     atol: float
     nfev: int
-    model: str
+    model_name: str
     stopped_at: float | None = None
+    provenance: str = ""
 
     def state(self, name: str) -> np.ndarray:
         """Time history of one named state or input."""
@@ -65,11 +78,33 @@ class Simulation:
             return self.u[:, self.input_names.index(name)]
         raise GlidectlError(f"no state or input '{name}'; have {self.state_names + self.input_names}")
 
-    def plot(self, names: Sequence[str] | None = None, ax: Any = None) -> Any:
-        """Plot named states/inputs versus time (one axis each)."""
-        from .report.figures import plot_simulation
+    def plot(self, ax: Any = None, names: Sequence[str] | None = None, *,
+             scale: dict[str, tuple[float, str]] | None = None, **line: Any) -> Any:
+        """Draw named states and inputs versus time, one axes each, in the glidectl style.
 
-        return plot_simulation(self, names, ax=ax)
+        Parameters
+        ----------
+        ax : axes or array of axes, optional
+            One axes per name; default a new figure.
+        names : sequence of str, optional
+            States and inputs to draw; default every state. (The former order ``sim.plot(names, ax)``, names
+            first, still works.)
+        scale : dict, optional
+            ``scale[name] = (factor, unit)`` converts units for display, e.g. ``{"theta": (180 / pi, "deg")}``.
+        **line
+            Passed to :meth:`matplotlib.axes.Axes.plot`.
+
+        Returns
+        -------
+        ndarray of matplotlib.axes.Axes
+            See :func:`glidectl.plotting.plot_simulation`.
+        """
+        from .plotting import plot_simulation, style
+
+        if isinstance(ax, str) or (isinstance(ax, Sequence) and ax and all(isinstance(a, str) for a in ax)):
+            names, ax = ax, names  # sim.plot(["V", "gamma"], ax): the former order, names first
+        with style():
+            return plot_simulation(self, [names] if isinstance(names, str) else names, ax=ax, scale=scale, **line)
 
 
 def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float, Any], Any] | None = None, *,
@@ -83,21 +118,39 @@ def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float,
     model : Model
         A glidectl model (``rhs``, ``state_names``, ``input_names``).
     x0 : array_like, shape (n,)
+        Initial state, in the units of the model's states (e.g. :data:`glidectl.models.longitudinal.STATE_UNITS`).
     t_final : float
         Final time (s).
     controller : callable, optional
         ``(t, x) -> u``; zero input when omitted. If it has ``switch_times``, integration restarts there so that
         discontinuous set-point changes are resolved exactly.
     t_eval : array_like, optional
-        Output times; default 2001 evenly spaced points.
-    method, rtol, atol
-        Passed to :func:`scipy.integrate.solve_ivp` (LSODA switches automatically on stiff closed loops).
+        Output times (s); default 2001 evenly spaced points. Times outside ``[0, t_final]`` are dropped.
+    method : str
+        Integrator of :func:`scipy.integrate.solve_ivp`; default ``"LSODA"`` (switches automatically on stiff
+        closed loops).
+    rtol, atol : float
+        Relative (nondimensional) and absolute (state units) tolerances of the integrator.
     breakpoints : sequence of float
-        Extra restart times.
+        Extra restart times (s).
     stop : callable, optional
         ``(t, x) -> float``, continuous, positive while the run should go on; the run ends (recorded in
         ``Simulation.stopped_at``) where it falls through zero. Use it to end diverging runs early, e.g.
         ``lambda t, x: 5.0 - abs(z_prime(x))``.
+
+    Returns
+    -------
+    Simulation
+        Times (s), states and the inputs applied at the output times (model units), the integrator settings,
+        the number of right-hand-side evaluations and ``stopped_at`` (s, or None).
+
+    Raises
+    ------
+    GlidectlError
+        If ``x0`` does not have shape ``(n,)``, ``t_final`` is not a positive finite number, or the ``stop``
+        condition is already met at ``t = 0``.
+    SolverError
+        If :func:`~scipy.integrate.solve_ivp` fails or the states become non-finite.
     """
     x0 = np.asarray(x0, dtype=float)
     n, m = len(model.state_names), len(model.input_names)
@@ -147,7 +200,7 @@ def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float,
     U = np.array([np.asarray(ctrl(ti, xi), dtype=float) for ti, xi in zip(t, X, strict=True)]).reshape(len(t), m)
     vname = getattr(getattr(model, "vehicle", None), "name", "?")
     return Simulation(t, X, U, tuple(model.state_names), tuple(model.input_names), method, rtol, atol, nfev,
-                      f"{type(model).__name__}({vname})", stopped_at)
+                      f"{type(model).__name__}({vname})", stopped_at, _model_provenance(model))
 
 
 @dataclass(frozen=True)
@@ -161,7 +214,13 @@ class Ensemble:
     frozen : ndarray of bool, shape (N,)
         Trajectories stopped by the ``freeze`` condition (their ``x_final`` is where they were stopped).
     t_final : float
-    method, rtol, atol, nfev, model : integrator settings and provenance
+    method, rtol, atol, nfev : integrator settings
+    model_name : str
+        Model class and vehicle name, ``"Class(vehicle)"``.
+    state_names : tuple of str
+        Names of the state columns (empty for an ensemble built without them).
+    provenance : str
+        The simulated model's provenance: its vehicle's parameter hash (``""`` for a model without a vehicle).
     """
 
     x0: np.ndarray
@@ -172,7 +231,37 @@ class Ensemble:
     rtol: float
     atol: float
     nfev: int
-    model: str
+    model_name: str
+    state_names: tuple[str, ...] = ()
+    provenance: str = ""
+
+    def plot(self, ax: Any = None, *, dims: Sequence[Any] = (0, 1), x_e: Any = None, tol: float = 1e-3,
+             scale: Any = None) -> Any:
+        """Draw the initial states in the plane of two states, marked by outcome, in the glidectl style.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+        dims : two state names or indices
+            The plane (the other states are projected out).
+        x_e : array_like, optional
+            Equilibrium: with it, runs are marked converged (``max_i |x_final,i - x_e,i| / scale_i <= tol`` and not
+            frozen), not converged or frozen; without it, frozen or not.
+        tol : float
+            Convergence tolerance in scaled state units.
+        scale : array_like (n,), optional
+            Per-state scale of the convergence test (default ones).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            See :func:`glidectl.plotting.plot_ensemble`.
+        """
+        from .plotting import plot_ensemble, style
+
+        with style():
+            return plot_ensemble(self, ax, dims=dims, x_e=x_e, tol=tol, scale=scale)
 
 
 def simulate_many(model: Model, X0: Any, t_final: float, *, method: str = "RK45", rtol: float = 1e-6,
@@ -188,10 +277,30 @@ def simulate_many(model: Model, X0: Any, t_final: float, *, method: str = "RK45"
     model : Model
         Model with ``input_names == ()``; ``rhs`` must accept a batch of states, shape (N, n).
     X0 : array_like, shape (N, n)
+        Initial states, one per row, in the units of the model's states.
     t_final : float
         Final time (s).
+    method : str
+        Integrator of :func:`scipy.integrate.solve_ivp`; default ``"RK45"``.
+    rtol, atol : float
+        Relative (nondimensional) and absolute (state units) tolerances, applied to the stacked state.
     freeze : callable, optional
-        ``x (N, n) -> bool (N,)``.
+        ``x (N, n) -> bool (N,)``. Evaluated at every right-hand-side call (including the integrator's trial
+        stages), and a trajectory once frozen stays frozen.
+
+    Returns
+    -------
+    Ensemble
+        Initial and final states (model units), the frozen mask, ``t_final`` (s), the integrator settings and the
+        number of right-hand-side evaluations.
+
+    Raises
+    ------
+    GlidectlError
+        If ``X0`` is not of shape ``(N, n)``, the model has inputs, or ``t_final`` is not a positive finite
+        number.
+    SolverError
+        If :func:`~scipy.integrate.solve_ivp` fails.
     """
     X0 = np.asarray(X0, dtype=float)
     n = len(model.state_names)
@@ -219,4 +328,4 @@ def simulate_many(model: Model, X0: Any, t_final: float, *, method: str = "RK45"
     XF = sol.y[:, -1].reshape(N, n)
     vname = getattr(getattr(model, "vehicle", None), "name", "?")
     return Ensemble(X0, XF, frozen.copy(), float(t_final), method, rtol, atol, sol.nfev,
-                    f"{type(model).__name__}({vname})")
+                    f"{type(model).__name__}({vname})", tuple(model.state_names), _model_provenance(model))

@@ -74,6 +74,14 @@ def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any 
         Weights (default identity); a 1-D array is a diagonal.
     u_min, u_max : sequence of float, optional
         Input saturation applied by the controller.
+    name : str
+        Label of the controller (for comparisons and reports).
+
+    Returns
+    -------
+    StateFeedback
+        The saturated law ``u = sat(u_e - K (x - x_e))`` (gain in input units per state unit), the closed-loop
+        poles of the unsaturated linearization (1/s) and the weights used.
 
     Raises
     ------
@@ -132,8 +140,9 @@ class ControllerRecord:
         """Fraction of the initial conditions that converge (the simulated region of attraction in the box)."""
         return float(np.mean(self.converged))
 
-    def summary(self, common: np.ndarray | None = None) -> dict[str, Any]:
-        """Medians over the converged runs (or over ``common``, a mask of runs all controllers converged from)."""
+    def as_dict(self, common: np.ndarray | None = None) -> dict[str, Any]:
+        """Medians over the converged runs (or over ``common``, a mask of runs all controllers converged from), as a
+        plain dict for tables and JSON."""
         sel = self.converged if common is None else common
         if not np.any(sel):
             return {"name": self.name, "fraction": self.fraction, "n": 0}
@@ -143,10 +152,40 @@ class ControllerRecord:
                 "median_integrated_u": np.median(self.integrated_u[sel], axis=0).tolist(),
                 "median_settling_time": float(np.median(self.settling_time[sel]))}
 
+    def summary(self, common: np.ndarray | None = None) -> str:
+        """One line of text: the converged fraction and the medians of :meth:`as_dict`."""
+        d = self.as_dict(common)
+        text = f"{self.name}: {100 * d['fraction']:.1f}% of the runs converge"
+        if d["n"]:
+            peak = ", ".join(f"{v:.3g}" for v in d["median_peak_u"])
+            text += (f"; over {d['n']} runs median peak |u - u_e| ({peak}), median settling time "
+                     f"{d['median_settling_time']:.3g} s")
+        return text
+
 
 @dataclass(frozen=True)
 class BatchComparison:
-    """Controllers compared from the same initial conditions (see :func:`compare_controllers`)."""
+    """Controllers compared from the same initial conditions (see :func:`compare_controllers`).
+
+    Attributes
+    ----------
+    x0 : ndarray, shape (N, n)
+        Initial states (model units).
+    x_e : ndarray, shape (n,)
+        The equilibrium regulated to (model units).
+    scale : ndarray, shape (n,)
+        Per-state scale of the error norm (model units).
+    t_final : float
+        Horizon (s).
+    tol, settle : float
+        Convergence and settling thresholds on the scaled error (nondimensional).
+    records : Mapping[str, ControllerRecord]
+        Metrics of each controller, by name.
+    common : ndarray of bool, shape (N,)
+        Runs from which every controller converged.
+    state_names : tuple of str
+        The model's state names (columns of ``x0``; empty for a comparison built without them).
+    """
 
     x0: np.ndarray = field(repr=False)
     x_e: np.ndarray = field(repr=False)
@@ -155,11 +194,33 @@ class BatchComparison:
     tol: float
     settle: float
     records: Mapping[str, ControllerRecord] = field(repr=False)
+    state_names: tuple[str, ...] = ()
 
     @property
     def common(self) -> np.ndarray:
         """Runs from which every controller converged (effort comparisons use these)."""
         return np.logical_and.reduce([r.converged for r in self.records.values()])
+
+    def plot(self, ax: Any = None, *, dims: Sequence[Any] = (0, 1)) -> Any:
+        """Draw the initial states in the plane of two states, marked by outcome for each controller (the
+        simulated regions of attraction), in the glidectl style.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+        dims : two state names or indices
+            The plane (the initial box is projected on it).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            See :func:`glidectl.plotting.plot_batch_comparison`.
+        """
+        from ..plotting import plot_batch_comparison, style
+
+        with style():
+            return plot_batch_comparison(self, ax, dims=dims)
 
 
 def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, Any], Any]], x0: Any, x_e: Any,
@@ -184,9 +245,31 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         Per-state scale of the error norm (default ones).
     tol, settle : float
         Convergence (at ``t_final``) and settling thresholds on ``max_i |x_i - x_e,i| / scale_i``.
+    n_out : int
+        Number of evenly spaced output times on which peaks and settling are evaluated.
+    method : str
+        Integrator of :func:`scipy.integrate.solve_ivp`; default ``"BDF"`` (with the block-diagonal Jacobian
+        sparsity of the independent runs for ``"BDF"`` and ``"Radau"``).
+    rtol, atol : float
+        Integrator tolerances (relative, nondimensional; absolute, in state and integrated-input units).
     diverged : callable, optional
         ``X (N, n) -> bool (N,)``: runs that leave the model's domain (e.g. speed near zero) are frozen there and
         count as not converged.
+
+    Returns
+    -------
+    BatchComparison
+        One :class:`ControllerRecord` per controller (convergence mask, peak and integrated input deviation in
+        input units and input units x s, settling times in s), with the settings used.
+
+    Raises
+    ------
+    ModelError
+        If ``t_final`` is not a positive finite number.
+    SolverError
+        If the batch integration of a controller fails.
+    ValueError
+        If ``x0`` is not two-dimensional, or the controller's output cannot be reshaped to ``(N, m)``.
     """
     X0 = np.asarray(x0, dtype=float)
     x_e, u_e = np.asarray(x_e, dtype=float), np.asarray(u_e, dtype=float)
@@ -233,4 +316,4 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         ts = np.where(last + 1 < sol.t.size, sol.t[np.minimum(last + 1, sol.t.size - 1)], np.inf)
         ts[~conv] = np.inf
         records[name] = ControllerRecord(name, conv, peak, Y[:, n:, -1], ts)
-    return BatchComparison(X0, x_e, sc, float(t_final), tol, settle, records)
+    return BatchComparison(X0, x_e, sc, float(t_final), tol, settle, records, tuple(model.state_names))

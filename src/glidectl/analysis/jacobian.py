@@ -24,12 +24,24 @@ def jacobians(f: Callable[[Any, Any], Any], x: Any, u: Any) -> tuple[np.ndarray,
     f : callable
         ``f(x, u) -> xdot``, batch-capable over leading dimensions and analytic (complex-safe).
     x : array_like, shape (n,)
+        State at which to differentiate (units of the model's states).
     u : array_like, shape (m,)
+        Input at which to differentiate (units of the model's inputs; ``m = 0`` for input-free models).
 
     Returns
     -------
     A : ndarray, shape (n, n)
+        ``df/dx`` (units of ``xdot`` per unit of ``x``; 1/s for states and rates in consistent units).
     B : ndarray, shape (n, m)
+        ``df/du`` (units of ``xdot`` per unit of ``u``).
+
+    Raises
+    ------
+    ValueError
+        If ``x`` or ``u`` is not one-dimensional (the perturbation batch cannot be formed) or is not numeric.
+    Exception
+        Whatever ``f`` raises on the complex batch; a ``f`` that is not complex-safe may instead return a wrong
+        (zero) derivative, which is not detected.
     """
     x = np.asarray(x, dtype=float)
     u = np.asarray(u, dtype=float)
@@ -63,7 +75,28 @@ def central_difference_jacobians(f: Callable[[Any, Any], Any], x: Any, u: Any,
 
 def hessian(fun: Callable[[Any], Any], x: Any, h: float = 1e-5) -> np.ndarray:
     """Hessian of a scalar, batch-capable, complex-safe ``fun`` at ``x``: central differences (step ``h``) of the
-    exact complex-step gradient, so the error is ``O(h^2)`` with no ``eps/h^2`` cancellation."""
+    exact complex-step gradient, so the error is ``O(h^2)`` with no ``eps/h^2`` cancellation.
+
+    Parameters
+    ----------
+    fun : callable
+        ``fun(X) -> values``: a scalar function evaluated on a batch ``X`` of shape ``(n, n)`` (one point per row),
+        returning shape ``(n,)``; must be analytic (complex-safe).
+    x : array_like, shape (n,)
+        Point at which the Hessian is taken (units of ``fun``'s argument).
+    h : float
+        Central-difference step of the gradient (same units as ``x``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
+        The symmetrized Hessian ``d^2 fun / dx_i dx_j`` (units of ``fun`` per unit of ``x_i x_j``).
+
+    Raises
+    ------
+    ValueError
+        If ``x`` is not one-dimensional or ``fun`` does not return one value per row of the batch.
+    """
     x = np.asarray(x, dtype=float)
     n = x.size
 

@@ -31,7 +31,35 @@ InputKind = Literal["force", "acceleration"]
 
 
 def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -> tuple[GlidePathModel, np.ndarray]:
-    """The glide-path model (z' instead of x, z) for ``inputs`` and its equilibrium state (z' = 0)."""
+    """The glide-path model (z' instead of x, z) for ``inputs`` and its equilibrium state (z' = 0).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The underwater glider the glide was trimmed for (moving mass ``mbar > 0``).
+    glide : SteadyGlide
+        From :func:`~glidectl.trim.glide.steady_glide`; its flight-path angle (rad) defines the path of (2.30).
+    inputs : {"force", "acceleration"}
+        ``"force"``: :class:`~glidectl.models.longitudinal.LongitudinalGlider` base, inputs ``(u1, u3, u4)`` (N, N,
+        kg/s). ``"acceleration"``: :class:`~glidectl.models.longitudinal.AccelerationControlledGlider` base, inputs
+        ``(w1, w3, w4)`` (m/s^2, m/s^2, kg/s).
+
+    Returns
+    -------
+    model : GlidePathModel
+        The glide-path model (10 states, first ``z_prime`` in m).
+    xe : numpy.ndarray, shape (10,)
+        Its equilibrium state on the glide (``z_prime = 0``; other states in the units of
+        :data:`glidectl.models.longitudinal.STATE_UNITS`).
+
+    Raises
+    ------
+    GlidectlError
+        If ``inputs`` is neither ``"force"`` nor ``"acceleration"``, or ``glide`` was trimmed for another vehicle
+        (different provenance).
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0`` (checked first, by the model).
+    """
     if inputs == "force":
         base: LongitudinalGlider | AccelerationControlledGlider = LongitudinalGlider(veh)
         xe = glide.force_state()
@@ -41,7 +69,7 @@ def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -
     else:
         raise GlidectlError(f"inputs must be 'force' (u1, u3, u4) or 'acceleration' (w1, w3, w4), got {inputs!r}")
     if glide.provenance != veh.provenance:
-        raise GlidectlError(f"glide was trimmed for vehicle '{glide.vehicle}' ({glide.provenance}), "
+        raise GlidectlError(f"glide was trimmed for vehicle '{glide.vehicle.name}' ({glide.provenance}), "
                             f"not for '{veh.name}' ({veh.provenance})")
     model = GlidePathModel(base, glide.gamma)
     return model, np.concatenate([[0.0], xe[2:]])
@@ -66,6 +94,14 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
     control.StateSpace
         ``A, B`` exact (complex step); ``C = I``, ``D = 0``; states/inputs/outputs named; units in
         :data:`glidectl.models.longitudinal.STATE_UNITS`.
+
+    Raises
+    ------
+    GlidectlError
+        If ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``glide`` was trimmed for another vehicle (from
+        :func:`glide_model`).
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0`` (from :func:`glide_model`).
     """
     model, xe = glide_model(veh, glide, inputs)
     A, B = jacobians(model.rhs, xe, np.zeros(3))
@@ -112,7 +148,25 @@ class Modes:
 
 
 def modes(sys: control.StateSpace) -> Modes:
-    """Eigenvalues, eigenvectors, natural frequencies, damping ratios and dominant states of ``sys``."""
+    """Eigenvalues, eigenvectors, natural frequencies, damping ratios and dominant states of ``sys``.
+
+    Parameters
+    ----------
+    sys : control.StateSpace
+        Linear model with named states (time in s), e.g. from :func:`linearize_glide`.
+
+    Returns
+    -------
+    Modes
+        Eigenvalues (1/s) sorted by decreasing real part, unit-norm eigenvectors, natural frequencies (rad/s),
+        damping ratios (nondimensional; NaN for a zero eigenvalue), time constants (s; inf for ``Re = 0``) and
+        the dominant state of each mode.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        If the eigenvalue computation does not converge (or ``sys.A`` is not square).
+    """
     lam, vec = np.linalg.eig(np.asarray(sys.A))
     order = np.lexsort((-lam.imag, -lam.real))
     lam, vec = lam[order], vec[:, order]
@@ -222,7 +276,18 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
         Rank tolerance for the Kalman matrix ``ctrb(A, B)`` computed by python-control on state-scaled
         ``(A, B)``; default ``1e3 * max(shape) * eps * sigma_max``.
     pbh_tol : float
-        Threshold on the relative PBH singular value.
+        Threshold on the relative PBH singular value (nondimensional).
+
+    Returns
+    -------
+    RankTest
+        Kalman rank (with the tolerance and singular values behind it), the relative PBH margin at every eigenvalue
+        of the (scaled) ``A`` and the modes failing it, and the inputs used.
+
+    Raises
+    ------
+    GlidectlError
+        If ``inputs`` or ``states`` names an input or state ``sys`` does not have, or selects none.
     """
     A, B = np.asarray(sys.A), np.asarray(sys.B)
     si = _index(sys, sys.state_labels if states is None else states, sys.state_labels, "state")
@@ -241,7 +306,30 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
 
 def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | None = None,
                   pbh_tol: float = 1e-8) -> RankTest:
-    """Observability of ``sys`` when only the named states are measured (``y = C x`` with those rows of I)."""
+    """Observability of ``sys`` when only the named states are measured (``y = C x`` with those rows of I).
+
+    Parameters
+    ----------
+    sys : control.StateSpace
+        Linear model with named states.
+    outputs : sequence of str
+        Names of the measured states.
+    tol : float, optional
+        Rank tolerance of the (scaled) Kalman observability matrix; default as in :func:`controllability`.
+    pbh_tol : float
+        Threshold on the relative PBH singular value (nondimensional).
+
+    Returns
+    -------
+    RankTest
+        ``kind = "observability"``; ``uncontrollable_modes`` holds the unobservable modes (eigenvalues, 1/s) and
+        ``channels`` the measured states. Computed as the controllability of the dual ``(A^T, C^T)``.
+
+    Raises
+    ------
+    GlidectlError
+        If ``outputs`` is empty or names a state ``sys`` does not have.
+    """
     A = np.asarray(sys.A)
     oi = _index(sys, outputs, sys.state_labels, "output state")
     C = np.eye(A.shape[0])[oi]

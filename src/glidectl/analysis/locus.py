@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -23,7 +23,8 @@ from ..params import Vehicle
 from ..trim.glide import steady_glide
 from .jacobian import jacobians
 
-__all__ = ["BreakPoint", "ParameterLocus", "mbar_locus", "parameter_locus", "rbh_locus", "uncontrolled_eigs"]
+__all__ = ["BreakPoint", "ParameterLocus", "eta_r_eigenvalues", "mbar_locus", "parameter_locus", "rbh_locus",
+           "uncontrolled_eigs"]
 
 ETA_R = ("theta", "Omega2", "v1", "v3")
 
@@ -31,7 +32,19 @@ ETA_R = ("theta", "Omega2", "v1", "v3")
 @dataclass(frozen=True)
 class BreakPoint:
     """A point where two real eigenvalues meet (``break-away``: they leave the real axis as the parameter
-    increases) or a complex pair lands on the real axis (``break-in``)."""
+    increases) or a complex pair lands on the real axis (``break-in``).
+
+    Attributes
+    ----------
+    kind : str
+        ``"break-away"`` or ``"break-in"``.
+    parameter : float
+        Parameter value of the transition (unit of the locus parameter, e.g. m for ``r_bh``, kg for ``mbar``),
+        located by bisection to about 1e-13 relative.
+    eigenvalue : float
+        Real eigenvalue where the pair meets (1/s), estimated as the midpoint of the two closest real eigenvalues
+        at the transition; NaN if fewer than two are real there.
+    """
 
     kind: str
     parameter: float
@@ -55,7 +68,11 @@ class ParameterLocus:
     max_step_jump : float
         Largest eigenvalue movement between consecutive grid points after matching (a continuity diagnostic).
     context : dict
-        What the matrix is (vehicle, glide, block) for provenance.
+        What the matrix is (vehicle name, glide, block, settings).
+    vehicle : Vehicle or None
+        The vehicle the matrix belongs to (``None`` for a locus of a plain matrix function).
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`; ``""`` without a vehicle).
     """
 
     parameter: str
@@ -66,16 +83,37 @@ class ParameterLocus:
     breakpoints: tuple[BreakPoint, ...]
     max_step_jump: float
     context: dict[str, Any]
+    vehicle: Vehicle | None = field(default=None, repr=False, compare=False)
+    provenance: str = ""
 
     def stable_at(self, i: int) -> bool:
         """True when every branch has negative real part at grid index i."""
         return bool(np.all(self.branches[i].real < 0))
 
-    def plot(self, ax: Any = None, **kw: Any) -> Any:
-        """Root-locus plot in the complex plane, coloured by the parameter; crossings and break points marked."""
-        from ..report.figures import plot_locus
+    def plot(self, ax: Any = None, *, kind: str = "complex", **kw: Any) -> Any:
+        """Draw the locus in the glidectl style (:func:`glidectl.plotting.style`).
 
-        return plot_locus(self, ax=ax, **kw)
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+        kind : {"complex", "real"}
+            ``"complex"``: root locus in the complex plane, coloured by the parameter, crossings and break points
+            marked (:func:`glidectl.plotting.plot_locus`); ``"real"``: real parts of the branches versus the
+            parameter (:func:`glidectl.plotting.plot_locus_real`).
+        **kw
+            Passed to :func:`~glidectl.plotting.plot_locus` (``zoom``) for ``kind="complex"``.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        from ..plotting import plot_locus, plot_locus_real, style
+
+        if kind not in ("complex", "real"):
+            raise GlidectlError(f"kind must be 'complex' or 'real', got {kind!r}")
+        with style():
+            return plot_locus(self, ax=ax, **kw) if kind == "complex" else plot_locus_real(self, ax=ax, **kw)
 
 
 def _match(prev: np.ndarray, new: np.ndarray) -> np.ndarray:
@@ -89,7 +127,8 @@ def _n_real(lam: np.ndarray) -> int:
 
 
 def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[float], parameter: str,
-                    unit: str, context: dict[str, Any] | None = None) -> ParameterLocus:
+                    unit: str, context: dict[str, Any] | None = None, *,
+                    vehicle: Vehicle | None = None) -> ParameterLocus:
     """Eigenvalue locus of ``eig_fn(p)`` over ``values`` with branch matching, crossings and break points.
 
     Parameters
@@ -100,6 +139,25 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
         Increasing parameter grid.
     parameter, unit : str
         Name and unit of p, for plots and reports.
+    context : dict, optional
+        What the matrix is (vehicle, glide, block), stored as :attr:`ParameterLocus.context`.
+    vehicle : Vehicle, optional
+        The vehicle the matrix belongs to; the locus keeps it and its parameter hash as ``provenance``.
+
+    Returns
+    -------
+    ParameterLocus
+        Matched eigenvalue branches (units of ``eig_fn``'s eigenvalues, 1/s for glidectl models), the stability
+        crossings and break points (in the unit ``unit`` of the parameter), and the largest eigenvalue jump between
+        consecutive grid points after matching.
+
+    Raises
+    ------
+    GlidectlError
+        If ``values`` is not a strictly increasing one-dimensional grid of at least 2 points.
+    SolverError
+        If the number of eigenvalues changes along the grid, or Brent's method fails on a sign change of
+        ``max Re(lambda)``.
     """
     vals = np.asarray(values, dtype=float)
     if vals.ndim != 1 or vals.size < 2 or np.any(np.diff(vals) <= 0):
@@ -151,10 +209,31 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
         re = np.sort(cand[cand.imag == 0].real)
         loc = float(re[np.argmin(np.diff(re))] + np.min(np.diff(re)) / 2) if re.size >= 2 else float("nan")
         bps.append(BreakPoint(kind, float(0.5 * (a + b)), loc))
-    return ParameterLocus(parameter, unit, vals, branches, tuple(crossings), tuple(bps), jump, dict(context or {}))
+    return ParameterLocus(parameter, unit, vals, branches, tuple(crossings), tuple(bps), jump, dict(context or {}),
+                          vehicle, "" if vehicle is None else vehicle.provenance)
 
 
-def _eta_r_eigs(veh: Vehicle, speed: float, gamma: float, **family: float) -> np.ndarray:
+def eta_r_eigenvalues(veh: Vehicle, speed: float, gamma: float, **family: float) -> np.ndarray:
+    """Eigenvalues (1/s) of the ``eta_r = (theta, Omega2, v1, v3)`` block ``dq_r/deta_r`` of (2.35) at a steady
+    glide of the acceleration-controlled glider.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with a moving mass (``mbar > 0``).
+    speed : float
+        Glide speed (m/s).
+    gamma : float
+        Flight-path angle (rad).
+    **family : float
+        The member of the family of mass positions, ``r_p3=`` or ``r_bh=`` (m), as in
+        :func:`glidectl.trim.glide.steady_glide`.
+
+    Returns
+    -------
+    ndarray, shape (4,)
+        Eigenvalues of the 4x4 block of the exact (complex-step) Jacobian (unsorted).
+    """
     acc = AccelerationControlledGlider(veh)
     g = steady_glide(veh, speed, gamma, **family)
     A, _ = jacobians(acc.rhs, g.accel_state(), np.zeros(3))
@@ -168,10 +247,37 @@ def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[flo
     At each ``r_bh`` the steady glide (speed in m/s, gamma in rad) is re-solved (the speed, gamma, alpha and m0 do
     not change; r_P does) and the 4x4 block for ``eta_r = (theta, Omega2, v1, v3)`` of the exact Jacobian is taken.
     Its eigenvalues decide stability of the closed loop (2.35)-(2.37) for any Hurwitz A + BK (block triangular).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with a moving mass (``mbar > 0``).
+    speed : float
+        Glide speed (m/s).
+    gamma : float
+        Flight-path angle (rad), in the permissible set (2.26).
+    rbh_values : sequence of float
+        Strictly increasing grid of bottom-heaviness values ``r_bh`` (m), at least 2 points.
+
+    Returns
+    -------
+    ParameterLocus
+        The four eigenvalue branches (1/s) versus ``r_bh`` (m), stability crossings and break points.
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+    InfeasibleGlideError
+        If no steady glide exists at ``speed`` and ``gamma`` (:func:`glidectl.trim.glide.steady_glide`).
+    SolverError
+        If a steady glide's residual check fails, or as in :func:`parameter_locus`.
+    GlidectlError
+        If ``rbh_values`` is not a strictly increasing grid of at least 2 points.
     """
-    return parameter_locus(lambda r: _eta_r_eigs(veh, speed, gamma, r_bh=r), rbh_values, "r_bh", "m",
+    return parameter_locus(lambda r: eta_r_eigenvalues(veh, speed, gamma, r_bh=r), rbh_values, "r_bh", "m",
                            {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
-                            "matrix": "dq_r/deta_r of (2.35), acceleration control"})
+                            "matrix": "dq_r/deta_r of (2.35), acceleration control"}, vehicle=veh)
 
 
 UNCONTROLLED_BLOCK = ("theta", "Omega2", "v1", "v3", "r_P1", "r_P3")
@@ -183,6 +289,33 @@ def uncontrolled_eigs(veh: Vehicle, speed: float, gamma: float, **family: float)
     With ``u = 0`` the rows of ``P_P1, P_P3, m0`` (and the column of z') vanish, so the spectrum is four exact zeros
     plus that of the block :data:`UNCONTROLLED_BLOCK`, which itself has one zero eigenvalue (moving ``r_P`` along
     gravity at fixed momentum keeps an equilibrium). That structural zero (smallest magnitude) is removed.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with a moving mass (``mbar > 0``).
+    speed : float
+        Glide speed (m/s).
+    gamma : float
+        Flight-path angle (rad), in the permissible set (2.26).
+    **family : float
+        The member of the family of mass positions, ``r_p3=`` or ``r_bh=`` (m), as in
+        :func:`glidectl.trim.glide.steady_glide`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (5,)
+        Eigenvalues (1/s) of the :data:`UNCONTROLLED_BLOCK` of the exact Jacobian with the structural zero removed
+        (unsorted).
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+    InfeasibleGlideError
+        If no steady glide exists at ``speed`` and ``gamma``, or not exactly one of ``r_p3``, ``r_bh`` is given.
+    SolverError
+        If the steady glide's residual check fails.
     """
     model = LongitudinalGlider(veh)
     g = steady_glide(veh, speed, gamma, **family)
@@ -197,8 +330,39 @@ def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[f
     """Nonzero eigenvalues of the uncontrolled glider versus the moving mass mbar (kg) (§2.3.1, 0.257 kg).
 
     The glide is re-trimmed at each mbar holding ``r_p3`` (or ``r_bh``) given in ``family`` fixed.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider; its ``mbar`` is overridden at each grid point.
+    speed : float
+        Glide speed (m/s).
+    gamma : float
+        Flight-path angle (rad), in the permissible set (2.26).
+    mbar_values : sequence of float
+        Strictly increasing grid of moving masses (kg), at least 2 points, all ``> 0``.
+    **family : float
+        ``r_p3=`` or ``r_bh=`` (m), held fixed along the locus.
+
+    Returns
+    -------
+    ParameterLocus
+        The five nonzero eigenvalue branches (1/s) of :func:`uncontrolled_eigs` versus ``mbar`` (kg).
+
+    Raises
+    ------
+    VehicleFileError
+        If a grid value is not a valid ``mbar`` override (negative or non-finite).
+    ModelError
+        If ``veh`` is not an underwater glider, or a grid value is ``mbar = 0``.
+    InfeasibleGlideError
+        If no steady glide exists at ``speed`` and ``gamma``, or not exactly one of ``r_p3``, ``r_bh`` is given.
+    SolverError
+        If a steady glide's residual check fails, or as in :func:`parameter_locus`.
+    GlidectlError
+        If ``mbar_values`` is not a strictly increasing grid of at least 2 points.
     """
     return parameter_locus(lambda mb: uncontrolled_eigs(veh.with_overrides(mbar=mb), speed, gamma, **family),
                            mbar_values, "mbar", "kg",
                            {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
-                            "matrix": "uncontrolled force model, u = 0", **family})
+                            "matrix": "uncontrolled force model, u = 0", **family}, vehicle=veh)

@@ -3,17 +3,9 @@ range saturation, the proportional law (6.9), and a sampled check of the Lyapuno
 
 Model
 -----
-:class:`BuoyancyGlider` has the dimensional state ``(V, gamma, alpha, Omega2, m0)`` (m/s, rad, rad, rad/s, kg) and
-the input ``u1 = dm0/dt`` (kg/s). Its right-hand side is :meth:`glidectl.models.reduced.ReducedLongitudinalGlider.rhs`
-evaluated with the vehicle's ``m0`` replaced by the state's ``m0`` (so for the ``added`` mass model ``m1 = m3 = m +
-m0`` follows the buoyancy, as in §6.3), plus the buoyancy engine ``m0' = pump(m0, u1)``:
-
-* rate limit ``|m0'| <= u4_max`` (vehicle parameter, kg/s; the saturation of ``u4`` of (2.8), §2.2 assumption 2);
-* range ``|m0| <= m0_max`` (vehicle parameter, kg): at a bound the pump cannot push further out.
-
-A limit the vehicle does not define is not applied. :func:`loaded_rates` adds an external body-3 force and pitch
-moment to the same right-hand side (the elevator of §6.3, :mod:`glidectl.controllers.elevator`), so there is still
-one vector field.
+The plant is :class:`glidectl.models.buoyancy_glider.BuoyancyGlider`: state ``(V, gamma, alpha, Omega2, m0)`` (m/s,
+rad, rad, rad/s, kg), input ``u1 = dm0/dt`` (kg/s), with the pump's rate limit ``u4_max`` and range ``m0_max``
+(:class:`~glidectl.models.buoyancy_glider.ActuatorLimits`).
 
 Law (6.8)-(6.9)
 ---------------
@@ -47,158 +39,21 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from ..errors import GlidectlError, InfeasibleGlideError
+from ..models.buoyancy_glider import BuoyancyGlider, actuator_limits, loaded_rates
 from ..models.reduced import ReducedLongitudinalGlider
 from ..params import Vehicle
 from ..stability.composite import CompositeCertificate, composite_lyapunov
 from ..stability.singular_perturbation import SingularPerturbation, singular_perturbation
 
 __all__ = [
-    "BUOYANCY_STATES",
-    "BUOYANCY_UNITS",
-    "ActuatorLimits",
     "BuoyancyController",
     "BuoyancyEquilibrium",
-    "BuoyancyGlider",
     "BuoyancyLyapunovCheck",
-    "actuator_limits",
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
-    "loaded_rates",
     "nu_b_derivative",
 ]
-
-BUOYANCY_STATES = ("V", "gamma", "alpha", "Omega2", "m0")
-BUOYANCY_UNITS = {"V": "m/s", "gamma": "rad", "alpha": "rad", "Omega2": "rad/s", "m0": "kg", "u1": "kg/s",
-                  "u2": "rad"}
-
-_M0_TINY = 1e-12  # kg: ReducedLongitudinalGlider refuses m0 = 0 exactly (chapter-5 assumption 2)
-
-
-# ------------------------------------------------------------------------------------------------ actuators
-@dataclass(frozen=True)
-class ActuatorLimits:
-    """Actuator limits of a vehicle (``inf`` where the vehicle file defines none).
-
-    Attributes
-    ----------
-    u4_max : float
-        Buoyancy pump rate limit ``|dm0/dt| <= u4_max`` (kg/s).
-    m0_max : float
-        Buoyancy range ``|m0| <= m0_max`` (kg).
-    u2_max : float
-        Elevator saturation ``|u2| <= u2_max`` (rad, control angle of attack of §6.3).
-    """
-
-    u4_max: float = math.inf
-    m0_max: float = math.inf
-    u2_max: float = math.inf
-
-    def pump(self, m0: Any, u1: Any) -> Any:
-        """Rate ``dm0/dt`` (kg/s) the pump delivers for the command ``u1`` (kg/s) at buoyancy ``m0`` (kg).
-
-        ``clip(u1, -u4_max, u4_max)``, and 0 where ``m0`` is at (or beyond) a range bound and the command
-        pushes outward.
-        """
-        m0 = np.real(np.asarray(m0))
-        rate = _saturate(u1, self.u4_max)
-        re = np.real(rate)
-        blocked = ((m0 >= self.m0_max) & (re > 0)) | ((m0 <= -self.m0_max) & (re < 0))
-        return np.where(blocked, 0.0, rate)
-
-    def elevator(self, u2: Any) -> Any:
-        """Saturated elevator input ``clip(u2, -u2_max, u2_max)`` (rad)."""
-        return _saturate(u2, self.u2_max)
-
-
-def _saturate(u: Any, bound: float) -> Any:
-    """``clip(u, -bound, bound)`` that carries a complex step: the input passes unchanged (derivative 1) inside the
-    bound, the bound (derivative 0) outside."""
-    u = np.asarray(u)
-    re = np.real(u)
-    return np.where(np.abs(re) <= bound, u, np.sign(re) * bound)
-
-
-def actuator_limits(veh: Vehicle) -> ActuatorLimits:
-    """The vehicle's ``u4_max`` (kg/s), ``m0_max`` (kg) and ``u2_max`` (rad); ``inf`` for those it does not set."""
-    p = veh.params
-    return ActuatorLimits(float(p.get("u4_max", math.inf)), float(p.get("m0_max", math.inf)),
-                          float(p.get("u2_max", math.inf)))
-
-
-# ------------------------------------------------------------------------------------------------ model
-def _reduced_at(veh: Vehicle, m0: float) -> ReducedLongitudinalGlider:
-    m0 = float(m0)
-    if m0 == 0.0:
-        m0 = _M0_TINY
-    return ReducedLongitudinalGlider(veh.with_overrides(m0=m0))
-
-
-def loaded_rates(veh: Vehicle, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
-    """``(V', gamma', alpha', Omega2')`` of the chapter-5 glider at the buoyancy ``m0 = x[..., 4]``, with an extra
-    force ``f3`` along body 3 (N, positive down) and pitch moment ``M2`` (N m, positive nose up).
-
-    The rates are :meth:`ReducedLongitudinalGlider.rhs` with the per-state buoyancy ``m0`` (vectorized; ``m0``
-    may carry a complex step too) plus the exact effect of the extra load on the body-frame equations (2.18)-(2.20):
-    ``v3' += f3 / M3`` and ``Omega2' += M2 / J2``, i.e. ``V' += sin(alpha) f3 / M3``,
-    ``alpha' += cos(alpha) f3 / (M3 V)``, ``gamma' -= cos(alpha) f3 / (M3 V)``.
-
-    Parameters
-    ----------
-    veh : Vehicle
-        Underwater glider (``r_P = 0``).
-    x : array_like, shape (..., 5)
-        ``(V, gamma, alpha, Omega2, m0)`` in m/s, rad, rad, rad/s, kg (may be complex: complex-step derivatives).
-    f3, M2 : array_like, broadcastable to ``x[..., 0]``
-        Extra body-3 force (N) and pitch moment (N m).
-    """
-    x = np.asarray(x)
-    if x.shape[-1] != 5:
-        raise ModelError(f"state must have 5 components {BUOYANCY_STATES}, got shape {x.shape}")
-    model = _reduced_at(veh, veh.m0)
-    m0 = x[..., 4]
-    r = np.asarray(model.rhs(x[..., :4], m0=m0))
-    M3 = veh.mass(3, m0) + veh.mbar
-    V, al = x[..., 0], x[..., 2]
-    a3 = np.asarray(f3) / M3
-    dal = np.cos(al) * a3 / V
-    dOm = np.asarray(M2) / veh.J2
-    return np.stack(np.broadcast_arrays(r[..., 0] + np.sin(al) * a3, r[..., 1] - dal, r[..., 2] + dal,
-                                        r[..., 3] + dOm), axis=-1)
-
-
-@dataclass(frozen=True)
-class BuoyancyGlider:
-    """Chapter-5 glider with a buoyancy engine, §6.2: state ``(V, gamma, alpha, Omega2, m0)``, input ``u1``.
-
-    ``(V, gamma, alpha, Omega2)' `` are (5.4)-(5.7) at the current ``m0`` (:func:`loaded_rates` without extra
-    load); ``m0' = pump(m0, u1)`` is (6.8) in seconds with the vehicle's rate limit ``u4_max`` and range ``m0_max``
-    (:class:`ActuatorLimits`).
-
-    Parameters
-    ----------
-    vehicle : Vehicle
-        Underwater glider; ``u4_max`` (kg/s) and ``m0_max`` (kg) are used when defined.
-    """
-
-    vehicle: Vehicle
-    state_names: tuple[str, ...] = BUOYANCY_STATES
-    input_names: tuple[str, ...] = ("u1",)
-
-    def __post_init__(self) -> None:
-        if self.vehicle.kind != "underwater_glider":
-            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
-
-    @property
-    def limits(self) -> ActuatorLimits:
-        return actuator_limits(self.vehicle)
-
-    def rhs(self, x: Any, u: Any) -> np.ndarray:
-        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s)."""
-        x = np.asarray(x)
-        u1 = np.asarray(u)[..., 0]
-        r = loaded_rates(self.vehicle, x)
-        return np.concatenate([r, self.limits.pump(x[..., 4], u1)[..., None]], axis=-1)
 
 
 # ------------------------------------------------------------------------------------------------ equilibrium
@@ -208,9 +63,9 @@ class BuoyancyEquilibrium:
 
     Attributes
     ----------
-    speed, gamma_e, alpha_e : float
-        ``V_e`` (m/s), flight-path angle (5.9) and angle of attack (5.10) (rad); ``alpha_e`` does not depend on
-        the buoyancy (§6.2), so ``gamma_e`` is fixed up to its sign.
+    speed, gamma, alpha : float
+        ``V_e`` (m/s), flight-path angle ``gamma_e`` (5.9) and angle of attack ``alpha_e`` (5.10) (rad); ``alpha``
+        does not depend on the buoyancy (§6.2), so ``gamma`` is fixed up to its sign.
     m0e : float
         Equilibrium buoyancy (kg), (6.7): positive for a descent.
     m_e : float
@@ -223,12 +78,15 @@ class BuoyancyEquilibrium:
         ``max |x'|`` of :class:`BuoyancyGlider` at the equilibrium with ``u1 = 0``.
     sp : SingularPerturbation
         Chapter-5 analysis of the vehicle at ``m0 = m0e`` (nondimensional coordinates of (5.12)-(5.15)).
-    vehicle, provenance : str
+    vehicle : Vehicle
+        The vehicle (any nominal ``m0``).
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
     """
 
     speed: float
-    gamma_e: float
-    alpha_e: float
+    gamma: float
+    alpha: float
     m0e: float
     m_e: float
     K_De: float
@@ -238,13 +96,13 @@ class BuoyancyEquilibrium:
     eps2: float
     residual: float
     sp: SingularPerturbation = field(repr=False)
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = field(default="", repr=False)
 
     @property
     def state(self) -> np.ndarray:
-        """``(V_e, gamma_e, alpha_e, 0, m0e)``."""
-        return np.array([self.speed, self.gamma_e, self.alpha_e, 0.0, self.m0e])
+        """``(speed, gamma, alpha, 0, m0e)``."""
+        return np.array([self.speed, self.gamma, self.alpha, 0.0, self.m0e])
 
 
 def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True) -> BuoyancyEquilibrium:
@@ -260,10 +118,20 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
         Sign of (6.7): ``m0e > 0`` (descent, ``gamma_e < 0``) or ``m0e < 0`` (climb). Only the sign of ``K_Le``
         (fixed by ``alpha_e``) gives an upright glide; the other raises.
 
+    Returns
+    -------
+    BuoyancyEquilibrium
+        ``V_e`` (m/s), ``gamma_e``, ``alpha_e`` (rad), ``m0e`` and ``m_e`` (kg), ``K_De``, ``K_Le`` (kg/m), ``tau_s``
+        (s), ``eps1, eps2`` (nondimensional), the equilibrium residual and the chapter-5 analysis at ``m0e``.
+
     Raises
     ------
     InfeasibleGlideError
         Non-positive speed, ``|m0e| > m0_max``, or a direction that would need an inverted glide.
+    ModelError
+        If ``veh`` is not an underwater glider, its nominal ``m0`` is 0, ``K_M = 0``, or it has no singularly
+        perturbed chapter-5 glide at ``m0e`` (``K_q >= 0``, ``K_M >= 0``, ``K_De <= 0``; from
+        :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
     """
     if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
         raise InfeasibleGlideError(f"speed must be a positive number of m/s, got {speed!r}")
@@ -286,11 +154,11 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
     veh_e = veh.with_overrides(m0=m0e)
     sp = singular_perturbation(veh_e)
     M1, _ = sp.model.masses
-    x_e = np.array([sp.V_e, sp.gamma_e, sp.alpha_e, 0.0, m0e])
+    x_e = np.array([sp.speed, sp.gamma, sp.alpha, 0.0, m0e])
     res = float(np.max(np.abs(BuoyancyGlider(veh).rhs(x_e, np.zeros(1)))))
-    return BuoyancyEquilibrium(float(sp.V_e), float(sp.gamma_e), float(sp.alpha_e), float(m0e), float(M1),
+    return BuoyancyEquilibrium(float(sp.speed), float(sp.gamma), float(sp.alpha), float(m0e), float(M1),
                                float(K_De), float(K_Le), float(sp.tau_s), float(sp.eps1), float(sp.eps2), res, sp,
-                               veh.name, veh.provenance)
+                               veh, veh.provenance)
 
 
 # ------------------------------------------------------------------------------------------------ controller
@@ -325,10 +193,14 @@ class BuoyancyController:
         """``K_b / tau_s`` (1/s)."""
         return self.K_b / self.eq.tau_s
 
-    def __call__(self, t: float, x: Any) -> np.ndarray:
+    def u(self, x: Any) -> np.ndarray:
+        """Input ``(u1,)`` (kg/s), shape ``x.shape[:-1] + (1,)``, at states ``x = (V, gamma, alpha, Omega2, m0)``."""
         m0 = np.asarray(x)[..., 4]
         u = -self.rate_gain * (m0 - self.eq.m0e)
         return np.asarray(actuator_limits(self.vehicle).pump(m0, u))[..., None]
+
+    def __call__(self, t: float, x: Any) -> np.ndarray:
+        return self.u(x)
 
 
 # ------------------------------------------------------------------------------------------------ (6.10)-(6.12)
@@ -343,7 +215,7 @@ class BuoyancyLyapunovCheck:
     ----------
     K_b, mbar0_max : float
         Gain of (6.9) and the sampled ``|mbar0|`` range.
-    certified : bool
+    nu_certified : bool
         Whether ``nu`` is itself a certificate for the glide at ``m0e`` (``mu < mu_d``, Theorem 2).
     dnu_max_at_m0e : float
         ``max dnu/dt_n`` at ``mbar0 = 0`` (Theorem 2 says <= 0 when certified).
@@ -354,10 +226,10 @@ class BuoyancyLyapunovCheck:
         ``max |C| / (|z| |mbar0|)`` over the samples (the ``b`` of ``|C| <= b |z| |mbar0|``).
     n_samples, n_positive : int
         Samples and samples with ``dnu_b/dt_n > 0`` for the gain ``K_b`` (unsaturated law, as in (6.11)).
-    worst_ratio : float
-        ``max dnu_b/dt_n / (|z|^2 + mbar0^2)`` (must be < 0 for (6.12)).
-    worst_point : ndarray
-        ``(Vbar, gammabar, alphabar, Omegabar2, mbar0)`` of ``worst_ratio``.
+    max_dnu_b : float
+        ``max dnu_b/dt_n / (|z|^2 + mbar0^2)``, the largest normalized derivative (must be < 0 for (6.12)).
+    max_dnu_b_at : ndarray
+        ``(Vbar, gammabar, alphabar, Omegabar2, mbar0)`` of ``max_dnu_b``.
     K_b_required : float
         ``max over samples with mbar0 != 0 of (dnu/dt_n) / mbar0^2``: the smallest gain for which
         ``dnu_b/dt_n <= 0`` on every sample (``inf``-free lower bound of the true threshold on the box).
@@ -375,12 +247,20 @@ class BuoyancyLyapunovCheck:
         ``-S^-1 H B / 2``: along ``z = z_star mbar0`` the quadratic part of ``dnu/dt_n`` equals ``K_b_star
         mbar0^2`` (the worst direction).
     local_radius : float
-    vehicle, provenance : str
+    vehicle : Vehicle
+        The vehicle (keyword-only).
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
+    margins : dict[str, float]
+        One entry per condition (``>= 1`` holds): ``K_b / K_b_required`` on the box and near 0, ``K_b / K_b_star``
+        (each ``inf`` when the threshold is ``<= 0``), and ``inf``/``0.0`` for ``dnu/dt_n <= 0`` at ``m0e``.
+    passed : bool
+        (6.12) with this ``K_b``: no positive sample (box and ball) and ``K_b > K_b_star``.
     """
 
     K_b: float
     mbar0_max: float
-    certified: bool
+    nu_certified: bool
     mu: float
     mu_d: float
     dnu_max_at_m0e: float
@@ -388,8 +268,8 @@ class BuoyancyLyapunovCheck:
     cross_coefficient: float
     n_samples: int
     n_positive: int
-    worst_ratio: float
-    worst_point: np.ndarray = field(repr=False)
+    max_dnu_b: float
+    max_dnu_b_at: np.ndarray = field(repr=False)
     K_b_required: float = math.nan
     K_b_required_local: float = math.nan
     n_positive_local: int = 0
@@ -397,13 +277,28 @@ class BuoyancyLyapunovCheck:
     z_star: np.ndarray = field(default_factory=lambda: np.full(4, np.nan), repr=False)
     local_radius: float = 0.0
     seed: int = 0
-    vehicle: str = ""
     provenance: str = field(default="", repr=False)
+    vehicle: Vehicle = field(repr=False, compare=False, kw_only=True)
 
     @property
-    def thesis_claim_holds(self) -> bool:
+    def passed(self) -> bool:
         """(6.12) with this ``K_b``: no positive sample (box and ball) and ``K_b > K_b_star``."""
         return self.n_positive == 0 and self.n_positive_local == 0 and self.K_b > self.K_b_star
+
+    @property
+    def margins(self) -> dict[str, float]:
+        """One margin per condition (``>= 1`` holds); see the class docstring."""
+        def over(threshold: float) -> float:
+            return math.inf if threshold <= 0 else self.K_b / threshold
+
+        return {"K_b >= K_b_required (box)": over(self.K_b_required),
+                "K_b >= K_b_required (near 0)": over(self.K_b_required_local),
+                "K_b > K_b_star": over(self.K_b_star),
+                "dnu/dt_n <= 0 at m0e": math.inf if self.dnu_max_at_m0e <= 0 else 0.0}
+
+    def failing(self) -> dict[str, float]:
+        """The entries of :attr:`margins` below 1 (relative tolerance 1e-9)."""
+        return {k: m for k, m in self.margins.items() if not m >= 1 - 1e-9}
 
 
 def _nd_rates(veh: Vehicle, sp: SingularPerturbation, z: np.ndarray, m0: np.ndarray,
@@ -411,7 +306,7 @@ def _nd_rates(veh: Vehicle, sp: SingularPerturbation, z: np.ndarray, m0: np.ndar
     """``dz/dt_n`` of (5.20)-(5.23) (with extra load) at nondimensional ``z`` and dimensional buoyancy ``m0``."""
     x = sp.to_dimensional(z)
     r = loaded_rates(veh, np.concatenate([x, m0[..., None]], axis=-1), f3, M2)
-    return sp.tau_s * np.stack([r[..., 0] / sp.V_e, r[..., 1], r[..., 2], sp.omega_scale * r[..., 3]], axis=-1)
+    return sp.tau_s * np.stack([r[..., 0] / sp.speed, r[..., 1], r[..., 2], sp.omega_scale * r[..., 3]], axis=-1)
 
 
 def _grad_nu(cert: CompositeCertificate, z: np.ndarray) -> np.ndarray:
@@ -501,6 +396,22 @@ def buoyancy_lyapunov_check(eq: BuoyancyEquilibrium, veh: Vehicle, *, K_b: float
     cert : CompositeCertificate, optional
         ``composite_lyapunov`` of the vehicle at ``m0e`` (default: its default domain ``|Vbar| <= 0.4``,
         ``|alphabar| <= 0.2``).
+
+    Returns
+    -------
+    BuoyancyLyapunovCheck
+        Sample counts, the largest normalized ``dnu_b/dt_n`` and where it occurs, the size of the omitted cross
+        term, the gains required on the box and near the origin and the exact local threshold ``K_b_star``
+        (all nondimensional, time ``t_n = t / tau_s``), with ``passed`` and ``margins``.
+
+    Raises
+    ------
+    GlidectlError
+        If ``mbar0_max``, ``n`` or ``local_radius`` is not positive or ``n_m0`` is not an odd number ``>= 3``; or
+        (default ``cert``) the vehicle has unequal added masses (from
+        :func:`~glidectl.stability.composite.composite_lyapunov`).
+    ModelError
+        If (default ``cert``) the vehicle at ``m0e`` has no singularly perturbed chapter-5 glide.
     """
     if not (mbar0_max > 0 and n > 0 and n_m0 >= 3 and n_m0 % 2 == 1 and local_radius > 0):
         raise GlidectlError("need mbar0_max > 0, n > 0, an odd n_m0 >= 3 and local_radius > 0")
@@ -539,5 +450,4 @@ def buoyancy_lyapunov_check(eq: BuoyancyEquilibrium, veh: Vehicle, *, K_b: float
                                  float(np.max(dnu_0)), float(np.max(np.abs(C))), coef, int(n),
                                  int(np.sum(dnub[ok] > 0)), float(ratio[i]),
                                  np.concatenate([z[i], [mb[i]]]), Kreq, Kreq_l, npos_l, kstar, zstar,
-                                 float(local_radius), int(seed),
-                                 veh.name, veh.provenance)
+                                 float(local_radius), int(seed), veh.provenance, vehicle=veh)

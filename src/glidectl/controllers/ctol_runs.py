@@ -1,17 +1,20 @@
 """Common result of every CTOL tracking method (steady gliding, feedback linearization, stable inversion,
-approximate linearization): time histories and the metrics compared in the §7.3.3 baseline table."""
+approximate linearization): time histories and the metrics compared in the §7.3.3 baseline table, and the
+simulation window the exact-tracking baselines run in."""
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from ..errors import ModelError
+from ..sim import simulate
 
-__all__ = ["TrackingRun"]
+__all__ = ["TrackingRun", "simulate_window"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,8 +94,83 @@ class TrackingRun:
         """True when the run reached its final time."""
         return self.stopped_at is None
 
-    def summary(self) -> dict[str, Any]:
+    def plot(self, ax: Any = None, *, input_scale: str = "linear") -> Any:
+        """Draw the position error and the inputs versus time (Fig 7.3-7.4) in the glidectl style.
+
+        Parameters
+        ----------
+        ax : array of 3 axes, optional
+            Position error, thrust ``u1``, pitching moment ``u2``; default a new figure.
+        input_scale : {"linear", "symlog"}
+            Scale of the input axes; ``"symlog"`` shows input spikes together with the rest of the run.
+
+        Returns
+        -------
+        ndarray of 3 matplotlib.axes.Axes
+            See :func:`glidectl.plotting.plot_tracking_run`.
+        """
+        from ..plotting import plot_tracking_run, style
+
+        with style():
+            return plot_tracking_run(self, ax, input_scale=input_scale)
+
+    def as_dict(self) -> dict[str, Any]:
         """The metrics as a plain dict (for tables and ``numbers.json``)."""
         return {"method": self.method, "max_error": self.max_error, "peak_u1": self.peak_u1,
                 "peak_u2": self.peak_u2, "rms_u1": self.rms_u1, "rms_u2": self.rms_u2, "effort": self.effort,
                 "completed": self.completed, "stopped_at": self.stopped_at, "note": self.note}
+
+    def summary(self) -> str:
+        """A few lines of text: the method, how the run ended, the error and the inputs."""
+        end = "ran to the end" if self.completed else f"stopped at t = {self.stopped_at:.4g} s"
+        lines = [f"{self.method}: {end}, t = {self.t[0]:.4g} .. {self.t[-1]:.4g} s",
+                 f"  max position error {self.max_error:.4g} m, effort (RMS |u|) {self.effort:.4g}",
+                 f"  peak |u1| {self.peak_u1:.4g} N, |u2| {self.peak_u2:.4g} N m; RMS u1 {self.rms_u1:.4g} N, "
+                 f"u2 {self.rms_u2:.4g} N m"]
+        if self.note:
+            lines.append(f"  {self.note}")
+        return "\n".join(lines)
+
+
+def simulate_window(model: Any, x0: np.ndarray, t_start: float, t_final: float,
+                    controller: Callable[[float, Any], Any], dt: float,
+                    stop: Callable[[float, np.ndarray], float] | None = None, method: str = "LSODA",
+                    rtol: float = 1e-9, atol: float = 1e-11
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float | None]:
+    """:func:`glidectl.sim.simulate` on ``[t_start, t_final]`` s (time shifted to start at 0 for the integrator).
+
+    Parameters
+    ----------
+    model : Model
+        Plant (``rhs``, ``state_names``, ``input_names``).
+    x0 : ndarray
+        State at ``t_start``.
+    t_start, t_final : float
+        Window (s); ``t_start`` may be negative (the pre-action of a stable inversion).
+    controller : callable
+        ``(t, x) -> u`` in the original time ``t`` (s).
+    dt : float
+        Output spacing (s).
+    stop : callable, optional
+        ``(t, x) -> float`` in the original time; the run ends where it falls through zero.
+    method, rtol, atol
+        Integrator settings of :func:`glidectl.sim.simulate`.
+
+    Returns
+    -------
+    t, x, u : ndarray
+        Output times (s, original time), states and inputs.
+    stopped_at : float or None
+        Time (s, original time) at which ``stop`` ended the run.
+    """
+    span = t_final - t_start
+    n = round(span / dt)
+    te = np.linspace(0.0, span, n + 1)
+
+    def ctrl(s: float, x: Any) -> Any:
+        return controller(s + t_start, x)
+
+    st = None if stop is None else (lambda s, x: stop(s + t_start, x))
+    sim = simulate(model, x0, span, ctrl, t_eval=te, method=method, rtol=rtol, atol=atol, stop=st)
+    stopped = None if sim.stopped_at is None else sim.stopped_at + t_start
+    return sim.t + t_start, sim.x, sim.u, stopped

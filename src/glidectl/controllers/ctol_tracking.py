@@ -77,6 +77,10 @@ class GlideTracking:
     completed = property(lambda self: self.run.completed, doc="``run.completed``")
     method = property(lambda self: self.run.method, doc="``run.method``")
 
+    def plot(self, ax: Any = None, **kw: Any) -> Any:
+        """``run.plot(ax, **kw)``: position error and inputs versus time (:meth:`TrackingRun.plot`)."""
+        return self.run.plot(ax, **kw)
+
 
 def _level_start(veh: Vehicle, traj: ClimbTrajectory) -> np.ndarray:
     return ctol_glide(veh, traj.speed, 0.0).full_state((0.0, 0.0))
@@ -113,6 +117,16 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
     GlideTracking
         ``completed = False`` (with the reason in ``note``) if a replanning step has no physical steady glide or
         the integration fails; the run up to that time is returned.
+
+    Raises
+    ------
+    ModelError
+        If ``dt``, ``k3``, ``k4``, ``T`` or ``t_final`` is not a positive finite number, ``veh`` is not a CTOL
+        aircraft or has ``epsilon <= 0``, or ``x0`` is not six finite numbers.
+    InfeasibleGlideError
+        If ``x0`` is omitted and there is no level steady glide at the trajectory speed (the default start).
+    GlidectlError
+        If the very first replanning interval fails (no steady glide or failed integration), so there is no run.
     """
     for name, v in (("dt", dt), ("k3", k3), ("k4", k4), ("T", T), ("t_final", t_final)):
         positive_number(name, v)
@@ -175,7 +189,7 @@ def _with_quadrature(model: CTOLAircraft, ctrl: SteadyGlideController) -> Any:
 def _run_point(args: tuple[Vehicle, ClimbTrajectory, float, float, float, float, float]) -> dict[str, Any]:
     veh, traj, dt, k3, k4, T, t_final = args
     r = track_with_steady_glides(veh, traj, dt=dt, k3=k3, k4=k4, T=T, t_final=t_final)
-    return {"dt": dt, "k3": k3, "k4": k4, **r.run.summary()}
+    return {"dt": dt, "k3": k3, "k4": k4, **r.run.as_dict()}
 
 
 @dataclass(frozen=True)
@@ -185,6 +199,16 @@ class ParetoStudy:
     ``records`` has one dict per grid point (settings, ``completed``, ``max_error`` (m), ``effort`` (time-RMS
     ``||u||``), RMS and peak ``|u1|``, ``|u2|``); ``front`` indexes the completed runs not dominated in
     ``(max_error, effort)``, sorted by effort.
+
+    Attributes
+    ----------
+    records : tuple of dict
+        One per ``(dt, k3, k4)`` grid point: ``dt`` (s), ``k3`` (N), ``k4`` (N m) and the
+        :meth:`TrackingRun.as_dict` metrics (errors in m, thrust ``u1`` in N, elevator moment ``u2`` in N m).
+    front : tuple of int
+        Indices into ``records`` of the Pareto-optimal completed runs, sorted by effort.
+    t_final : float
+        Horizon of every run (s).
     """
 
     records: tuple[dict[str, Any], ...]
@@ -194,9 +218,47 @@ class ParetoStudy:
     def front_records(self) -> list[dict[str, Any]]:
         return [self.records[i] for i in self.front]
 
+    def plot(self, ax: Any = None) -> Any:
+        """Draw max position error against control effort for the completed runs, with the Pareto front, in the
+        glidectl style.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            See :func:`glidectl.plotting.plot_pareto_study`.
+        """
+        from ..plotting import plot_pareto_study, style
+
+        with style():
+            return plot_pareto_study(self, ax)
+
 
 def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:
-    """Indices of the points not dominated in both coordinates (smaller is better), sorted by the second."""
+    """Indices of the points not dominated in both coordinates (smaller is better), sorted by the second.
+
+    Parameters
+    ----------
+    points : sequence of (float, float)
+        The points, e.g. ``(max position error (m), control effort)``; any units, compared per coordinate.
+
+    Returns
+    -------
+    list of int
+        Indices of the non-dominated points (a point is dominated when another is ``<=`` in both coordinates and
+        ``<`` in one; equal points are all kept), sorted by the second coordinate, then the first.
+
+    Raises
+    ------
+    ValueError
+        If ``points`` cannot be converted to a float array.
+    IndexError
+        If the points are not pairs (array of shape ``(N, 2)``).
+    """
     pts = np.asarray(points, dtype=float)
     keep = []
     for i, p in enumerate(pts):
@@ -214,6 +276,38 @@ def tracking_grid(veh: Vehicle, traj: ClimbTrajectory, dts: Sequence[float], gai
 
     ``gains`` is a list of pairs rather than a product because useful ``k4`` scale with ``sqrt(k3 / eps)`` (the
     pitch loop's natural frequency); lightly damped pairs with large ``k3`` are also the expensive ones to simulate.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        CTOL aircraft (``dc8_ctol``).
+    traj : ClimbTrajectory
+        Desired trajectory.
+    dts : sequence of float
+        Replanning intervals (s).
+    gains : sequence of (float, float)
+        Pitch-gain pairs ``(k3, k4)`` of (7.20) (N, N m).
+    T : float
+        Reference time of (7.11) (s).
+    t_final : float
+        Horizon of every run (s).
+    executor : concurrent.futures.Executor, optional
+        Runs the grid points in parallel (``executor.map``).
+
+    Returns
+    -------
+    ParetoStudy
+        One record per ``(dt, (k3, k4))`` and the Pareto front of the completed runs.
+
+    Raises
+    ------
+    ModelError
+        If ``dts`` or ``gains`` is empty, or a run's settings or vehicle are invalid (see
+        :func:`track_with_steady_glides`).
+    InfeasibleGlideError
+        If there is no level steady glide at the trajectory speed (the default start of every run).
+    GlidectlError
+        If a run fails in its first replanning interval (one such run aborts the whole grid).
     """
     pairs = [(float(a), float(b)) for a, b in gains]
     if not dts or not pairs:

@@ -35,6 +35,23 @@ class ClimbTrajectory:
     Evaluation is vectorized over time in the modal form of the companion system,
     ``y_state(t) = W diag((exp(lambda t) - 1) / lambda) W^-1 b f`` (exact; the five poles of (7.91) are distinct),
     checked at construction against the augmented matrix exponential.
+
+    Parameters
+    ----------
+    speed : float
+        Horizontal speed ``x_d'`` (m/s; normalized units of §7.1 for ``dc8_ctol``), ``> 0``.
+    coeffs : tuple of float
+        The 6 coefficients of ``s^5 ... s^0`` of (7.91) (the coefficient of ``s^k`` in 1/s^(5-k) relative to the
+        leading one); default :data:`CLIMB_COEFFS`. Leading coefficient nonzero, roots distinct and nonzero.
+    forcing : float
+        Constant right-hand side of (7.91) (m/s^5 times the leading coefficient); default 1.7, so the final
+        altitude is ``forcing / coeffs[-1] = 10`` m.
+
+    Raises
+    ------
+    ModelError
+        If ``speed`` is not a positive finite number, ``coeffs`` is not 6 numbers with a nonzero leading one, the
+        polynomial has a zero or repeated root, or the modal evaluation disagrees with the matrix exponential.
     """
 
     speed: float
@@ -109,6 +126,24 @@ class ClimbTrajectory:
 
 
 def climb_trajectory(veh: Vehicle, mach_like: float = 0.85) -> ClimbTrajectory:
-    """The §7.3.3 trajectory for ``veh``: horizontal speed ``0.85 / sqrt(a_L)`` (normalized units)."""
+    """The §7.3.3 trajectory for ``veh``: horizontal speed ``0.85 / sqrt(a_L)`` (normalized units).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        A ``kind = "ctol"`` vehicle (its lift coefficient ``a_L``, nondimensional, sets the speed).
+    mach_like : float
+        The factor ``0.85`` of ``x_d = 0.85 t / sqrt(a_L)`` (nondimensional), ``> 0``.
+
+    Returns
+    -------
+    ClimbTrajectory
+        Horizontal speed ``mach_like / sqrt(a_L)`` (m/s, normalized units) and the climb of (7.91) from 0 to 10 m.
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not a CTOL aircraft, or ``mach_like`` is not a positive finite number.
+    """
     require_ctol(veh)
     return ClimbTrajectory(mach_like / math.sqrt(veh.a_L))

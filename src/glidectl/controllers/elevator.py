@@ -1,38 +1,13 @@
-"""Elevator and buoyancy control, §6.3: model (6.14)-(6.19), equilibrium (6.20) for a requested ``(V_e, gamma_e)``,
-the laws (6.21)-(6.22), Theorem 3's condition (6.23), and the numerical example of Fig 6.2.
+"""Elevator and buoyancy control, §6.3: equilibrium (6.20) of the model (6.14)-(6.19) for a requested
+``(V_e, gamma_e)``, the laws (6.21)-(6.22), Theorem 3's condition (6.23), and the numerical example of Fig 6.2.
 
-Sign convention, and the corrections it implies
-------------------------------------------------
-The text defines the elevator action as "an external torque ``K_M u2 V^2``" (§6.3 and the caption of Fig 6.1) with
-a coupling force of magnitude ``delta u2 V^2`` along body 3, and writes the closed-loop moment (6.19) as
-``(K_M0 + K_M alpha + K_q Omega2 + K_M u2) V^2``. glidectl keeps that definition:
-
-* elevator moment ``M_el = K_M u2 V^2`` (N m, positive nose up; ``K_M < 0``);
-* elevator force ``f = -delta u2 V^2 e3`` (N, body 3 points down; ``delta >= 0``).
-
-The force direction is fixed by physics, not by choice: an aft elevator at ``r = (-l, 0, 0)`` with force
-``f3 e3`` gives the moment ``l f3``, so a nose-up elevator moment (``K_M u2 > 0``, i.e. ``u2 < 0``) needs a down
-force ``f3 > 0``; hence ``f3 = -delta u2 V^2`` (implied arm ``l = -K_M / delta > 0``). The body velocity is
-``V (cos a, 0, sin a)`` and the lift direction ``(sin a, 0, -cos a)``, so ``f3`` contributes ``+f3 sin a`` along
-the velocity and ``-f3 cos a`` along the lift. With ``h = delta u2 V^2 = -f3`` the equations are
-
-``m1 V'     = -m0 g sin(gamma) - D - h sin(alpha)``   ((6.14) prints ``- D + h sin``: sign error),
-``m1 V gam' = -m0 g cos(gamma) + L + h cos(alpha)``   ((6.15) as printed),
-``eps2 dOmegabar/dt_n = -(alphabar + Omegabar2 + ubar2)(1 + Vbar)^2``   ((6.18) prints ``- ubar2``),
-``alpha_e = -K_M0/K_M - u2e``   ((6.20) prints ``+ u2e``),
-``K'_De = K_D0 + K_D alpha_e^2 + delta u2e sin(alpha_e)``   ((6.23) prints ``- delta u2e V_e^2 sin``: sign error
-and a spurious ``V_e^2``, which makes the sum dimensionally inconsistent),
-``K'_Le = K_L0 + K_L alpha_e + delta u2e cos(alpha_e)``   ((6.26) as printed),
-and (6.25) should have ``(1 + Vbar)``, not ``(1 + Vbar)^2``, in its denominator (as (6.15) and (5.21)).
-
-The other self-consistent reading, ``u2`` a "control angle of attack" with moment ``K_M (alpha - u2) V^2`` and
-force ``+delta u2 V^2 e3``, makes (6.14), (6.18), (6.20), (6.23) right and (6.15), (6.19), (6.26) and the stated
-torque ``K_M u2 V^2`` wrong. It only flips the sign of ``u2``; the equilibria, ``K'_De``, ``K'_Le`` and all
-trajectories are the same. No reading makes all of (6.14), (6.15), (6.19), (6.20) right: (6.14) and (6.15) together
-describe a force that is not along body 3, and (6.14) with (6.19) an elevator ahead of the centre of mass.
-
-Physically, for the Fig 6.2 glide the elevator must pitch the nose up (``alpha_e > -K_M0/K_M``), so its force points
-down the body 3-axis: it adds a small thrust (``K'_De < K_De``) and removes lift (``K'_Le < K_Le``).
+Model and sign convention
+-------------------------
+The plant, :class:`glidectl.models.elevator_glider.ElevatorBuoyancyGlider`, and the sign convention of the elevator
+force and moment (with the corrections of (6.14), (6.18), (6.20), (6.23), (6.25) it implies) are documented in
+:mod:`glidectl.models.elevator_glider`. In short: elevator moment ``K_M u2 V^2`` (N m, nose up positive), force
+``-delta u2 V^2`` along body 3 (N, positive down); ``alpha_e = -K_M0/K_M - u2e`` ((6.20) prints ``+ u2e``),
+``K'_De = K_D0 + K_D alpha_e^2 + delta u2e sin(alpha_e)`` and ``K'_Le = K_L0 + K_L alpha_e + delta u2e cos(alpha_e)``.
 
 Fig 6.2 numbers
 ---------------
@@ -52,102 +27,24 @@ from scipy.optimize import brentq
 
 from ..analysis.jacobian import jacobians
 from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from ..models.buoyancy_glider import ActuatorLimits, actuator_limits
+from ..models.elevator_glider import ElevatorBuoyancyGlider, effective_coefficients
 from ..params import Vehicle
 from ..sim import Simulation, simulate
 from ..stability.singular_perturbation import singular_perturbation
-from .buoyancy import BUOYANCY_STATES, ActuatorLimits, actuator_limits, loaded_rates
 
 __all__ = [
     "ALPHA_MAX",
-    "FIG62",
     "ElevatorBuoyancyController",
-    "ElevatorBuoyancyGlider",
     "ElevatorEquilibrium",
     "ElevatorExample",
     "closed_loop_eigenvalues",
-    "effective_coefficients",
     "elevator_equilibrium",
     "elevator_example",
-    "elevator_loads",
     "infer_J2",
 ]
 
 ALPHA_MAX = 0.35  # rad: largest |alpha_e| accepted (validity of the linear lift / quadratic drag model)
-
-FIG62 = {"speed": 1.0, "gamma": -math.pi / 4, "alpha_e_deg": 3.51, "m0e": 2.657, "eps1": 0.075, "eps2": 0.012}
-"""Printed numbers of the §6.3 example (m/s, rad, deg, kg, -, -)."""
-
-
-def elevator_loads(veh: Vehicle, V2: Any, u2: Any) -> tuple[Any, Any]:
-    """Elevator force along body 3 and pitching moment, §6.3 with the sign convention of the module docstring.
-
-    Parameters
-    ----------
-    veh : Vehicle
-        Uses ``delta`` (kg/m/rad) and ``K_M`` (kg/rad).
-    V2 : array_like
-        Squared speed (m^2/s^2).
-    u2 : array_like
-        Elevator input (rad).
-
-    Returns
-    -------
-    f3 : body-3 force (N, positive down), ``-delta u2 V^2``
-    M_el : pitching moment (N m, positive nose up), ``K_M u2 V^2`` (6.19)
-    """
-    return -veh.delta * u2 * V2, veh.K_M * u2 * V2
-
-
-def effective_coefficients(veh: Vehicle, alpha: Any, u2: Any) -> tuple[Any, Any]:
-    """``(K'_D, K'_L)`` (kg/m) of drag and lift including the elevator force, corrected (6.23) and (6.26).
-
-    ``K'_D = K_D0 + K_D alpha^2 + delta u2 sin(alpha)``, ``K'_L = K_L0 + K_L alpha + delta u2 cos(alpha)``, so that
-    the hydrodynamic plus elevator force is ``-K'_D V^2`` along the velocity and ``K'_L V^2`` along the lift.
-    """
-    d = veh.delta
-    return (veh.K_D0 + veh.K_D * alpha**2 + d * u2 * np.sin(alpha),
-            veh.K_L0 + veh.K_L * alpha + d * u2 * np.cos(alpha))
-
-
-@dataclass(frozen=True)
-class ElevatorBuoyancyGlider:
-    """Glider with aft elevator and buoyancy engine, §6.3: state ``(V, gamma, alpha, Omega2, m0)``, inputs
-    ``(u1, u2)``.
-
-    ``(V, gamma, alpha, Omega2)'`` is the chapter-5 right-hand side at the current ``m0`` plus the elevator force
-    and moment of :func:`elevator_loads` (:func:`glidectl.controllers.buoyancy.loaded_rates`); ``m0' = u1``
-    (kg/s) through the pump limits. ``u2`` (rad) is clipped to ``|u2| <= u2_max`` (the elevator cannot exceed its
-    travel). This is (6.14)-(6.18) in dimensional form, with the corrections of the module docstring.
-
-    Parameters
-    ----------
-    vehicle : Vehicle
-        Needs ``delta``; ``u2_max`` (rad), ``u4_max`` (kg/s), ``m0_max`` (kg) are used when defined.
-    """
-
-    vehicle: Vehicle
-    state_names: tuple[str, ...] = BUOYANCY_STATES
-    input_names: tuple[str, ...] = ("u1", "u2")
-
-    def __post_init__(self) -> None:
-        if self.vehicle.kind != "underwater_glider":
-            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
-        self.vehicle.delta  # noqa: B018 - raises ModelError naming the file when the coupling factor is missing
-
-    @property
-    def limits(self) -> ActuatorLimits:
-        return actuator_limits(self.vehicle)
-
-    def rhs(self, x: Any, u: Any) -> np.ndarray:
-        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)), ``u = (u1 [kg/s], u2 [rad])``."""
-        x = np.asarray(x)
-        u = np.asarray(u)
-        lim = self.limits
-        u2 = lim.elevator(u[..., 1])
-        V = x[..., 0]
-        f3, M = elevator_loads(self.vehicle, V * V, u2)
-        r = loaded_rates(self.vehicle, x, f3, M)
-        return np.concatenate([r, lim.pump(x[..., 4], u[..., 0])[..., None]], axis=-1)
 
 
 @dataclass(frozen=True)
@@ -158,8 +55,8 @@ class ElevatorEquilibrium:
     ----------
     speed, gamma : float
         Requested ``V_e`` (m/s) and ``gamma_e`` (rad).
-    alpha_e : float
-        Equilibrium angle of attack (rad).
+    alpha : float
+        Equilibrium angle of attack ``alpha_e`` (rad).
     m0e : float
         Equilibrium buoyancy (kg).
     u2e : float
@@ -179,15 +76,20 @@ class ElevatorEquilibrium:
     g : float
         Gravity used (m/s^2).
     alpha_roots : tuple of float
-        All roots of the force balance with ``|alpha| <= alpha_max`` (rad); ``alpha_e`` is the smallest in size.
+        All roots of the force balance with ``|alpha| <= alpha_max`` (rad); ``alpha`` is the smallest in size.
     residual : float
         ``max |x'|`` of :class:`ElevatorBuoyancyGlider` at the equilibrium with ``u = (0, u2e)``.
-    vehicle, provenance : str
+    vehicle : Vehicle
+        The vehicle.
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
+    certified : bool
+        Theorem 3's condition (6.23), corrected: ``K'_De > 0`` (the laws (6.21)-(6.22) are certified here).
     """
 
     speed: float
     gamma: float
-    alpha_e: float
+    alpha: float
     m0e: float
     u2e: float
     K_De: float
@@ -202,23 +104,23 @@ class ElevatorEquilibrium:
     g: float
     alpha_roots: tuple[float, ...]
     residual: float
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = field(default="", repr=False)
 
     @property
-    def theorem3(self) -> bool:
+    def certified(self) -> bool:
         """Theorem 3's condition (6.23), corrected: ``K'_De > 0``."""
         return self.K_De_eff > 0
 
     @property
     def state(self) -> np.ndarray:
-        """``(V_e, gamma_e, alpha_e, 0, m0e)``."""
-        return np.array([self.speed, self.gamma, self.alpha_e, 0.0, self.m0e])
+        """``(speed, gamma, alpha, 0, m0e)``."""
+        return np.array([self.speed, self.gamma, self.alpha, 0.0, self.m0e])
 
     @property
-    def alpha_e_printed_620(self) -> float:
+    def alpha_printed_620(self) -> float:
         """(6.20) as printed, ``-K_M0/K_M + u2e`` (rad): not the equilibrium with the stated torque."""
-        return self.alpha_e + 2 * self.u2e
+        return self.alpha + 2 * self.u2e
 
 
 def _angle_balance(veh: Vehicle, gamma: float, a: Any) -> Any:
@@ -247,11 +149,20 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
     alpha_max : float
         Largest ``|alpha_e|`` accepted (rad); the root of smallest ``|alpha|`` is returned.
 
+    Returns
+    -------
+    ElevatorEquilibrium
+        ``alpha_e`` (rad), ``m0e`` (kg), ``u2e`` (rad), the drag and lift coefficients with and without the elevator
+        (kg/m), ``tau_s`` (s), ``eps1, eps2`` (nondimensional), all roots found (rad) and the equilibrium residual.
+
     Raises
     ------
     InfeasibleGlideError
         Bad speed or angle, no force balance with ``|alpha| <= alpha_max`` (e.g. ``gamma_e = 0``: level gliding
-        needs zero drag), ``|u2e| > u2_max`` or ``|m0e| > m0_max``.
+        needs zero drag), ``|u2e| > u2_max`` or ``|m0e| > m0_max``, or ``m0e = 0``.
+    ModelError
+        If ``veh`` is not an underwater glider, has no ``delta`` (or another parameter the model reads), or has
+        ``K_M = 0``.
     """
     if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
         raise InfeasibleGlideError(f"speed must be a positive number of m/s, got {speed!r}")
@@ -305,13 +216,36 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
     res = float(np.max(np.abs(model.rhs(x_e, np.array([0.0, u2e])))))
     return ElevatorEquilibrium(float(speed), float(gamma), float(a_e), m0e, float(u2e), float(K_De), float(K_Le),
                                float(kd), float(kl), float(printed), m_e, float(tau_s), float(eps1), float(eps2),
-                               float(veh.g), tuple(roots), res, veh.name, veh.provenance)
+                               float(veh.g), tuple(roots), res, veh, veh.provenance)
 
 
-def infer_J2(veh: Vehicle, eps2: float = FIG62["eps2"], speed: float = FIG62["speed"],
-             gamma: float = FIG62["gamma"]) -> float:
-    """``J2`` (kg m^2) for which :func:`elevator_equilibrium` gives the printed ``eps2``: ``J2 = eps2 |K_q| V_e^2
-    tau_s`` with ``tau_s`` of (6.27) (independent of ``J2``)."""
+def infer_J2(veh: Vehicle, eps2: float, speed: float, gamma: float) -> float:
+    """``J2`` (kg m^2) for which :func:`elevator_equilibrium` gives a printed ``eps2``: ``J2 = eps2 |K_q| V_e^2
+    tau_s`` with ``tau_s`` of (6.27) (independent of ``J2``).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Elevator glider (its own ``J2`` is not used).
+    eps2 : float
+        Small parameter (5.17) to reproduce (dimensionless); the thesis Fig 6.2 example prints ``0.012``.
+    speed : float
+        ``V_e`` (m/s) of the glide; the Fig 6.2 example uses 1.0.
+    gamma : float
+        ``gamma_e`` (rad); the Fig 6.2 example uses ``-pi/4``.
+
+    Returns
+    -------
+    float
+        Pitch inertia ``J2`` (kg m^2) that gives ``eps2`` at this glide.
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an elevator glider.
+    InfeasibleGlideError
+        If no steady glide exists at ``(speed, gamma)`` (see :func:`elevator_equilibrium`).
+    """
     eq = elevator_equilibrium(veh, speed, gamma)
     return float(-eps2 * veh.K_q * speed**2 * eq.tau_s)
 
@@ -340,6 +274,11 @@ class ElevatorBuoyancyController:
             raise GlidectlError(f"the buoyancy gain K of (6.21) must be > 0, got {self.K!r}")
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
+        return self.u(x)
+
+    def u(self, x: Any) -> np.ndarray:
+        """Inputs ``(u1 [kg/s], u2 [rad])``, shape ``x.shape[:-1] + (2,)``, at states
+        ``x = (V, gamma, alpha, Omega2, m0)``."""
         lim = actuator_limits(self.vehicle)
         m0 = np.asarray(x)[..., 4]
         u1 = lim.pump(m0, -(self.K / self.eq.tau_s) * (m0 - self.eq.m0e))
@@ -353,6 +292,28 @@ def closed_loop_eigenvalues(eq: ElevatorEquilibrium, veh: Vehicle, K: float = 1.
     Theorem 3 claims local asymptotic stability when ``K'_De > 0``; all real parts negative confirms it for this
     vehicle. Exact complex-step Jacobian of the one closed-loop right-hand side (``m0`` and the saturations carry
     the complex step).
+
+    Parameters
+    ----------
+    eq : ElevatorEquilibrium
+        The equilibrium (:func:`elevator_equilibrium`); not checked to belong to ``veh``.
+    veh : Vehicle
+        The elevator glider (underwater glider with ``delta``).
+    K : float
+        Gain of (6.21), ``> 0`` (nondimensional).
+
+    Returns
+    -------
+    numpy.ndarray, shape (5,)
+        Eigenvalues (1/s) of the linearized closed loop in ``(V, gamma, alpha, Omega2, m0)``, sorted by real part,
+        then imaginary part.
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider or has no ``delta``.
+    GlidectlError
+        If ``K`` is not a positive finite number.
     """
     model = ElevatorBuoyancyGlider(veh)
     ctrl = ElevatorBuoyancyController(eq, veh, K)
@@ -391,22 +352,28 @@ class ElevatorExample:
     limits: ActuatorLimits
 
 
-def elevator_example(veh: Vehicle, *, speed: float = FIG62["speed"], gamma: float = FIG62["gamma"],
-                     t_final: float = 10.0, K: float = 1.0, m0_start: float = 2.5,
-                     x0: Any = None) -> ElevatorExample:
-    """Fig 6.2: close the loop (6.21)-(6.22) on :class:`ElevatorBuoyancyGlider` and simulate ``t_final`` seconds.
+def elevator_example(veh: Vehicle, speed: float, gamma: float, *, t_final: float = 10.0, K: float = 1.0,
+                     m0_start: float = 2.5, x0: Any = None) -> ElevatorExample:
+    """Close the loop (6.21)-(6.22) on :class:`ElevatorBuoyancyGlider` towards ``(speed, gamma)`` and simulate
+    ``t_final`` seconds, as in the example of Fig 6.2.
+
+    The thesis Fig 6.2 example is ``speed = 1.0`` m/s, ``gamma = -pi/4`` rad on the ``elevator_ch6`` vehicle; it
+    prints ``alpha_e = 3.51`` deg, ``m0e = 2.657`` kg, ``eps1 = 0.075`` and ``eps2 = 0.012`` (see
+    :func:`elevator_equilibrium` and the module docstring for the reproduction).
 
     The thesis prints no initial condition. The default start is the steady glide the same vehicle flies with the
     elevator neutral (``u2 = 0``) and buoyancy ``m0_start`` kg (chapter-5 equilibrium (5.8)-(5.10), from
     :func:`glidectl.stability.singular_perturbation.singular_perturbation`): for ``elevator_ch6`` and 2.5 kg that is
-    ``V = 1.120 m/s``, ``gamma = -67.46 deg``, ``alpha = -K_M0/K_M = 1.43 deg``; the controller then brings the glide to
-    ``(1 m/s, -45 deg)``, the pump working at its rate limit at first.
+    ``V = 1.120 m/s``, ``gamma = -67.46 deg``, ``alpha = -K_M0/K_M = 1.43 deg``; towards the Fig 6.2 target the
+    controller then brings the glide to ``(1 m/s, -45 deg)``, the pump working at its rate limit at first.
 
     Parameters
     ----------
     veh : Vehicle
-    speed, gamma : float
-        Target ``V_e`` (m/s), ``gamma_e`` (rad).
+    speed : float
+        Target ``V_e`` (m/s); 1.0 in Fig 6.2.
+    gamma : float
+        Target ``gamma_e`` (rad); ``-pi/4`` in Fig 6.2.
     t_final : float
         Duration (s).
     K : float
@@ -414,14 +381,36 @@ def elevator_example(veh: Vehicle, *, speed: float = FIG62["speed"], gamma: floa
     m0_start : float
         Buoyancy (kg) of the default initial glide.
     x0 : array_like, optional
-        Explicit initial state ``(V, gamma, alpha, Omega2, m0)``.
+        Explicit initial state ``(V, gamma, alpha, Omega2, m0)`` (m/s, rad, rad, rad/s, kg).
+
+    Returns
+    -------
+    ElevatorExample
+        The equilibrium, the simulation, the initial state and how it was chosen, the final error ``x(t_final) -
+        x_e`` (state units), and the largest elevator input (rad), pump rate (kg/s) and buoyancy (kg) of the run.
+
+    Raises
+    ------
+    InfeasibleGlideError
+        If the target glide does not exist within the vehicle's limits (:func:`elevator_equilibrium`).
+    ModelError
+        If ``veh`` is not an underwater glider, lacks ``delta``, has ``K_M = 0``, or (default start) has no
+        chapter-5 steady glide at ``m0_start`` (from
+        :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
+    VehicleFileError
+        If ``m0_start`` is not a valid ``m0`` override (non-finite).
+    GlidectlError
+        If ``K`` is not a positive finite number, or ``x0`` does not have 5 entries or ``t_final`` is not positive
+        (:func:`glidectl.sim.simulate`).
+    SolverError
+        If the integration fails.
     """
     eq = elevator_equilibrium(veh, speed, gamma)
     model = ElevatorBuoyancyGlider(veh)
     ctrl = ElevatorBuoyancyController(eq, veh, K)
     if x0 is None:
         sp = singular_perturbation(veh.with_overrides(m0=m0_start))
-        x0 = np.array([sp.V_e, sp.gamma_e, sp.alpha_e, 0.0, m0_start])
+        x0 = np.array([sp.speed, sp.gamma, sp.alpha, 0.0, m0_start])
         how = (f"steady glide of the vehicle with u2 = 0 and m0 = {m0_start:g} kg (thesis prints no initial "
                "condition)")
     else:

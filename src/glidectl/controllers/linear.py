@@ -57,6 +57,12 @@ class LinearGlideController:
     inputs : {"force", "acceleration"}
     Q, R : ndarray or None
         LQR weights (None for placement).
+    path_offset : float
+        Distance (m) of the regulated path from the glide path through the origin (``z'`` of the law is
+        ``z' - path_offset``).
+    vehicle : Vehicle or None
+        The vehicle the gain was designed for (set by :func:`lqr_glide` and :func:`place_glide`; the plant of
+        :func:`glidectl.closed_loop`).
     """
 
     K: np.ndarray
@@ -68,6 +74,7 @@ class LinearGlideController:
     Q: np.ndarray | None = None
     R: np.ndarray | None = None
     path_offset: float = 0.0
+    vehicle: Vehicle | None = field(default=None, repr=False, compare=False)
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -84,9 +91,21 @@ class LinearGlideController:
         xe = self.glide.force_state() if self.inputs == "force" else self.glide.accel_state()
         return np.concatenate([[0.0], xe[2:]])
 
+    def u(self, x: Any) -> np.ndarray:
+        """Input (u1, u3, u4) or (w1, w3, w4) for full states ``x`` (shape ``(..., 11)``)."""
+        return -(self.reduced_state(x) - self.equilibrium()) @ self.K.T
+
+    def path_input(self, xr: Any) -> np.ndarray:
+        """Input for glide-path states ``xr = (z', theta, ...)`` of
+        :class:`~glidectl.models.longitudinal.GlidePathModel` (shape ``(..., 10)``; ``z'`` in m from the path through
+        the origin, so the law regulates ``z' = path_offset``)."""
+        xr = np.asarray(xr)
+        zp = xr[..., :1] - self.path_offset
+        return -(np.concatenate([zp, xr[..., 1:]], axis=-1) - self.equilibrium()) @ self.K.T
+
     def __call__(self, t: float, x: Any) -> np.ndarray:
         """Input (u1, u3, u4) or (w1, w3, w4) for full state ``x`` at time ``t`` (s)."""
-        return -(self.reduced_state(x) - self.equilibrium()) @ self.K.T
+        return self.u(x)
 
     def closed_loop(self) -> control.StateSpace:
         """Linear closed loop ``A - B K`` with the plant's state names."""
@@ -112,6 +131,25 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
     Q, R : array_like, optional
         Weights on the glide-path state and the input; default Bryson's rule with ``max_deviation``
         (default :data:`DEFAULT_MAX_DEVIATION`).
+    max_deviation : mapping of str to float, optional
+        Acceptable deviation of named states and inputs (SI units of each: m, rad, rad/s, m/s, kg m/s, kg, N,
+        m/s^2, kg/s), overriding entries of :data:`DEFAULT_MAX_DEVIATION` for Bryson's rule
+        (``Q_ii = 1 / max_i^2``).
+
+    Returns
+    -------
+    LinearGlideController
+        ``method = "lqr"``, gain ``K`` of shape (3, 10) (input units per glide-path-state unit), the linearization
+        it was designed on, the closed-loop poles (1/s) and the weights used.
+
+    Raises
+    ------
+    GlidectlError
+        If the LQR design fails (python-control's message is included; e.g. wrong ``Q``/``R`` shapes or no
+        stabilizing solution), ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``glide`` was trimmed for
+        another vehicle.
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``.
     """
     sys = linearize_glide(veh, glide, inputs)
     dev = {**DEFAULT_MAX_DEVIATION, **(max_deviation or {})}
@@ -121,12 +159,39 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         K, _, E = control.lqr(sys, Qm, Rm)
     except Exception as exc:  # python-control raises several types (ControlArgument, LinAlgError, ValueError)
         raise GlidectlError(f"LQR design failed for glide gamma = {np.degrees(glide.gamma):.2f} deg: {exc}") from exc
-    return LinearGlideController(np.asarray(K), "lqr", sys, np.asarray(E), glide, inputs, Qm, Rm)
+    return LinearGlideController(np.asarray(K), "lqr", sys, np.asarray(E), glide, inputs, Qm, Rm, vehicle=veh)
 
 
 def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
                 inputs: Literal["force", "acceleration"] = "force") -> LinearGlideController:
-    """Pole placement to the glide path of ``glide`` with :func:`control.place` (1/s poles, conjugate-closed)."""
+    """Pole placement to the glide path of ``glide`` with :func:`control.place` (1/s poles, conjugate-closed).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The underwater glider the glide was trimmed for.
+    glide : SteadyGlide
+        From :func:`~glidectl.trim.glide.steady_glide`.
+    poles : sequence of complex
+        The 10 requested closed-loop poles (1/s), closed under conjugation.
+    inputs : {"force", "acceleration"}
+        Input form of the linearization (see :func:`~glidectl.analysis.linear.linearize_glide`).
+
+    Returns
+    -------
+    LinearGlideController
+        ``method = "place"``, gain ``K`` of shape (3, 10), the linearization and the achieved closed-loop poles
+        (1/s); ``Q`` and ``R`` are None.
+
+    Raises
+    ------
+    GlidectlError
+        If the number of poles differs from the number of states, :func:`control.place` fails, the achieved poles
+        differ from the requested ones by more than 1e-6 (relative), ``inputs`` is not ``"force"`` or
+        ``"acceleration"``, or ``glide`` was trimmed for another vehicle.
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+    """
     sys = linearize_glide(veh, glide, inputs)
     p = np.asarray(poles, dtype=complex)
     if p.size != sys.nstates:
@@ -145,7 +210,7 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
         raise GlidectlError(f"pole placement inaccurate: closed-loop poles {np.round(E, 6)} differ from the "
                             f"requested {np.round(p, 6)} (relative error {err:.1e}); the requested set may be "
                             "ill-conditioned for this plant")
-    return LinearGlideController(K, "place", sys, E, glide, inputs)
+    return LinearGlideController(K, "place", sys, E, glide, inputs, vehicle=veh)
 
 
 ZETA = ("r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0")
@@ -156,6 +221,28 @@ def decoupled_gain_matrix(kp1: float, kd1: float, kp3: float, kd3: float, k4: fl
 
     ``zeta = (r_P1, rdot_P1, r_P3, rdot_P3, m0)``; ``A + BK`` of the thesis becomes ``A - BK`` here with
     characteristic polynomials ``s^2 + kd s + kp`` (mass axes) and ``s + k4`` (buoyancy).
+
+    Parameters
+    ----------
+    kp1, kd1 : float
+        Proportional (1/s^2) and derivative (1/s) gains of the moving mass along body 1.
+    kp3, kd3 : float
+        Proportional (1/s^2) and derivative (1/s) gains of the moving mass along body 3.
+    k4 : float
+        Proportional gain of the buoyancy (1/s).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 5)
+        ``K`` with rows ``(w1, w3, w4)`` and columns ``(r_P1, rdot_P1, r_P3, rdot_P3, m0)``.
+
+    Raises
+    ------
+    ValueError
+        If a gain cannot be converted to a float (e.g. a non-numeric string).
+    TypeError
+        If a gain is not a real number (e.g. complex). The gains are not otherwise validated: non-positive gains
+        give an unstable ``zeta`` subsystem without an error.
     """
     K = np.zeros((3, 5))
     K[0, 0], K[0, 1], K[1, 2], K[1, 3], K[2, 4] = kp1, kd1, kp3, kd3, k4

@@ -31,10 +31,11 @@ from ..errors import GlidectlError, ModelError, SolverError
 from ..hydro import angle_of_attack
 from ..models.longitudinal import ACCEL_INPUTS, ACCEL_STATES, AccelerationControlledGlider
 from ..models.reduced import REDUCED_STATES
+from ..models.torque_glider import TorqueControlledGlider
 from ..params import Vehicle
 from ..sim import Simulation, simulate
 from ..stability.singular_perturbation import singular_perturbation
-from .torque import TorqueControlledGlider, TorqueLaw
+from .torque import TorqueLaw
 
 __all__ = ["MovingMassTorque", "RealizedTorqueComparison", "RealizedTorqueLoop", "compare_realized_torque",
            "reduced_from_accel"]
@@ -190,7 +191,7 @@ class RealizedTorqueLoop:
         X = np.atleast_2d(sol.sol(te).T)
         U = np.asarray(self.controller(0.0, self.full_state(X)), dtype=float)
         return Simulation(np.asarray(te, dtype=float), X, U, self.state_names, ACCEL_INPUTS, method, rtol, atol,
-                          int(sol.nfev), f"{type(self).__name__}({self.vehicle.name})")
+                          int(sol.nfev), f"{type(self).__name__}({self.vehicle.name})", None, self.vehicle.provenance)
 
 
 @dataclass(frozen=True)
@@ -276,10 +277,23 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
     rtol, atol
         Tolerances of both runs.
 
+    Returns
+    -------
+    RealizedTorqueComparison
+        Both simulations, the hull states of the realized loop, the largest and final differences per reduced
+        state (m/s, rad, rad, rad/s), the largest torque error (N m), the closed-loop equilibrium, the moving-mass
+        position realizing it (m) and the largest mass excursion (m) and speed (m/s).
+
     Raises
     ------
     ModelError
-        If the vehicle has no moving mass (``mbar = 0``).
+        If the vehicle has no moving mass (``mbar = 0``), is not an underwater glider, has ``m0 = 0``, or the
+        closed loop of ``law`` has no singularly perturbed chapter-5 glide.
+    GlidectlError
+        If ``x0`` is not four finite numbers with ``V > 0``, ``t_final`` is not a positive number, or ``r_p3``,
+        ``omega_n``, ``zeta`` or ``feedback`` is invalid (:class:`MovingMassTorque`).
+    SolverError
+        If either integration fails (for ``feedback="hull"`` the message suggests ``"system"``).
     """
     if veh.mbar <= 0:
         raise ModelError(f"vehicle '{veh.name}' has mbar = {veh.mbar:g} kg: realizing the torque needs a moving "
@@ -306,7 +320,7 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
     diff, diff_sys = np.abs(pure.x - red), np.abs(pure.x - red_sys)
     sp = singular_perturbation(law.closed_loop_vehicle(veh))
     xe = sp.equilibrium
-    xa_e = np.array([0, 0, sp.gamma_e + sp.alpha_e, 0, sp.V_e * math.cos(sp.alpha_e), sp.V_e * math.sin(sp.alpha_e),
+    xa_e = np.array([0, 0, sp.gamma + sp.alpha, 0, sp.speed * math.cos(sp.alpha), sp.speed * math.sin(sp.alpha),
                      0, 0, r_p3, 0, veh.m0])
     names = REDUCED_STATES
     return RealizedTorqueComparison(

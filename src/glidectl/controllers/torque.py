@@ -1,16 +1,17 @@
-"""Pure torque control of the chapter-5 glider, §6.1: model (6.1)-(6.4), control law (6.5), the closed-loop
+"""Pure torque control of the chapter-5 glider, §6.1: control law (6.5) for the model (6.1)-(6.4), the closed-loop
 equilibrium and small parameters, and a gain-selection routine built on the composite Lyapunov function of §5.2-§5.3
 with the time-scale-ratio constraint (6.6).
 
 One right-hand side
 -------------------
-:class:`TorqueControlledGlider` is :class:`~glidectl.models.reduced.ReducedLongitudinalGlider` with the control
-torque ``u`` (N m) added to the pitch equation, ``J2 Omega2' = ... + u`` (6.4). Under the law (6.5),
-``u = (K_M0u + K_Mu alpha + K_qu Omega2) V^2``, the closed loop *is* the open-loop glider with the moment
-coefficients ``K_M0 + K_M0u``, ``K_M + K_Mu``, ``K_q + K_qu`` (tested to 1e-12), so the closed-loop equilibrium,
-``eps1``, ``eps2``, ``mu`` and ``mu_d`` are those of :func:`~glidectl.stability.singular_perturbation.
-singular_perturbation` and :func:`~glidectl.stability.composite.composite_lyapunov` applied to
-:meth:`TorqueLaw.closed_loop_vehicle` (one source of truth; no closed-loop formula is coded twice).
+:class:`~glidectl.models.torque_glider.TorqueControlledGlider` is
+:class:`~glidectl.models.reduced.ReducedLongitudinalGlider` with the control torque ``u`` (N m) added to the pitch
+equation, ``J2 Omega2' = ... + u`` (6.4). Under the law (6.5), ``u = (K_M0u + K_Mu alpha + K_qu Omega2) V^2``,
+the closed loop *is* the open-loop glider with the moment coefficients ``K_M0 + K_M0u``, ``K_M + K_Mu``,
+``K_q + K_qu`` (tested to 1e-12), so the closed-loop equilibrium, ``eps1``, ``eps2``, ``mu`` and ``mu_d`` are
+those of :func:`~glidectl.stability.singular_perturbation.singular_perturbation` and
+:func:`~glidectl.stability.composite.composite_lyapunov` applied to :meth:`TorqueLaw.closed_loop_vehicle` (one
+source of truth; no closed-loop formula is coded twice).
 
 Corrections to the text (checked by the tests)
 ----------------------------------------------
@@ -48,16 +49,15 @@ import numpy as np
 
 from .._checks import positive_number
 from ..errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError
-from ..models.reduced import REDUCED_STATES, ReducedLongitudinalGlider
+from ..models.closed_loop import ClosedLoop
+from ..models.reduced import ReducedLongitudinalGlider
+from ..models.torque_glider import TorqueControlledGlider
 from ..params import Vehicle
 from ..stability.composite import CompositeCertificate, composite_lyapunov
 from ..stability.singular_perturbation import SingularPerturbation, singular_perturbation
-from ..trim.glide import _alpha_for_gamma, permissible_gamma
+from ..trim.glide import alpha_for_gamma, permissible_gamma
 
 __all__ = [
-    "TORQUE_INPUTS",
-    "TorqueClosedLoop",
-    "TorqueControlledGlider",
     "TorqueDesign",
     "TorqueGainFamily",
     "TorqueLaw",
@@ -67,54 +67,6 @@ __all__ = [
     "peak_torque",
     "torque_gain_family",
 ]
-
-TORQUE_INPUTS = ("torque",)
-
-
-# ------------------------------------------------------------------------------------------------ model (6.1)-(6.4)
-@dataclass(frozen=True)
-class TorqueControlledGlider:
-    """Chapter-5 glider with a pure control torque, (6.1)-(6.4).
-
-    State ``(V, gamma, alpha, Omega2)`` (m/s, rad, rad, rad/s); input ``("torque",)``, ``u`` in N m about body 2.
-    The right-hand side is :meth:`ReducedLongitudinalGlider.rhs` plus ``u / J2`` in ``Omega2'`` (the torque enters
-    the moment balance (2.20)/(5.7) only; the masses are those of the reduced model, ``M_i = m_i + mbar``).
-
-    Parameters
-    ----------
-    vehicle : Vehicle
-        Underwater glider accepted by :class:`ReducedLongitudinalGlider` (``m0 != 0``).
-    """
-
-    vehicle: Vehicle
-    state_names: tuple[str, ...] = REDUCED_STATES
-    input_names: tuple[str, ...] = TORQUE_INPUTS
-
-    def __post_init__(self) -> None:
-        ReducedLongitudinalGlider(self.vehicle)  # same validity conditions
-
-    @property
-    def open_loop(self) -> ReducedLongitudinalGlider:
-        """The uncontrolled model (the one right-hand side)."""
-        return ReducedLongitudinalGlider(self.vehicle)
-
-    def rhs(self, x: Any, u: Any) -> np.ndarray:
-        """``(V', gamma', alpha', Omega2')`` of (6.1)-(6.4).
-
-        Parameters
-        ----------
-        x : array_like, shape (..., 4)
-            State (m/s, rad, rad, rad/s).
-        u : array_like, shape (..., 1)
-            Control torque (N m).
-        """
-        x = np.asarray(x)
-        u = np.asarray(u)
-        d = self.open_loop.rhs(x)
-        if u.shape[-1:] != (1,):
-            raise GlidectlError(f"torque input must have a trailing dimension 1 (N m), got shape {u.shape}")
-        zero = np.zeros((*np.broadcast_shapes(x.shape[:-1], u.shape[:-1]), 3))
-        return d + np.concatenate([zero, u[..., :1] / self.vehicle.J2], axis=-1)
 
 
 # ------------------------------------------------------------------------------------------------ law (6.5)
@@ -151,34 +103,30 @@ class TorqueLaw:
         V, al, Om = x[..., 0], x[..., 2], x[..., 3]
         return (self.K_M0u + self.K_Mu * al + self.K_qu * Om) * V * V
 
-    def __call__(self, t: float, x: Any) -> Any:
+    def u(self, x: Any) -> Any:
+        """Input ``(torque,)`` (N m), shape ``x.shape[:-1] + (1,)``, at states ``x = (V, gamma, alpha, Omega2)``."""
         return self.torque(x)[..., None]
+
+    def __call__(self, t: float, x: Any) -> Any:
+        return self.u(x)
 
     def closed_loop_vehicle(self, veh: Vehicle) -> Vehicle:
         """The open-loop vehicle with ``K_M0 + K_M0u``, ``K_M + K_Mu``, ``K_q + K_qu``: the closed loop of (6.5)."""
         return veh.with_overrides(K_M0=veh.K_M0 + self.K_M0u, K_M=veh.K_M + self.K_Mu, K_q=veh.K_q + self.K_qu)
 
-    def closed_loop(self, veh: Vehicle) -> TorqueClosedLoop:
-        """Input-free closed loop ``(TorqueControlledGlider(veh), self)``."""
-        return TorqueClosedLoop(TorqueControlledGlider(veh), self)
+    def closed_loop(self, veh: Vehicle, equilibrium: Any = None) -> ClosedLoop:
+        """Input-free closed loop of (6.1)-(6.4) with (6.5): :class:`~glidectl.models.closed_loop.ClosedLoop` of
+        ``TorqueControlledGlider(veh)`` and :meth:`u` (for :func:`glidectl.sim.simulate_many`).
 
-
-@dataclass(frozen=True)
-class TorqueClosedLoop:
-    """Input-free closed loop of (6.1)-(6.4) with (6.5), for :func:`glidectl.sim.simulate_many`."""
-
-    plant: TorqueControlledGlider
-    law: TorqueLaw
-    state_names: tuple[str, ...] = REDUCED_STATES
-    input_names: tuple[str, ...] = ()
-
-    @property
-    def vehicle(self) -> Vehicle:
-        return self.plant.vehicle
-
-    def rhs(self, x: Any, u: Any = None) -> np.ndarray:
-        """Closed-loop ``x'`` (``u`` ignored)."""
-        return self.plant.rhs(x, self.law(0.0, x))
+        Parameters
+        ----------
+        veh : Vehicle
+            Open-loop vehicle.
+        equilibrium : array_like, optional
+            Closed-loop steady glide ``(V_e, gamma_e, alpha_e, 0)`` (m/s, rad, rad, rad/s), if known (e.g.
+            ``singular_perturbation(self.closed_loop_vehicle(veh)).equilibrium``).
+        """
+        return ClosedLoop(TorqueControlledGlider(veh), self.u, equilibrium, "torque law (6.5)")
 
 
 def closed_loop_formulas(veh: Vehicle, law: TorqueLaw, *, printed: bool = False) -> dict[str, float]:
@@ -198,15 +146,29 @@ def closed_loop_formulas(veh: Vehicle, law: TorqueLaw, *, printed: bool = False)
     dict
         ``alpha_e`` (rad), ``eps1``, ``eps2``, and ``V_e`` (m/s), ``K_De`` (kg/m) used; ``m1`` is the translational
         mass ``m3 + mbar`` of the reduced model (= ``m1 + mbar`` for equal added masses).
+
+    Raises
+    ------
+    ModelError
+        If the closed-loop vehicle has no singularly perturbed chapter-5 glide (not an underwater glider, ``m0 =
+        0``, closed-loop ``K_M' = 0``, ``K_q' >= 0`` or ``K_M' >= 0``; from
+        :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
+    AttributeError
+        If ``veh`` is not an underwater glider and so has no ``K_M0``/``K_M``/``K_q`` (read before the kind is
+        checked).
+
+    Notes
+    -----
+    Equal added masses are assumed (``alpha_e = -K_M0'/K_M'``, (5.10)) but not checked.
     """
     KM, Kq, KM0 = veh.K_M + law.K_Mu, veh.K_q + law.K_qu, veh.K_M0 + law.K_M0u
     sp = singular_perturbation(law.closed_loop_vehicle(veh))
     _, m1 = sp.model.masses
     alpha_e = -KM0 / KM
-    eps1 = sp.K_De * sp.V_e * Kq / (m1 * KM)
-    V3 = sp.V_e**3 if printed else 1.0 / sp.V_e
+    eps1 = sp.K_De * sp.speed * Kq / (m1 * KM)
+    V3 = sp.speed**3 if printed else 1.0 / sp.speed
     eps2 = -sp.K_De * V3 * veh.J2 / (m1 * Kq)
-    return {"alpha_e": alpha_e, "eps1": eps1, "eps2": eps2, "V_e": sp.V_e, "K_De": sp.K_De}
+    return {"alpha_e": alpha_e, "eps1": eps1, "eps2": eps2, "V_e": sp.speed, "K_De": sp.K_De}
 
 
 # ------------------------------------------------------------------------------------------------ targets (5.8)-(5.9)
@@ -215,7 +177,7 @@ def alpha_for_target(veh: Vehicle, *, speed: float | None = None, gamma: float |
 
     ``m0`` is fixed (the vehicle's), so (5.8) ``V_e^2 sqrt(K_De^2 + K_Le^2) = |m0| g`` with
     ``K_De = K_D0 + K_D a^2``, ``K_Le = K_L0 + K_L a`` is a quartic in ``a``; (5.9) ``tan(gamma_e) = -K_De/K_Le`` is
-    solved by :func:`glidectl.trim.glide._alpha_for_gamma` (the quadratic of the permissible set (2.26)). Of several
+    solved by :func:`glidectl.trim.glide.alpha_for_gamma` (the quadratic of the permissible set (2.26)). Of several
     roots, the one of smallest ``|a|`` with lift of the sign of ``m0`` (a heavy glider glides down) and
     ``|a| < pi/4`` (the range of §5.4) is returned.
 
@@ -268,7 +230,7 @@ def alpha_for_target(veh: Vehicle, *, speed: float | None = None, gamma: float |
     if not (abs(gamma) < math.pi / 2 and ((down and gamma < lo) or (not down and gamma > hi))):
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {text}")
     try:
-        a = _alpha_for_gamma(veh, gamma)
+        a = alpha_for_gamma(veh, gamma)
     except ValueError:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {text}") from None
     if abs(a) >= math.pi / 4:
@@ -289,28 +251,31 @@ class TorqueGainFamily:
     ----------
     vehicle : Vehicle
         Open-loop vehicle.
-    alpha_e : float
-        Closed-loop equilibrium angle of attack (rad).
-    V_e : float
-        Closed-loop equilibrium speed (m/s), (5.8) at ``alpha_e``.
+    alpha : float
+        Closed-loop equilibrium angle of attack ``alpha_e`` (rad).
+    speed : float
+        Closed-loop equilibrium speed ``V_e`` (m/s), (5.8) at ``alpha_e``.
     Kq_ref : float
         ``K_q'`` at ``s = 1`` (kg s/rad): the open-loop ``K_q``.
     KM_ref : float
         ``K_M'`` at ``s = 1`` (kg/rad): ``K_M (V_e/V_eol)^2`` by (6.6), or ``-Kq_ref^2 V_e^2/(eps_ratio J2)``.
     eps_ratio : float
         ``eps1/eps2`` of every member.
+    provenance : str
+        The open-loop vehicle's parameter hash (:attr:`Vehicle.provenance`).
     """
 
-    vehicle: Vehicle = field(repr=False)
-    alpha_e: float
-    V_e: float
+    vehicle: Vehicle = field(repr=False, compare=False)
+    alpha: float
+    speed: float
     Kq_ref: float
     KM_ref: float
     eps_ratio: float
+    provenance: str = ""
 
     def gains(self, s: Any) -> tuple[Any, Any, Any]:
         """``(K_M0u, K_Mu, K_qu)`` (kg, kg/rad, kg s/rad) at scale ``s`` (array-capable)."""
-        veh, a = self.vehicle, self.alpha_e
+        veh, a = self.vehicle, self.alpha
         KM, Kq = s * s * self.KM_ref, s * self.Kq_ref
         KM0 = -(KM * a + ReducedLongitudinalGlider(veh).delta_m * math.sin(a) * math.cos(a))
         return KM0 - veh.K_M0, KM - veh.K_M, Kq - veh.K_q
@@ -334,6 +299,19 @@ def torque_gain_family(veh: Vehicle, alpha_e: float, *, eps_ratio: float | None 
     eps_ratio : float, optional
         ``eps1/eps2`` to keep; default the open-loop one (6.6), ``-K_q^2 V_eol^2/(K_M J2)``. Required when the open
         loop has no steady glide or no pitch damping/stiffness (``K_q >= 0`` or ``K_M >= 0``).
+
+    Returns
+    -------
+    TorqueGainFamily
+        The closed-loop ``alpha_e`` (rad) and ``V_e`` (m/s), the reference gains ``Kq_ref`` (kg s/rad) and
+        ``KM_ref`` (kg/rad) at scale ``s = 1``, and the kept ``eps1/eps2`` (nondimensional).
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider or has ``m0 = 0``; the target glide at ``alpha_e`` is not singularly
+        perturbed (e.g. ``K_De <= 0``); ``eps_ratio`` is omitted and the open loop has no singularly perturbed
+        glide; or ``eps_ratio`` is given and is not a positive finite number.
     """
     ReducedLongitudinalGlider(veh)
     dm = ReducedLongitudinalGlider(veh).delta_m
@@ -342,18 +320,19 @@ def torque_gain_family(veh: Vehicle, alpha_e: float, *, eps_ratio: float | None 
     sp_t = singular_perturbation(veh.with_overrides(
         K_M0=-(KM_t * alpha_e + dm * math.sin(alpha_e) * math.cos(alpha_e)), K_M=KM_t,
         K_q=veh.K_q if veh.K_q < 0 else -1.0))
-    V_e, J2 = sp_t.V_e, veh.J2
+    V_e, J2 = sp_t.speed, veh.J2
     if eps_ratio is None:
         try:
             sp_ol: SingularPerturbation = singular_perturbation(veh)
         except ModelError as exc:
             raise ModelError(f"the constraint (6.6) uses the open-loop glide and K_q, K_M, but: {exc}; pass "
                              "eps_ratio= (eps1/eps2) explicitly") from None
-        return TorqueGainFamily(veh, float(alpha_e), V_e, veh.K_q, veh.K_M * (V_e / sp_ol.V_e) ** 2,
-                                sp_ol.eps1 / sp_ol.eps2)
+        return TorqueGainFamily(veh, float(alpha_e), V_e, veh.K_q, veh.K_M * (V_e / sp_ol.speed) ** 2,
+                                sp_ol.eps1 / sp_ol.eps2, veh.provenance)
     eps_ratio = positive_number("eps_ratio", eps_ratio)
     Kq_ref = veh.K_q if veh.K_q < 0 else -J2 / (V_e**2 * sp_t.tau_s)  # else eps2 = 1 at s = 1 (5.17)
-    return TorqueGainFamily(veh, float(alpha_e), V_e, Kq_ref, -Kq_ref**2 * V_e**2 / (eps_ratio * J2), eps_ratio)
+    return TorqueGainFamily(veh, float(alpha_e), V_e, Kq_ref, -Kq_ref**2 * V_e**2 / (eps_ratio * J2), eps_ratio,
+                            veh.provenance)
 
 
 # ------------------------------------------------------------------------------------------------ design
@@ -370,8 +349,8 @@ class TorqueDesign:
     scale : float
         Gain scale ``s`` of the (6.6) family (module docstring); ``scale_boundary`` the smallest certifying scale
         (``mu = mu_d`` there), found by bisection on the certificate.
-    V_e, gamma_e, alpha_e : float
-        Closed-loop steady glide (m/s, rad, rad).
+    speed, gamma, alpha : float
+        Closed-loop steady glide ``V_e, gamma_e, alpha_e`` (m/s, rad, rad).
     eps1, eps2, mu, mu_d : float
         Closed-loop small parameters (5.16)-(5.17), ``mu`` (5.26) and ``mu_d`` of Theorem 2 on the domain.
     eps_ratio : float
@@ -392,8 +371,12 @@ class TorqueDesign:
         Certificate of the closed-loop vehicle (``certificate.verify()`` samples every inequality).
     closed_loop_vehicle : Vehicle
         Open-loop vehicle with the closed-loop moment coefficients.
-    vehicle, provenance : str
-        Open-loop vehicle name and parameter hash.
+    vehicle : Vehicle
+        The open-loop vehicle.
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
+    plant_vehicle : Vehicle or None
+        The open-loop vehicle the design is for (the plant of :func:`glidectl.closed_loop`).
     """
 
     law: TorqueLaw
@@ -401,9 +384,9 @@ class TorqueDesign:
     target_value: float
     scale: float
     scale_boundary: float
-    V_e: float
-    gamma_e: float
-    alpha_e: float
+    speed: float
+    gamma: float
+    alpha: float
     eps1: float
     eps2: float
     mu: float
@@ -415,8 +398,14 @@ class TorqueDesign:
     torque_max: float
     certificate: CompositeCertificate = field(repr=False)
     closed_loop_vehicle: Vehicle = field(repr=False)
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = ""
+    plant_vehicle: Vehicle | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def equilibrium(self) -> np.ndarray:
+        """Closed-loop steady glide ``(speed, gamma, alpha, 0)`` (m/s, rad, rad, rad/s)."""
+        return np.array([self.speed, self.gamma, self.alpha, 0.0])
 
     @property
     def K_M(self) -> float:
@@ -437,10 +426,10 @@ class TorqueDesign:
         """Plain dict (SI units, rad) for tables and JSON."""
         return {"K_M0u": self.law.K_M0u, "K_Mu": self.law.K_Mu, "K_qu": self.law.K_qu, "target": self.target,
                 "target_value": self.target_value, "scale": self.scale, "scale_boundary": self.scale_boundary,
-                "V_e": self.V_e, "gamma_e": self.gamma_e, "alpha_e": self.alpha_e, "eps1": self.eps1,
+                "speed": self.speed, "gamma": self.gamma, "alpha": self.alpha, "eps1": self.eps1,
                 "eps2": self.eps2, "mu": self.mu, "mu_d": self.mu_d, "eps_ratio": self.eps_ratio,
                 "certified": self.certified, "peak_torque": self.peak_torque, "omegabar_reach": self.omegabar_reach,
-                "torque_max": self.torque_max, "vehicle": self.vehicle, "provenance": self.provenance}
+                "torque_max": self.torque_max, "vehicle": self.vehicle.name, "provenance": self.provenance}
 
 
 def _omegabar_reach(cert: CompositeCertificate) -> float:
@@ -473,7 +462,7 @@ def peak_torque(law: TorqueLaw, cert: CompositeCertificate) -> float:
         Certificate of ``law.closed_loop_vehicle(veh)`` (supplies ``V_e``, ``alpha_e``, ``K_q'/K_M'`` and the box).
     """
     sp = cert.sp
-    return float(_peak(law.K_M0u, law.K_Mu, law.K_qu, sp.omega_scale, sp.V_e, sp.alpha_e, cert.domain.Vbar,
+    return float(_peak(law.K_M0u, law.K_Mu, law.K_qu, sp.omega_scale, sp.speed, sp.alpha, cert.domain.Vbar,
                        cert.domain.alphabar, _omegabar_reach(cert)))
 
 
@@ -530,7 +519,7 @@ def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: fl
     a_e = alpha_for_target(veh, speed=speed, gamma=gamma)
     target, tval = ("speed", float(speed)) if speed is not None else ("gamma", float(gamma))  # type: ignore[arg-type]
     fam = torque_gain_family(veh, a_e, eps_ratio=eps_ratio)
-    V_e = fam.V_e
+    V_e = fam.speed
 
     def cert_at(s: float) -> CompositeCertificate:
         return composite_lyapunov(fam.law(s).closed_loop_vehicle(veh), Vbar=Vbar, alphabar=alphabar,
@@ -604,9 +593,9 @@ def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: fl
     cert = cert_at(s_opt)
     sp = cert.sp
     law = TorqueLaw(*(float(v) for v in law_at(s_opt)))
-    if not (abs(sp.alpha_e - a_e) < 1e-9 and cert.certified):  # pragma: no cover - internal consistency
-        raise SolverError(f"{where}: internal error, closed loop alpha_e = {sp.alpha_e}, certified = "
+    if not (abs(sp.alpha - a_e) < 1e-9 and cert.certified):  # pragma: no cover - internal consistency
+        raise SolverError(f"{where}: internal error, closed loop alpha_e = {sp.alpha}, certified = "
                           f"{cert.certified}")
-    return TorqueDesign(law, target, tval, s_opt, s_b, sp.V_e, sp.gamma_e, sp.alpha_e, sp.eps1, sp.eps2, sp.mu,
+    return TorqueDesign(law, target, tval, s_opt, s_b, sp.speed, sp.gamma, sp.alpha, sp.eps1, sp.eps2, sp.mu,
                         cert.mu_d, sp.eps1 / sp.eps2, cert.certified, peak_torque(law, cert), omegabar, torque_max,
-                        cert, law.closed_loop_vehicle(veh), veh.name, veh.provenance)
+                        cert, law.closed_loop_vehicle(veh), veh, veh.provenance, plant_vehicle=veh)

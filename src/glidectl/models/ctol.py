@@ -1,5 +1,6 @@
-"""CTOL aircraft of Hauser, Sastry and Meyer, thesis chapter 7: the longitudinal model (7.1)-(7.7) and its reduced,
-nondimensional form (7.8)-(7.15) about a steady glide.
+"""CTOL aircraft of Hauser, Sastry and Meyer, thesis chapter 7: the longitudinal model (7.1)-(7.7), its reduced,
+nondimensional form (7.8)-(7.15) about a steady glide, and the model with the thrust dynamically extended (the plant
+of the approximate linearization of §7.3.1).
 
 Units. The vehicle file carries ``rho_AW_half``, ``m``, ``g`` and ``J``; §7.1 sets all four to 1, which makes the
 printed equations (7.12)-(7.15) exact (they are written with ``m = g = J = rho A_W / 2 = 1``). The right-hand sides
@@ -29,8 +30,8 @@ import numpy as np
 from ..errors import ModelError
 from ..params import Vehicle
 
-__all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "drag_coefficient",
-           "lift_coefficient", "require_ctol"]
+__all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "ExtendedCTOL",
+           "drag_coefficient", "lift_coefficient", "require_ctol"]
 
 CTOL_STATES = ("x", "y", "xdot", "ydot", "theta", "Omega2")
 CTOL_INPUTS = ("u1", "u2")
@@ -60,6 +61,20 @@ class CTOLAircraft:
     State ``(x, y, xdot, ydot, theta, Omega2)`` (m, m, m/s, m/s, rad, rad/s; y up), input ``(u1, u2)``: thrust
     along the body axis (N) and elevator moment (N m), which also produces the force ``eps u2`` perpendicular to
     the body axis. The flight-path angle is ``gamma = atan2(ydot, xdot)`` and ``alpha = theta - gamma``.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        A ``kind = "ctol"`` vehicle (``dc8_ctol``: normalized units of §7.1, ``m = g = J = rho A_W / 2 = 1``).
+    state_names : tuple of str
+        Names of the 6 states; default :data:`CTOL_STATES` (m, m, m/s, m/s, rad, rad/s).
+    input_names : tuple of str
+        Names of the 2 inputs; default :data:`CTOL_INPUTS` (N, N m).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not a CTOL aircraft (:func:`require_ctol`).
     """
 
     vehicle: Vehicle
@@ -104,21 +119,44 @@ class CTOLReduced:
 
     State ``(Vbar, gammabar, thetabar, Omega2bar)`` = ``((V - V_e)/V_e, gamma - gamma_e, theta - theta_e, T Omega2)``
     (7.8)-(7.11), input ``(u1, u2)``; ``T`` (s) is the reference time of (7.11). Time is not rescaled: (7.14) reads
-    ``thetabar' = Omega2bar / T``.
+    ``thetabar' = Omega2bar / T``. The steady glide is stored as ``speed`` (``V_e``, m/s), ``gamma`` (``gamma_e``,
+    rad) and ``theta`` (``theta_e``, rad).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        A ``kind = "ctol"`` vehicle.
+    speed : float
+        Steady-glide speed ``V_e > 0`` (m/s).
+    gamma : float
+        Steady-glide flight-path angle ``gamma_e`` (rad, positive climbing). Not validated.
+    theta : float
+        Steady-glide pitch angle ``theta_e = gamma_e + alpha_e`` (rad). Not validated.
+    T : float
+        Reference time of (7.11) (s), ``T > 0``; default 1.
+    state_names : tuple of str
+        Names of the 4 nondimensional states; default ``("Vbar", "gammabar", "thetabar", "Omega2bar")``.
+    input_names : tuple of str
+        Names of the 2 inputs; default :data:`CTOL_INPUTS` (N, N m).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not a CTOL aircraft, or ``speed`` or ``T`` is not a positive finite number.
     """
 
     vehicle: Vehicle
-    V_e: float
-    gamma_e: float
-    theta_e: float
+    speed: float
+    gamma: float
+    theta: float
     T: float = 1.0
     state_names: tuple[str, ...] = REDUCED_STATES
     input_names: tuple[str, ...] = CTOL_INPUTS
 
     def __post_init__(self) -> None:
         require_ctol(self.vehicle)
-        if not (np.isfinite(self.V_e) and self.V_e > 0):
-            raise ModelError(f"V_e must be a positive speed, got {self.V_e!r}")
+        if not (np.isfinite(self.speed) and self.speed > 0):
+            raise ModelError(f"the steady-glide speed V_e must be positive (m/s), got {self.speed!r}")
         if not (np.isfinite(self.T) and self.T > 0):
             raise ModelError(f"the reference time T must be positive (s), got {self.T!r}")
 
@@ -128,12 +166,12 @@ class CTOLReduced:
         veh = self.vehicle
         Vb, gb, tb, Ob = s[..., 0], s[..., 1], s[..., 2], s[..., 3]
         u1, u2 = u[..., 0], u[..., 1]
-        gam = gb + self.gamma_e
-        alpha = tb + self.theta_e - gam
-        V = self.V_e * (1 + Vb)
+        gam = gb + self.gamma
+        alpha = tb + self.theta - gam
+        V = self.speed * (1 + Vb)
         m, g, eps = veh.m, veh.g, veh.epsilon
         Vbd = (-m * g * np.sin(gam) - drag_coefficient(veh, alpha) * V * V + u1 * np.cos(alpha)
-               + eps * u2 * np.sin(alpha)) / (m * self.V_e)
+               + eps * u2 * np.sin(alpha)) / (m * self.speed)
         gbd = (-m * g * np.cos(gam) + lift_coefficient(veh, alpha) * V * V + u1 * np.sin(alpha)
                - eps * u2 * np.cos(alpha)) / (m * V)
         return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / veh.J), axis=-1)
@@ -142,5 +180,34 @@ class CTOLReduced:
         """Reduced state of full states ``(x, y, xdot, ydot, theta, Omega2)`` (the map (7.8)-(7.11))."""
         x = np.asarray(x, dtype=float)
         V, gam, _ = CTOLAircraft.speed_gamma_alpha(x)
-        return np.stack([V / self.V_e - 1, np.angle(np.exp(1j * (gam - self.gamma_e))),
-                         np.angle(np.exp(1j * (x[..., 4] - self.theta_e))), self.T * x[..., 5]], -1)
+        return np.stack([V / self.speed - 1, np.angle(np.exp(1j * (gam - self.gamma))),
+                         np.angle(np.exp(1j * (x[..., 4] - self.theta))), self.T * x[..., 5]], -1)
+
+
+@dataclass(frozen=True)
+class ExtendedCTOL:
+    """The CTOL model (7.5)-(7.7) with the thrust dynamically extended.
+
+    State ``(x, y, xdot, ydot, theta, Omega2, u1, u1dot)``, input ``(u1ddot, u2)`` (N/s^2, N m); the plant part is
+    :meth:`CTOLAircraft.rhs` with input ``(u1, u2)``.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        A ``kind = "ctol"`` vehicle. Not checked on construction: a non-CTOL vehicle raises :class:`ModelError` at
+        the first :meth:`rhs` call (from :class:`CTOLAircraft`).
+    state_names : tuple of str
+        Names of the 8 states (m, m, m/s, m/s, rad, rad/s, N, N/s).
+    input_names : tuple of str
+        Names of the 2 inputs ``(u1ddot, u2)`` (N/s^2, N m).
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = (*CTOL_STATES, "u1", "u1dot")
+    input_names: tuple[str, ...] = ("u1ddot", "u2")
+
+    def rhs(self, X: Any, U: Any) -> Any:
+        X, U = np.asarray(X), np.asarray(U)
+        u = np.stack(np.broadcast_arrays(X[..., 6], U[..., 1]), -1)
+        xp = CTOLAircraft(self.vehicle).rhs(X[..., :6], u)
+        return np.concatenate([xp, X[..., 7:8], U[..., 0:1]], -1)

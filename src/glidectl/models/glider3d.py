@@ -64,7 +64,24 @@ def hat(x: Any) -> np.ndarray:
 
 
 def quat_to_R(q: Any) -> np.ndarray:
-    """Rotation matrix (body -> inertial) of a quaternion (normalized first)."""
+    """Rotation matrix (body -> inertial) of a quaternion (normalized first).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Quaternion ``(q0, q1, q2, q3)``, scalar first (nondimensional); need not be of unit norm (it is divided by
+        its norm). Leading batch dimensions are allowed; complex values pass through (complex-step Jacobians).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3, 3)
+        Rotation matrix ``R(q)`` (nondimensional) mapping body to inertial coordinates.
+
+    Raises
+    ------
+    IndexError
+        If the last axis of ``q`` has fewer than 4 entries (extra entries are not checked).
+    """
     q = np.asarray(q)
     q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
     w, a, b, c = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
@@ -75,7 +92,24 @@ def quat_to_R(q: Any) -> np.ndarray:
 
 
 def ypr_to_R(psi: Any, theta: Any, phi: Any) -> np.ndarray:
-    """Yaw-pitch-roll rotation matrix (8.26)."""
+    """Yaw-pitch-roll rotation matrix (8.26).
+
+    Parameters
+    ----------
+    psi, theta, phi : float or array_like
+        Yaw, pitch and roll angles (rad); broadcast against each other.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3, 3)
+        Rotation matrix (nondimensional) mapping body to inertial coordinates, ``R = R_z(psi) R_y(theta)
+        R_x(phi)``.
+
+    Raises
+    ------
+    ValueError
+        If the three angle arrays cannot be broadcast to a common shape.
+    """
     cps, sps, cth, sth, cph, sph = (np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi),
                                     np.sin(phi))
     return np.stack([
@@ -85,7 +119,25 @@ def ypr_to_R(psi: Any, theta: Any, phi: Any) -> np.ndarray:
 
 
 def ypr_to_quat(psi: float, theta: float, phi: float) -> np.ndarray:
-    """Quaternion of the YPR angles (rad) of (8.26)."""
+    """Quaternion of the YPR angles (rad) of (8.26).
+
+    Parameters
+    ----------
+    psi, theta, phi : float or array_like
+        Yaw, pitch and roll angles (rad); broadcast against each other.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        Unit quaternion ``(q0, q1, q2, q3)`` (nondimensional, scalar first) with ``quat_to_R(q) == ypr_to_R(psi,
+        theta, phi)``. For array angles the quaternion components are along the *first* axis (unlike the
+        ``(..., 4)`` layout that :func:`quat_to_R` expects).
+
+    Raises
+    ------
+    ValueError
+        If the three angle arrays cannot be broadcast to a common shape.
+    """
     cy, sy, cp, sp, cr, sr = (np.cos(psi / 2), np.sin(psi / 2), np.cos(theta / 2), np.sin(theta / 2),
                               np.cos(phi / 2), np.sin(phi / 2))
     return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
@@ -93,7 +145,24 @@ def ypr_to_quat(psi: float, theta: float, phi: float) -> np.ndarray:
 
 
 def R_to_ypr(R: Any) -> np.ndarray:
-    """``(psi, theta, phi)`` (rad) of a rotation matrix, inverse of (8.26) (``|theta| < pi/2``)."""
+    """``(psi, theta, phi)`` (rad) of a rotation matrix, inverse of (8.26) (``|theta| < pi/2``).
+
+    Parameters
+    ----------
+    R : array_like, shape (..., 3, 3)
+        Rotation matrix (nondimensional), body to inertial.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., 3)
+        Yaw ``psi`` in (-pi, pi], pitch ``theta`` in [-pi/2, pi/2] and roll ``phi`` in (-pi, pi] (rad). At
+        ``|theta| = pi/2`` (gimbal lock) yaw and roll are not unique.
+
+    Raises
+    ------
+    IndexError
+        If the last two axes of ``R`` are smaller than 3 x 3.
+    """
     R = np.asarray(R)
     return np.stack([np.arctan2(R[..., 1, 0], R[..., 0, 0]), -np.arcsin(np.clip(R[..., 2, 0], -1, 1)),
                      np.arctan2(R[..., 2, 1], R[..., 2, 2])], -1)
@@ -130,7 +199,24 @@ def _masses(veh: Vehicle, m0: Any) -> Any:
 
 @dataclass(frozen=True)
 class Glider3D:
-    """Force form (2.1)-(2.8). ``rhs(x, u)`` with ``u = (u1, u2, u3, u4)`` (N, N, N, kg/s)."""
+    """Force form (2.1)-(2.8). ``rhs(x, u)`` with ``u = (u1, u2, u3, u4)`` (N, N, N, kg/s).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        An underwater glider with the 3D parameters ``J1, J3, K_beta, K_MR, K_MY`` (and ``m2`` for the fixed mass
+        model) and a moving mass ``mbar > 0`` (kg).
+    state_names : tuple of str
+        Names of the 20 states ``(x, y, z, q0..q3, v1..v3, Omega1..Omega3, r_P1..r_P3, P_P1..P_P3, m0)`` (m,
+        nondimensional quaternion, m/s, rad/s, m, kg m/s, kg); default :data:`FORCE3D_STATES`.
+    input_names : tuple of str
+        Names of the inputs ``(u1, u2, u3, u4)`` (N, N, N, kg/s); default :data:`FORCE3D_INPUTS`.
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not an underwater glider, lacks a 3D parameter, or has ``mbar = 0``.
+    """
 
     vehicle: Vehicle
     state_names: tuple[str, ...] = FORCE3D_STATES
@@ -174,6 +260,27 @@ class FixedMassGlider3D:
 
     ``rhs(x)`` for ``x = (x, y, z, q, v, Omega)``; :meth:`accelerations` gives ``(v', Omega')`` from ``(v, Omega,
     zeta)`` with ``zeta = R^T k``.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        An underwater glider with the 3D parameters ``J1, J3, K_beta, K_MR, K_MY`` (and ``m2`` for the fixed mass
+        model).
+    r_p : tuple of float
+        Fixed moving-mass position ``(r_P1, r_P2, r_P3)`` in body axes (m).
+    m0 : float
+        Constant net buoyancy (kg, positive heavy).
+    state_names : tuple of str
+        Names of the 13 states ``(x, y, z, q0..q3, v1..v3, Omega1..Omega3)`` (m, nondimensional, m/s, rad/s);
+        default :data:`FIXED_STATES`.
+    input_names : tuple of str
+        Empty: the model has no inputs.
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not an underwater glider or lacks a 3D parameter, ``r_p`` is not three finite numbers,
+        ``m0`` is not finite, or ``m0`` makes a body mass ``m_i`` non-positive.
     """
 
     vehicle: Vehicle

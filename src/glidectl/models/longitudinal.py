@@ -54,6 +54,20 @@ class LongitudinalGlider:
     State ``x = (x, z, theta, Omega2, v1, v3, r_P1, r_P3, P_P1, P_P3, m0)`` in (m, m, rad, rad/s, m/s, m/s, m, m,
     kg m/s, kg m/s, kg); input ``u = (u1, u3, u4)``: total force on the moving mass along body 1 and 3 (N) and
     buoyancy rate (kg/s). Inertial z points down; theta is the pitch angle, theta = alpha + gamma.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        An underwater glider with a moving mass ``mbar > 0`` (kg).
+    state_names : tuple of str
+        Names of the 11 states; default :data:`FORCE_STATES` (units in :data:`STATE_UNITS`).
+    input_names : tuple of str
+        Names of the 3 inputs; default :data:`FORCE_INPUTS` (N, N, kg/s).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not an underwater glider or has ``mbar <= 0``.
     """
 
     vehicle: Vehicle
@@ -140,6 +154,20 @@ class AccelerationControlledGlider:
     (2.32) as printed has the wrong sign on ``Z``. Differentiating (2.31) along (2.18)-(2.24) gives
     ``rddot_P = Z + F u`` with ``Z = -[X1/m1 + rdot_P3 Om + r_P3 Y/J2, X3/m3 - rdot_P1 Om - r_P1 Y/J2]``
     (the negative of the printed vector) and ``F`` as printed.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        An underwater glider with a moving mass ``mbar > 0`` (kg).
+    state_names : tuple of str
+        Names of the 11 states; default :data:`ACCEL_STATES` (units in :data:`STATE_UNITS`).
+    input_names : tuple of str
+        Names of the 3 inputs; default :data:`ACCEL_INPUTS` (m/s^2, m/s^2, kg/s).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not an underwater glider or has ``mbar <= 0`` (the checks of :class:`LongitudinalGlider`).
     """
 
     vehicle: Vehicle
@@ -213,11 +241,19 @@ class GlidePathModel:
 
     ``z'' = sin(gamma_e) x' + cos(gamma_e) z'`` is the rate of the distance (m, positive below-right of the path,
     i.e. along ``(sin gamma_e, cos gamma_e)`` in the (x, z-down) plane) from the desired straight path of flight-path
-    angle ``gamma_e`` (rad). State: ``("z_prime",) + base.state_names[2:]``.
+    angle ``gamma`` (``gamma_e``, rad). State: ``("z_prime",) + base.state_names[2:]``.
+
+    Parameters
+    ----------
+    base : LongitudinalGlider or AccelerationControlledGlider
+        The longitudinal model whose ``(x, z)`` are replaced; its vehicle and inputs are used unchanged.
+    gamma : float
+        Flight-path angle ``gamma_e`` of the desired straight path (rad; negative descending, as
+        :attr:`~glidectl.trim.glide.SteadyGlide.gamma`). Not validated.
     """
 
     base: LongitudinalGlider | AccelerationControlledGlider
-    gamma_e: float
+    gamma: float
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -236,5 +272,5 @@ class GlidePathModel:
         xr = np.asarray(xr)
         full = np.concatenate([np.zeros_like(xr[..., :2]), xr[..., 1:]], axis=-1)
         d = self.base.rhs(full, u)
-        zp = np.sin(self.gamma_e) * d[..., 0] + np.cos(self.gamma_e) * d[..., 1]
+        zp = np.sin(self.gamma) * d[..., 0] + np.cos(self.gamma) * d[..., 1]
         return np.concatenate([zp[..., None], d[..., 2:]], axis=-1)

@@ -34,15 +34,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import StrEnum
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from .._checks import positive_number
 from ..errors import InfeasibleGlideError, ModelError
-
-if TYPE_CHECKING:
-    from ..params import Vehicle
+from ..params import Vehicle
 
 __all__ = [
     "C_STEADY",
@@ -230,7 +228,22 @@ class PhugoidModel:
 
 # ---------------------------------------------------------------------------------------------- classes of C
 class PhugoidClass(StrEnum):
-    """The four classes of phugoid trajectories of Fig 4.1, by Lanchester's C (4.5)."""
+    """The four classes of phugoid trajectories of Fig 4.1, by Lanchester's C (4.5).
+
+    A string enumeration (the value is the label used in figures); :func:`classify_C` maps a value of ``C``
+    (nondimensional) to its class.
+
+    Attributes
+    ----------
+    STEADY_LEVEL : str
+        ``C = 2/3`` (:data:`C_STEADY`): steady level flight.
+    WAVY : str
+        ``0 < C < 2/3``: wavy flight path.
+    CUSP : str
+        ``C = 0``: the singular path with cusps (the speed vanishes at the cusps).
+    LOOPS : str
+        ``C < 0``: looping flight path.
+    """
 
     STEADY_LEVEL = "steady level flight"
     WAVY = "wavy"

@@ -4,7 +4,7 @@ glidectl models, level maximization, V-lambda alternation with rising degree, a-
 from .certify import (
     LevelResult,
     ROACertificate,
-    Verification,
+    ROAVerification,
     certify_roa,
     dVdt,
     lyapunov_matrix,
@@ -22,8 +22,8 @@ __all__ = [
     "Poly",
     "PolySystem",
     "ROACertificate",
+    "ROAVerification",
     "SOSProgram",
-    "Verification",
     "certify_roa",
     "dVdt",
     "lyapunov_matrix",

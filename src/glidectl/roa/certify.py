@@ -21,7 +21,7 @@ search, the certificate never depends on it. The previous ``V`` stays feasible, 
 kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as the starting point.
 
 Every certificate is stated at a backed-off level ``rho_c = (1 - backoff) rho*``, re-solved at that fixed level
-with the largest Gram eigenvalue margin, and verified a posteriori (:class:`Verification`): exact SOS by Gram
+with the largest Gram eigenvalue margin, and verified a posteriori (:class:`ROAVerification`): exact SOS by Gram
 eigenvalue margins against coefficient residuals, the local conditions at the equilibrium, ``dV/dt < 0`` of the
 *true model* at sampled points of the set, and convergence of simulations started in it.
 """
@@ -46,7 +46,7 @@ from .polynomial import Poly, monomial_matrix, monomials
 from .sos import GramCheck, LinPoly, SOSProgram
 from .systems import PolySystem, recast
 
-__all__ = ["LevelResult", "ROACertificate", "Verification", "certify_roa", "dVdt", "lyapunov_matrix",
+__all__ = ["LevelResult", "ROACertificate", "ROAVerification", "certify_roa", "dVdt", "lyapunov_matrix",
            "lyapunov_quadratic", "max_level"]
 
 
@@ -90,7 +90,24 @@ def _scaled(ps: PolySystem) -> list[Poly]:
 
 def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
     """``P`` of ``A^T P + P A = -I`` for the linearization ``A`` of the model at its equilibrium (the Lyapunov
-    equation Drake's ``RegionOfAttraction`` uses); raises if the equilibrium is not exponentially stable."""
+    equation Drake's ``RegionOfAttraction`` uses); raises if the equilibrium is not exponentially stable.
+
+    Parameters
+    ----------
+    ps : PolySystem
+        The recast system (:func:`~glidectl.roa.systems.recast`); ``A`` is the exact (complex-step) Jacobian of its
+        ``rhs`` at its equilibrium, in the model's own states and time unit (``ps.time_unit``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
+        The symmetric positive definite ``P`` (time units of the model, e.g. s, or nondimensional for ``t_n``).
+
+    Raises
+    ------
+    GlidectlError
+        If ``A`` has an eigenvalue with nonnegative real part (no region of attraction to certify).
+    """
     A = _linearization(ps)
     lam = np.linalg.eigvals(A)
     if np.max(lam.real) >= 0:
@@ -102,7 +119,24 @@ def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
 
 def lyapunov_quadratic(ps: PolySystem) -> Poly:
     """``V0 = x^T P x`` (:func:`lyapunov_matrix`) in ``z``: an angle ``x_i`` enters as ``s_i`` in cross terms and as
-    ``2 c_i`` (``= x_i^2 + O(x_i^4)``, positive on the whole circle) when squared; other states as themselves."""
+    ``2 c_i`` (``= x_i^2 + O(x_i^4)``, positive on the whole circle) when squared; other states as themselves.
+
+    Parameters
+    ----------
+    ps : PolySystem
+        The recast system (:func:`~glidectl.roa.systems.recast`).
+
+    Returns
+    -------
+    Poly
+        The quadratic candidate in the ``ps.nz`` polynomial variables ``z`` (units of ``P`` times the squared state
+        units; nondimensional for the glidectl models).
+
+    Raises
+    ------
+    GlidectlError
+        If the equilibrium is not exponentially stable (from :func:`lyapunov_matrix`).
+    """
     P = lyapunov_matrix(ps)
     Z = Poly.variables(ps.nz)
     lin = [Z[sl[0]] for sl in ps.slots]
@@ -130,7 +164,30 @@ def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 
 
 def dVdt(V: Poly, lift: Any, rhs: Any, X: Any) -> np.ndarray:
     """``d/dt V(lift(x))`` along ``x' = rhs(x)`` at states ``X`` (N, n), by complex step through the lift (exact to
-    rounding). With a certificate's ``system.lift`` and ``system.rhs`` this is the true model's derivative."""
+    rounding). With a certificate's ``system.lift`` and ``system.rhs`` this is the true model's derivative.
+
+    Parameters
+    ----------
+    V : Poly
+        Function of the polynomial variables ``z``.
+    lift : callable
+        ``x (N, n) -> z (N, nz)``, complex-safe (e.g. ``PolySystem.lift``).
+    rhs : callable
+        ``x (N, n) -> dx/dt (N, n)`` (e.g. ``PolySystem.rhs``).
+    X : array_like, shape (N, n)
+        States (the model's units).
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,)
+        ``dV/dt`` at each state (units of ``V`` per the model's time unit: 1/s, or per ``t_n`` for nondimensional
+        models).
+
+    Raises
+    ------
+    ValueError
+        If ``X`` is not numeric or the shapes of ``X``, ``rhs(X)`` and ``lift`` do not agree.
+    """
     X = np.asarray(X, dtype=float)
     h = 1e-30
     return np.imag(V(lift(X + 1j * h * np.asarray(rhs(X))))) / h
@@ -266,6 +323,15 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
     -------
     LevelResult
         ``lam`` is returned in the scaled variables used internally (see :func:`certify_roa`).
+
+    Raises
+    ------
+    SolverError
+        If the SDP solver fails or returns a status other than optimal.
+    ModelError
+        If ``system`` is a model that cannot be recast exactly (:func:`~glidectl.roa.systems.recast`).
+    GlidectlError
+        If the recast options are invalid.
     """
     ps = recast(system)
     k = _scaling(ps)
@@ -276,8 +342,33 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
 
 # --------------------------------------------------------------------------------------------- certificate
 @dataclass(frozen=True)
-class Verification:
-    """A-posteriori checks of a certificate (all must pass for ``verified``)."""
+class ROAVerification:
+    """A-posteriori checks of a certificate (all must pass for :attr:`ROACertificate.certified`).
+
+    ``margins`` has one entry per check (``>= 1`` holds): ``"Gram <name>"`` (:attr:`GramCheck.margin` of each SOS
+    constraint), ``"Hessian of V positive definite"``, ``"A'H + HA negative definite"`` and ``"sampled dV/dt < 0"``
+    (``inf`` when they hold, ``0.0`` when not) and ``"simulations converged"`` (``n_converged / n_simulated``).
+    ``passed`` is every check passing (each Gram check exactly SOS, ``slack > 0``); ``failing()`` the margins
+    below 1.
+
+    Attributes
+    ----------
+    gram : tuple of GramCheck
+        Exact-SOS check of every SOS constraint of the final program.
+    hessian_V_min : float
+        Smallest eigenvalue of the Hessian ``H`` of ``V(lift(x))`` at the equilibrium (must be > 0; units of ``V``
+        per squared state unit).
+    lyapunov_max : float
+        Largest eigenvalue of ``A^T H + H A`` (must be < 0; per time unit of the model).
+    n_sampled : int
+        Sampled points of the certified set.
+    max_Vdot : float
+        Largest true ``dV/dt / |x - x_e|^2`` over them (must be < 0).
+    n_simulated, n_converged : int
+        Simulations started in the set and those that converged to the equilibrium.
+    horizon : float
+        Length of those simulations (model time unit: s, or ``t_n``).
+    """
 
     gram: tuple[GramCheck, ...]
     hessian_V_min: float            # smallest eigenvalue of the Hessian of V(lift(x)) at the equilibrium
@@ -289,17 +380,37 @@ class Verification:
     horizon: float
 
     @property
-    def gram_exact(self) -> bool:
-        return all(c.exact for c in self.gram)
+    def gram_passed(self) -> bool:
+        """Every SOS constraint is exactly SOS (:attr:`GramCheck.passed`)."""
+        return all(c.passed for c in self.gram)
 
     @property
     def passed(self) -> bool:
-        return bool(self.gram_exact and self.hessian_V_min > 0 and self.lyapunov_max < 0 and self.n_sampled > 0
+        return bool(self.gram_passed and self.hessian_V_min > 0 and self.lyapunov_max < 0 and self.n_sampled > 0
                     and self.max_Vdot < 0 and self.n_converged == self.n_simulated)
 
+    @property
+    def margins(self) -> dict[str, float]:
+        inf = math.inf
+        out: dict[str, float] = {}
+        for c in self.gram:
+            key = f"Gram {c.name}"
+            out[key if key not in out else f"{key} #{len(out)}"] = c.margin
+        out["Hessian of V positive definite"] = inf if self.hessian_V_min > 0 else 0.0
+        out["A'H + HA negative definite"] = inf if self.lyapunov_max < 0 else 0.0
+        out["sampled dV/dt < 0"] = inf if self.n_sampled > 0 and self.max_Vdot < 0 else 0.0
+        out["simulations converged"] = self.n_converged / self.n_simulated if self.n_simulated else 1.0
+        return out
+
+    def failing(self) -> dict[str, float]:
+        """The entries of :attr:`margins` below 1 (relative tolerance 1e-9)."""
+        return {k: m for k, m in self.margins.items() if not m >= 1 - 1e-9}
+
     def summary(self) -> str:
+        """One line: the smallest Gram margin and slack, the local conditions, sampled dV/dt, simulations."""
         g = min((c.margin for c in self.gram), default=float("nan"))
-        return (f"Gram margin {g:.3g} ({'exact' if self.gram_exact else 'NOT exact'}), Hessian min "
+        sl = min((c.slack for c in self.gram), default=float("nan"))
+        return (f"Gram margin {g:.3g} (slack {sl:.3g}, {'exact' if self.gram_passed else 'NOT exact'}), Hessian min "
                 f"{self.hessian_V_min:.3g}, A'H+HA max {self.lyapunov_max:.3g}, max dV/dt/|x|^2 on "
                 f"{self.n_sampled} samples {self.max_Vdot:.3g}, simulations {self.n_converged}/{self.n_simulated} "
                 f"converged in {self.horizon:g}")
@@ -322,7 +433,8 @@ class ROACertificate:
         Degree of ``V``.
     history : tuple of dict
         Per iteration: degree, level, sampled volume in the box, SDP time.
-    verification : Verification
+    verification : ROAVerification
+        A-posteriori checks; ``certified`` is ``verification.passed``.
     solve_time : float
         Total SDP solver time (s); ``wall_time`` includes building and verification.
     """
@@ -333,13 +445,13 @@ class ROACertificate:
     rho_star: float
     degree: int
     history: tuple[dict[str, Any], ...] = field(repr=False)
-    verification: Verification = field(repr=False)
+    verification: ROAVerification = field(repr=False)
     solve_time: float
     wall_time: float
     provenance: str = ""
 
     @property
-    def verified(self) -> bool:
+    def certified(self) -> bool:
         """True only if every a-posteriori check passed."""
         return self.verification.passed
 
@@ -365,9 +477,39 @@ class ROACertificate:
         X = lo + (hi - lo) * qmc.Sobol(len(lo), seed=seed).random(n)
         return float(np.prod(hi - lo) * np.mean(self.contains(X)))
 
+    def plot(self, ax: Any = None, dims: Any = (0, 1), fixed: Any = None, n: int = 201,
+             samples: bool = True) -> Any:
+        """Draw a 2-D slice of the certified set through the equilibrium, in the glidectl style.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+        dims : two state names or indices
+            The plane of the slice (axes labelled with the system's state names).
+        fixed : array_like (n,) or mapping, optional
+            Values of the other states on the slice (a full state whose ``dims`` entries are ignored, or
+            ``{name: value}``); default the equilibrium.
+        n : int
+            Grid points per axis over the system's box (:meth:`contains` on the grid), and the number of points of
+            the set drawn when ``samples``.
+        samples : bool
+            Draw ``n`` random points of the slice that are in the set (the :attr:`verification` keeps counts, not
+            its sampled points).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            See :func:`glidectl.plotting.plot_roa_certificate`.
+        """
+        from ..plotting import plot_roa_certificate, style
+
+        with style():
+            return plot_roa_certificate(self, ax, dims=dims, fixed=fixed, n=n, samples=samples)
+
 
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
-            n_simulate: int, horizon: float, seed: int) -> Verification:
+            n_simulate: int, horizon: float, seed: int) -> ROAVerification:
     x0 = ps.equilibrium
     H = hessian(lambda X: _V_of(V, ps, X), x0)
     A = _linearization(ps)
@@ -389,7 +531,7 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
         pick = Xs[np.argsort(_V_of(V, ps, Xs))[::-1][:nsim]]
         res = integrate_batch(ps.rhs, pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000)
         conv = int(np.sum(res.converged_to(x0, 1e-3 * max(1.0, float(np.max(hi - lo))))))
-    return Verification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
+    return ROAVerification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
 
 
 def _default_horizon(ps: PolySystem) -> float:
@@ -522,9 +664,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         prog.solve(cp.Maximize(outf["margin"]), solver=solver)
         t_solve += prog.solve_time
         gram = tuple(prog.check())
-        if all(c.exact for c in gram) or bo >= 0.25:
+        if all(c.passed for c in gram) or bo >= 0.25:
             break
-        history.append({"degree": V.degree, "step": f"Gram margin {min(c.margin for c in gram):.2g} at backoff "
+        history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
                         f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": prog.solve_time})
         bo = min(3 * bo, 0.25)
     Vz = _from_scaled(V, k)

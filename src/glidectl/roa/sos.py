@@ -122,7 +122,12 @@ class LinPoly:
 
 @dataclass(frozen=True)
 class GramCheck:
-    """Floating-point check of one SOS constraint after the solve."""
+    """Floating-point check of one SOS constraint after the solve.
+
+    ``slack = lambda_min(Q) - n_basis max|residual|`` (positive means exactly SOS, see the module docstring);
+    ``margin = lambda_min(Q) / (n_basis max|residual|)`` (``>= 1`` holds; ``inf`` for a zero residual and
+    ``lambda_min(Q) > 0``); ``passed`` is ``slack > 0`` (equivalently ``margin > 1``).
+    """
 
     name: str
     n_basis: int
@@ -130,13 +135,22 @@ class GramCheck:
     max_residual: float
 
     @property
-    def margin(self) -> float:
+    def slack(self) -> float:
         """``lambda_min(Q) - n_basis max|residual|``: positive means exactly SOS (see module docstring)."""
         return self.min_eig - self.n_basis * self.max_residual
 
     @property
-    def exact(self) -> bool:
-        return self.margin > 0
+    def margin(self) -> float:
+        """``lambda_min(Q) / (n_basis max|residual|)``: ``> 1`` means exactly SOS."""
+        bound = self.n_basis * self.max_residual
+        if bound > 0:
+            return self.min_eig / bound
+        return float("inf") if self.min_eig > 0 else 0.0
+
+    @property
+    def passed(self) -> bool:
+        """Exactly SOS: ``slack > 0``."""
+        return self.slack > 0
 
 
 @dataclass
@@ -242,7 +256,7 @@ class SOSProgram:
         return float(val)
 
     def check(self) -> list[GramCheck]:
-        """Gram eigenvalue margins against coefficient residuals for every SOS constraint."""
+        """Gram eigenvalues against coefficient residuals for every SOS constraint (:class:`GramCheck`)."""
         out = []
         for name, expr, u in self.sos_constraints:
             Q = u.value()

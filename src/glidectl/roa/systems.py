@@ -159,11 +159,25 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         ``delta`` of the cut ``1 + x_j - delta >= 0``.
     max_degree : int
         Largest degree tried for ``F``.
+    seed : int
+        Seed of the random fitting and test points.
+
+    Returns
+    -------
+    PolySystem
+        ``dz/dt = F(z)/den(z)`` in the lifted variables ``z`` with the angle equalities, the denominator cut and the
+        Taylor enclosures of mixed angles; ``rhs`` and ``lift`` are the model's own (its states and time unit). A
+        ``PolySystem`` argument is returned unchanged.
 
     Raises
     ------
     ModelError
         If the model is not polynomial in the lift up to ``max_degree`` (relative residual above ``1e-9``).
+        Also if the equilibrium is not the origin or a state is listed both as a pure and as a mixed angle.
+    GlidectlError
+        If ``speed_floor`` is not in ``(0, 1)``.
+    AttributeError
+        If the model lacks ``state_names``, ``equilibrium``, ``rhs`` or ``box``.
     """
     if isinstance(model, PolySystem):
         return model
@@ -284,6 +298,26 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
     replaced by their series. A certificate of it is a certificate of the Taylor model only: the returned system's
     ``rhs`` *is* the Taylor polynomial, so check such a certificate against the model's own ``rhs`` (the
     ``roa_certification`` study counts the certified points where the true ``dV/dt`` is positive).
+
+    Parameters
+    ----------
+    system : PolySystem or glidectl model
+        Recast first with :func:`recast` (default options) if it is not a :class:`PolySystem`.
+    order : int
+        Total degree at which the series and the products are truncated, ``>= 1``.
+
+    Returns
+    -------
+    PolySystem
+        A polynomial system in the model's states ``x`` (same names, box, time unit and provenance), named
+        ``"<name> (Taylor order <order>)"``.
+
+    Raises
+    ------
+    GlidectlError
+        If ``order < 1``.
+    ModelError
+        If ``system`` is a model that cannot be recast exactly.
     """
     ps = recast(system)
     if order < 1:

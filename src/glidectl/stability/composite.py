@@ -37,12 +37,30 @@ from ..errors import GlidectlError
 from ..params import Vehicle
 from .singular_perturbation import SingularPerturbation, singular_perturbation
 
-__all__ = ["CompositeCertificate", "Domain", "Verification", "composite_lyapunov"]
+__all__ = ["CompositeCertificate", "CompositeVerification", "Domain", "composite_lyapunov"]
 
 
 @dataclass(frozen=True)
 class Domain:
-    """The box ``B_p x B_q`` (nondimensional): ``Vbar, gammabar, alphabar, Omegabar2`` ranges ``(lo, hi)``."""
+    """The box ``B_p x B_q`` (nondimensional): ``Vbar, gammabar, alphabar, Omegabar2`` ranges ``(lo, hi)``.
+
+    Parameters
+    ----------
+    Vbar : (float, float)
+        Range of ``Vbar = (V - V_e)/V_e`` (nondimensional), ``-1 < lo < 0 < hi``.
+    gammabar : (float, float)
+        Range of ``gammabar = gamma - gamma_e`` (rad), ``lo < 0 < hi``, ``|gammabar| <= pi``.
+    alphabar : (float, float)
+        Range of ``alphabar = alpha - alpha_e`` (rad), ``lo < 0 < hi``, ``|alphabar| <= 2 pi``.
+    Omegabar : (float, float)
+        Range of ``Omegabar2 = (K_q/K_M) Omega2`` (nondimensional), ``lo < 0 < hi``; may be infinite.
+
+    Raises
+    ------
+    GlidectlError
+        If a range does not contain 0 in its interior, is NaN or (except ``Omegabar``) infinite, ``Vbar_min <= -1``,
+        ``|gammabar| > pi`` or ``|alphabar| > 2 pi``.
+    """
 
     Vbar: tuple[float, float] = (-0.4, 0.4)
     gammabar: tuple[float, float] = (-math.pi, math.pi)
@@ -78,19 +96,37 @@ class Domain:
 
 
 @dataclass(frozen=True)
-class Verification:
-    """Worst sampled ratio ``left side / right side`` of every inequality (valid when <= 1)."""
+class CompositeVerification:
+    """Sampled margin of every inequality of §5.1-§5.3 (result of :meth:`CompositeCertificate.verify`).
 
-    ratios: dict[str, float]
+    Attributes
+    ----------
+    margins : dict[str, float]
+        ``right side / left side`` at the worst sample of each inequality: ``>= 1`` holds, ``< 1`` fails. ``inf``
+        when the left side never reaches a positive value on the samples (or no sample qualifies), ``0.0`` when a
+        derivative that must be negative is not negative everywhere.
+    n_samples, seed : int
+    passed : bool
+        Every margin is ``>= 1`` (relative tolerance 1e-9).
+    """
+
+    margins: dict[str, float]
     n_samples: int
     seed: int
 
     @property
-    def all_valid(self) -> bool:
-        return all(r <= 1.0 + 1e-9 for r in self.ratios.values())
+    def passed(self) -> bool:
+        return all(m >= 1.0 - 1e-9 for m in self.margins.values())
 
     def failing(self) -> dict[str, float]:
-        return {k: r for k, r in self.ratios.items() if r > 1.0 + 1e-9}
+        """The entries of :attr:`margins` below 1 (relative tolerance 1e-9)."""
+        return {k: m for k, m in self.margins.items() if not m >= 1.0 - 1e-9}
+
+
+def _margin(ratio: float) -> float:
+    """Margin ``1 / ratio`` of a worst sampled ratio ``left / right`` (``inf`` for a ratio ``<= 0``, ``0`` for
+    ``inf``)."""
+    return math.inf if ratio <= 0 else 1.0 / ratio
 
 
 @dataclass(frozen=True)
@@ -99,6 +135,55 @@ class CompositeCertificate:
 
     ``certified`` is True exactly when ``mu < mu_d`` (the composite function ``nu`` with the ``d`` of (5.84)
     proves asymptotic stability on ``B_p x B_q`` and ``L*`` (5.85) is a region-of-attraction estimate).
+
+    All constants are nondimensional (variables and time ``t_n`` of §5.1).
+
+    Attributes
+    ----------
+    sp : SingularPerturbation
+        Chapter-5 analysis of the vehicle (``eps1``, ``eps2``, ``mu``, ``r1``, ``r2``).
+    domain : Domain
+        The box ``B_p x B_q``.
+    cw : str
+        ``"corrected"`` or ``"thesis"``: which ``C_W`` of (5.31) is used.
+    k1, k2, e, a1, b1 : float
+        Constants of Proposition 2 ((5.37)-(5.49)) for ``Phi`` on ``B_p``.
+    k3, k4 : float
+        Half the smallest and largest eigenvalues of ``C_W`` over the ``Vbar`` range (Proposition 1, corrected):
+        ``k3 |q|^2 <= W <= k4 |q|^2``.
+    a2, b2 : float
+        Decrease rate of ``W`` along the boundary layer, ``dW/dtau <= -a2 sigma^2``, and ``b2 = a2 (1 +
+        Vbar_min)^2``; ``a2 <= 0`` means Proposition 1 fails.
+    beta1, gamma1 : float
+        Interconnection constants of Theorem 2, condition 1 ((5.57)-(5.63)).
+    beta2p, gamma2p : float
+        ``beta2'``, ``gamma2'`` of condition 2 ((5.64)-(5.78), re-derived for the general ``c1``).
+    beta2pp, gamma2pp : float
+        ``beta2''``, ``gamma2''`` of condition 3 ((5.79)-(5.81), the valid reading of the module docstring).
+    beta2, gamma2 : float
+        ``beta2' + beta2''`` and ``gamma2' + gamma2''``.
+    F1 : float
+        Upper bound of ``|f1|`` on the domain, used in ``gamma2''``.
+    mu_star : float
+        ``a1 a2 / (a1 gamma2 + a2 gamma1 + beta1 beta2)`` (0 when ``a2 <= 0``).
+    v0, w0 : float
+        Smallest ``Phi`` on the faces of ``B_p`` and largest level of ``W`` inside ``B_q``.
+    d : float
+        Weight of (5.84), ``v0 / (v0 + w0)``.
+    mu_d : float
+        Bound ``mu_d(d)`` of (5.54) at that ``d``.
+    level : float
+        ``L* = v0 w0 / (v0 + w0)``, the level of ``nu`` bounding the region-of-attraction estimate (5.85).
+    d_best, mu_d_best : float
+        The ``d`` in ``(0, 1)`` maximizing ``mu_d`` and that maximum.
+    mu : float
+        ``max(eps1, eps2)`` of the vehicle (5.26).
+    certified : bool
+        ``mu < mu_d``.
+    vehicle : Vehicle
+        The vehicle.
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
     """
 
     sp: SingularPerturbation = field(repr=False)
@@ -128,7 +213,7 @@ class CompositeCertificate:
     level: float
     d_best: float
     mu_d_best: float
-    vehicle: str
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str
 
     @property
@@ -207,6 +292,28 @@ class CompositeCertificate:
             box &= (z[..., i] >= lo) & (z[..., i] <= hi)
         return box & (self.nu(z) <= self.level)
 
+    def plot(self, ax: Any = None, *, n: int = 201) -> Any:
+        """Draw ``L*`` (5.85) in the ``(Vbar, gammabar)`` plane at ``alphabar = Omegabar2 = 0``, with the level set
+        ``{Phi <= v0}`` (5.35) and the box ``B_p``, in the glidectl style.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+        n : int
+            Grid points per axis.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The title says whether ``L*`` is certified (``mu < mu_d``); see
+            :func:`glidectl.plotting.plot_composite_certificate`.
+        """
+        from ..plotting import plot_composite_certificate, style
+
+        with style():
+            return plot_composite_certificate(self, ax, n=n)
+
     def _grad_W(self, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(dW/dVbar, dW/dalphabar, dW/dOmegabar2) by complex step (exact)."""
         h = 1e-30
@@ -217,11 +324,12 @@ class CompositeCertificate:
         return dV, c1 * a + c3 * O, c3 * a + c2 * O
 
     # --------------------------------------------------------------------------------------------- checks
-    def verify(self, n: int = 200_000, seed: int = 0) -> Verification:
-        """Sample ``B_p x B_q`` and return the worst ratio (left / right) of every bound of §5.1-§5.3.
+    def verify(self, n: int = 200_000, seed: int = 0) -> CompositeVerification:
+        """Sample ``B_p x B_q`` and return the margin (right / left at the worst sample) of every bound of
+        §5.1-§5.3.
 
         Left sides are evaluated with the model's own vector fields (:meth:`SingularPerturbation.f`, ``g``), not
-        with the thesis's algebra, so a wrong derivation shows up as a ratio above 1.
+        with the thesis's algebra, so a wrong derivation shows up as a margin below 1.
         """
         sp = self.sp
         rng = np.random.default_rng(seed)
@@ -286,7 +394,7 @@ class CompositeCertificate:
                    + self.d * (dWV * f_pq[:, 0] + (dWa * Ar[0] * g_eps[:, 0] + dWO * Ar[1] * g_eps[:, 1]) / sp.mu))
             r["Thm2: dnu/dt_n <= 0 on B_p x B_q"] = float(np.max(dnu / (P2 + Q2 + tiny))) + 1.0 \
                 if np.max(dnu) > 0 else 0.0
-        return Verification(r, n, seed)
+        return CompositeVerification({k: _margin(v) for k, v in r.items()}, n, seed)
 
 
 def _bounds(dom: Domain) -> list[tuple[float, float]]:
@@ -342,6 +450,16 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
     -------
     CompositeCertificate
         ``certified`` is True exactly when ``mu < mu_d``.
+
+    Raises
+    ------
+    ModelError
+        If the vehicle has no singularly perturbed chapter-5 glide (from
+        :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
+    GlidectlError
+        If the added masses are unequal (``m1 + mbar != m3 + mbar``; see
+        :func:`~glidectl.stability.unequal_mass.unequal_mass_check`), ``cw`` is not ``"corrected"`` or
+        ``"thesis"``, or the domain is invalid (:class:`Domain`).
     """
     sp = singular_perturbation(veh)
     M1, M3 = sp.model.masses
@@ -405,7 +523,7 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
     b2 = a2 * (1 + Vlo) ** 2
     # Theorem 2, condition 1 (5.57)-(5.63)
     KL, KD, KDe, KLe = sp.model.vehicle.K_L, sp.model.vehicle.K_D, sp.K_De, sp.K_Le
-    beta1 = (abs(KL) + KD * (amax + 2 * abs(sp.alpha_e)) * (math.sqrt(2) * (1 + max(Vhi, 0.0)) + Vabs)) / KDe
+    beta1 = (abs(KL) + KD * (amax + 2 * abs(sp.alpha)) * (math.sqrt(2) * (1 + max(Vhi, 0.0)) + Vabs)) / KDe
     gamma1 = 0.0
     # condition 2 (5.64)-(5.78), re-derived for general c1
     c1_all, _, _ = _cw(cw, r1, r2, (1 + Vg) ** 2)
@@ -415,11 +533,11 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
         shape = float(np.max(np.sqrt(1 + c1_all**2) / (1 + Vg) ** 2))
     else:
         shape = (1 + r1) / (1 + Vlo) ** 2 + r1 + r2  # (5.77) as printed
-    beta2p = abs(KLe) / (KDe * abs(math.cos(sp.gamma_e))) * (math.sqrt(2) + Vabs / (1 + Vlo)) * shape
+    beta2p = abs(KLe) / (KDe * abs(math.cos(sp.gamma))) * (math.sqrt(2) + Vabs / (1 + Vlo)) * shape
     # condition 3: |dW/dVbar f1| <= F1 max(X, Y) sigma^2
     veh_ = sp.model.vehicle
-    F1 = (abs(veh_.m0) * veh_.g + (veh_.K_D0 + KD * (abs(sp.alpha_e) + amax) ** 2) * sp.V_e**2 * (1 + Vhi) ** 2) \
-        / (KDe * sp.V_e**2)
+    F1 = (abs(veh_.m0) * veh_.g + (veh_.K_D0 + KD * (abs(sp.alpha) + amax) ** 2) * sp.speed**2 * (1 + Vhi) ** 2) \
+        / (KDe * sp.speed**2)
     if cw == "corrected":
         X = 2 * (r2 / r1) / (1 + Vlo)  # c1' = 4 (r2/r1)(1 + V)
     else:
@@ -450,4 +568,4 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
                           bounds=(1e-9, 1 - 1e-9), method="bounded", options={"xatol": 1e-12})
     return CompositeCertificate(sp, dom, cw, k1, k2, k3, k4, a1, b1, a2, b2, e, beta1, gamma1, beta2p, gamma2p,
                                 beta2pp, gamma2pp, F1, mu_star, v0, w0, d, mu_d, level, float(res.x),
-                                float(-res.fun), veh.name, veh.provenance)
+                                float(-res.fun), veh, veh.provenance)

@@ -5,7 +5,7 @@ into interconnected subsystems, the Lyapunov functions ``Q1`` (7.69) and ``Q2`` 
 
 States ``x = (x1, x2)``, ``x1 = (Vbar, gammabar)``, ``x2 = (thetabar, Omega2bar)`` (nondimensional, (7.8)-(7.11));
 the domain is the ball ``||x|| <= r`` with ``r < 1`` (so ``|thetabar| <= r``, as in §7.2.3). The closed loop is
-:class:`glidectl.controllers.ctol.ClosedLoopCTOL` and is the only right-hand side used here:
+:class:`glidectl.models.ctol_closed_loop.ClosedLoopCTOL` and is the only right-hand side used here:
 
 - ``f1(x1) = rhs_1(x1, 0)`` (7.29)-(7.30), ``g1(x) = rhs_1(x) - f1(x1)`` (7.31)-(7.32);
 - ``f2(x2) = rhs_2(0, x2)`` (7.33)-(7.34), ``g2(x) = rhs_2(x) - f2(x2)``. ``g2 = 0`` (7.35) holds exactly (bit for
@@ -65,8 +65,8 @@ Theorem 9.2). ``d1 = 1`` and ``d2 > d2* = (beta1 gamma12)^2 / (4 lambda1 lambda2
 ``level = min(c11, d2 c21) r^2`` lies below ``Q`` on the sphere ``||x|| = r``, so ``{Q <= level}`` is invariant
 and inside the ball; it contains the ball of radius ``r_a = sqrt(level / max(c12, d2 c22))`` (§7.2.5).
 
-Ratios reported by :meth:`CTOLLyapunovCertificate.verify` are *margins*: ``>= 1`` means the bound holds on the
-samples, ``< 1`` that it fails (lower bounds: sampled min / constant; upper bounds: constant / sampled max).
+The ``margins`` reported by :meth:`CTOLLyapunovCertificate.verify` are ``>= 1`` when the bound holds on the
+samples, ``< 1`` when it fails (lower bounds: sampled min / constant; upper bounds: constant / sampled max).
 """
 
 from __future__ import annotations
@@ -82,9 +82,9 @@ import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
 from .._checks import positive_number
-from ..controllers.ctol import ClosedLoopCTOL
 from ..errors import ModelError
 from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
+from ..models.ctol_closed_loop import ClosedLoopCTOL
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
 
@@ -125,7 +125,7 @@ class Theorem5Constants:
                 l1 * l2 + b1 * b2 * (g11 * g22 - g12 * g21) - l1 * b2 * g22 - l2 * b1 * g11)
 
     @property
-    def coupling_holds(self) -> bool:
+    def certified(self) -> bool:
         """(7.44)-(7.45) hold and every ``c_ij, lambda_i, beta_i`` is positive (the hypotheses of Theorem 5)."""
         pos = min(self.c11, self.c12, self.c21, self.c22, self.lambda1, self.lambda2, self.beta1, self.beta2) > 0
         return bool(pos and min(self.coupling) > 0)
@@ -140,14 +140,16 @@ class CTOLVerification:
 
     Attributes
     ----------
-    ratios_printed, ratios_valid : Mapping[str, float]
-        Margin of each bound with the printed / the certificate's constants: ``>= 1`` holds, ``< 1`` fails. Keys
-        ``c11, c12, lambda1, beta1, gamma1`` ((7.43) for ``i = 1``), ``c21, c22, lambda2, beta2, gamma2``;
-        ``ratios_valid`` adds ``"composite (7.46)"`` (``-Q' / (lambda/2 |x|^2)``), ``"level on sphere"``
+    margins, margins_printed : Mapping[str, float]
+        Margin of each bound (read-only) with the certificate's / the printed constants: ``>= 1`` holds, ``< 1``
+        fails. Keys ``c11, c12, lambda1, beta1, gamma1`` ((7.43) for ``i = 1``), ``c21, c22, lambda2, beta2,
+        gamma2``;
+        ``margins`` adds ``"composite (7.46)"`` (``-Q' / (lambda/2 |x|^2)``), ``"level on sphere"``
         (``Q / level`` on ``||x|| = r``) and ``"r_a ball in level set"`` (``level / Q`` on ``||x|| <= r_a``) when
-        the certificate is certified. ``gamma2`` is ``inf`` when ``g2`` is exactly zero on every sample.
-    lambda1_formula : float
-        Margin of the corrected analytic ``lambda1 = (V_e/m) min(s1, s2)``.
+        the certificate is certified. ``gamma2`` is ``inf`` when ``g2`` is exactly zero on every sample, else 0.
+    lambda1_formula_margin : float
+        Margin of the corrected analytic ``lambda1 = (V_e/m) min(s1, s2)``
+        (:attr:`CTOLLyapunovCertificate.lambda1_formula`).
     sampled : Theorem5Constants
         Sampled extremes (``c11`` = min of ``Q1/|x1|^2``, ``c12`` = max, ``lambda1`` = min of ``-Q1'/|x1|^2``,
         ``beta1`` = max of ``|grad Q1|/|x1|``, ``gamma12`` = max of ``|g1|/|x2|``, same for ``i = 2``; ``gamma11 = 0``,
@@ -157,11 +159,14 @@ class CTOLVerification:
     n_samples, seed : int
     elapsed : float
         Wall time of the verification (s).
+    passed : bool
+        Every margin is ``>= 1`` (relative tolerance 1e-9): every bound with the certificate's constants holds on
+        the samples.
     """
 
-    ratios_printed: Mapping[str, float]
-    ratios_valid: Mapping[str, float]
-    lambda1_formula: float
+    margins_printed: Mapping[str, float]
+    margins: Mapping[str, float]
+    lambda1_formula_margin: float
     sampled: Theorem5Constants
     g2_max: float
     n_samples: int
@@ -169,13 +174,17 @@ class CTOLVerification:
     elapsed: float
 
     @property
-    def all_valid(self) -> bool:
-        """Every bound with the certificate's constants holds on the samples."""
-        return all(v >= 1 - TOL for v in self.ratios_valid.values()) and self.g2_max == 0.0
+    def passed(self) -> bool:
+        """Every bound with the certificate's constants holds on the samples (``gamma2`` included: ``g2 = 0``)."""
+        return all(v >= 1 - TOL for v in self.margins.values())
+
+    def failing(self) -> dict[str, float]:
+        """Bounds with the certificate's constants that fail on the samples, with their margins (< 1)."""
+        return {k: v for k, v in self.margins.items() if not v >= 1 - TOL}
 
     def failing_printed(self) -> dict[str, float]:
         """Printed constants that fail on the samples, with their margins (< 1)."""
-        return {k: v for k, v in self.ratios_printed.items() if v < 1 - TOL}
+        return {k: v for k, v in self.margins_printed.items() if not v >= 1 - TOL}
 
 
 @dataclass(frozen=True)
@@ -249,7 +258,7 @@ class CTOLLyapunovCertificate:
     @property
     def certified(self) -> bool:
         """The certificate's constants satisfy the hypotheses and coupling conditions (7.44)-(7.45) of Theorem 5."""
-        return self.valid.coupling_holds and self.lam > 0
+        return self.valid.certified and self.lam > 0
 
     def rhs(self, x: Any) -> np.ndarray:
         """Closed-loop ``x' = (f1 + g1, f2 + g2)`` (7.28) at ``x = (Vbar, gammabar, thetabar, Omega2bar)`` (1/s)."""
@@ -329,8 +338,8 @@ class CTOLLyapunovCertificate:
         x1 = np.asarray(x1, dtype=float)
         veh, gl = self.vehicle, self.glide
         V, g = x1[..., 0], x1[..., 1]
-        a = gl.alpha_e - g
-        KDe, KLe = drag_coefficient(veh, gl.alpha_e), lift_coefficient(veh, gl.alpha_e)
+        a = gl.alpha - g
+        KDe, KLe = drag_coefficient(veh, gl.alpha), lift_coefficient(veh, gl.alpha)
         dKD, dKL = drag_coefficient(veh, a) - KDe, lift_coefficient(veh, a) - KLe
         s2 = (1 + V) ** 2
         return -(gl.speed / veh.m) * (KDe * ((V * V + 2 * V) ** 2 + 4 * s2 * np.sin(g / 2) ** 2)
@@ -524,7 +533,7 @@ def _printed(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, kp:
     beta2 = math.sqrt(kp * A + kp + max(A * A + kp * kp, 1 + kp * kp))               # (7.67)
     rho = veh.rho_AW_half
     aD, aL, b, c = rho * veh.a_D, rho * veh.a_L, veh.b, veh.c
-    ae = glide.alpha_e
+    ae = glide.alpha
     KDe = float(drag_coefficient(veh, ae))
     s1 = KDe * (2 - r) ** 2 - 2 * aD * b * c * abs(c * ae + 1) * (1 + 3 * r + r * r)                   # (7.71)
     s2 = (KDe * (1 - r) ** 2 * math.sin(r / 2) ** 2 / (r / 2) ** 2 + aL * c * math.sin(r) / r * (1 - r) ** 2
@@ -537,7 +546,7 @@ def _printed(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, kp:
 def _composite(c: Theorem5Constants) -> tuple[float, float, float]:
     """``(d1, d2, lambda)`` for ``gamma11 = gamma2j = 0``: ``d1 = 1``, ``d2`` maximizing ``lambda_min(M) /
     max(c12, d2 c22)``; zeros if Theorem 5 does not apply."""
-    if not c.coupling_holds:
+    if not c.certified:
         return 0.0, 0.0, 0.0
     a, b, cc = c.lambda1, 0.5 * c.beta1 * c.gamma12, c.lambda2
 
@@ -608,7 +617,7 @@ def ctol_lyapunov(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float
         raise ModelError(f"margin must be a relative back-off in [0, 0.5), got {margin!r}")
     if not (isinstance(n, int | np.integer) and not isinstance(n, bool) and n >= 100):
         raise ModelError(f"n must be an integer >= 100, got {n!r}")
-    k_pp = glide.k1 * math.sin(glide.theta_e) + glide.k2 * math.cos(glide.theta_e)
+    k_pp = glide.k1 * math.sin(glide.theta) + glide.k2 * math.cos(glide.theta)
     if k3 + k_pp <= 0:
         raise ModelError(f"k3 + k'' = {k3 + k_pp:g} <= 0 (k'' = {k_pp:g}): Q2 (7.48) is not positive definite; "
                          f"choose k3 > {-k_pp:g} (§7.2.3 asks for k3 > |k''|)")
@@ -657,7 +666,7 @@ def ctol_lyapunov(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float
         level = r_a = 0.0
     prov = (f"glidectl.stability.ctol_lyapunov: Bhatta 2006 Theorem 5 (§7.2.2-§7.2.5, App. 'Theorem 5 "
             f"Calculations'); vehicle {veh.name} [{veh.provenance}]; glide V_e={glide.speed:.10g}, "
-            f"gamma_e={glide.gamma:.10g}, alpha_e={glide.alpha_e:.10g}, k1={glide.k1:.10g}, k2={glide.k2:.10g}; "
+            f"gamma_e={glide.gamma:.10g}, alpha_e={glide.alpha:.10g}, k1={glide.k1:.10g}, k2={glide.k2:.10g}; "
             f"k3={k3:g}, k4={k4:g}, T={T:g}, k'={kp:g}, r={r:g}; margin={margin:g}, n={n}, seed={seed}")
     return CTOLLyapunovCertificate(veh, glide, k3, k4, T, kp, r, k_pp, printed, valid_c, sampled, lam1_formula,
                                    d1, d2, lam, level, r_a, margin, tuple(corrections), n, seed, prov)

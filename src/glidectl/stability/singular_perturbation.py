@@ -33,10 +33,10 @@ class SingularPerturbation:
 
     Attributes
     ----------
-    V_e : float
-        Equilibrium speed (m/s), (5.8).
-    gamma_e, alpha_e : float
-        Equilibrium flight-path angle (5.9) and angle of attack (5.10)/(5.90) (rad).
+    speed : float
+        Equilibrium speed ``V_e`` (m/s), (5.8).
+    gamma, alpha : float
+        Equilibrium flight-path angle ``gamma_e`` (5.9) and angle of attack ``alpha_e`` (5.10)/(5.90) (rad).
     K_De, K_Le : float
         Drag and lift coefficients at ``alpha_e`` (kg/m).
     tau_s : float
@@ -52,13 +52,16 @@ class SingularPerturbation:
         ``d/dq [g1/eps1, g2/eps2]``), as printed in §5.1.3.
     full_eigenvalues : ndarray
         Eigenvalues of the full nondimensional linearization (5.28)-(5.29) on ``t_n`` (for comparison).
-    vehicle, provenance : str
+    vehicle : Vehicle
+        The analysed vehicle.
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
     """
 
     model: ReducedLongitudinalGlider = field(repr=False)
-    V_e: float
-    gamma_e: float
-    alpha_e: float
+    speed: float
+    gamma: float
+    alpha: float
     K_De: float
     K_Le: float
     tau_s: float
@@ -70,7 +73,7 @@ class SingularPerturbation:
     reduced_eigenvalues: np.ndarray = field(repr=False)
     boundary_layer_eigenvalues: np.ndarray = field(repr=False)
     full_eigenvalues: np.ndarray = field(repr=False)
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = ""
 
     # ---------------------------------------------------------------- coordinates (5.12)-(5.15), (5.19)
@@ -82,19 +85,19 @@ class SingularPerturbation:
 
     @property
     def equilibrium(self) -> np.ndarray:
-        """Dimensional steady glide ``(V_e, gamma_e, alpha_e, 0)``."""
-        return np.array([self.V_e, self.gamma_e, self.alpha_e, 0.0])
+        """Dimensional steady glide ``(speed, gamma, alpha, 0)``."""
+        return np.array([self.speed, self.gamma, self.alpha, 0.0])
 
     def to_nondimensional(self, x: Any) -> np.ndarray:
         """``(V, gamma, alpha, Omega2) -> (Vbar, gammabar, alphabar, Omegabar2)``, (5.12)-(5.15)."""
         x = np.asarray(x)
-        return np.stack([(x[..., 0] - self.V_e) / self.V_e, x[..., 1] - self.gamma_e, x[..., 2] - self.alpha_e,
+        return np.stack([(x[..., 0] - self.speed) / self.speed, x[..., 1] - self.gamma, x[..., 2] - self.alpha,
                          self.omega_scale * x[..., 3]], axis=-1)
 
     def to_dimensional(self, z: Any) -> np.ndarray:
         """Inverse of :meth:`to_nondimensional`."""
         z = np.asarray(z)
-        return np.stack([self.V_e * (1 + z[..., 0]), z[..., 1] + self.gamma_e, z[..., 2] + self.alpha_e,
+        return np.stack([self.speed * (1 + z[..., 0]), z[..., 1] + self.gamma, z[..., 2] + self.alpha,
                          z[..., 3] / self.omega_scale], axis=-1)
 
     # ---------------------------------------------------------------- compact form (5.28)-(5.29)
@@ -106,7 +109,7 @@ class SingularPerturbation:
     def f(self, p: Any, q: Any) -> np.ndarray:
         """Slow vector field ``dp/dt_n = f(p, q)`` of (5.28), ``p = (Vbar, gammabar)``."""
         Vd, gd, _, _ = self._rates(p, q)
-        return np.stack([self.tau_s * Vd / self.V_e, self.tau_s * gd], axis=-1)
+        return np.stack([self.tau_s * Vd / self.speed, self.tau_s * gd], axis=-1)
 
     def g(self, p: Any, q: Any, eps: bool = True) -> np.ndarray:
         """Fast vector field ``g(p, q, eps)`` of (5.29) (``mu dq/dt_n = A g``); ``eps=False`` gives ``g(p, q, 0)``.
@@ -145,7 +148,7 @@ class SingularPerturbation:
         """The reduced subsystem in dimensional form, ``(V, gamma)' `` of (5.4)-(5.5) at ``alpha = alpha_e``,
         ``Omega2 = 0`` (the slow model simulated in Fig 5.1)."""
         x = np.asarray(x)
-        full = np.stack([x[..., 0], x[..., 1], np.full_like(x[..., 0], self.alpha_e),
+        full = np.stack([x[..., 0], x[..., 1], np.full_like(x[..., 0], self.alpha),
                          np.zeros_like(x[..., 0])], axis=-1)
         return self.model.rhs(full)[..., :2]
 
@@ -173,6 +176,28 @@ class NondimensionalModel:
     (the dimensional model seen through (5.12)-(5.19)). ``angle_states`` and ``positive_state`` tell
     :func:`glidectl.roa.recast` how to make it polynomial: ``gammabar`` is an angle and the right-hand side has the
     factor ``1/(1 + Vbar)`` (``1/V``). ``box`` is the region of interest ``(lo, hi)``.
+
+    Built by :meth:`SingularPerturbation.reduced_model` and :meth:`SingularPerturbation.full_model`.
+
+    Parameters
+    ----------
+    sp : SingularPerturbation
+        The analysed glider and its scalings.
+    kind : {"reduced", "full"}
+        ``"reduced"``: states ``(Vbar, gammabar)`` (5.33); any other value: the full model (5.28)-(5.29), states
+        ``(Vbar, gammabar, alphabar, Omegabar2)``. Not validated.
+    state_names : tuple of str
+        Names of the nondimensional states (must match ``kind``).
+    box : tuple of ndarray
+        Region of interest ``(lo, hi)`` in the nondimensional states.
+    angle_states : tuple of int
+        Indices of the states that enter only through ``sin``/``cos`` (``gammabar``).
+    positive_state : int
+        Index of the state ``Vbar`` with ``1 + Vbar > 0`` (the ``1/V`` factor).
+    time_unit : str
+        ``"t_n"``: time is nondimensional, ``t_n = t / tau_s``.
+    input_names : tuple of str
+        Empty: the model has no inputs.
     """
 
     sp: SingularPerturbation = field(repr=False)
@@ -186,7 +211,7 @@ class NondimensionalModel:
 
     @property
     def name(self) -> str:
-        return f"{self.sp.vehicle} {self.kind} (K_M = {self.sp.model.vehicle.K_M:g})"
+        return f"{self.sp.vehicle.name} {self.kind} (K_M = {self.sp.model.vehicle.K_M:g})"
 
     @property
     def provenance(self) -> str:
@@ -212,10 +237,20 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
         Underwater glider (``r_P = 0`` is assumed; ``m0 != 0``). ``K_q < 0`` and ``K_M < 0`` are needed for
         positive ``eps1, eps2`` (pitch damping and pitch stiffness).
 
+    Returns
+    -------
+    SingularPerturbation
+        The steady glide ``V_e`` (m/s), ``gamma_e``, ``alpha_e`` (rad), ``K_De``, ``K_Le`` (kg/m), the slow time
+        scale ``tau_s`` (s), the small parameters ``eps1, eps2, mu`` and ratios ``r1, r2`` (nondimensional), and the
+        eigenvalues of the reduced, boundary-layer and full linearizations on the nondimensional time ``t_n =
+        t / tau_s`` (nondimensional).
+
     Raises
     ------
     ModelError
-        If the vehicle has no steady glide in this model or is not singularly perturbed (``eps_i <= 0``).
+        If the vehicle has no steady glide in this model or is not singularly perturbed (``eps_i <= 0``): not an
+        underwater glider, ``m0 = 0``, ``K_M = 0``, no equilibrium angle of attack from (5.90), ``K_De <= 0``,
+        ``K_q >= 0`` or ``K_M >= 0``.
     """
     model = ReducedLongitudinalGlider(veh)
     _, M3 = model.masses
@@ -240,7 +275,7 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
                          "perturbation form (5.16)-(5.17) needs K_q < 0 and K_M < 0 (pitch damping and stiffness)")
     mu = max(eps1, eps2)
     sp = SingularPerturbation(model, V_e, gamma_e, a_e, K_De, K_Le, tau_s, eps1, eps2, mu, mu / eps1, mu / eps2,
-                              np.empty(0), np.empty(0), np.empty(0), veh.name, veh.provenance)
+                              np.empty(0), np.empty(0), np.empty(0), veh, veh.provenance)
     z0 = np.zeros(2)
     Ar, _ = jacobians(lambda p, u: sp.reduced_rhs(p), z0, np.zeros(0))
     Ab, _ = jacobians(lambda q, u: sp.g(np.zeros_like(q), q, eps=False) / np.array([eps1, eps2]), z0, np.zeros(0))
@@ -251,7 +286,7 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     srt = lambda lam: lam[np.lexsort((lam.imag, lam.real))]  # noqa: E731
     return SingularPerturbation(model, V_e, gamma_e, a_e, K_De, K_Le, tau_s, eps1, eps2, mu, mu / eps1, mu / eps2,
                                 srt(np.linalg.eigvals(Ar)), srt(np.linalg.eigvals(Ab)), srt(np.linalg.eigvals(Af)),
-                                veh.name, veh.provenance)
+                                veh, veh.provenance)
 
 
 @dataclass(frozen=True)
@@ -260,6 +295,15 @@ class SlowModel:
 
     Its right-hand side is :meth:`SingularPerturbation.reduced_dimensional_rhs` (the full model at
     ``alpha = alpha_e``, ``Omega2 = 0``), equations (5.4)-(5.5) / (5.33).
+
+    Parameters
+    ----------
+    sp : SingularPerturbation
+        From :func:`singular_perturbation`; gives the vehicle and ``alpha_e`` (rad).
+    state_names : tuple of str
+        ``("V", "gamma")`` (m/s, rad).
+    input_names : tuple of str
+        Empty: the model has no inputs.
     """
 
     sp: SingularPerturbation

@@ -51,37 +51,41 @@ class CTOLGlide:
     ----------
     speed, gamma : float
         ``V_e`` (m/s) and ``gamma_e`` (rad, positive climbing).
-    alpha_e, theta_e : float
-        Angle of attack and pitch angle (rad), ``theta_e = gamma_e + alpha_e``.
+    alpha, theta : float
+        Angle of attack ``alpha_e`` and pitch angle ``theta_e`` (rad), ``theta = gamma + alpha`` (a property).
     k1, k2 : float
         Gains of (7.18)-(7.19) (N), from (7.21)-(7.22).
     thrust : float
         Equilibrium thrust ``u1 = -k1 sin theta_e - k2 cos theta_e`` (N); negative thrust (a brake) is needed for
         steep, fast descents.
     alpha_roots : tuple of float
-        Every root of (7.25) on (-pi, pi] (rad), sorted; ``alpha_e`` is the one of smallest magnitude.
+        Every root of (7.25) on (-pi, pi] (rad), sorted; ``alpha`` is the one of smallest magnitude.
     residual : float
         max |(7.21), (7.22), (7.23)| at the solution (N).
-    vehicle, provenance : str
+    vehicle : Vehicle
+        The aircraft.
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
     """
 
     speed: float
     gamma: float
-    alpha_e: float
+    alpha: float
     k1: float
     k2: float
     alpha_roots: tuple[float, ...]
     residual: float
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = field(default="", repr=False)
 
     @property
-    def theta_e(self) -> float:
-        return self.gamma + self.alpha_e
+    def theta(self) -> float:
+        """Pitch angle ``theta_e = gamma_e + alpha_e`` (rad)."""
+        return self.gamma + self.alpha
 
     @property
     def thrust(self) -> float:
-        return float(-self.k1 * math.sin(self.theta_e) - self.k2 * math.cos(self.theta_e))
+        return float(-self.k1 * math.sin(self.theta) - self.k2 * math.cos(self.theta))
 
     @property
     def velocity(self) -> np.ndarray:
@@ -90,7 +94,7 @@ class CTOLGlide:
 
     def full_state(self, position: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
         """State ``(x, y, xdot, ydot, theta, Omega2)`` of the CTOL model on this glide."""
-        return np.r_[position, self.velocity, self.theta_e, 0.0]
+        return np.r_[position, self.velocity, self.theta, 0.0]
 
 
 def _roots(veh: Vehicle, speed: float, gamma: float, n: int = 4001) -> list[float]:
@@ -170,4 +174,4 @@ def ctol_glide(veh: Vehicle, speed: float, gamma: float, *, alpha_max: float = A
     alpha = min(phys, key=abs)
     k1, k2 = gains(veh, speed, gamma, alpha)
     res = float(np.max(np.abs(residuals(veh, speed, gamma, alpha, k1, k2))))
-    return CTOLGlide(speed, gamma, alpha, k1, k2, tuple(roots), res, veh.name, veh.provenance)
+    return CTOLGlide(speed, gamma, alpha, k1, k2, tuple(roots), res, veh, veh.provenance)

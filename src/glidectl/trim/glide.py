@@ -22,7 +22,7 @@ leaving the bottom-heaviness ``r_bh = r_P . R^T k = -r_P1 sin(theta) + r_P3 cos(
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,7 +30,7 @@ from ..errors import InfeasibleGlideError, ModelError, SolverError
 from ..models.longitudinal import LongitudinalGlider
 from ..params import Vehicle
 
-__all__ = ["SteadyGlide", "permissible_gamma", "steady_glide"]
+__all__ = ["SteadyGlide", "alpha_for_gamma", "permissible_gamma", "steady_glide"]
 
 
 def _check_glider(veh: Vehicle) -> None:
@@ -65,6 +65,13 @@ def permissible_gamma(veh: Vehicle) -> tuple[float, float]:
     (lo, hi) : tuple of float
         Radians, ``lo <= 0 <= hi``: steady glides exist for ``gamma < lo`` (down) or ``gamma > hi`` (up), with
         ``|gamma| < pi/2``. ``lo = hi = 0`` only when ``K_D0 = K_L0 = 0``.
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider.
+    InfeasibleGlideError
+        If ``K_D = 0`` (the glide ratio has no minimum, so the permissible set is not defined).
     """
     _check_glider(veh)
     _, t_down, _, t_up = _shallowest(veh)
@@ -89,8 +96,10 @@ class SteadyGlide:
         Body velocities (m/s).
     residual : float
         max |f(x_e, 0)| over the relative-equilibrium states (SI units), evaluated on the force model.
-    vehicle : str
-        Vehicle name; ``provenance`` its parameter hash.
+    vehicle : Vehicle
+        The vehicle (``vehicle.name`` for its name).
+    provenance : str
+        Its parameter hash (:attr:`Vehicle.provenance`).
     mbar : float
         Moving mass (kg) of that vehicle.
     """
@@ -106,7 +115,7 @@ class SteadyGlide:
     v1: float
     v3: float
     residual: float
-    vehicle: str
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str
     mbar: float
 
@@ -131,11 +140,38 @@ class SteadyGlide:
 
     def as_dict(self) -> dict[str, float | str]:
         """Plain dict (SI units, radians) for tables and JSON."""
-        return {k: getattr(self, k) for k in ("speed", "gamma", "alpha", "theta", "m0", "r_p1", "r_p3", "r_bh",
-                                              "v1", "v3", "residual", "vehicle", "provenance")}
+        out: dict[str, float | str] = {k: getattr(self, k) for k in ("speed", "gamma", "alpha", "theta", "m0", "r_p1",
+                                                                     "r_p3", "r_bh", "v1", "v3", "residual")}
+        return {**out, "vehicle": self.vehicle.name, "provenance": self.provenance}
 
 
-def _alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
+def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
+    """Angle of attack (rad) of the steady glide at flight-path angle ``gamma`` (rad): the force balance (2.26).
+
+    In a steady glide the lift and drag balance the net weight, so ``tan(gamma) = -K_D(alpha) / K_L(alpha)`` with
+    ``K_D = K_D0 + K_D alpha^2`` and ``K_L = K_L0 + K_L alpha`` (kg/m). With ``t = |tan(gamma)|`` and ``s`` the sign
+    of the lift (``s = 1`` gliding down, ``gamma < 0``; ``s = -1`` gliding up) this is the quadratic
+    ``K_D alpha^2 - s t K_L alpha + (K_D0 - s t K_L0) = 0``; of its roots with lift of sign ``s`` the one of
+    smallest ``|alpha|`` is returned (solved in the cancellation-free form). The speed does not enter.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider; uses ``K_D0``, ``K_D``, ``K_L0``, ``K_L`` (kg/m, kg/m/rad^2, kg/m, kg/m/rad).
+    gamma : float
+        Flight-path angle (rad), ``0 < |gamma| < pi/2``; negative gliding down.
+
+    Returns
+    -------
+    float
+        ``alpha`` (rad).
+
+    Raises
+    ------
+    InfeasibleGlideError
+        ``gamma`` outside the permissible set (no real root with lift of the right sign); see
+        :func:`permissible_gamma`.
+    """
     t = abs(math.tan(gamma))
     KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
     s = 1.0 if gamma < 0 else -1.0  # sign of the lift coefficient K_L(alpha) (= sign of m0)
@@ -146,14 +182,16 @@ def _alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
     else:
         disc = a1 * a1 - 4 * a2 * a0
         if disc < 0:
-            raise ValueError("outside")
+            raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
+                                       f"'{veh.name}': outside the permissible set (2.26)")
         sq = math.sqrt(disc)
         # numerically stable pair
         q = -0.5 * (a1 + math.copysign(sq, a1))
         roots = [q / a2, a0 / q] if q != 0 else [0.0]
     ok = [a for a in roots if s * (KL0 + KL * a) > 0]
     if not ok:
-        raise ValueError("outside")
+        raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
+                                   f"'{veh.name}': no angle of attack gives lift of the sign the glide needs (2.26)")
     return min(ok, key=abs)
 
 
@@ -199,7 +237,7 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
     if not (math.isfinite(gamma) and abs(gamma) < math.pi / 2 and (gamma < lo or gamma > hi)):
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}")
     try:
-        alpha = _alpha_for_gamma(veh, gamma)
+        alpha = alpha_for_gamma(veh, gamma)
     except ValueError:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}") from None
     g, mbar = veh.g, veh.mbar
@@ -231,5 +269,5 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
         raise SolverError(f"steady-glide residual {residual:.3e} exceeds 1e-9 (scale {scale:.3g}); "
                           "please report this vehicle file")
     return SteadyGlide(speed=V, gamma=float(gamma), alpha=alpha, theta=theta, m0=m0, r_p1=rp1, r_p3=rp3,
-                       r_bh=rbh, v1=v1, v3=v3, residual=residual, vehicle=veh.name,
+                       r_bh=rbh, v1=v1, v3=v3, residual=residual, vehicle=veh,
                        provenance=veh.provenance, mbar=mbar)

@@ -23,7 +23,16 @@ from ..errors import InfeasibleGlideError, ModelError
 from ..models.glider3d import FixedMassGlider3D, ypr_to_quat
 from ..params import Vehicle
 
-__all__ = ["Helix", "classify_motion", "helix_trim", "reduced_rhs", "zeta_of"]
+__all__ = [
+    "Helix",
+    "classify_motion",
+    "helix_eigenvalues",
+    "helix_equations",
+    "helix_newton",
+    "helix_trim",
+    "reduced_rhs",
+    "zeta_of",
+]
 
 _RES_TOL = 1e-10
 
@@ -53,6 +62,11 @@ def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
         ``{"kind": "straight line" | "pure rotation" | "screw" | "helix", "curvature", "torsion", "xi"}`` with
         curvature and torsion in 1/m (``nan`` where undefined) and ``xi`` the angle between ``Omega`` and ``v``
         (rad).
+
+    Raises
+    ------
+    ModelError
+        If ``v`` or ``Omega`` is not three finite numbers.
     """
     v, Om = np.asarray(v, float), np.asarray(Omega, float)
     if v.shape != (3,) or Om.shape != (3,) or not (np.all(np.isfinite(v)) and np.all(np.isfinite(Om))):
@@ -84,18 +98,38 @@ def reduced_rhs(model: FixedMassGlider3D, s: Any) -> Any:
 class Helix:
     """A steady motion (circular helix, or straight glide when ``psidot = 0``) of the fixed-mass glider.
 
-    Attributes (SI units, radians)
-    ------------------------------
-    r_p, m0 : control parameters (m, kg)
-    v, Omega : body velocity (m/s) and angular velocity (rad/s), ``Omega = psidot zeta``
-    theta, phi, psidot : pitch, roll (rad) and yaw rate (rad/s), (8.26)-(8.29)
-    speed, alpha, beta, gamma : ``|v|``, angle of attack, sideslip, flight-path angle (``-asin(zeta . v / V)``)
-    radius, pitch, period : helix radius (m), drop per turn (m, positive downwards) and period (s); ``inf`` for a
-        straight glide
-    curvature, torsion : (8.18), (8.22) (1/m)
-    r_bh : bottom-heaviness ``r_P . zeta`` (m)
-    residual : max ``|(v', Omega')|`` at the solution
-    eigenvalues : of the 8-state reduced linearization (position and yaw dropped), sorted by real part
+    All quantities are in SI units, angles in radians.
+
+    Attributes
+    ----------
+    r_p, m0 : tuple of float, float
+        Control parameters: moving-mass position (m) and net buoyancy (kg).
+    v, Omega : ndarray, shape (3,)
+        Body velocity (m/s) and angular velocity (rad/s), ``Omega = psidot zeta``.
+    theta, phi, psidot : float
+        Pitch, roll (rad) and yaw rate (rad/s), (8.26)-(8.29).
+    speed, alpha, beta, gamma : float
+        ``|v|`` (m/s), angle of attack, sideslip, flight-path angle (``-asin(zeta . v / V)``, positive up) (rad).
+    vertical_speed : float
+        Sink rate ``zeta . v`` (m/s, positive downwards).
+    radius, pitch, period : float
+        Helix radius (m), drop per turn (m, positive downwards) and period (s); ``inf`` for a straight glide.
+    curvature, torsion : float
+        (8.18), (8.22) (1/m).
+    r_bh : float
+        Bottom-heaviness ``r_P . zeta`` (m).
+    residual : float
+        max ``|(v', Omega')|`` at the solution (m/s^2 and rad/s^2 mixed).
+    eigenvalues : ndarray of complex
+        Of the 8-state reduced linearization (position and yaw dropped), sorted by real part (1/s).
+    stable : bool
+        All eigenvalues have negative real part.
+    vehicle : Vehicle
+        The vehicle.
+    provenance : str
+        Its parameter hash.
+    model : FixedMassGlider3D or None
+        The model the motion was trimmed on.
     """
 
     r_p: tuple[float, float, float]
@@ -107,7 +141,7 @@ class Helix:
     psidot: float
     residual: float
     eigenvalues: np.ndarray = field(repr=False)
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = ""
     model: FixedMassGlider3D | None = field(default=None, repr=False, compare=False)
 
@@ -193,7 +227,22 @@ class Helix:
                 "residual": self.residual, "max_re_eig": float(np.max(self.eigenvalues.real))}
 
 
-def _equations(model: FixedMassGlider3D, y: Any) -> Any:
+def helix_equations(model: FixedMassGlider3D, y: Any) -> Any:
+    """Residual ``(v', Omega')`` of (8.23)-(8.25) on the steady-motion ansatz ``Omega = psidot zeta`` (8.31).
+
+    Parameters
+    ----------
+    model : FixedMassGlider3D
+        The glider with its moving mass fixed at ``r_P`` (m) and buoyancy ``m0`` (kg).
+    y : array_like, shape (..., 6)
+        Trim unknowns ``(v1, v2, v3, psidot, theta, phi)``: body velocity (m/s), yaw rate (rad/s), pitch and roll
+        (rad); may be complex (complex-step Jacobians).
+
+    Returns
+    -------
+    ndarray, shape (..., 6)
+        ``(v1', v2', v3')`` (m/s^2) and ``(Omega1', Omega2', Omega3')`` (rad/s^2); zero at a steady helix or glide.
+    """
     y = np.asarray(y)
     v, w, th, ph = y[..., 0:3], y[..., 3], y[..., 4], y[..., 5]
     z = zeta_of(th, ph)
@@ -201,12 +250,33 @@ def _equations(model: FixedMassGlider3D, y: Any) -> Any:
     return np.concatenate([vd, Od], -1)
 
 
-def _newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, float, bool]:
+def helix_newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, float, bool]:
+    """Newton solve of :func:`helix_equations` ``= 0`` from one start (MINPACK ``hybr``, exact complex-step
+    Jacobian, ``xtol = 1e-13``).
+
+    Parameters
+    ----------
+    model : FixedMassGlider3D
+        The glider at fixed ``r_P`` (m) and ``m0`` (kg).
+    y0 : ndarray, shape (6,)
+        Start ``(v1, v2, v3, psidot, theta, phi)`` (m/s, rad/s, rad).
+
+    Returns
+    -------
+    y : ndarray, shape (6,)
+        Final iterate (the start itself if the solver raised).
+    residual : float
+        ``max |helix_equations(model, y)|`` (m/s^2, rad/s^2); ``inf`` for a non-finite iterate.
+    ok : bool
+        Converged to a forward-gliding upright-pitch motion: ``residual < 1e-10``, ``v1 > 0`` and
+        ``|theta| < pi/2``.
+    """
+
     def fun(y: np.ndarray) -> np.ndarray:
-        return np.asarray(_equations(model, y), float)
+        return np.asarray(helix_equations(model, y), float)
 
     def jac(y: np.ndarray) -> np.ndarray:
-        return jacobians(lambda yy, u: _equations(model, yy), y, np.zeros(0))[0]
+        return jacobians(lambda yy, u: helix_equations(model, yy), y, np.zeros(0))[0]
 
     with np.errstate(all="ignore"):
         try:
@@ -256,7 +326,23 @@ def _straight_guesses(veh: Vehicle, r_p: np.ndarray, m0: float) -> list[np.ndarr
     return out
 
 
-def _eigs(model: FixedMassGlider3D, y: np.ndarray) -> np.ndarray:
+def helix_eigenvalues(model: FixedMassGlider3D, y: np.ndarray) -> np.ndarray:
+    """Eigenvalues (1/s) of the 8-state reduced dynamics :func:`reduced_rhs` linearized at a steady motion.
+
+    Parameters
+    ----------
+    model : FixedMassGlider3D
+        The glider at fixed ``r_P`` (m) and ``m0`` (kg).
+    y : ndarray, shape (6,)
+        Trim unknowns ``(v1, v2, v3, psidot, theta, phi)`` (m/s, rad/s, rad) of the motion; the reduced state is
+        ``(v, psidot zeta(theta, phi), theta, phi)``. The point need not be an exact equilibrium (the frozen locus
+        of :func:`glidectl.analysis.helix_stability.helix_rbh_locus` evaluates it off the equilibrium).
+
+    Returns
+    -------
+    ndarray, shape (8,)
+        Sorted by real part, then imaginary part (exact complex-step Jacobian).
+    """
     v, w, th, ph = y[0:3], y[3], y[4], y[5]
     s = np.r_[v, w * zeta_of(th, ph), th, ph]
     A, _ = jacobians(lambda ss, u: reduced_rhs(model, ss), s, np.zeros(0))
@@ -330,7 +416,7 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
         if y0.shape != (6,) or not np.all(np.isfinite(y0)):
             raise ModelError(f"guess must be a Helix or six finite numbers (v1, v2, v3, psidot, theta, phi), got "
                              f"{guess!r}")
-        y1, res, ok = _newton(model, y0)
+        y1, res, ok = helix_newton(model, y0)
         tried.append("warm start")
         if ok:
             y = y1
@@ -342,7 +428,7 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
             ok = True
             for k in range(1, continuation_steps + 1):
                 rk = (r[0], r[1] * k / continuation_steps, r[2])
-                yk, res, ok = _newton(FixedMassGlider3D(veh, rk, m0), yk)
+                yk, res, ok = helix_newton(FixedMassGlider3D(veh, rk, m0), yk)
                 if not ok:
                     break
             if ok:
@@ -356,7 +442,7 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
             a, b = rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)
             y0 = np.array([V * math.cos(a) * math.cos(b), V * math.sin(b), V * math.sin(a) * math.cos(b),
                            rng.uniform(-0.05, 0.05), rng.uniform(-1.2, 1.2), rng.uniform(-1.2, 1.2)])
-            y1, res, ok = _newton(model, y0)
+            y1, res, ok = helix_newton(model, y0)
             if ok:
                 y = y1
                 break
@@ -365,10 +451,10 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
             f"no steady helix or glide found for r_P = {tuple(np.round(r, 5))} m, m0 = {m0:g} kg on vehicle "
             f"'{veh.name}' (tried: {'; '.join(tried)}). Try a warm start from a nearby solution "
             "(glidectl.helix_sweep continues along a parameter) or more random starts")
-    res = float(np.max(np.abs(_equations(model, y))))
+    res = float(np.max(np.abs(helix_equations(model, y))))
     if abs(y[3]) < 1e-13:
         y = y.copy()
         y[3] = 0.0
     z = zeta_of(y[4], y[5])
     return Helix((float(r[0]), float(r[1]), float(r[2])), m0, y[0:3].copy(), y[3] * z, float(y[4]), float(y[5]),
-                 float(y[3]), res, _eigs(model, y), veh.name, veh.provenance, model)
+                 float(y[3]), res, helix_eigenvalues(model, y), veh, veh.provenance, model)

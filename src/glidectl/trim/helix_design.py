@@ -41,6 +41,7 @@ class HelixDesign:
     target : requested ``{"radius": .., "pitch" or "speed": ..}`` (SI)
     error : max relative error in the targets
     evaluations : helix trims used
+    vehicle : the :class:`Vehicle`; provenance : its parameter hash (``str``)
     """
 
     r_p: tuple[float, float, float]
@@ -50,7 +51,7 @@ class HelixDesign:
     error: float
     evaluations: int
     bounds: tuple[tuple[float, float], ...] = field(repr=False)
-    vehicle: str = ""
+    vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = ""
 
 
@@ -61,11 +62,46 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
     """Find ``(r_P, m0)`` within bounds giving a stable helix of ``radius`` (m) and ``pitch`` (m, drop per turn,
     positive downwards) or ``speed`` (m/s).
 
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with the 3D parameters of :class:`~glidectl.models.glider3d.FixedMassGlider3D`.
+    radius : float
+        Requested helix radius (m), ``> 0``.
+    pitch : float, optional
+        Requested drop per turn (m, positive downwards: a descending helix, ``m0 > 0``), nonzero. Give exactly one
+        of ``pitch`` and ``speed``.
+    speed : float, optional
+        Requested speed ``|v|`` (m/s), ``> 0``.
+    r_p_bounds : tuple of three (float, float)
+        ``(lo, hi)`` travel of the moving mass along body axes 1, 2, 3 (m); default :data:`DEFAULT_R_P_BOUNDS`.
+    m0_bounds : (float, float)
+        ``(lo, hi)`` range of the net buoyancy (kg); default :data:`DEFAULT_M0_BOUNDS`.
+    stability_margin : float
+        Required ``-max Re(lambda)`` of the helix's reduced linearization (1/s).
+    tol : float
+        Relative tolerance on the targets (nondimensional).
+    seed : int
+        Seed of the random starting points (used only when ``n_starts`` exceeds the 12 structured starts).
+    n_starts : int
+        Number of starting points tried.
+
+    Returns
+    -------
+    HelixDesign
+        The controls ``r_p`` (m) and ``m0`` (kg), the resulting stable :class:`~glidectl.trim.helix.Helix`, the
+        target, the achieved relative error and the number of helix trims used.
+
     Raises
     ------
+    ModelError
+        If not exactly one of ``pitch`` and ``speed`` is given, ``radius`` is not a positive finite number, the
+        pitch or speed is zero, non-finite or (speed) negative, or the bounds are not three ``(lo, hi)`` pairs for
+        ``r_P`` and one for ``m0`` with ``lo < hi``.
     InfeasibleGlideError
         If no stable helix meeting the targets to ``tol`` (relative) was found within the bounds; the message gives
-        the best attempt.
+        the best attempt. Also when the ``m0`` bounds exclude the sign a pitch needs, and (since trim failures
+        are absorbed) when ``veh`` is not a suitable underwater glider.
     """
     if (pitch is None) == (speed is None):
         raise ModelError("give radius and exactly one of pitch= (m per turn) or speed= (m/s)")
@@ -142,7 +178,7 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
             c = sol.x
             return HelixDesign((float(c[0]), float(c[1]), float(c[2])), float(c[3]), h, target, err, state["n"],
                                (tuple(r_p_bounds[0]), tuple(r_p_bounds[1]), tuple(r_p_bounds[2]), tuple(m0_bounds)),
-                               veh.name, veh.provenance)
+                               veh, veh.provenance)
     e, c, h = best
     what = "no helix could be trimmed" if h is None else (
         f"best: r_P = {tuple(round(float(x), 5) for x in c[:3])} m, m0 = {c[3]:.4g} kg gives radius {h.radius:.4g} m, "

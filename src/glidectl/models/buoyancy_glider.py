@@ -1,0 +1,168 @@
+"""Chapter-5 glider with a buoyancy engine, thesis §6.2 (and the loaded right-hand side reused by the elevator
+model of §6.3, :mod:`glidectl.models.elevator_glider`).
+
+:class:`BuoyancyGlider` has the dimensional state ``(V, gamma, alpha, Omega2, m0)`` (m/s, rad, rad, rad/s, kg) and
+the input ``u1 = dm0/dt`` (kg/s). Its right-hand side is :meth:`glidectl.models.reduced.ReducedLongitudinalGlider.rhs`
+evaluated with the vehicle's ``m0`` replaced by the state's ``m0`` (so for the ``added`` mass model ``m1 = m3 = m +
+m0`` follows the buoyancy, as in §6.3), plus the buoyancy engine ``m0' = pump(m0, u1)``:
+
+* rate limit ``|m0'| <= u4_max`` (vehicle parameter, kg/s; the saturation of ``u4`` of (2.8), §2.2 assumption 2);
+* range ``|m0| <= m0_max`` (vehicle parameter, kg): at a bound the pump cannot push further out.
+
+A limit the vehicle does not define is not applied (:class:`ActuatorLimits`, :func:`actuator_limits`).
+:func:`loaded_rates` adds an external body-3 force and pitch moment to the same right-hand side (the elevator of
+§6.3), so there is still one vector field. The buoyancy law (6.9) is in :mod:`glidectl.controllers.buoyancy`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..params import Vehicle
+from .reduced import ReducedLongitudinalGlider
+
+__all__ = [
+    "BUOYANCY_STATES",
+    "BUOYANCY_UNITS",
+    "ActuatorLimits",
+    "BuoyancyGlider",
+    "actuator_limits",
+    "loaded_rates",
+]
+
+BUOYANCY_STATES = ("V", "gamma", "alpha", "Omega2", "m0")
+BUOYANCY_UNITS = {"V": "m/s", "gamma": "rad", "alpha": "rad", "Omega2": "rad/s", "m0": "kg", "u1": "kg/s",
+                  "u2": "rad"}
+
+_M0_TINY = 1e-12  # kg: ReducedLongitudinalGlider refuses m0 = 0 exactly (chapter-5 assumption 2)
+
+
+# ------------------------------------------------------------------------------------------------ actuators
+@dataclass(frozen=True)
+class ActuatorLimits:
+    """Actuator limits of a vehicle (``inf`` where the vehicle file defines none).
+
+    Attributes
+    ----------
+    u4_max : float
+        Buoyancy pump rate limit ``|dm0/dt| <= u4_max`` (kg/s).
+    m0_max : float
+        Buoyancy range ``|m0| <= m0_max`` (kg).
+    u2_max : float
+        Elevator saturation ``|u2| <= u2_max`` (rad, control angle of attack of §6.3).
+    """
+
+    u4_max: float = math.inf
+    m0_max: float = math.inf
+    u2_max: float = math.inf
+
+    def pump(self, m0: Any, u1: Any) -> Any:
+        """Rate ``dm0/dt`` (kg/s) the pump delivers for the command ``u1`` (kg/s) at buoyancy ``m0`` (kg).
+
+        ``clip(u1, -u4_max, u4_max)``, and 0 where ``m0`` is at (or beyond) a range bound and the command
+        pushes outward.
+        """
+        m0 = np.real(np.asarray(m0))
+        rate = _saturate(u1, self.u4_max)
+        re = np.real(rate)
+        blocked = ((m0 >= self.m0_max) & (re > 0)) | ((m0 <= -self.m0_max) & (re < 0))
+        return np.where(blocked, 0.0, rate)
+
+    def elevator(self, u2: Any) -> Any:
+        """Saturated elevator input ``clip(u2, -u2_max, u2_max)`` (rad)."""
+        return _saturate(u2, self.u2_max)
+
+
+def _saturate(u: Any, bound: float) -> Any:
+    """``clip(u, -bound, bound)`` that carries a complex step: the input passes unchanged (derivative 1) inside the
+    bound, the bound (derivative 0) outside."""
+    u = np.asarray(u)
+    re = np.real(u)
+    return np.where(np.abs(re) <= bound, u, np.sign(re) * bound)
+
+
+def actuator_limits(veh: Vehicle) -> ActuatorLimits:
+    """The vehicle's ``u4_max`` (kg/s), ``m0_max`` (kg) and ``u2_max`` (rad); ``inf`` for those it does not set."""
+    p = veh.params
+    return ActuatorLimits(float(p.get("u4_max", math.inf)), float(p.get("m0_max", math.inf)),
+                          float(p.get("u2_max", math.inf)))
+
+
+# ------------------------------------------------------------------------------------------------ model
+def _reduced_at(veh: Vehicle, m0: float) -> ReducedLongitudinalGlider:
+    m0 = float(m0)
+    if m0 == 0.0:
+        m0 = _M0_TINY
+    return ReducedLongitudinalGlider(veh.with_overrides(m0=m0))
+
+
+def loaded_rates(veh: Vehicle, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
+    """``(V', gamma', alpha', Omega2')`` of the chapter-5 glider at the buoyancy ``m0 = x[..., 4]``, with an extra
+    force ``f3`` along body 3 (N, positive down) and pitch moment ``M2`` (N m, positive nose up).
+
+    The rates are :meth:`ReducedLongitudinalGlider.rhs` with the per-state buoyancy ``m0`` (vectorized; ``m0``
+    may carry a complex step too) plus the exact effect of the extra load on the body-frame equations (2.18)-(2.20):
+    ``v3' += f3 / M3`` and ``Omega2' += M2 / J2``, i.e. ``V' += sin(alpha) f3 / M3``,
+    ``alpha' += cos(alpha) f3 / (M3 V)``, ``gamma' -= cos(alpha) f3 / (M3 V)``.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider (``r_P = 0``).
+    x : array_like, shape (..., 5)
+        ``(V, gamma, alpha, Omega2, m0)`` in m/s, rad, rad, rad/s, kg (may be complex: complex-step derivatives).
+    f3, M2 : array_like, broadcastable to ``x[..., 0]``
+        Extra body-3 force (N) and pitch moment (N m).
+    """
+    x = np.asarray(x)
+    if x.shape[-1] != 5:
+        raise ModelError(f"state must have 5 components {BUOYANCY_STATES}, got shape {x.shape}")
+    model = _reduced_at(veh, veh.m0)
+    m0 = x[..., 4]
+    r = np.asarray(model.rhs(x[..., :4], m0=m0))
+    M3 = veh.mass(3, m0) + veh.mbar
+    V, al = x[..., 0], x[..., 2]
+    a3 = np.asarray(f3) / M3
+    dal = np.cos(al) * a3 / V
+    dOm = np.asarray(M2) / veh.J2
+    return np.stack(np.broadcast_arrays(r[..., 0] + np.sin(al) * a3, r[..., 1] - dal, r[..., 2] + dal,
+                                        r[..., 3] + dOm), axis=-1)
+
+
+@dataclass(frozen=True)
+class BuoyancyGlider:
+    """Chapter-5 glider with a buoyancy engine, §6.2: state ``(V, gamma, alpha, Omega2, m0)``, input ``u1``.
+
+    ``(V, gamma, alpha, Omega2)' `` are (5.4)-(5.7) at the current ``m0`` (:func:`loaded_rates` without extra
+    load); ``m0' = pump(m0, u1)`` is (6.8) in seconds with the vehicle's rate limit ``u4_max`` and range ``m0_max``
+    (:class:`ActuatorLimits`).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        Underwater glider; ``u4_max`` (kg/s) and ``m0_max`` (kg) are used when defined.
+    """
+
+    vehicle: Vehicle
+    state_names: tuple[str, ...] = BUOYANCY_STATES
+    input_names: tuple[str, ...] = ("u1",)
+
+    def __post_init__(self) -> None:
+        if self.vehicle.kind != "underwater_glider":
+            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
+
+    @property
+    def limits(self) -> ActuatorLimits:
+        return actuator_limits(self.vehicle)
+
+    def rhs(self, x: Any, u: Any) -> np.ndarray:
+        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s)."""
+        x = np.asarray(x)
+        u1 = np.asarray(u)[..., 0]
+        r = loaded_rates(self.vehicle, x)
+        return np.concatenate([r, self.limits.pump(x[..., 4], u1)[..., None]], axis=-1)

@@ -1,0 +1,836 @@
+"""Drawing glidectl results: one plot style and the drawing code behind the results' ``.plot()`` methods.
+
+Results are computed elsewhere and draw themselves, as in python-control's ``ctrlplot``: a compute function
+returns a frozen result object, and its ``.plot(ax=None, **kw)`` draws it and returns what it drew (an axes or an
+array of axes)::
+
+    locus = gc.rbh_locus(veh, 0.3, -math.pi / 4, np.linspace(0.0, 0.1, 201))
+    ax = locus.plot()                 # root locus in the complex plane
+    ax = locus.plot(kind="real")      # real parts versus r_bh
+
+The methods import this module lazily, so computing never imports the drawing code, and they draw inside
+:func:`style` (:data:`STYLE` through :func:`matplotlib.rc_context`), which restores the user's settings afterwards.
+The functions below are what the methods call; they draw into the axes given or into a new figure
+(:func:`new_figure`) and never compute dynamics (the region-of-attraction plots evaluate the certified set's
+membership on a grid, nothing more). glidectl never calls :func:`matplotlib.use`: the backend is the user's.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from .analysis.continuation import COLUMN_UNITS
+from .errors import GlidectlError
+from .models.buoyancy_glider import BUOYANCY_UNITS
+from .models.longitudinal import STATE_UNITS
+from .models.reduced import REDUCED_UNITS
+
+if TYPE_CHECKING:
+    from .analysis.closed_loop import BatchComparison
+    from .analysis.helix_existence import ExistenceScan
+    from .analysis.helix_stability import HelixRbhLocus
+    from .analysis.helix_sweeps import HelixSweep
+    from .analysis.locus import ParameterLocus
+    from .controllers.ctol_runs import TrackingRun
+    from .controllers.ctol_tracking import ParetoStudy
+    from .roa.certify import ROACertificate
+    from .sim import Ensemble, Simulation
+    from .stability.composite import CompositeCertificate
+
+__all__ = [
+    "STYLE",
+    "label",
+    "new_figure",
+    "plot_batch_comparison",
+    "plot_composite_certificate",
+    "plot_ensemble",
+    "plot_existence_scan",
+    "plot_helix_rbh_locus",
+    "plot_helix_sweep",
+    "plot_locus",
+    "plot_locus_real",
+    "plot_pareto_study",
+    "plot_roa_certificate",
+    "plot_simulation",
+    "plot_tracking_run",
+    "style",
+]
+
+_LATEX = {"theta": r"$\theta$", "Omega2": r"$\Omega_2$", "v1": r"$v_1$", "v3": r"$v_3$", "r_P1": r"$r_{P1}$",
+          "r_P3": r"$r_{P3}$", "P_P1": r"$P_{P1}$", "P_P3": r"$P_{P3}$", "m0": r"$m_0$", "z_prime": r"$z'$",
+          "rdot_P1": r"$\dot r_{P1}$", "rdot_P3": r"$\dot r_{P3}$", "x": "$x$", "z": "$z$", "u1": "$u_1$",
+          "u3": "$u_3$", "u4": "$u_4$", "w1": "$w_1$", "w3": "$w_3$", "w4": "$w_4$", "r_bh": r"$r_{bh}$",
+          "mbar": r"$\bar m$", "r_P2": r"$r_{P2}$", "y": "$y$", "xdot": r"$\dot x$", "ydot": r"$\dot y$",
+          "u2": "$u_2$", "V": "$V$", "gamma": r"$\gamma$", "alpha": r"$\alpha$", "Vbar": r"$\bar V$",
+          "gammabar": r"$\bar\gamma$", "alphabar": r"$\bar\alpha$", "thetabar": r"$\bar\theta$",
+          "Omegabar2": r"$\bar\Omega_2$", "Omega2bar": r"$\bar\Omega_2$", "x1": "$x_1$", "x2": "$x_2$"}
+
+# units of names that are not in STATE_UNITS (names that mean one thing in every model)
+_EXTRA_UNITS = {"V": "m/s", "gamma": "rad", "alpha": "rad", "beta": "rad", "phi": "rad", "psi": "rad", "y": "m",
+                "xdot": "m/s", "ydot": "m/s", "v2": "m/s", "Omega1": "rad/s", "Omega3": "rad/s", "torque": "N m",
+                "q0": "-", "q1": "-", "q2": "-", "q3": "-", "Vbar": "-", "gammabar": "rad", "alphabar": "rad",
+                "thetabar": "rad"}
+# states and inputs whose unit depends on the model (u1 is a force, a pump rate or a thrust), by model class name
+_CTOL_UNITS = {"x": "m", "y": "m", "xdot": "m/s", "ydot": "m/s", "theta": "rad", "Omega2": "rad/s", "u1": "N",
+               "u2": "N m"}
+_MODEL_UNITS: dict[str, Mapping[str, str]] = {
+    "ReducedLongitudinalGlider": REDUCED_UNITS, "TorqueControlledGlider": {**REDUCED_UNITS, "torque": "N m"},
+    "BuoyancyGlider": BUOYANCY_UNITS, "ElevatorBuoyancyGlider": BUOYANCY_UNITS, "CTOLAircraft": _CTOL_UNITS,
+    "ExtendedCTOL": {**_CTOL_UNITS, "u1dot": "N/s", "u1ddot": "N/s^2"},
+}
+
+
+def _model_units(model: str) -> Mapping[str, str]:
+    """Units of a model's states and inputs from its name ``"Class(vehicle)"`` (``Simulation.model_name``; empty if
+    unknown)."""
+    return _MODEL_UNITS.get(model.split("(", 1)[0], {})
+
+
+def label(name: str, unit: str | None = None) -> str:
+    """Axis label ``symbol [unit]`` for a named state, input or parameter.
+
+    Parameters
+    ----------
+    name : str
+        A glidectl state, input or parameter name (``"theta"``, ``"r_P1"``, ``"Vbar"``, ...); known names are
+        typeset as symbols.
+    unit : str, optional
+        Unit to print; default the unit of ``name`` in
+        :data:`glidectl.models.longitudinal.STATE_UNITS` (or of a few other unambiguous names such as ``V``,
+        ``gamma``, ``alpha``), none if unknown.
+
+    Returns
+    -------
+    str
+        ``"$\\theta$ [rad]"``, or the symbol alone when there is no unit.
+    """
+    u = unit if unit is not None else STATE_UNITS.get(name, _EXTRA_UNITS.get(name, ""))
+    return f"{_LATEX.get(name, name)} [{u}]" if u else _LATEX.get(name, name)
+
+
+#: the one plot style of glidectl figures (applied with :func:`style`)
+STYLE: dict[str, Any] = {
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "axes.titlesize": 9,
+    "axes.labelsize": 9,
+    "legend.fontsize": 8,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "figure.dpi": 100,
+    "savefig.dpi": 130,
+}
+
+
+def style() -> Any:
+    """Context manager applying glidectl's plot style (:data:`STYLE`) with :func:`matplotlib.rc_context`.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        ``with style(): ...`` draws with the glidectl style and restores the user's settings afterwards.
+    """
+    return matplotlib.rc_context(STYLE)
+
+
+def new_figure(nrows: int = 1, ncols: int = 1, *, width: float = 7.0, height: float = 4.2, **kw: Any) -> Any:
+    """A figure and its axes, with constrained layout, sized for a report page.
+
+    Parameters
+    ----------
+    nrows, ncols : int
+        Grid of axes.
+    width, height : float
+        Figure size in inches.
+    **kw
+        Passed to :func:`matplotlib.pyplot.subplots` (``sharex``, ``gridspec_kw``, ...).
+
+    Returns
+    -------
+    tuple
+        ``(fig, ax)`` as returned by :func:`matplotlib.pyplot.subplots`.
+    """
+    return plt.subplots(nrows, ncols, figsize=(width, height), layout="constrained", **kw)
+
+
+def _axes(ax: Any, count: int, what: str, **fig_kw: Any) -> np.ndarray:
+    """``count`` axes: a new figure when ``ax`` is None, else ``ax`` (an axes or array of axes) checked."""
+    if ax is None:
+        _, ax = new_figure(count, 1, **fig_kw)
+    axes = np.atleast_1d(np.asarray(ax, dtype=object)).ravel()
+    if axes.size != count:
+        raise GlidectlError(f"{what} draws into {count} axes; got {axes.size}")
+    return axes
+
+
+# ------------------------------------------------------------------------------------------------ loci
+def _param_label(locus: ParameterLocus) -> str:
+    return label(locus.parameter, locus.unit)
+
+
+def plot_locus(locus: ParameterLocus, ax: Any = None, *,
+               zoom: tuple[float, float, float, float] | None = None) -> Any:
+    """Root locus: every eigenvalue branch in the complex plane, coloured by the parameter.
+
+    Crossings of the imaginary axis (x) and break points (o, lettered) are marked and listed; arrows show the
+    direction of increasing parameter.
+
+    Parameters
+    ----------
+    locus : ParameterLocus
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into; default a new figure.
+    zoom : (x0, x1, y0, y1), optional
+        Adds an inset showing this window of the complex plane (1/s).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if ax is None:
+        _, ax = new_figure()
+    vals = locus.values
+    norm = matplotlib.colors.Normalize(vals.min(), vals.max())
+    for j in range(locus.branches.shape[1]):
+        b = locus.branches[:, j]
+        pts = np.column_stack([b.real, b.imag])
+        segs = np.stack([pts[:-1], pts[1:]], axis=1)
+        lc = LineCollection(segs, cmap="viridis", norm=norm, linewidths=2)
+        lc.set_array(0.5 * (vals[:-1] + vals[1:]))
+        ax.add_collection(lc)
+        k = len(b) // 2
+        ax.annotate("", xy=(b[k + 1].real, b[k + 1].imag), xytext=(b[k].real, b[k].imag),
+                    arrowprops={"arrowstyle": "->", "color": "k", "lw": 1})
+    ax.autoscale()
+    cb = ax.figure.colorbar(lc, ax=ax)
+    cb.set_label(_param_label(locus))
+    ax.axvline(0, color="0.4", lw=0.8, ls="--")
+    ax.axhline(0, color="0.8", lw=0.6)
+    lines = []
+    for k, bp in enumerate(locus.breakpoints):
+        tag = chr(ord("A") + k)
+        ax.plot(bp.eigenvalue, 0, "o", mfc="none", mec="C3", ms=9)
+        ax.annotate(tag, (bp.eigenvalue, 0), textcoords="offset points", xytext=(-4, 9 if k % 2 else -17),
+                    fontsize=10, color="C3", weight="bold")
+        lines.append(f"{tag}: {bp.kind} at {locus.parameter} = {bp.parameter:.4g} {locus.unit}, "
+                     f"$\\lambda$ = {bp.eigenvalue:.3f}")
+    for c in locus.crossings:
+        ax.plot(0, 0, "x", color="C1", ms=10, mew=2)
+        lines.append(f"x: Re $\\lambda$ = 0 at {locus.parameter} = {c:.4g} {locus.unit}")
+    if lines:
+        ax.text(0.02, 0.02, "\n".join(lines), transform=ax.transAxes, fontsize=7.5, va="bottom",
+                bbox={"fc": "white", "ec": "0.7", "alpha": 0.9})
+    if zoom is not None:
+        ins = ax.inset_axes((0.58, 0.62, 0.4, 0.35))
+        for j in range(locus.branches.shape[1]):
+            b = locus.branches[:, j]
+            ins.scatter(b.real, b.imag, c=vals, cmap="viridis", norm=norm, s=3)
+        for bp in locus.breakpoints:
+            ins.plot(bp.eigenvalue, 0, "o", mfc="none", mec="C3", ms=7)
+        ins.set_xlim(zoom[0], zoom[1])
+        ins.set_ylim(zoom[2], zoom[3])
+        ins.tick_params(labelsize=6)
+        ins.grid(True, alpha=0.3)
+        ax.indicate_inset_zoom(ins, edgecolor="0.5")
+    ax.set_xlabel(r"Re $\lambda$ [1/s]")
+    ax.set_ylabel(r"Im $\lambda$ [1/s]")
+    ax.set_title(f"root locus: eigenvalues versus {_LATEX.get(locus.parameter, locus.parameter)}")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_locus_real(locus: ParameterLocus, ax: Any = None) -> Any:
+    """Real parts of the eigenvalue branches versus the parameter, with the stability boundary marked.
+
+    Parameters
+    ----------
+    locus : ParameterLocus
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into; default a new figure.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        One line per branch; crossings of ``Re lambda = 0`` as vertical lines, break points as circles.
+    """
+    if ax is None:
+        _, ax = new_figure()
+    for j in range(locus.branches.shape[1]):
+        ax.plot(locus.values, locus.branches[:, j].real, lw=1.8)
+    ax.axhline(0, color="0.3", lw=0.8, ls="--")
+    for k, c in enumerate(locus.crossings):
+        ax.axvline(c, color="C3", lw=1, label="stability boundary" if k == 0 else None)
+        ax.annotate(f"{c:.4g} {locus.unit}", (c, 0), textcoords="offset points", xytext=(4, 6), color="C3",
+                    fontsize=8)
+    for k, bp in enumerate(locus.breakpoints):
+        ax.plot(bp.parameter, bp.eigenvalue, "o", mfc="none", mec="k", ms=7,
+                label="break point (real pair meets)" if k == 0 else None)
+    if locus.crossings or locus.breakpoints:
+        ax.legend(loc="best", fontsize=7)
+    ax.set_xlabel(_param_label(locus))
+    ax.set_ylabel(r"Re $\lambda$ [1/s]")
+    ax.set_title(f"real parts of the eigenvalues versus {_LATEX.get(locus.parameter, locus.parameter)} "
+                 "(a complex pair shares one curve)")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_helix_rbh_locus(hl: HelixRbhLocus, ax: Any = None, *, kind: str = "real", **kw: Any) -> Any:
+    """Eigenvalues of the reduced helix linearization versus ``r_bh`` (Fig 8.13-8.14), nominal ``r_bh`` marked.
+
+    Parameters
+    ----------
+    hl : HelixRbhLocus
+    ax : matplotlib.axes.Axes, optional
+    kind : {"real", "complex"}
+        Real parts versus ``r_bh`` (Fig 8.13, default) or the root locus in the complex plane (Fig 8.14).
+    **kw
+        Passed to :func:`plot_locus` (``zoom``) for ``kind="complex"``.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    how = "frozen at the nominal helix" if hl.frozen else "re-solved at every r_bh"
+    if kind == "real":
+        loc = hl.locus
+        ax = plot_locus_real(loc, ax, **kw)
+        ax.axvline(hl.nominal.r_bh, color="k", ls=":", lw=0.8)
+        ax.annotate("nominal", (hl.nominal.r_bh, 1.0), xycoords=("data", "axes fraction"),
+                    textcoords="offset points", xytext=(3, -10), fontsize=7)
+        ax.set_title(f"helix eigenvalues versus $r_{{bh}}$ (equilibrium {how}): real parts")
+        re = loc.branches.real
+        top = np.max(re, axis=1)  # the slowest eigenvalue decides stability: zoom on it when it is hard to see
+        y0, y1 = min(float(top.min()), 0.0), max(float(top.max()), 0.0)
+        pad = 0.2 * (y1 - y0) + 1e-12
+        if np.ptp(re) > 8 * (y1 - y0 + 2 * pad):
+            ins = ax.inset_axes((0.52, 0.3, 0.45, 0.36))
+            for j in range(re.shape[1]):
+                ins.plot(loc.values, re[:, j], lw=1.2)
+            ins.axhline(0, color="0.3", lw=0.8, ls="--")
+            for c in loc.crossings:
+                ins.axvline(c, color="C3", lw=1)
+            ins.axvline(hl.nominal.r_bh, color="k", ls=":", lw=0.8)
+            ins.set_ylim(y0 - pad, y1 + pad)
+            ins.set_title(r"zoom on the slowest eigenvalues [1/s]", fontsize=7)
+            ins.tick_params(labelsize=6)
+            ins.grid(True, alpha=0.3)
+            if ax.get_legend() is not None:
+                ax.legend(loc="lower left", fontsize=7)
+    elif kind == "complex":
+        ax = plot_locus(hl.locus, ax, **kw)
+        ax.set_title(f"helix root locus versus $r_{{bh}}$ (equilibrium {how})")
+    else:
+        raise GlidectlError(f"kind must be 'real' or 'complex', got {kind!r}")
+    return ax
+
+
+# ------------------------------------------------------------------------------------------------ simulations
+def plot_simulation(sim: Simulation, names: Sequence[str] | None = None, ax: Any = None, *,
+                    scale: dict[str, tuple[float, str]] | None = None, **line: Any) -> Any:
+    """One axis per named state or input versus time.
+
+    Parameters
+    ----------
+    sim : Simulation
+    names : sequence of str, optional
+        States and inputs to draw; default every state.
+    ax : axes or array of axes, optional
+        One axes per name; default a new figure.
+    scale : dict, optional
+        ``scale[name] = (factor, unit)`` converts units for display (e.g. ``{"theta": (180 / pi, "deg")}``).
+    **line
+        Passed to :meth:`matplotlib.axes.Axes.plot`.
+
+    Returns
+    -------
+    ndarray of matplotlib.axes.Axes
+        The run's end is marked (dotted) when it was stopped early.
+    """
+    names = list(names) if names is not None else list(sim.state_names)
+    axes = _axes(ax, len(names), "Simulation.plot", height=1.6 * len(names) + 0.6, sharex=True)
+    scale = scale or {}
+    units = _model_units(sim.model_name)
+    for a, n in zip(axes, names, strict=True):
+        f, u = scale.get(n, (1.0, units.get(n)))
+        a.plot(sim.t, f * sim.state(n), **line)
+        if sim.stopped_at is not None:
+            a.axvline(sim.stopped_at, color="C3", ls=":", lw=1)
+        a.set_ylabel(label(n, u))
+        a.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("t [s]")
+    stop = f", stopped at {sim.stopped_at:.4g} s (dotted)" if sim.stopped_at is not None else ""
+    axes[0].set_title(f"simulation of {sim.model_name}, {sim.t[-1] - sim.t[0]:.4g} s{stop}")
+    return axes
+
+
+def _index(key: Any, names: Sequence[str], n: int) -> int:
+    """A state index from a name or an index."""
+    if isinstance(key, str):
+        if key not in names:
+            raise GlidectlError(f"no state {key!r}; have {tuple(names)}")
+        return list(names).index(key)
+    k = int(key)
+    if not -n <= k < n:
+        raise GlidectlError(f"state index {k} out of range for {n} states")
+    return k % n
+
+
+def _pair(dims: Sequence[Any], names: Sequence[str], n: int) -> tuple[int, int]:
+    """Two distinct state indices from indices or names."""
+    if isinstance(dims, str) or len(dims) != 2:
+        raise GlidectlError(f"choose two states to draw, got {dims!r}")
+    out = [_index(d, names, n) for d in dims]
+    if out[0] == out[1]:
+        raise GlidectlError(f"choose two different states, got {dims!r}")
+    return out[0], out[1]
+
+
+def _state_names(names: Sequence[str], n: int) -> list[str]:
+    return list(names) if len(names) == n else [f"x[{k}]" for k in range(n)]
+
+
+def plot_ensemble(ens: Ensemble, ax: Any = None, *, dims: Sequence[Any] = (0, 1), x_e: Any = None,
+                  tol: float = 1e-3, scale: Any = None) -> Any:
+    """Initial states of an ensemble in the plane of two states, marked by outcome.
+
+    Parameters
+    ----------
+    ens : Ensemble
+    ax : matplotlib.axes.Axes, optional
+    dims : two state names or indices
+        The plane to draw (the other states are projected out).
+    x_e : array_like, optional
+        Equilibrium. When given, a run converged if ``max_i |x_final,i - x_e,i| / scale_i <= tol`` and it was not
+        frozen; without it, runs are split into frozen and not frozen only.
+    tol : float
+        Convergence tolerance (scaled state units).
+    scale : array_like, optional
+        Per-state scale of the convergence test (default ones).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        One line of markers per non-empty outcome (converged ``o``, not converged ``x``, frozen ``^``).
+    """
+    n = ens.x0.shape[1]
+    sn = _state_names(ens.state_names, n)
+    i, j = _pair(dims, sn, n)
+    if ax is None:
+        _, ax = new_figure(width=6.5, height=4.8)
+    frozen = np.asarray(ens.frozen, dtype=bool)
+    groups: list[tuple[np.ndarray, str, dict[str, Any]]] = []
+    if x_e is not None:
+        sc = np.ones(n) if scale is None else np.asarray(scale, dtype=float)
+        err = np.max(np.abs(ens.x_final - np.asarray(x_e, dtype=float)) / sc, axis=1)
+        conv = (err <= tol) & ~frozen
+        groups += [(conv, "converges", {"marker": "o", "color": "C2", "ms": 3.5}),
+                   (~conv & ~frozen, "does not converge", {"marker": "x", "color": "C3", "ms": 5})]
+    else:
+        groups.append((~frozen, f"runs to t = {ens.t_final:g} s", {"marker": "o", "color": "C0", "ms": 3.5}))
+    groups.append((frozen, "frozen (left the model's domain)", {"marker": "^", "color": "C1", "ms": 4}))
+    units = _model_units(ens.model_name)
+    for mask, what, kw in groups:
+        if np.any(mask):
+            ax.plot(ens.x0[mask, i], ens.x0[mask, j], ls="", label=f"{what} ({np.sum(mask)})", **kw)
+    if x_e is not None:
+        xe = np.asarray(x_e, dtype=float)
+        ax.plot(xe[i], xe[j], "k+", ms=11, mew=2, label="equilibrium")
+    ax.set_xlabel(label(sn[i], units.get(sn[i])))
+    ax.set_ylabel(label(sn[j], units.get(sn[j])))
+    ax.set_title(f"{ens.model_name}: outcome of {ens.x0.shape[0]} runs of {ens.t_final:g} s\nby initial state"
+                 + (" (projection on two states)" if n > 2 else ""))
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=7)
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_batch_comparison(cmp: BatchComparison, ax: Any = None, *, dims: Sequence[Any] = (0, 1)) -> Any:
+    """Initial states of a controller comparison in the plane of two states, marked by outcome per controller.
+
+    Parameters
+    ----------
+    cmp : BatchComparison
+    ax : matplotlib.axes.Axes, optional
+    dims : two state names or indices
+        The plane to draw (the initial box projected on it).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        Two lines of markers per controller (converges, does not), the equilibrium as ``+``.
+    """
+    n = cmp.x0.shape[1]
+    sn = _state_names(cmp.state_names, n)
+    i, j = _pair(dims, sn, n)
+    if ax is None:
+        _, ax = new_figure(width=6.5, height=4.8)
+    nc = len(cmp.records)
+    for k, (name, rec) in enumerate(cmp.records.items()):
+        ok = np.asarray(rec.converged, dtype=bool)
+        big = k == 0  # the first controller as large open circles, the others filled on top of them
+        ax.plot(cmp.x0[ok, i], cmp.x0[ok, j], "o", ms=6 if big else 3, mfc="none" if big else f"C{k % 10}",
+                color=f"C{k % 10}", label=f"{name}: converges ({rec.fraction:.0%})")
+        ax.plot(cmp.x0[~ok, i], cmp.x0[~ok, j], "x", ms=6, mew=1.5, color=f"C{(nc + k) % 10}",
+                label=f"{name}: does not ({np.sum(~ok)})")
+    ax.plot(cmp.x_e[i], cmp.x_e[j], "k*", ms=11, label="equilibrium")
+    ax.set_xlabel(label(sn[i]))
+    ax.set_ylabel(label(sn[j]))
+    ax.set_title(f"simulated region of attraction: {cmp.x0.shape[0]} initial states, {cmp.t_final:g} s"
+                 + (" (projection on two states)" if n > 2 else ""))
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=7)
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+# ------------------------------------------------------------------------------------------------ helices
+def _broken(values: np.ndarray, y: np.ndarray, cut: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Insert NaN after the points in ``cut`` so that a line is broken there."""
+    at = np.flatnonzero(cut) + 1
+    return np.insert(np.asarray(values, float), at, np.nan), np.insert(np.asarray(y, float), at, np.nan)
+
+
+def plot_helix_sweep(sw: HelixSweep, ax: Any = None, *, column: str = "radius", **line: Any) -> Any:
+    """One helix quantity versus the swept control parameter (one panel of Fig 8.5-8.12).
+
+    The curve is broken where the continuation jumps between branches (:attr:`HelixSweep.branch_jumps`);
+    unstable steady motions are marked ``x``; radius and period go on a log scale when they span more than a factor
+    20 (they are infinite at a straight glide).
+
+    Parameters
+    ----------
+    sw : HelixSweep
+    ax : matplotlib.axes.Axes, optional
+    column : str
+        A column of :attr:`HelixSweep.columns` (units in
+        :data:`glidectl.analysis.continuation.COLUMN_UNITS`).
+    **line
+        Passed to :meth:`matplotlib.axes.Axes.plot` for the curve.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if ax is None:
+        _, ax = new_figure()
+    y = np.asarray(sw.column(column), dtype=float)
+    xs, ys = _broken(sw.values, y, np.isin(sw.values, sw.branch_jumps))
+    ax.plot(xs, ys, **{"color": "C0", "label": "steady motion", **line})
+    uns = sw.exists & ~sw.stable
+    if np.any(uns):
+        ax.plot(sw.values[uns], y[uns], "x", color="C3", ms=5, label="unstable")
+    pos = y[np.isfinite(y) & (y > 0)]
+    if column in ("radius", "period") and pos.size and pos.max() > 20 * pos.min():
+        ax.set_yscale("log")
+    ax.set_xlabel(label(sw.parameter, sw.unit))
+    ax.set_ylabel(f"{column} [{COLUMN_UNITS[column]}]")
+    missing = int(np.sum(~np.asarray(sw.exists)))
+    fixed = [f"{k} = {v:g} {u}" for k, v, u in zip(("r_P1", "r_P2", "r_P3", "m0"), (*sw.r_p, sw.m0),
+                                                     ("m", "m", "m", "kg"), strict=True) if k != sw.parameter]
+    ax.set_title(f"steady helices: {column} versus {_LATEX.get(sw.parameter, sw.parameter)} "
+                 f"({', '.join(fixed)})"
+                 + (f"\n{missing} of {sw.values.size} points without a steady motion" if missing else ""))
+    ax.legend(loc="best")
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_existence_scan(scan: ExistenceScan, ax: Any = None) -> Any:
+    """Where steady motions were found on the ``(r_P1, m0)`` grid, with the claim region of §8.2.2 shaded.
+
+    Parameters
+    ----------
+    scan : ExistenceScan
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        Markers: a stable upright motion found (``o``), motions but none stable upright (``^``), none (``x``);
+        numbers: distinct motions found at the point. ``r_P1`` is drawn in cm.
+    """
+    if ax is None:
+        _, ax = new_figure(width=7, height=5.2)
+    R, M = np.meshgrid(scan.r_P1 * 100, scan.m0)
+    rmin, rmax = min(float(R.min()), 0.0) * 1.05, max(float(R.max()), 0.0) * 1.05
+    mmin, mmax = min(float(M.min()), 0.0) * 1.1, max(float(M.max()), 0.0) * 1.1
+    # the claim region: m0 > 0 with r_P1 < 0 (upper left) and m0 < 0 with r_P1 > 0 (lower right)
+    ax.fill_between([rmin, 0], 0, mmax, color="C3", alpha=0.1, lw=0, label="§8.2.2: no equilibria here")
+    ax.fill_between([0, rmax], mmin, 0, color="C3", alpha=0.1, lw=0)
+    su = scan.n_stable_upright > 0
+    other = scan.exists & ~su
+    for mask, mk, col, what in ((su, "o", "C2", "stable upright motion found"),
+                                (other, "^", "C1", "motions found, none stable upright"),
+                                (~scan.exists, "x", "k", "no motion found")):
+        if np.any(mask):
+            ax.plot(R[mask], M[mask], mk, color=col, ls="", label=what)
+    for i, j in zip(*np.nonzero(scan.exists), strict=True):
+        ax.annotate(str(int(scan.n_solutions[i, j])), (R[i, j], M[i, j]), textcoords="offset points",
+                    xytext=(5, 4), fontsize=7)
+    ax.axhline(0, color="k", lw=0.6)
+    ax.axvline(0, color="k", lw=0.6)
+    ax.set_xlabel(r"$r_{P1}$ [cm]")
+    ax.set_ylabel(r"$m_0$ [kg]")
+    n_in = int(np.sum(scan.exists & scan.claim_region))
+    ax.set_title(f"steady motions found (numbers: how many) at $r_{{P2}}$ = {scan.r_P2 * 100:g} cm, "
+                 f"$r_{{P3}}$ = {scan.r_P3 * 100:g} cm;\nmotions at {n_in} of {int(np.sum(scan.claim_region))} "
+                 "points of the claim region")
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize=7)
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+# ------------------------------------------------------------------------------------------------ certificates
+def _roa_label(ps: Any, k: int) -> str:
+    """Label of state ``k`` of a :class:`~glidectl.roa.systems.PolySystem`: angles in rad, states of a
+    nondimensional system ``[-]``."""
+    name = ps.state_names[k]
+    if k in tuple(ps.angle_states) + tuple(ps.mixed_states):
+        return label(name, "rad")
+    known = STATE_UNITS.get(name, _EXTRA_UNITS.get(name))
+    if known is None and ps.time_unit != "s":
+        known = "-"
+    return label(name, known)
+
+
+def _slice_base(ps: Any, fixed: Any) -> np.ndarray:
+    """The state the slice goes through: the equilibrium, with the values of ``fixed``."""
+    base = np.array(ps.equilibrium, dtype=float)
+    if fixed is None:
+        return base
+    if isinstance(fixed, Mapping):
+        for key, v in fixed.items():
+            base[_index(key, ps.state_names, ps.n)] = float(v)
+        return base
+    f = np.asarray(fixed, dtype=float)
+    if f.shape != (ps.n,):
+        raise GlidectlError(f"fixed must give all {ps.n} states {tuple(ps.state_names)} (or be a mapping name -> "
+                            f"value), got shape {f.shape}")
+    return f.copy()
+
+
+def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence[Any] = (0, 1), fixed: Any = None,
+                         n: int = 201, samples: bool = True, seed: int = 0) -> Any:
+    """A 2-D slice of a certified region of attraction through the equilibrium.
+
+    Parameters
+    ----------
+    cert : ROACertificate
+    ax : matplotlib.axes.Axes, optional
+    dims : two state names or indices
+        The plane of the slice.
+    fixed : array_like (n,) or mapping, optional
+        Values of the other states on the slice (a full state, whose ``dims`` entries are ignored, or
+        ``{name: value}``); default the equilibrium.
+    n : int
+        Grid points per axis over the system's box (the set is :meth:`ROACertificate.contains` on the grid), and
+        the number of random points of the slice in the set drawn when ``samples``.
+    samples : bool
+        Draw points of the set. The certificate's :class:`~glidectl.roa.certify.ROAVerification` keeps counts, not the
+        sampled points, so ``n`` points of the slice in the set are drawn here (rejection from the box, seeded
+        with ``seed``).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The set as a filled contour with its boundary, the equilibrium as ``+``, the samples as dots.
+    """
+    ps = cert.system
+    i, j = _pair(dims, ps.state_names, ps.n)
+    base = _slice_base(ps, fixed)
+    if n < 2:
+        raise GlidectlError(f"n must be at least 2, got {n}")
+    lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+    if ax is None:
+        _, ax = new_figure(width=6.5, height=5.2)
+    A, B = np.meshgrid(np.linspace(lo[i], hi[i], n), np.linspace(lo[j], hi[j], n))
+    X = np.tile(base, (A.size, 1))
+    X[:, i], X[:, j] = A.ravel(), B.ravel()
+    ins = cert.contains(X).reshape(A.shape)
+    # V itself inside the set and V above the level outside it: its rho contour is the smooth boundary of the set
+    Vv = np.nan_to_num(cert.value(X).reshape(A.shape), nan=np.inf)
+    F = np.where(ins, np.minimum(Vv, cert.rho), np.maximum(Vv, cert.rho * (1 + 1e-9) + 1e-300))
+    handles: list[Any] = [Patch(color="C0", alpha=0.35, label=f"certified: V ≤ {cert.rho:.4g} (degree {cert.degree})")]
+    if ins.any():
+        F = np.minimum(F, 2 * cert.rho + 1.0)
+        ax.contourf(A, B, F, levels=[float(F.min()) - 1.0, cert.rho], colors=["C0"], alpha=0.35)
+        ax.contour(A, B, F, levels=[cert.rho], colors="C0", linewidths=1.2)
+    if samples:
+        rng = np.random.default_rng(seed)
+        pts = np.empty((0, 2))
+        for _ in range(20):
+            P = np.tile(base, (4 * n, 1))
+            P[:, i] = lo[i] + (hi[i] - lo[i]) * rng.random(4 * n)
+            P[:, j] = lo[j] + (hi[j] - lo[j]) * rng.random(4 * n)
+            pts = np.concatenate([pts, P[cert.contains(P)][:, [i, j]]])[:n]
+            if len(pts) >= n:
+                break
+        if len(pts):
+            (h,) = ax.plot(pts[:, 0], pts[:, 1], ".", color="C2", ms=2.5, label=f"{len(pts)} random points of the set")
+            handles.append(h)
+    eq = np.asarray(ps.equilibrium, dtype=float)
+    (h,) = ax.plot(eq[i], eq[j], "k+", ms=12, mew=2, label="equilibrium")
+    handles.append(h)
+    ax.set_xlim(lo[i], hi[i])
+    ax.set_ylim(lo[j], hi[j])
+    ax.set_xlabel(_roa_label(ps, i))
+    ax.set_ylabel(_roa_label(ps, j))
+    rest = [f"{_LATEX.get(ps.state_names[k], ps.state_names[k])} = {base[k]:.3g}" for k in range(ps.n)
+            if k not in (i, j)]
+    status = "verified" if cert.verification.passed else "NOT verified"
+    ax.set_title(f"{ps.name}: certified region of attraction ({status})"
+                 + (f"\nslice {', '.join(rest)}" if rest else ""))
+    ax.legend(handles=handles, loc="lower right", fontsize=7)
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_composite_certificate(cert: CompositeCertificate, ax: Any = None, *, n: int = 201) -> Any:
+    """The composite-Lyapunov estimate ``L*`` (5.85) in the ``(Vbar, gammabar)`` plane at ``alphabar = Omegabar2 =
+    0``, with the reduced level set ``{Phi <= v0}`` (5.35) and the box ``B_p`` it lies in.
+
+    Parameters
+    ----------
+    cert : CompositeCertificate
+    ax : matplotlib.axes.Axes, optional
+    n : int
+        Grid points per axis.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        ``L*`` filled (it is a region-of-attraction estimate only when ``cert.certified``, said in the title),
+        ``Phi = v0`` as a dashed line, ``B_p`` as a dotted rectangle.
+    """
+    dom = cert.domain
+    (vlo, vhi), (glo, ghi) = dom.Vbar, dom.gammabar
+    pad = 0.25 * (vhi - vlo)
+    V = np.linspace(max(vlo - pad, -0.99), vhi + pad, n)
+    G = np.linspace(max(glo - 0.1 * (ghi - glo), -math.pi), min(ghi + 0.1 * (ghi - glo), math.pi), n)
+    VV, GG = np.meshgrid(V, G)
+    z = np.stack([VV, GG, np.zeros_like(VV), np.zeros_like(VV)], axis=-1)
+    ins = np.asarray(cert.in_estimate(z), dtype=float)
+    if ax is None:
+        _, ax = new_figure(width=6.5, height=4.8)
+    handles: list[Any] = []
+    if ins.any():
+        ax.contourf(VV, GG, ins, levels=[0.5, 1.5], colors=["C0"], alpha=0.4)
+        ax.contour(VV, GG, ins, levels=[0.5], colors="C0", linewidths=1.2)
+    handles.append(Patch(color="C0", alpha=0.4,
+                         label=f"$L^*$ (5.85): $\\nu \\leq$ {cert.level:.3g} (d = {cert.d:.3g})"))
+    ax.contour(VV, GG, cert.Phi(np.stack([VV, GG], axis=-1)), levels=[cert.v0], colors="C3", linestyles="--")
+    handles.append(Line2D([], [], color="C3", ls="--",
+                          label=f"$\\Phi$ = $v_0$ = {cert.v0:.3g} (5.35); at q = 0, $L^*$ = {{$\\Phi \\leq v_0$}}"))
+    ax.plot([vlo, vhi, vhi, vlo, vlo], [glo, glo, ghi, ghi, glo], "k:", lw=1)
+    handles.append(Line2D([], [], color="k", ls=":", label="domain $B_p$"))
+    (h,) = ax.plot(0.0, 0.0, "k+", ms=12, mew=2, label="steady glide")
+    handles.append(h)
+    ax.set_xlabel(r"$\bar V$ [-]")
+    ax.set_ylabel(r"$\bar\gamma$ [rad]")
+    verdict = (f"certified: $\\mu$ = {cert.mu:.3g} < $\\mu_d$ = {cert.mu_d:.3g}" if cert.certified
+               else f"NOT certified: $\\mu$ = {cert.mu:.3g} ≥ $\\mu_d$ = {cert.mu_d:.3g}")
+    ax.set_title(f"{cert.vehicle.name}: composite Lyapunov estimate, slice $\\bar\\alpha$ = $\\bar\\Omega_2$ = 0\n"
+                 f"{verdict}")
+    ax.legend(handles=handles, loc="lower right", fontsize=7)
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+# ------------------------------------------------------------------------------------------------ CTOL tracking
+def plot_tracking_run(run: TrackingRun, ax: Any = None, *, input_scale: str = "linear") -> Any:
+    """Position error and inputs of a CTOL tracking run versus time (Fig 7.3-7.4).
+
+    Parameters
+    ----------
+    run : TrackingRun
+    ax : array of 3 axes, optional
+        Error, thrust, pitching moment; default a new figure.
+    input_scale : {"linear", "symlog"}
+        Scale of the input axes. ``"symlog"`` shows spikes and the rest of a run together: an input whose peak
+        exceeds 100 times its median magnitude is drawn on a symmetric log scale, linear up to 10 times the median.
+
+    Returns
+    -------
+    ndarray of 3 matplotlib.axes.Axes
+    """
+    axes = _axes(ax, 3, "TrackingRun.plot", width=7.5, height=6.0, sharex=True)
+    axes[0].plot(run.t, run.error[:, 0], "C0", lw=1, label="$e_x = x - x_d$")
+    axes[0].plot(run.t, run.error[:, 1], "C1", lw=1, label="$e_y = y - y_d$")
+    axes[0].set_ylabel("position error [m]")
+    axes[0].legend(loc="best", fontsize=7)
+    axes[1].plot(run.t, run.u[:, 0], "C2", lw=0.8)
+    axes[1].set_ylabel("thrust $u_1$ [N]")
+    axes[2].plot(run.t, run.u[:, 1], "C4", lw=0.8)
+    axes[2].set_ylabel("moment $u_2$ [N m]")
+    if input_scale not in ("linear", "symlog"):
+        raise GlidectlError(f"input_scale must be 'linear' or 'symlog', got {input_scale!r}")
+    for a, u in zip(axes[1:], np.abs(run.u).T, strict=True):
+        med = float(np.median(u[u > 0])) if np.any(u > 0) else 0.0
+        if input_scale == "symlog" and med > 0 and u.max() > 100 * med:  # spikes: linear up to 10 x the median
+            a.set_yscale("symlog", linthresh=10 * med)
+    for a in axes:
+        if run.stopped_at is not None:
+            a.axvline(run.stopped_at, color="C3", ls=":", lw=1)
+        a.grid(True, alpha=0.3)
+    axes[-1].set_xlabel("t [s]")
+    end = "completed" if run.completed else f"stopped at {run.stopped_at:.4g} s (dotted)"
+    axes[0].set_title(f"{run.method}\nmax |e| = {run.max_error:.3g} m, peak |u1| = {run.peak_u1:.3g} N, "
+                      f"peak |u2| = {run.peak_u2:.3g} N m, {end}")
+    return axes
+
+
+def plot_pareto_study(study: ParetoStudy, ax: Any = None) -> Any:
+    """Max position error against control effort over the tracking grid, with the Pareto front.
+
+    Parameters
+    ----------
+    study : ParetoStudy
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        One marker per completed run, coloured by ``(k3, k4)`` and shaped by ``dt``, filled on the front; the front
+        joined by a black line. An axis is logarithmic when its values are positive and span more than a decade.
+    """
+    if ax is None:
+        _, ax = new_figure(width=8.0, height=5.0)
+    recs = study.records
+    done = [k for k, r in enumerate(recs) if r["completed"]]
+    gains = list(dict.fromkeys((r["k3"], r["k4"]) for r in recs))
+    dts = list(dict.fromkeys(r["dt"] for r in recs))
+    shapes = "os^Dv<>ph"
+    front = set(study.front)
+    for k in done:
+        r = recs[k]
+        c = f"C{gains.index((r['k3'], r['k4'])) % 10}"
+        ax.plot(r["effort"], r["max_error"], shapes[dts.index(r["dt"]) % len(shapes)], color=c, ms=7,
+                mfc=c if k in front else "none")
+    fr = study.front_records()
+    (hf,) = ax.plot([r["effort"] for r in fr], [r["max_error"] for r in fr], "k-", lw=0.8,
+                    label="Pareto front (filled)")
+    vals = np.array([[recs[k]["effort"], recs[k]["max_error"]] for k in done]) if done else np.ones((1, 2))
+    for col, set_scale in ((vals[:, 0], ax.set_xscale), (vals[:, 1], ax.set_yscale)):
+        if np.all(col > 0) and col.max() > 10 * col.min():  # log axes for values over more than a decade
+            set_scale("log")
+    ax.set_xlabel(r"control effort: time-RMS of $\|u\|$ [-]")
+    ax.set_ylabel("max position error [m]")
+    handles = [Line2D([], [], color=f"C{k % 10}", lw=4, label=f"k3 = {g[0]:g}, k4 = {g[1]:g}")
+               for k, g in enumerate(gains)]
+    handles += [Line2D([], [], marker=shapes[k % len(shapes)], color="grey", ls="", label=f"dt = {dt:g} s")
+                for k, dt in enumerate(dts)]
+    ax.legend(handles=[*handles, hf], loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0, fontsize=7)
+    nstop = len(recs) - len(done)
+    ax.set_title(f"tracking by steady gliding over {study.t_final:g} s: {len(done)} completed runs"
+                 + (f" ({nstop} stopped, not shown)" if nstop else ""))
+    ax.grid(True, which="both", alpha=0.3)
+    return ax

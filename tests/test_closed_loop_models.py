@@ -1,0 +1,148 @@
+"""Closed loops of the package's controllers as models (glidectl.closed_loop, glidectl.ClosedLoop): the equilibrium
+each controller was designed for is an equilibrium of its closed loop, the right-hand side is batch-capable, and
+the closed loop is the plant's own vector field under the controller's law."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+import glidectl as gc
+from glidectl.analysis.jacobian import jacobians
+from glidectl.models.reduced import ReducedLongitudinalGlider
+
+ROGUE = gc.load_vehicle("rogue")
+SPHERE = gc.load_vehicle("sphere_ch5")
+ELEV = gc.load_vehicle("elevator_ch6")
+DC8 = gc.load_vehicle("dc8_ctol")
+
+
+def _lqr(inputs: str = "force", offset: float = 0.0) -> gc.LinearGlideController:
+    ctrl = gc.lqr_glide(ROGUE, gc.steady_glide(ROGUE, 0.3, math.radians(-45), r_p3=0.05), inputs=inputs)
+    return dataclasses.replace(ctrl, path_offset=offset) if offset else ctrl
+
+
+def _torque() -> gc.TorqueDesign:
+    return gc.design_torque_control(SPHERE, speed=1.6)
+
+
+def _buoyancy() -> gc.BuoyancyController:
+    return gc.BuoyancyController(gc.buoyancy_equilibrium(SPHERE, 1.5), SPHERE, K_b=5.0)
+
+
+def _elevator() -> gc.ElevatorBuoyancyController:
+    return gc.ElevatorBuoyancyController(gc.elevator_equilibrium(ELEV, 1.0, -math.pi / 4), ELEV, K=1.0)
+
+
+def _ctol() -> gc.SteadyGlideController:
+    return gc.SteadyGlideController(DC8, gc.ctol_glide(DC8, speed=0.85 / math.sqrt(30.0), gamma=0.0), 10.0, 5.0)
+
+
+CONTROLLERS = {
+    "lqr_glide force": lambda: _lqr(),
+    "lqr_glide acceleration": lambda: _lqr("acceleration"),
+    "lqr_glide path offset": lambda: _lqr(offset=2.0),
+    "torque design": _torque,
+    "buoyancy": _buoyancy,
+    "elevator": _elevator,
+    "ctol steady glide": _ctol,
+}
+
+
+@pytest.fixture(scope="module", params=list(CONTROLLERS))
+def loop(request):
+    ctrl = CONTROLLERS[request.param]()
+    return ctrl, gc.closed_loop(ctrl)
+
+
+def test_equilibrium_is_an_equilibrium(loop):
+    _, cl = loop
+    xe = cl.equilibrium
+    assert isinstance(cl, gc.ClosedLoop) and isinstance(xe, np.ndarray)
+    assert xe.shape == (cl.n_states,) == (len(cl.state_names),)
+    assert cl.input_names == ()
+    f = cl.rhs(xe)
+    assert f.shape == xe.shape
+    assert np.max(np.abs(f)) <= 1e-9 * max(1.0, float(np.max(np.abs(xe))))
+    assert cl.vehicle.provenance == cl.provenance and cl.provenance
+    assert type(cl.plant).__name__ in cl.name
+
+
+def test_batch_rhs_equals_row_wise(loop):
+    _, cl = loop
+    rng = np.random.default_rng(3)
+    xe = cl.equilibrium
+    X = xe + 0.02 * (1.0 + np.abs(xe)) * rng.standard_normal((5, cl.n_states))
+    F = cl.rhs(X)
+    assert F.shape == (5, cl.n_states)
+    rows = np.array([cl.rhs(x) for x in X])
+    np.testing.assert_allclose(F, rows, rtol=1e-12, atol=1e-14 * float(np.max(np.abs(rows))))
+    np.testing.assert_allclose(cl.rhs(X[None]), F[None], rtol=1e-12, atol=1e-14 * float(np.max(np.abs(rows))))
+
+
+def test_closed_loop_is_plant_under_controller(loop):
+    ctrl, cl = loop
+    X = cl.equilibrium + 0.01 * np.random.default_rng(5).standard_normal((4, cl.n_states))
+    if isinstance(ctrl, gc.TorqueDesign):
+        ref = cl.plant.rhs(X, ctrl.law(0.0, X))
+    elif isinstance(ctrl, gc.SteadyGlideController):
+        ref = gc.ClosedLoopCTOL(ctrl.vehicle, ctrl.glide, ctrl.k3, ctrl.k4, ctrl.T).rhs(X)
+    elif isinstance(ctrl, gc.LinearGlideController):  # the controller acts on full states (x, z, ...)
+        g = ctrl.glide.gamma
+        full = np.concatenate([(np.sin(g) * X[:, :1]), (np.cos(g) * X[:, :1]), X[:, 1:]], axis=1)
+        ref = cl.plant.rhs(X, ctrl(0.0, full))
+    else:
+        ref = cl.plant.rhs(X, ctrl(0.0, X))
+    np.testing.assert_allclose(cl.rhs(X), ref, rtol=1e-12, atol=1e-13 * float(np.max(np.abs(ref))))
+
+
+def test_closed_loop_is_locally_stable(loop):
+    ctrl, cl = loop
+    A, _ = jacobians(lambda x, u: cl.rhs(x), cl.equilibrium, np.zeros(0))
+    lam = np.linalg.eigvals(A)
+    if isinstance(ctrl, gc.LinearGlideController):  # the exact linearization of the loop is A - B K
+        np.testing.assert_allclose(np.sort_complex(lam), np.sort_complex(ctrl.closed_loop_poles), rtol=1e-6,
+                                   atol=1e-9)
+    assert np.max(lam.real) < 0
+
+
+def test_torque_closed_loop_is_the_overridden_open_loop():
+    d = _torque()
+    cl = gc.closed_loop(d)
+    X = cl.equilibrium + 0.05 * np.random.default_rng(0).standard_normal((20, 4))
+    ol = ReducedLongitudinalGlider(d.closed_loop_vehicle).rhs(X)
+    assert np.max(np.abs(cl.rhs(X) - ol)) <= 1e-12 * np.max(np.abs(ol))
+    via_law = d.law.closed_loop(SPHERE, d.equilibrium)
+    np.testing.assert_array_equal(via_law.rhs(X), cl.rhs(X))
+
+
+def test_simulate_many_and_pickle():
+    cl = gc.closed_loop(_buoyancy())
+    X0 = cl.equilibrium + np.array([[0.05, 0.02, 0.0, 0.0, 0.05], [-0.05, -0.02, 0.01, 0.0, -0.05]])
+    ens = gc.simulate_many(cl, X0, 5.0)
+    assert ens.x_final.shape == X0.shape and np.all(np.isfinite(ens.x_final))
+    back = pickle.loads(pickle.dumps(cl))
+    np.testing.assert_array_equal(back.rhs(X0), cl.rhs(X0))
+
+
+def test_two_argument_form_and_errors():
+    ctrl = _elevator()
+    plant = gc.ElevatorBuoyancyGlider(ELEV)
+    cl = gc.closed_loop(plant, ctrl.u, equilibrium=ctrl.eq.state)
+    np.testing.assert_array_equal(cl.rhs(ctrl.eq.state), gc.closed_loop(ctrl).rhs(ctrl.eq.state))
+    free = gc.closed_loop(plant, ctrl.u)
+    assert free.equilibrium is None
+    with pytest.raises(gc.GlidectlError, match="equilibrium"):
+        gc.closed_loop(ctrl, equilibrium=ctrl.eq.state)
+    with pytest.raises(gc.GlidectlError, match="does not know"):
+        gc.closed_loop(gc.FeedbackLinearizingController(DC8, gc.climb_trajectory(DC8)))
+    with pytest.raises(gc.ModelError, match="equilibrium"):
+        gc.ClosedLoop(plant, ctrl.u, np.zeros(3))
+    with pytest.raises(gc.ModelError, match="not a glidectl model"):
+        gc.ClosedLoop(object(), ctrl.u)
+    with pytest.raises(gc.ModelError, match="trailing dimension"):
+        cl.rhs(np.zeros(4))

@@ -1,0 +1,64 @@
+"""The ROA design (designs/roa_certification.py) end to end with its quick settings (low degrees, few samples, one
+full-model case, no CTOL closed loop; the real build uses FULL and takes about 28 minutes, 16 of them in the CTOL
+certificate)."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from glidectl.report import Report, load_design
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def roa(tmp_path_factory):
+    design = load_design(ROOT / "designs" / "roa_certification.py")
+    rep = design.report(quick=True)
+    pdf = rep.write(tmp_path_factory.mktemp("reports") / "roa_certification")
+    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
+    return design, rep, pdf, nums
+
+
+def test_settings_presets():
+    m = load_design(ROOT / "designs" / "roa_certification.py").module
+    F, Q = m.FULL, m.QUICK
+    assert F == m.Settings()
+    assert (F.vdp_degree, F.vdp_iterations, F.reduced_degree, F.reduced_iterations) == (6, 6, 4, 4)
+    assert (F.full_degree, F.full_iterations, F.full_KM) == (2, 8, (-50.0, -100.0))
+    assert (F.n_volume, F.n_truth_2d, F.n_truth_4d, F.n_guide) == (2**16, 201, 4096, 2048)
+    assert F.ctol and (F.ctol_degree, F.ctol_iterations, F.ctol_k3, F.ctol_k4) == (2, 1, 10.0, 5.0)
+    assert (F.backoff, F.torque_speed, F.taylor_order, F.n_trap) == (0.003, 1.5, 3, 200_000)
+    assert (Q.vdp_degree, Q.vdp_iterations, Q.reduced_iterations, Q.full_iterations, Q.full_KM) == (4, 2, 1, 1,
+                                                                                                  (-100.0,))
+    assert (Q.n_volume, Q.n_truth_2d, Q.n_truth_4d, Q.n_guide, Q.ctol) == (2**12, 21, 64, 256, False)
+    assert m.DRAKE_RHO == 2.3045 and m.VDP_TRUE_AREA == 13.72
+
+
+def test_roa_report_builds_with_required_numbers(roa):
+    _, rep, pdf, nums = roa
+    assert isinstance(rep, Report) and pdf.exists() and pdf.stat().st_size > 0
+    assert nums["vdp_fixed_V_rho"]["reproduced"] is True          # Drake's rho = 2.3045 within 1e-3
+    assert nums["vdp_fixed_V_rho"]["published"] == 2.3045
+    assert nums["vdp_fixed_V_rho"]["value"] == pytest.approx(2.3045, abs=1e-3)
+    assert nums["vdp_true_area"]["reproduced"] is True
+    assert nums["vdp_true_area"]["value"] == pytest.approx(13.72, abs=0.02)
+    assert nums["vdp_verified"]["value"] is True and nums["reduced_verified"]["value"] is True
+    assert nums["vdp_fraction_of_true"]["value"] > nums["vdp_drake_fraction_of_true"]["value"]
+    assert nums["reduced_ratio_to_thesis"]["value"] > 1.0
+    # closed form of the thesis set {Phi < 2/3}: sqrt(3) * int_{-pi/2}^{pi/2} sqrt(cos g) dg
+    assert nums["reduced_thesis_phi_area"]["value"] == pytest.approx(4.150479522309, rel=1e-9)
+    assert 0 <= nums["reduced_recast_residual"]["value"] < 1e-12
+    assert nums["taylor_trap_true_dVdt_positive"]["value"] > 0     # the Taylor certificate is not the glider's
+    assert nums["full_KM100_verified"]["value"] is True
+    assert 0 < nums["full_KM100_certified_volume"]["value"] <= nums["full_KM100_true_volume"]["value"] + 1e-2
+    assert nums["full_ch6_torque_verified"]["value"] is True       # the chapter-6 torque closed loop
+    assert "full_KM50_certified_volume" not in nums                # quick: one full-model case
+    assert not any(name.startswith("ctol_") for name in nums)      # quick: no CTOL closed loop
+    assert all(math.isfinite(nums[n]["value"]) for n in nums if n.endswith("_volume"))
+    pngs = {p.name for p in pdf.parent.glob("*.png")}
+    assert pngs == {"vdp_roa.png", "reduced_roa.png", "full_roa_slices.png"}
