@@ -114,7 +114,7 @@ def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: No
     te = np.linspace(0.0, s.fig51_t, s.fig51_points)
     full = gc.simulate(gc.ReducedLongitudinalGlider(veh), np.array(FIG51_FULL_X0), s.fig51_t, t_eval=te, rtol=1e-10,
                        atol=1e-12)
-    slow = gc.simulate(gc.SlowModel(sp), np.array(FIG51_SLOW_X0), s.fig51_t, t_eval=te, rtol=1e-10, atol=1e-12)
+    slow = gc.simulate(sp.slow_model(), np.array(FIG51_SLOW_X0), s.fig51_t, t_eval=te, rtol=1e-10, atol=1e-12)
 
     progress(f"composite Lyapunov constants for the {len(VARIANTS)} designs of 5.3.1; {s.n_verify} samples each")
     certs, vers = {}, {}

@@ -683,8 +683,9 @@ def report(res: Ch8Results) -> Report:
         "Model: glidectl.models.glider3d (force form (2.1)-(2.8) and acceleration form (8.23)-(8.25), tested equal, "
         "and equal to the longitudinal model in the plane). (2.5) is read as J Omega x Omega + r_P x (P_P x Omega): "
         "the literal (J Omega + r_P^ P_P) x Omega disagrees with (2.20) and (8.25). Forces (-D, -SF, -L) are rotated "
-        "from the wind frame (DESIGN.md), moments act about the body axes (this reproduces all four printed helix "
-        "numbers). Chapter-8 damping K_Omega1_i Omega_i without V^2 (DESIGN.md). The trim solves (v', Omega') = 0 "
+        "from the wind frame (docs/conventions.md), moments act about the body axes (this reproduces all four "
+        "printed helix numbers). Chapter-8 damping K_Omega1_i Omega_i without V^2 (docs/conventions.md). The trim "
+        "solves (v', Omega') = 0 "
         "with Omega = psidot R^T k (8.31), exact Jacobian."))
     return rep
 

@@ -182,7 +182,7 @@ def test_fixed_mass_generalized_mass_is_823_inverse():
     rh = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])  # the ^ map of §2.2.1, typed out
     big = np.block([[M + mb * np.eye(3), -mb * rh], [mb * rh, J - mb * rh @ rh]])
     np.testing.assert_allclose(fixed.generalized_mass @ big, np.eye(6), atol=1e-13)
-    # chapter-8 masses (DESIGN.md): m_i = m + m0 - mbar + m_fi
+    # chapter-8 masses (docs/conventions.md): m_i = m + m0 - mbar + m_fi
     np.testing.assert_allclose(np.diag(M), [50 + 0.25 - 9 + 5, 50 + 0.25 - 9 + 60, 50 + 0.25 - 9 + 70])
 
 
@@ -411,7 +411,7 @@ def test_loads_3d_without_sideslip_equal_longitudinal_loads(c):
 @given(velocities().filter(lambda v: abs(v[1]) > 1e-3), _vec(-0.5, 0.5))
 def test_side_force_opposes_sideslip(v, Om):
     """K_beta > 0 (Table 8.1): the side force, the e_2 component of the body force, has the sign opposite to v2
-    (DESIGN.md: -SF); with drag off the whole body y-force does."""
+    (docs/conventions.md: -SF); with drag off the whole body y-force does."""
     F, _, alpha, beta, V = loads_3d(SLOCUM, v, Om)
     e2 = np.array([-np.cos(alpha) * np.sin(beta), np.cos(beta), -np.sin(alpha) * np.sin(beta)])
     assert np.sign(F @ e2) == -np.sign(v[1])

@@ -348,7 +348,7 @@ def test_vehicle_is_immutable():
 
 
 def test_vehicle_pickles_and_deep_copies():
-    """Vehicles must cross process boundaries (DESIGN.md: sweeps take any concurrent.futures.Executor, e.g. a
+    """Vehicles must cross process boundaries (docs/conventions.md: sweeps take any concurrent.futures.Executor, e.g. a
     ProcessPoolExecutor, which pickles its arguments) and survive copy.deepcopy."""
     import copy
     import pickle

@@ -123,3 +123,18 @@ def test_public_callable_has_numpydoc_sections(name, obj):
     raises = re.split(r"^\s*Raises\s*\n\s*-{3,}", doc, flags=re.M)[1]
     for exc in re.findall(r"^(\w+Error)\b", raises, re.M):
         assert exc in dir(gc) or exc in dir(__builtins__) or hasattr(__import__("builtins"), exc), (name, exc)
+
+
+def test_docs_api_page_lists_every_public_name_in_its_group():
+    text = (ROOT / "docs" / "api.md").read_text()
+    sections = dict(re.findall(r"^## ([^\n]+)\n(.*?)(?=^## |\Z)", text, flags=re.M | re.S))
+    assert set(sections) == set(gc.API_GROUPS)
+    for group, names in gc.API_GROUPS.items():
+        listed = set(re.findall(r"^\| `(\w+)` \|", sections[group], flags=re.M))
+        assert listed == set(names), (group, sorted(listed ^ set(names)))
+
+
+def test_docs_stand_alone():
+    for path in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        text = path.read_text()
+        assert "../shared" not in text and "/work/" not in text and "DESIGN.md" not in text, path.name

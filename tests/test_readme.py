@@ -11,6 +11,9 @@ README = Path(__file__).resolve().parents[1] / "README.md"
 
 
 def test_readme_python_example_runs(capsys):
+    import matplotlib
+
+    matplotlib.use("Agg")  # the example draws; no window in a test
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
     assert blocks, "README has no python example"
     ns: dict = {}
@@ -21,3 +24,19 @@ def test_readme_python_example_runs(capsys):
     assert cert.certified == (cert.mu < cert.mu_d)
     assert np.all(ns["sw"].exists)
     assert capsys.readouterr().out  # the example prints its results
+    loop = ns["loop"]
+    assert np.abs(loop.rhs(loop.equilibrium)).max() < 1e-9
+    assert ns["rep"].numbers[0].value == ns["g"].m0 and len(ns["rep"].figures) == 1
+
+
+def test_readme_uses_only_the_public_api():
+    """The README example imports glidectl and glidectl.report only, and every gc.NAME it uses is public."""
+    import glidectl as gc
+
+    text = README.read_text()
+    code = "\n".join(re.findall(r"```python\n(.*?)```", text, flags=re.S))
+    modules = set(re.findall(r"^\s*(?:from|import)\s+(glidectl[\w.]*)", code, flags=re.M))
+    assert modules <= {"glidectl", "glidectl.report"}, modules
+    used = set(re.findall(r"\bgc\.(\w+)", code))
+    assert used <= set(gc.__all__), sorted(used - set(gc.__all__))
+    assert "../shared" not in text and "/work/" not in text

@@ -157,7 +157,7 @@ def test_sum_of_reciprocal_eigenvalues_is_not_3_tau_s(name: str) -> None:
     alpha_e, Omega2 = 0) sum to exactly 3 tau_s. What is exactly true is lambda1 + lambda2 = -3/tau_s (trace); the
     sum of reciprocals is trace/det = -3 tau_s / (2 (1 + c^2)), c = K_Le/K_De, which is negative and never 3 tau_s."""
     sp = SP[name]
-    slow = SlowModel(sp)
+    slow = sp.slow_model()
     A, _ = jacobians(slow.rhs, np.array([sp.speed, sp.gamma]), np.zeros(0))
     lam = np.linalg.eigvals(A)
     np.testing.assert_allclose(_srt(lam * sp.tau_s), _srt(sp.reduced_eigenvalues), rtol=1e-11, atol=1e-12)
@@ -291,7 +291,8 @@ def test_compact_form_is_the_dimensional_model_in_new_variables(name: str, p: np
 
 def test_slow_model_is_the_reduced_subsystem_in_dimensional_form() -> None:
     sp = SP["K_M=-100"]
-    slow = SlowModel(sp)
+    slow = SlowModel(sp.model.vehicle, sp.alpha)   # plain numbers; SingularPerturbation.slow_model() builds the same
+    assert slow == sp.slow_model()
     assert slow.state_names == ("V", "gamma") and slow.input_names == ()
     assert slow.vehicle is sp.model.vehicle
     rng = np.random.default_rng(11)

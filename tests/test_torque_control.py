@@ -8,11 +8,7 @@ import numpy as np
 import pytest
 
 from glidectl.analysis.jacobian import jacobians
-from glidectl.controllers.moving_mass import (
-    MovingMassTorque,
-    RealizedTorqueLoop,
-    compare_realized_torque,
-)
+from glidectl.controllers.moving_mass import MovingMassTorque, compare_realized_torque
 from glidectl.controllers.torque import (
     TorqueLaw,
     alpha_for_target,
@@ -22,6 +18,7 @@ from glidectl.controllers.torque import (
     torque_gain_family,
 )
 from glidectl.errors import GlidectlError, InfeasibleGlideError, ModelError
+from glidectl.models.realized_torque import RealizedTorqueLoop
 from glidectl.models.reduced import ReducedLongitudinalGlider
 from glidectl.models.torque_glider import TorqueControlledGlider
 from glidectl.params import load_vehicle

@@ -209,7 +209,7 @@ def test_up_down_glides_do_not_mirror_when_asymmetric():
 
 
 def test_printed_2_28_returns_pitch_not_gamma():
-    """DESIGN.md: (2.28) as printed evaluates to theta (bare L_e, D_e): atan(sin(theta)/cos(theta))."""
+    """docs/conventions.md: (2.28) as printed evaluates to theta (bare L_e, D_e): atan(sin(theta)/cos(theta))."""
     for deg in (-45.0, -30.0, 30.0, 45.0):
         gl = steady_glide(ROGUE_ASYM, 0.3, math.radians(deg), r_p3=0.0)
         a = gl.alpha

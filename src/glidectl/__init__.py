@@ -78,6 +78,9 @@ from .controllers.torque import (
     torque_gain_family,
 )
 from .errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    BudgetError,
     DesignError,
     GlidectlError,
     InfeasibleGlideError,
@@ -85,6 +88,7 @@ from .errors import (
     OutputError,
     SolverError,
     VehicleFileError,
+    VehicleMismatchError,
 )
 from .models import phugoid_hamiltonian
 from .models.buoyancy_glider import BuoyancyGlider
@@ -94,7 +98,9 @@ from .models.ctol_closed_loop import ClosedLoopCTOL
 from .models.elevator_glider import ElevatorBuoyancyGlider
 from .models.glider3d import FixedMassGlider3D, Glider3D, R_to_ypr, quat_to_R, ypr_to_quat, ypr_to_R
 from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
+from .models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
 from .models.phugoid import C_STEADY, PhugoidClass, PhugoidModel, classify_C, initial_state_for_C, orbit_period
+from .models.realized_torque import RealizedTorqueLoop
 from .models.reduced import ReducedLongitudinalGlider
 from .models.torque_glider import TorqueControlledGlider
 from .params import Vehicle, list_presets, load_vehicle
@@ -113,7 +119,7 @@ from .roa import (
 from .sim import Ensemble, Simulation, simulate, simulate_many
 from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov
-from .stability.singular_perturbation import NondimensionalModel, SingularPerturbation, SlowModel, singular_perturbation
+from .stability.singular_perturbation import SingularPerturbation, singular_perturbation
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.ctol import CTOLGlide, ctol_glide
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
@@ -131,9 +137,9 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "AccelerationControlledGlider", "benchmarks", "BuoyancyGlider", "C_STEADY", "classify_C", "ClosedLoop",
         "ClosedLoopCTOL", "CTOLAircraft", "CTOLReduced", "ElevatorBuoyancyGlider", "ExtendedCTOL",
         "FixedMassGlider3D", "GlidePathModel", "Glider3D", "initial_state_for_C", "LongitudinalGlider",
-        "NondimensionalModel", "orbit_period", "phugoid_hamiltonian", "PhugoidClass", "PhugoidModel",
-        "quat_to_R", "R_to_ypr", "ReducedLongitudinalGlider", "TorqueControlledGlider", "ypr_to_quat",
-        "ypr_to_R",
+        "NondimensionalModel", "NondimensionalScaling", "orbit_period", "phugoid_hamiltonian", "PhugoidClass",
+        "PhugoidModel", "quat_to_R", "R_to_ypr", "RealizedTorqueLoop", "ReducedLongitudinalGlider", "SlowModel",
+        "TorqueControlledGlider", "ypr_to_quat", "ypr_to_R",
     ),
     "trims": (
         "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
@@ -163,16 +169,15 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "composite_lyapunov", "CompositeCertificate", "CompositeVerification", "ctol_lyapunov",
         "CTOLLyapunovCertificate", "CTOLVerification", "Domain", "dVdt", "lyapunov_matrix",
         "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
-        "singular_perturbation", "SingularPerturbation", "SlowModel", "taylor_system", "unequal_mass_check",
-        "UnequalMassCheck",
+        "singular_perturbation", "SingularPerturbation", "taylor_system", "unequal_mass_check", "UnequalMassCheck",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
         "integrate_batch", "simulate", "simulate_many", "Simulation",
     ),
     "errors": (
-        "DesignError", "GlidectlError", "InfeasibleGlideError", "ModelError", "OutputError", "SolverError",
-        "VehicleFileError",
+        "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
+        "ModelError", "OutputError", "SolverError", "VehicleFileError", "VehicleMismatchError",
     ),
 }
 
@@ -180,10 +185,13 @@ __all__ = [
     "C_STEADY",
     "AccelerationControlledGlider",
     "ApproximateLinearizationController",
+    "ArgumentError",
+    "ArgumentTypeError",
     "BatchComparison",
     "BatchResult",
     "BlowUp",
     "BreakPoint",
+    "BudgetError",
     "BuoyancyController",
     "BuoyancyEquilibrium",
     "BuoyancyGlider",
@@ -225,6 +233,7 @@ __all__ = [
     "ModelError",
     "Modes",
     "NondimensionalModel",
+    "NondimensionalScaling",
     "OutputError",
     "ParameterLocus",
     "ParetoStudy",
@@ -236,6 +245,7 @@ __all__ = [
     "R_to_ypr",
     "RankTest",
     "RealizedTorqueComparison",
+    "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
     "Simulation",
     "SingularPerturbation",
@@ -252,6 +262,7 @@ __all__ = [
     "UnequalMassCheck",
     "Vehicle",
     "VehicleFileError",
+    "VehicleMismatchError",
     "ZeroDynamics",
     "allowable_delta_m_ratio",
     "approximate_linearization_eigenvalues",

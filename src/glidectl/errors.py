@@ -7,6 +7,9 @@ wrong and what would work instead. Nothing in glidectl returns ``None`` or NaN t
 from __future__ import annotations
 
 __all__ = [
+    "ArgumentError",
+    "ArgumentTypeError",
+    "BudgetError",
     "DesignError",
     "GlidectlError",
     "InfeasibleGlideError",
@@ -14,6 +17,7 @@ __all__ = [
     "OutputError",
     "SolverError",
     "VehicleFileError",
+    "VehicleMismatchError",
 ]
 
 
@@ -43,3 +47,22 @@ class DesignError(GlidectlError, ValueError):
 
 class OutputError(GlidectlError, OSError):
     """An output folder cannot be created or written (checked before any computation starts)."""
+
+
+class ArgumentError(GlidectlError, ValueError):
+    """An argument has the right type but a value glidectl cannot use: NaN or infinity, out of its range, an array
+    of the wrong shape, an unknown option. The message names the argument and what is accepted."""
+
+
+class ArgumentTypeError(GlidectlError, TypeError):
+    """An argument has the wrong type: a string, ``None``, a bool or a complex number where a real number is needed,
+    a name where a Vehicle is needed. The message names the argument and the type expected."""
+
+
+class VehicleMismatchError(GlidectlError, ValueError):
+    """A result (glide, equilibrium, certificate) is used with a vehicle other than the one it was computed for."""
+
+
+class BudgetError(GlidectlError, RuntimeError):
+    """A computation hit one of its documented budgets (integration steps, right-hand-side evaluations, wall time,
+    memory or program size) and stopped; the message says which and what to change."""

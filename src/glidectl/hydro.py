@@ -99,7 +99,7 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]
     -------
     F : (..., 3) body-frame force (N): ``C_bw (-D, -SF, -L)`` with ``C_bw = [e_V, e_2, e_3]``,
         ``e_V = v/V = (ca cb, sb, sa cb)``, ``e_2 = (-ca sb, cb, -sa sb)``, ``e_3 = (-sa, 0, ca)``. The side force
-        ``SF = K_beta beta V^2`` opposes sideslip (DESIGN.md); with ``beta = 0`` this is (2.18)-(2.19)'s
+        ``SF = K_beta beta V^2`` opposes sideslip (docs/conventions.md); with ``beta = 0`` this is (2.18)-(2.19)'s
         ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
     T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, K_MY beta V^2)`` plus damping
         ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis.

@@ -11,8 +11,8 @@ Two ways to give the body-frame mass matrix ``M = diag(m1, m2, m3)`` of §2.2.2 
 
 * ``fixed``: ``m1, m3`` (and ``m2`` for 3D work) are given directly, as for ROGUE (§2.3.1).
 * ``added``: ``m`` (mass of displaced fluid) and added masses ``m_f1, m_f2, m_f3``; then, with
-  ``m_s = m_h + m_b = m + m0 - mbar`` (DESIGN.md, chapter 8 convention), ``M = m_s I + diag(m_f)`` depends on the
-  buoyancy ``m0``. This is the convention of Table 8.1 and of §6.3 (``m = m1 - m0 = m3 - m0``).
+  ``m_s = m_h + m_b = m + m0 - mbar`` (docs/conventions.md, chapter 8 convention), ``M = m_s I + diag(m_f)``
+  depends on the buoyancy ``m0``. This is the convention of Table 8.1 and of §6.3 (``m = m1 - m0 = m3 - m0``).
 """
 
 from __future__ import annotations
@@ -198,7 +198,7 @@ class Vehicle:
             Body axis 1, 2 or 3.
         m0 : float or array, optional
             Net buoyancy (kg); needed only for the ``added`` mass model, where
-            ``m_i = m + m0 - mbar + m_fi`` (§2.2.2 with the chapter 8 convention of DESIGN.md).
+            ``m_i = m + m0 - mbar + m_fi`` (§2.2.2 with the chapter 8 convention of docs/conventions.md).
         """
         p = self.params
         if self.mass_model == "fixed":

@@ -65,9 +65,9 @@ from .linear import (
 from .moving_mass import (
     MovingMassTorque,
     RealizedTorqueComparison,
-    RealizedTorqueLoop,
     compare_realized_torque,
     reduced_from_accel,
+    simulate_realized_torque,
 )
 from .torque import (
     TorqueDesign,
@@ -102,7 +102,6 @@ __all__ = [
     "MovingMassTorque",
     "ParetoStudy",
     "RealizedTorqueComparison",
-    "RealizedTorqueLoop",
     "StableInversion",
     "SteadyGlideController",
     "TorqueDesign",
@@ -139,6 +138,7 @@ __all__ = [
     "reduced_from_accel",
     "require_inversion_vehicle",
     "saddle_directions",
+    "simulate_realized_torque",
     "simulate_window",
     "stable_inversion",
     "torque_gain_family",

@@ -14,7 +14,8 @@ that mechanism on :class:`~glidectl.models.longitudinal.AccelerationControlledGl
 The two closed loops share the steady glide exactly (the equilibrium of (2.18)-(2.20) with this ``r_P1`` is that of
 (6.1)-(6.4) with ``M_i = m_i + mbar``); transients differ by the mass' finite tracking bandwidth and by the inertial
 coupling terms of (2.18)-(2.20) (``r_P x u``, ``Omega2 (r_P . P_P)``), which the pure torque leaves out.
-:func:`compare_realized_torque` measures the difference.
+:func:`compare_realized_torque` measures the difference. The closed-loop vector field is the model
+:class:`~glidectl.models.realized_torque.RealizedTorqueLoop`; :func:`simulate_realized_torque` integrates it.
 """
 
 from __future__ import annotations
@@ -29,7 +30,8 @@ from scipy.integrate import solve_ivp
 from ..analysis.jacobian import jacobians
 from ..errors import GlidectlError, ModelError, SolverError
 from ..hydro import angle_of_attack
-from ..models.longitudinal import ACCEL_INPUTS, ACCEL_STATES, AccelerationControlledGlider
+from ..models.longitudinal import ACCEL_INPUTS, AccelerationControlledGlider
+from ..models.realized_torque import RealizedTorqueLoop
 from ..models.reduced import REDUCED_STATES
 from ..models.torque_glider import TorqueControlledGlider
 from ..params import Vehicle
@@ -37,8 +39,8 @@ from ..sim import Simulation, simulate
 from ..stability.singular_perturbation import singular_perturbation
 from .torque import TorqueLaw
 
-__all__ = ["MovingMassTorque", "RealizedTorqueComparison", "RealizedTorqueLoop", "compare_realized_torque",
-           "reduced_from_accel"]
+__all__ = ["MovingMassTorque", "RealizedTorqueComparison", "compare_realized_torque", "reduced_from_accel",
+           "simulate_realized_torque"]
 
 
 def reduced_from_accel(xa: Any, veh: Vehicle | None = None) -> np.ndarray:
@@ -145,53 +147,50 @@ class MovingMassTorque:
         return xa
 
 
-@dataclass(frozen=True)
-class RealizedTorqueLoop:
-    """Input-free closed loop ``AccelerationControlledGlider`` + :class:`MovingMassTorque` without ``(x, z)``.
+def simulate_realized_torque(loop: RealizedTorqueLoop, y0: Any, te: np.ndarray, *, method: str = "BDF",
+                             rtol: float = 1e-9, atol: float = 1e-11) -> Simulation:
+    """Integrate a :class:`~glidectl.models.realized_torque.RealizedTorqueLoop` with
+    :func:`scipy.integrate.solve_ivp` and the exact Jacobian (implicit methods need it: the finite-difference Jacobian
+    of the stiff mass loop makes BDF/LSODA crawl).
 
-    State ``(theta, Omega2, v1, v3, r_P1, rdot_P1, r_P3, rdot_P3, m0)``: the positions feed back into nothing, and
-    dropping them lets a stiff integrator use the exact (complex-step) Jacobian of :meth:`rhs`. The right-hand
-    side is :meth:`AccelerationControlledGlider.rhs` (the one model) evaluated at ``x = z = 0``.
+    Parameters
+    ----------
+    loop : RealizedTorqueLoop
+        The closed loop (its ``controller`` gives the commanded inputs recorded in the result).
+    y0 : array_like, shape (9,)
+        Initial ``(theta, Omega2, v1, v3, r_P1, rdot_P1, r_P3, rdot_P3, m0)`` (rad, rad/s, m/s, m/s, m, m/s, m, m/s,
+        kg), e.g. ``MovingMassTorque.initial_state(x0)[2:]``.
+    te : ndarray
+        Increasing output times (s) from 0; the run ends at ``te[-1]``.
+    method : str
+        Integrator of :func:`scipy.integrate.solve_ivp`; ``"BDF"``, ``"Radau"`` and ``"LSODA"`` get the exact
+        (complex-step) Jacobian.
+    rtol, atol : float
+        Relative (nondimensional) and absolute (state units) tolerances.
+
+    Returns
+    -------
+    Simulation
+        States of ``loop`` at ``te``; its inputs are the commanded ``(w1, w3, w4)`` (m/s^2, m/s^2, kg/s).
+
+    Raises
+    ------
+    SolverError
+        If the integration fails or its states stop being finite.
     """
-
-    controller: MovingMassTorque
-    state_names: tuple[str, ...] = ACCEL_STATES[2:]
-    input_names: tuple[str, ...] = ()
-
-    @property
-    def vehicle(self) -> Vehicle:
-        return self.controller.vehicle
-
-    def full_state(self, y: Any) -> np.ndarray:
-        """Pad ``(theta, ...)`` with ``x = z = 0`` to the 11-state acceleration form."""
-        y = np.asarray(y)
-        return np.concatenate([np.zeros((*y.shape[:-1], 2), dtype=y.dtype), y], axis=-1)
-
-    def rhs(self, y: Any, u: Any = None) -> np.ndarray:
-        """Closed-loop derivative (``u`` ignored)."""
-        xa = self.full_state(y)
-        return AccelerationControlledGlider(self.vehicle).rhs(xa, self.controller(0.0, xa))[..., 2:]
-
-    def simulate(self, y0: Any, te: np.ndarray, *, method: str = "BDF", rtol: float = 1e-9,
-                 atol: float = 1e-11) -> Simulation:
-        """Integrate with :func:`scipy.integrate.solve_ivp` and the exact Jacobian (implicit methods need it: the
-        finite-difference Jacobian of the stiff mass loop makes BDF/LSODA crawl); output at times ``te`` (s).
-
-        Returns a :class:`~glidectl.sim.Simulation` whose inputs are the commanded ``(w1, w3, w4)``.
-        """
-        y0 = np.asarray(y0, dtype=float)
-        t_final = float(te[-1])
-        jac = (lambda t, y: jacobians(lambda yy, _u: self.rhs(yy), y, np.zeros(0))[0]) \
-            if method in ("BDF", "Radau", "LSODA") else None
-        with np.errstate(all="ignore"):
-            sol = solve_ivp(lambda t, y: self.rhs(y), (0.0, t_final), y0, method=method, rtol=rtol, atol=atol,
-                            dense_output=True, jac=jac)
-        if not sol.success or not np.all(np.isfinite(sol.y)):
-            raise SolverError(f"moving-mass closed loop: integration failed at t = {sol.t[-1]:.4g} s: {sol.message}")
-        X = np.atleast_2d(sol.sol(te).T)
-        U = np.asarray(self.controller(0.0, self.full_state(X)), dtype=float)
-        return Simulation(np.asarray(te, dtype=float), X, U, self.state_names, ACCEL_INPUTS, method, rtol, atol,
-                          int(sol.nfev), f"{type(self).__name__}({self.vehicle.name})", None, self.vehicle.provenance)
+    y0 = np.asarray(y0, dtype=float)
+    t_final = float(te[-1])
+    jac = (lambda t, y: jacobians(lambda yy, _u: loop.rhs(yy), y, np.zeros(0))[0]) \
+        if method in ("BDF", "Radau", "LSODA") else None
+    with np.errstate(all="ignore"):
+        sol = solve_ivp(lambda t, y: loop.rhs(y), (0.0, t_final), y0, method=method, rtol=rtol, atol=atol,
+                        dense_output=True, jac=jac)
+    if not sol.success or not np.all(np.isfinite(sol.y)):
+        raise SolverError(f"moving-mass closed loop: integration failed at t = {sol.t[-1]:.4g} s: {sol.message}")
+    X = np.atleast_2d(sol.sol(te).T)
+    U = np.asarray(loop.controller(0.0, loop.full_state(X)), dtype=float)
+    return Simulation(np.asarray(te, dtype=float), X, U, loop.state_names, ACCEL_INPUTS, method, rtol, atol,
+                      int(sol.nfev), f"{type(loop).__name__}({loop.vehicle.name})", None, loop.vehicle.provenance)
 
 
 @dataclass(frozen=True)
@@ -273,7 +272,7 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
         Output times (s); default 2001 evenly spaced points plus 400 log-spaced ones in the first 1 % of the run,
         which resolve the fast initial transient of the mass (the maxima below are taken over these samples).
     method : str
-        Integrator of the realized loop (:meth:`RealizedTorqueLoop.simulate`; the pure loop uses LSODA).
+        Integrator of the realized loop (:func:`simulate_realized_torque`; the pure loop uses LSODA).
     rtol, atol
         Tolerances of both runs.
 
@@ -309,7 +308,7 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
     pure = simulate(TorqueControlledGlider(veh), x0, t_final, law, t_eval=te, rtol=rtol, atol=atol)
     loop = RealizedTorqueLoop(ctrl)
     try:
-        real = loop.simulate(ctrl.initial_state(x0)[2:], te, method=method, rtol=rtol, atol=atol)
+        real = simulate_realized_torque(loop, ctrl.initial_state(x0)[2:], te, method=method, rtol=rtol, atol=atol)
     except SolverError as exc:
         hint = (" With feedback='hull' the mass loop is unstable above omega_n ~ 2 zeta / c (see MovingMassTorque); "
                 "use feedback='system'." if feedback == "hull" else "")

@@ -1,6 +1,7 @@
 """Vector fields ``xdot = f(x, u)`` of glidectl's vehicle models (one right-hand side per model): the
-longitudinal glider of chapter 2 (force, acceleration and glide-path forms), the reduced chapter-5 glider and its
-torque-, buoyancy- and elevator-controlled variants of chapter 6, the phugoid model of chapter 4 and its
+longitudinal glider of chapter 2 (force, acceleration and glide-path forms), the reduced chapter-5 glider, its
+nondimensional (singular-perturbation) and slow forms, its torque-, buoyancy- and elevator-controlled variants of
+chapter 6 and the torque loop realized by the moving mass, the phugoid model of chapter 4 and its
 Hamiltonian descriptions, the three-dimensional glider of chapters 2 and 8, the CTOL aircraft of chapter 7 (full,
 reduced, thrust-extended and closed-loop forms) and the generic :class:`ClosedLoop` of a plant under a state
 feedback. ``REDUCED_STATES`` is defined by both :mod:`~glidectl.models.ctol` and :mod:`~glidectl.models.reduced`
@@ -49,6 +50,7 @@ from .longitudinal import (
     GlidePathModel,
     LongitudinalGlider,
 )
+from .nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
 from .phugoid import C_STEADY, PHUGOID_STATES, PhugoidClass, PhugoidModel, classify_C, initial_state_for_C, orbit_period
 from .phugoid_hamiltonian import (
     PendulumAnalogue,
@@ -71,6 +73,7 @@ from .phugoid_hamiltonian import (
     wedge,
     zero_energy_shift,
 )
+from .realized_torque import RealizedTorqueLoop
 from .reduced import REDUCED_UNITS, ReducedLongitudinalGlider
 from .torque_glider import TORQUE_INPUTS, TorqueControlledGlider
 
@@ -105,11 +108,15 @@ __all__ = [
     "GlidePathModel",
     "Glider3D",
     "LongitudinalGlider",
+    "NondimensionalModel",
+    "NondimensionalScaling",
     "PendulumAnalogue",
     "PhugoidClass",
     "PhugoidModel",
     "R_to_ypr",
+    "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
+    "SlowModel",
     "TorqueControlledGlider",
     "actuator_limits",
     "canonical_field",

@@ -10,8 +10,8 @@ with a Baumgarte term that keeps ``|q| = 1`` against integration drift):
   ``(x, y, z, q, v, Omega)``, no inputs. Its accelerations depend on the attitude only through the body-frame
   gravity direction ``zeta = R^T k`` (8.27), which is what steady-motion (helix) analysis uses.
 
-Masses: ``M = diag(m_i(m0))`` (fixed or added-mass model of the vehicle file, DESIGN.md) and ``J = diag(J1, J2,
-J3)`` (total inertia). The inertial ``z`` axis points down, ``k = (0, 0, 1)``.
+Masses: ``M = diag(m_i(m0))`` (fixed or added-mass model of the vehicle file, docs/conventions.md) and
+``J = diag(J1, J2, J3)`` (total inertia). The inertial ``z`` axis points down, ``k = (0, 0, 1)``.
 
 Notes
 -----

@@ -5,7 +5,7 @@ of the CTOL closed loop (§7.2). SOS region-of-attraction certification is in :m
 
 from .composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, Theorem5Constants, ctol_lyapunov
-from .singular_perturbation import NondimensionalModel, SingularPerturbation, SlowModel, singular_perturbation
+from .singular_perturbation import SingularPerturbation, singular_perturbation
 from .unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 
 __all__ = [
@@ -14,9 +14,7 @@ __all__ = [
     "CompositeCertificate",
     "CompositeVerification",
     "Domain",
-    "NondimensionalModel",
     "SingularPerturbation",
-    "SlowModel",
     "Theorem5Constants",
     "UnequalMassCheck",
     "allowable_delta_m_ratio",

@@ -2,29 +2,31 @@
 small parameters (5.16)-(5.18), (5.26)-(5.27), the compact form (5.28)-(5.29), the boundary-layer (5.30) and reduced
 (5.33) subsystems and their eigenvalues.
 
-Every nondimensional vector field here is the dimensional right-hand side
-:meth:`glidectl.models.reduced.ReducedLongitudinalGlider.rhs` seen through the change of variables, so there is one
-model and no second copy of its equations:
-
-``f(p, q) = tau_s (V'/V_e, gamma')`` and ``g(p, q, eps) = (eps1 tau_s alpha', eps2 tau_s (K_q/K_M) Omega2')``,
-with ``p = (Vbar, gammabar)``, ``q = (alphabar, Omegabar2)``. Because ``alpha' = Omega2 - gamma'`` exactly,
-``g1 = Omegabar2 - eps1 f2`` and the ``eps -> 0`` limit is ``g(p, q, 0) = (Omegabar2, g2)``.
+The nondimensional vector fields live in :mod:`glidectl.models.nondimensional` (one model, no second copy of its
+equations): the dimensional right-hand side :meth:`glidectl.models.reduced.ReducedLongitudinalGlider.rhs` seen through
+the change of variables :class:`~glidectl.models.nondimensional.NondimensionalScaling`. This module computes the
+numbers of that change of variables and the subsystem eigenvalues. The vector-field methods of
+:class:`SingularPerturbation` evaluate its ``scaling``; its ``reduced_model()``, ``full_model()`` and
+``slow_model()`` build :class:`~glidectl.models.nondimensional.NondimensionalModel` and
+:class:`~glidectl.models.nondimensional.SlowModel`.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
 from ..analysis.jacobian import jacobians
 from ..errors import ModelError
+from ..models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
 from ..models.reduced import ReducedLongitudinalGlider
 from ..params import Vehicle
 
-__all__ = ["NondimensionalModel", "SingularPerturbation", "SlowModel", "singular_perturbation"]
+__all__ = ["SingularPerturbation", "singular_perturbation"]
 
 
 @dataclass(frozen=True)
@@ -56,6 +58,10 @@ class SingularPerturbation:
         The analysed vehicle.
     provenance : str
         Its parameter hash (:attr:`Vehicle.provenance`).
+    scaling : NondimensionalScaling
+        The change of variables (5.12)-(5.19) with these numbers (computed on first use): the models-layer object
+        whose vector fields :meth:`f`, :meth:`g`, :meth:`full_rhs_nondimensional`, :meth:`reduced_rhs` and
+        :meth:`boundary_layer_rhs` evaluate.
     """
 
     model: ReducedLongitudinalGlider = field(repr=False)
@@ -77,52 +83,45 @@ class SingularPerturbation:
     provenance: str = ""
 
     # ---------------------------------------------------------------- coordinates (5.12)-(5.15), (5.19)
+    @cached_property
+    def scaling(self) -> NondimensionalScaling:
+        """The change of variables (5.12)-(5.19) with this glide's numbers: the models-layer object every vector
+        field below (and the models of :meth:`reduced_model`, :meth:`full_model`) evaluates."""
+        return NondimensionalScaling(self.model.vehicle, self.speed, self.gamma, self.alpha, self.tau_s, self.eps1,
+                                     self.eps2)
+
     @property
     def omega_scale(self) -> float:
         """``K_q / K_M`` (s): ``Omegabar2 = (K_q/K_M) Omega2`` (5.15)."""
-        v = self.model.vehicle
-        return float(v.K_q / v.K_M)
+        return self.scaling.omega_scale
 
     @property
     def equilibrium(self) -> np.ndarray:
         """Dimensional steady glide ``(speed, gamma, alpha, 0)``."""
-        return np.array([self.speed, self.gamma, self.alpha, 0.0])
+        return self.scaling.equilibrium
 
     def to_nondimensional(self, x: Any) -> np.ndarray:
         """``(V, gamma, alpha, Omega2) -> (Vbar, gammabar, alphabar, Omegabar2)``, (5.12)-(5.15)."""
-        x = np.asarray(x)
-        return np.stack([(x[..., 0] - self.speed) / self.speed, x[..., 1] - self.gamma, x[..., 2] - self.alpha,
-                         self.omega_scale * x[..., 3]], axis=-1)
+        return self.scaling.to_nondimensional(x)
 
     def to_dimensional(self, z: Any) -> np.ndarray:
         """Inverse of :meth:`to_nondimensional`."""
-        z = np.asarray(z)
-        return np.stack([self.speed * (1 + z[..., 0]), z[..., 1] + self.gamma, z[..., 2] + self.alpha,
-                         z[..., 3] / self.omega_scale], axis=-1)
+        return self.scaling.to_dimensional(z)
 
     # ---------------------------------------------------------------- compact form (5.28)-(5.29)
-    def _rates(self, p: Any, q: Any) -> tuple[Any, Any, Any, Any]:
-        z = np.concatenate([np.asarray(p), np.asarray(q)], axis=-1)
-        d = self.model.rhs(self.to_dimensional(z))
-        return d[..., 0], d[..., 1], d[..., 2], d[..., 3]
-
     def f(self, p: Any, q: Any) -> np.ndarray:
-        """Slow vector field ``dp/dt_n = f(p, q)`` of (5.28), ``p = (Vbar, gammabar)``."""
-        Vd, gd, _, _ = self._rates(p, q)
-        return np.stack([self.tau_s * Vd / self.speed, self.tau_s * gd], axis=-1)
+        """Slow vector field ``dp/dt_n = f(p, q)`` of (5.28), ``p = (Vbar, gammabar)``
+        (:meth:`NondimensionalScaling.f <glidectl.models.nondimensional.NondimensionalScaling.f>`)."""
+        return self.scaling.f(p, q)
 
     def g(self, p: Any, q: Any, eps: bool = True) -> np.ndarray:
         """Fast vector field ``g(p, q, eps)`` of (5.29) (``mu dq/dt_n = A g``); ``eps=False`` gives ``g(p, q, 0)``.
 
         ``g1 = eps1 dalphabar/dt_n = Omegabar2 - eps1 f2`` and ``g2 = eps2 dOmegabar2/dt_n``; with ``eps=False``
-        the ``eps1 f2`` term is dropped (the only place the small parameters enter once ``p, q`` are fixed).
+        the ``eps1 f2`` term is dropped (:meth:`NondimensionalScaling.g
+        <glidectl.models.nondimensional.NondimensionalScaling.g>`).
         """
-        _, gd, ad, Od = self._rates(p, q)
-        g1 = self.eps1 * self.tau_s * ad
-        if not eps:
-            g1 = g1 + self.eps1 * self.tau_s * gd
-        g2 = self.eps2 * self.tau_s * self.omega_scale * Od
-        return np.stack([g1, g2], axis=-1)
+        return self.scaling.g(p, q, eps)
 
     def A(self) -> np.ndarray:
         """``diag(r1, r2)`` of (5.29)."""
@@ -130,32 +129,30 @@ class SingularPerturbation:
 
     def full_rhs_nondimensional(self, z: Any) -> np.ndarray:
         """``dz/dt_n`` for ``z = (p, q)``: ``(f, A g / mu)``."""
-        z = np.asarray(z)
-        p, q = z[..., :2], z[..., 2:]
-        gg = self.g(p, q)
-        return np.concatenate([self.f(p, q), gg * np.array([self.r1, self.r2]) / self.mu], axis=-1)
+        return self.scaling.full_rhs_nondimensional(z)
 
     def reduced_rhs(self, p: Any) -> np.ndarray:
         """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``."""
-        p = np.asarray(p)
-        return self.f(p, np.zeros_like(p))
+        return self.scaling.reduced_rhs(p)
 
     def boundary_layer_rhs(self, p: Any, q: Any) -> np.ndarray:
         """Boundary-layer subsystem (5.30): ``dq/dtau = A g(p, q, 0)``, ``tau = t_n / mu``."""
-        return self.g(p, q, eps=False) * np.array([self.r1, self.r2])
+        return self.scaling.boundary_layer_rhs(p, q)
 
     def reduced_dimensional_rhs(self, x: Any) -> np.ndarray:
         """The reduced subsystem in dimensional form, ``(V, gamma)' `` of (5.4)-(5.5) at ``alpha = alpha_e``,
-        ``Omega2 = 0`` (the slow model simulated in Fig 5.1)."""
-        x = np.asarray(x)
-        full = np.stack([x[..., 0], x[..., 1], np.full_like(x[..., 0], self.alpha),
-                         np.zeros_like(x[..., 0])], axis=-1)
-        return self.model.rhs(full)[..., :2]
+        ``Omega2 = 0`` (the slow model simulated in Fig 5.1): ``self.slow_model().rhs(x)``."""
+        return self.slow_model().rhs(x)
 
-    # ---------------------------------------------------------------- models for region-of-attraction work
+    # ---------------------------------------------------------------- models (simulation, region-of-attraction work)
+    def slow_model(self) -> SlowModel:
+        """The reduced subsystem in dimensional form (5.4)-(5.5) as a model: states ``(V, gamma)`` (m/s, rad), time
+        in s, the fast states frozen at ``alpha = alpha_e``, ``Omega2 = 0``."""
+        return SlowModel(self.model.vehicle, self.alpha)
+
     def reduced_model(self) -> NondimensionalModel:
         """The reduced subsystem (5.33) as a model: states ``(Vbar, gammabar)``, time ``t_n``, equilibrium 0."""
-        return NondimensionalModel(self, "reduced", ("Vbar", "gammabar"),
+        return NondimensionalModel(self.scaling, "reduced", ("Vbar", "gammabar"),
                                    (np.array([-0.9, -math.pi]), np.array([1.5, math.pi])))
 
     def full_model(self) -> NondimensionalModel:
@@ -163,69 +160,9 @@ class SingularPerturbation:
 
         Its region of interest is the box of the ROA study, ``|Vbar| <= 0.4``, ``|gammabar| <= pi/2``,
         ``|alphabar| <= 0.2``, ``|Omegabar2| <= 0.1``."""
-        return NondimensionalModel(self, "full", ("Vbar", "gammabar", "alphabar", "Omegabar2"),
+        return NondimensionalModel(self.scaling, "full", ("Vbar", "gammabar", "alphabar", "Omegabar2"),
                                    (np.array([-0.4, -math.pi / 2, -0.2, -0.1]),
                                     np.array([0.4, math.pi / 2, 0.2, 0.1])))
-
-
-@dataclass(frozen=True)
-class NondimensionalModel:
-    """A nondimensional chapter-5 model at its steady glide (equilibrium at 0), time ``t_n``.
-
-    ``rhs`` is :meth:`SingularPerturbation.reduced_rhs` or :meth:`SingularPerturbation.full_rhs_nondimensional`
-    (the dimensional model seen through (5.12)-(5.19)). ``angle_states`` and ``positive_state`` tell
-    :func:`glidectl.roa.recast` how to make it polynomial: ``gammabar`` is an angle and the right-hand side has the
-    factor ``1/(1 + Vbar)`` (``1/V``). ``box`` is the region of interest ``(lo, hi)``.
-
-    Built by :meth:`SingularPerturbation.reduced_model` and :meth:`SingularPerturbation.full_model`.
-
-    Parameters
-    ----------
-    sp : SingularPerturbation
-        The analysed glider and its scalings.
-    kind : {"reduced", "full"}
-        ``"reduced"``: states ``(Vbar, gammabar)`` (5.33); any other value: the full model (5.28)-(5.29), states
-        ``(Vbar, gammabar, alphabar, Omegabar2)``. Not validated.
-    state_names : tuple of str
-        Names of the nondimensional states (must match ``kind``).
-    box : tuple of ndarray
-        Region of interest ``(lo, hi)`` in the nondimensional states.
-    angle_states : tuple of int
-        Indices of the states that enter only through ``sin``/``cos`` (``gammabar``).
-    positive_state : int
-        Index of the state ``Vbar`` with ``1 + Vbar > 0`` (the ``1/V`` factor).
-    time_unit : str
-        ``"t_n"``: time is nondimensional, ``t_n = t / tau_s``.
-    input_names : tuple of str
-        Empty: the model has no inputs.
-    """
-
-    sp: SingularPerturbation = field(repr=False)
-    kind: str
-    state_names: tuple[str, ...]
-    box: tuple[np.ndarray, np.ndarray] = field(repr=False)
-    angle_states: tuple[int, ...] = (1,)
-    positive_state: int = 0
-    time_unit: str = "t_n"
-    input_names: tuple[str, ...] = ()
-
-    @property
-    def name(self) -> str:
-        return f"{self.sp.vehicle.name} {self.kind} (K_M = {self.sp.model.vehicle.K_M:g})"
-
-    @property
-    def provenance(self) -> str:
-        return self.sp.provenance
-
-    @property
-    def equilibrium(self) -> np.ndarray:
-        return np.zeros(len(self.state_names))
-
-    def rhs(self, x: Any, u: Any = None) -> np.ndarray:
-        """``dx/dt_n``."""
-        if self.kind == "reduced":
-            return self.sp.reduced_rhs(x)
-        return self.sp.full_rhs_nondimensional(x)
 
 
 def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
@@ -287,32 +224,3 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     return SingularPerturbation(model, V_e, gamma_e, a_e, K_De, K_Le, tau_s, eps1, eps2, mu, mu / eps1, mu / eps2,
                                 srt(np.linalg.eigvals(Ar)), srt(np.linalg.eigvals(Ab)), srt(np.linalg.eigvals(Af)),
                                 veh, veh.provenance)
-
-
-@dataclass(frozen=True)
-class SlowModel:
-    """The reduced (slow) subsystem in dimensional form, state ``(V, gamma)`` (m/s, rad), for simulation.
-
-    Its right-hand side is :meth:`SingularPerturbation.reduced_dimensional_rhs` (the full model at
-    ``alpha = alpha_e``, ``Omega2 = 0``), equations (5.4)-(5.5) / (5.33).
-
-    Parameters
-    ----------
-    sp : SingularPerturbation
-        From :func:`singular_perturbation`; gives the vehicle and ``alpha_e`` (rad).
-    state_names : tuple of str
-        ``("V", "gamma")`` (m/s, rad).
-    input_names : tuple of str
-        Empty: the model has no inputs.
-    """
-
-    sp: SingularPerturbation
-    state_names: tuple[str, ...] = ("V", "gamma")
-    input_names: tuple[str, ...] = ()
-
-    @property
-    def vehicle(self) -> Vehicle:
-        return self.sp.model.vehicle
-
-    def rhs(self, x: Any, u: Any = None) -> np.ndarray:
-        return self.sp.reduced_dimensional_rhs(x)

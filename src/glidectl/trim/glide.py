@@ -16,7 +16,7 @@ roots the one of smaller ``|alpha|`` is taken (the other lies on the back side o
 ``m0 = K_L(alpha) V^2 / (g cos gamma)``; the moment equation (2.20) (equivalently (2.29)) fixes the component of
 ``r_P`` perpendicular to gravity, ``r_P1 cos(theta) + r_P3 sin(theta) = ((m3 - m1) v1 v3 + M_DL2)/(mbar g)``,
 leaving the bottom-heaviness ``r_bh = r_P . R^T k = -r_P1 sin(theta) + r_P3 cos(theta)`` free.
-(2.27)-(2.28) as printed are the inverse map; (2.28) returns theta, not gamma (DESIGN.md).
+(2.27)-(2.28) as printed are the inverse map; (2.28) returns theta, not gamma (docs/thesis-errata.md).
 """
 
 from __future__ import annotations
