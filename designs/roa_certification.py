@@ -334,7 +334,7 @@ def _history_rows(name: str, cert: gc.ROACertificate) -> list[list[str]]:
 def _report(res: _Results) -> Report:
     """The report: ledger, tables, figures, notes."""
     s = res.settings
-    rep = Report(TITLE, vehicle=[res.reduced_sp.model.vehicle], reference=BHATTA_2006)
+    rep = Report(TITLE, vehicle=[res.reduced_sp.vehicle], reference=BHATTA_2006)
     v = res.vdp
     rep.number("vdp_fixed_V_rho", res.vdp_rho, "-", "Drake RegionOfAttraction example (issue 7)", published=DRAKE_RHO,
                tolerance=1e-3 / DRAKE_RHO,
@@ -349,7 +349,7 @@ def _report(res: _Results) -> Report:
     rep.number("vdp_certified_area", v.measure, "-", f"degree-{v.cert.degree} certificate, quasi-MC {s.n_volume}")
     rep.number("vdp_fraction_of_true", v.measure / v.true_measure, "-", "target >= 0.95")
     rep.number("vdp_drake_fraction_of_true", v.reference / v.true_measure, "-", f"ellipse x'Px <= {DRAKE_RHO}")
-    rep.number("vdp_verified", v.cert.verified, "-", v.cert.verification.summary())
+    rep.number("vdp_verified", v.cert.certified, "-", v.cert.verification.summary())
     rep.number("vdp_wall_time_s", v.cert.wall_time, "s", "certify_roa, target < 60 s",
                note=f"SDP solver time {v.cert.solve_time:.2f} s")
     r = res.reduced
@@ -360,7 +360,7 @@ def _report(res: _Results) -> Report:
     rep.number("reduced_true_area_in_box", r.true_measure, "-",
                f"{s.n_truth_2d}^2 simulations, {s.horizon_2d:g} t_n")
     rep.number("reduced_fraction_of_true", r.measure / r.true_measure, "-", "in the box")
-    rep.number("reduced_verified", r.cert.verified, "-", r.cert.verification.summary())
+    rep.number("reduced_verified", r.cert.certified, "-", r.cert.verification.summary())
     rep.number("reduced_wall_time_s", r.cert.wall_time, "s", "certify_roa")
     rep.number("reduced_recast_residual", r.cert.system.recast_residual, "-", "exact polynomial recasting")
     t = res.trap
@@ -382,7 +382,7 @@ def _report(res: _Results) -> Report:
         rep.number(f"{k}_fraction_of_true", p.measure / p.true_measure, "-", "in the box")
         rep.number(f"{k}_fraction_of_box", p.measure / p.box_measure, "-", "box volume "
                    f"{p.box_measure:.4f}")
-        rep.number(f"{k}_verified", p.cert.verified, "-", p.cert.verification.summary())
+        rep.number(f"{k}_verified", p.cert.certified, "-", p.cert.verification.summary())
         rep.number(f"{k}_wall_time_s", p.cert.wall_time, "s", "certify_roa",
                    note=f"SDP solver time {p.cert.solve_time:.1f} s; closed-loop K_M0 = {p.extra['K_M0']:.4g} kg, "
                         f"K_M = {p.extra['K_M']:.4g} kg/rad, K_q = {p.extra['K_q']:.4g} kg s/rad")
@@ -398,7 +398,7 @@ def _report(res: _Results) -> Report:
                    else math.inf, "-", "certified / Theorem 5 estimate")
         rep.number("ctol_true_volume", ct["true_volume"], "-", f"{s.n_truth_4d} simulations, {s.horizon_4d:g} s")
         rep.number("ctol_fraction_of_true", ct["volume"] / ct["true_volume"], "-", "in the box")
-        rep.number("ctol_verified", ct["cert"].verified, "-", ct["cert"].verification.summary())
+        rep.number("ctol_verified", ct["cert"].certified, "-", ct["cert"].verification.summary())
         rep.number("ctol_wall_time_s", ct["cert"].wall_time, "s", "certify_roa (7 lifted variables)",
                    note=f"SDP solver time {ct['cert'].solve_time:.0f} s")
     rows = _history_rows("Van der Pol", v.cert) + _history_rows("reduced", r.cert)
