@@ -21,7 +21,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["CASES", "GROUPS", "HELPERS", "PRELUDE", "Case"]
+__all__ = ["CASES", "GROUPS", "HELPERS", "PRELUDE", "STATE", "Case"]
 
 VEH = "vehicles"
 TRIM = "trims"
@@ -87,9 +87,7 @@ def finite(*xs: Any) -> bool:
             continue
         else:
             a = np.asarray(x)
-            if a.dtype.kind in "biufc" and not np.all(np.isfinite(a)):
-                return False
-            if a.dtype.kind not in "biufc":
+            if a.dtype.kind not in "biufc" or not np.all(np.isfinite(a)):
                 return False
     return True
 
@@ -128,39 +126,35 @@ def helix_ok(h: Any, veh: Any) -> bool:
 
     if h.provenance != veh.provenance or not finite(h.v, h.Omega, h.theta, h.phi, h.m0):
         return False
+    masses = [veh.mass(i, h.m0) for i in (1, 2, 3)]
+    if min(masses) <= 0 or veh.m + h.m0 - veh.mbar <= 0:
+        return False
     model = gc.FixedMassGlider3D(veh, h.r_p, h.m0)
     d = model.rhs(h.initial_state())
     if not finite(d):
         return False
     V, W = float(np.linalg.norm(h.v)), float(np.linalg.norm(h.Omega))
-    masses = [veh.mass(i, h.m0) for i in (1, 2, 3)]
-    if min(masses) <= 0:
-        return False
     s_t = max(abs(h.m0) * veh.g / min(masses), V * W, 1e-300)
     s_r = max(veh.mbar * veh.g * float(np.linalg.norm(h.r_p)) / min(veh.J1, veh.J2, veh.J3), W * W, 1e-300)
     return float(np.max(np.abs(d[7:10]))) <= 1e-6 * s_t and float(np.max(np.abs(d[10:13]))) <= 1e-6 * s_r
-
-
-def write(name: str, data: str | bytes) -> Any:
-    """Write ``data`` to ``TMP/name`` (a fresh temporary folder per case) and return the path."""
-    import pathlib
-
-    path = pathlib.Path(_tmp()) / name
-    if isinstance(data, bytes):
-        path.write_bytes(data)
-    else:
-        path.write_text(data)
-    return path
 
 
 #: set by the runner's child process to the case's temporary folder (``TMP`` of the prelude)
 STATE: dict[str, Any] = {"tmp": None}
 
 
-def _tmp() -> str:
+def write(name: str, data: str | bytes) -> Any:
+    """Write ``data`` to ``TMP/name`` (a fresh temporary folder per case) and return the path."""
+    import pathlib
+
     if STATE["tmp"] is None:
         raise RuntimeError("probe helper write() used outside a probe child")
-    return str(STATE["tmp"])
+    path = pathlib.Path(str(STATE["tmp"])) / name
+    if isinstance(data, bytes):
+        path.write_bytes(data)
+    else:
+        path.write_text(data)
+    return path
 
 
 TINY_DESIGN = '''
@@ -182,7 +176,7 @@ def design_file(name: str, body: str = TINY_DESIGN) -> Any:
     return write(name, body)
 
 
-def cli(argv: list[str]) -> int:
+def cli(argv: list[Any]) -> int:
     """``glidectl.cli.main(argv)``; an argparse ``SystemExit`` becomes its exit code."""
     from glidectl.cli import main
 
@@ -251,7 +245,8 @@ c("veh.with_overrides.negative_mass", VEH, "v.with_overrides(m1=-1.0)")
 c("veh.mass.bad_axis", VEH, "v.mass(7)")
 c("veh.mass.ctol", VEH, "dc8.mass(1)")
 c("veh.missing_param", VEH, "v.K_beta", note="rogue has no K_beta: ModelError naming the key")
-c("veh.file.non_utf8", VEH, "gc.load_vehicle(write('latin1.toml', b'# caf\\xe9\\n' + ROGUE_TOML.encode()))")
+c("veh.file.non_utf8", VEH, "gc.load_vehicle(write('latin1.toml', b'# caf\\xe9\\n' + ROGUE_TOML.encode()))",
+  note="issue: a non-UTF-8 vehicle file")
 c("veh.file.bad_toml", VEH, "gc.load_vehicle(write('bad.toml', '[vehicle\\nname = rogue'))")
 c("veh.file.unknown_header_key", VEH,
   "gc.load_vehicle(write('hdr.toml', ROGUE_TOML.replace('[vehicle]', '[vehicle]\\ncolour = \"red\"')))")
@@ -467,12 +462,12 @@ c("ctrl.zero_dyn.huge", CTRL, "gc.zero_dynamics(dc8, 1e200)", "either", "finite(
 c("ctrl.zero_dyn.glider_vehicle", CTRL, "gc.zero_dynamics(v, 0.155)")
 c("ctrl.zero_dyn.valid", CTRL, "gc.zero_dynamics(dc8, 0.155)", "ok",
   "r.is_saddle and r.residual < 1e-9 and finite(r.eigenvalues)")
-TWS = "gc.track_with_steady_glides(dc8, gc.climb_trajectory(dc8), dt=1.0, k3=1e3, k4=60.0, t_final=10.0{})"
-c("ctrl.track_glides.dt_zero", CTRL, TWS.replace("dt=1.0", "dt=0.0").format(""))
-c("ctrl.track_glides.t_final_str", CTRL, TWS.replace("t_final=10.0", "t_final='10'").format(""))
+TWS = "gc.track_with_steady_glides(dc8, gc.climb_trajectory(dc8), dt=1.0, k3=1e3, k4=60.0, t_final=10.0)"
+c("ctrl.track_glides.dt_zero", CTRL, TWS.replace("dt=1.0", "dt=0.0"))
+c("ctrl.track_glides.t_final_str", CTRL, TWS.replace("t_final=10.0", "t_final='10'"))
 c("ctrl.track_glides.glider_vehicle", CTRL,
   "gc.track_with_steady_glides(v, gc.climb_trajectory(dc8), dt=1.0, t_final=10.0)")
-c("ctrl.track_glides.valid", CTRL, TWS.format(""), "ok", "r.completed and finite(r.max_error, r.peak_u1)")
+c("ctrl.track_glides.valid", CTRL, TWS, "ok", "r.completed and finite(r.max_error, r.peak_u1)")
 c("ctrl.tracking_grid.empty", CTRL, "gc.tracking_grid(dc8, gc.climb_trajectory(dc8), [], [(1e3, 60.0)])")
 c("ctrl.stable_inversion.reversed", CTRL, "gc.stable_inversion(dc8, t0=10.0, t1=0.0)")
 c("ctrl.track_inversion.start_unknown", CTRL, "gc.track_stable_inversion(dc8, start='bogus')")
@@ -526,8 +521,7 @@ c("stab.composite.cw_unknown", STAB, "gc.composite_lyapunov(sph, cw='bogus')")
 c("stab.composite.ctol_vehicle", STAB, "gc.composite_lyapunov(dc8)")
 c("stab.composite.valid", STAB, "gc.composite_lyapunov(sph, Vbar=(-0.4, 0.4), alphabar=(-0.2, 0.2))", "ok",
   "finite(r.mu, r.mu_d, r.d) and r.d >= 0 and r.certified == (r.mu < r.mu_d) and r.provenance == sph.provenance")
-CERT = "cert = gc.composite_lyapunov(sph)\n"
-c("stab.composite_verify.n_zero", STAB, CERT + "r = cert.verify(n=0)")
+c("stab.composite_verify.n_zero", STAB, "cert = gc.composite_lyapunov(sph)\nr = cert.verify(n=0)")
 c("stab.sp.ctol_vehicle", STAB, "gc.singular_perturbation(dc8)")
 c("stab.sp.vehicle_name", STAB, "gc.singular_perturbation('sphere_ch5')")
 c("stab.sp.valid", STAB, "gc.singular_perturbation(sph)", "ok",

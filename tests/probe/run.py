@@ -3,10 +3,11 @@
 Usage::
 
     python tests/probe/run.py [--src DIR] [--jobs 2] [--timeout 30] [--mem-gb 4] [--only ID_OR_PREFIX ...]
-                              [--group NAME ...] [--out results.json] [--list]
+                              [--group NAME ...] [--out results.json] [--resume] [--list]
 
 ``--src DIR`` puts ``DIR`` first on the children's ``PYTHONPATH`` so that another checkout (its ``src`` folder) is
-probed. Each child prints one line ``@@PROBE@@ {json}`` with what happened; the parent classifies it:
+probed. Each child prints ``@@READY@@`` once its imports and prelude are done (the wall-time cap starts then) and
+one line ``@@PROBE@@ {json}`` with what happened; the parent classifies it:
 
 - ``clear_error``: a GlidectlError subclass was raised where an error is expected (or allowed);
 - ``right``: a value was returned where one is expected (or allowed) and the case's check holds;
@@ -64,6 +65,7 @@ def _is_finite_plain(r: Any) -> bool | None:
 
 
 def _where(exc: BaseException) -> str:
+    """``file:line in function`` of the innermost glidectl frame of ``exc`` (else the innermost frame)."""
     frames = traceback.extract_tb(exc.__traceback__)
     if not frames:
         return ""
@@ -89,7 +91,7 @@ def child(case_id: str, mem_gb: float) -> int:
         return 0
 
     sys.path.insert(0, str(HERE))
-    import cases as C
+    import cases as C  # tests/probe/cases.py
 
     case = next((k for k in C.CASES if k.id == case_id), None)
     if case is None:
@@ -233,17 +235,15 @@ def run_case(case: Any, args: argparse.Namespace, env: dict[str, str]) -> dict[s
     proc.wait()
     for t in readers:
         t.join(timeout=10)
-    out = "".join(out_lines)
-    err = b"".join(err_chunks)
     wall = time.perf_counter() - t0
     rep = None
-    for line in out.splitlines():
+    for line in "".join(out_lines).splitlines():
         if line.startswith(MARK):
             try:
                 rep = json.loads(line[len(MARK):])
             except json.JSONDecodeError:
                 rep = None
-    stderr = err.decode(errors="replace")
+    stderr = b"".join(err_chunks).decode(errors="replace")
     cls, msg = classify(case, rep, returncode=proc.returncode, timed_out=timed_out, stderr_tail=stderr[-2000:])
     row = {"id": case.id, "group": case.group, "expect": case.expect, "class": cls, "message": msg,
            "wall": round(wall, 2), "code": case.code, "check": case.check, "limit": case.limit, "note": case.note}
@@ -268,6 +268,7 @@ def _table(rows: list[dict[str, Any]], groups: tuple[str, ...]) -> str:
 
 
 def _git_commit(src: Path) -> str | None:
+    """Short commit of the checkout holding ``src`` (read-only git commands), with "(modified)" when dirty."""
     try:
         out = subprocess.run(["git", "-C", str(src), "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                              timeout=10)
@@ -284,13 +285,16 @@ def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--src", help="folder put first on PYTHONPATH (e.g. /path/to/checkout/src)")
     p.add_argument("--jobs", type=int, default=2, help="cases run at once (default 2)")
-    p.add_argument("--timeout", type=float, default=30.0, help="wall-time cap per case in seconds (default 30)")
+    p.add_argument("--timeout", type=float, default=30.0,
+                   help="wall-time cap per case in seconds, counted after its imports and prelude (default 30)")
     p.add_argument("--startup", type=float, default=180.0,
                    help="cap in seconds on a child's imports and prelude, before --timeout starts (default 180)")
     p.add_argument("--mem-gb", type=float, default=4.0, help="address-space cap per case in GiB (default 4; 0: none)")
     p.add_argument("--only", nargs="+", metavar="ID", help="case ids or id prefixes (e.g. trim.helix)")
     p.add_argument("--group", nargs="+", help="only these groups")
     p.add_argument("--out", default="results.json", help="results JSON (default ./results.json)")
+    p.add_argument("--resume", action="store_true",
+                   help="keep the rows of --out whose case (id, code, check) is unchanged and run only the others")
     p.add_argument("--list", action="store_true", help="list the cases and exit")
     p.add_argument("--child", help=argparse.SUPPRESS)
     args = p.parse_args(argv)
@@ -326,37 +330,56 @@ def main(argv: list[str] | None = None) -> int:
     args.cwd = str(Path.cwd())
     probe = subprocess.run([sys.executable, "-c", "import glidectl, pathlib; "
                             "print(pathlib.Path(glidectl.__file__).resolve().parent)"],
-                           capture_output=True, text=True, env=env, timeout=120)
+                           capture_output=True, text=True, env=env, timeout=300)
     where = probe.stdout.strip() or f"(cannot import glidectl: {_one_line(probe.stderr, 200)})"
     commit = _git_commit(Path(where)) if probe.returncode == 0 else None
     print(f"probing {where}" + (f" at {commit}" if commit else "") +
           f": {len(selected)} cases, {args.jobs} jobs, {args.timeout:g} s and {args.mem_gb:g} GiB per case",
           flush=True)
+    out = Path(args.out)
+    done: dict[str, dict[str, Any]] = {}
+    if args.resume and out.exists():
+        try:
+            old = json.loads(out.read_text()).get("results", [])
+        except (OSError, json.JSONDecodeError):
+            old = []
+        same = {k.id: (k.code, k.check) for k in selected}
+        done = {r["id"]: r for r in old if same.get(r.get("id")) == (r.get("code"), r.get("check"))}
+        print(f"resuming: {len(done)} case(s) kept from {out}", flush=True)
     t0 = time.time()
-    rows: list[dict[str, Any]] = []
+    order = {k.id: i for i, k in enumerate(selected)}
+    rows: list[dict[str, Any]] = [done[k.id] for k in selected if k.id in done]
+    todo = [k for k in selected if k.id not in done]
     width = max(len(k.id) for k in selected)
+    meta = {"glidectl": where, "commit": commit, "src": str(src) if src else None, "jobs": args.jobs,
+            "timeout": args.timeout, "mem_gb": args.mem_gb, "python": platform.python_version(),
+            "started": time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(t0))}
+
+    def save(complete: bool) -> None:
+        counts = Counter(r["class"] for r in rows)
+        result = {
+            "meta": {**meta, "cases": len(rows), "complete": complete, "duration_s": round(time.time() - t0, 1)},
+            "counts": {k: counts[k] for k in CLASSES},
+            "by_group": {gname: {k: sum(1 for r in rows if r["group"] == gname and r["class"] == k) for k in CLASSES}
+                         for gname in C.GROUPS},
+            "results": sorted(rows, key=lambda r: order.get(r["id"], len(order))),
+        }
+        out.parent.mkdir(parents=True, exist_ok=True)
+        part = out.with_name(out.name + ".part")
+        part.write_text(json.dumps(result, indent=1))
+        part.replace(out)  # a run that is stopped leaves the rows done so far (rerun with --resume)
+
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-        futures = [pool.submit(run_case, k, args, env) for k in selected]
+        futures = [pool.submit(run_case, k, args, env) for k in todo]
         for i, fut in enumerate(futures, 1):
             row = fut.result()
             rows.append(row)
-            print(f"[{i:3d}/{len(selected)}] {row['id']:<{width}} {row['class']:<12} {row['wall']:6.1f} s  "
+            save(False)
+            print(f"[{i:3d}/{len(todo)}] {row['id']:<{width}} {row['class']:<12} {row['wall']:6.1f} s  "
                   f"{row['message'][:90]}", flush=True)
+    rows.sort(key=lambda r: order.get(r["id"], len(order)))
+    save(True)
     duration = time.time() - t0
-    counts = Counter(r["class"] for r in rows)
-    result = {
-        "meta": {"glidectl": where, "commit": commit, "src": str(src) if src else None, "cases": len(rows),
-                 "jobs": args.jobs, "timeout": args.timeout, "mem_gb": args.mem_gb, "duration_s": round(duration, 1),
-                 "python": platform.python_version(), "started": time.strftime("%Y-%m-%d %H:%M:%S",
-                                                                                time.localtime(t0))},
-        "counts": {k: counts[k] for k in CLASSES},
-        "by_group": {gname: {k: sum(1 for r in rows if r["group"] == gname and r["class"] == k) for k in CLASSES}
-                     for gname in C.GROUPS},
-        "results": rows,
-    }
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(json.dumps(result, indent=1))
     print()
     print(_table(rows, C.GROUPS))
     bad = [r for r in rows if r["class"] not in CLEAN]
