@@ -2,14 +2,16 @@
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
 import glidectl
-from glidectl.batch import DIVERGED, FINISHED, STEP_UNDERFLOW, batch_jacobian, integrate_batch
-from glidectl.errors import GlidectlError, ModelError
+from glidectl.batch import DIVERGED, FINISHED, STEP_UNDERFLOW, TIME_LIMIT, batch_jacobian, integrate_batch
+from glidectl.errors import ArgumentError, ArgumentTypeError, BudgetError, GlidectlError, ModelError
 
 A_STIFF = np.array([[-1.0, 1.0, 0.0], [0.0, -2000.0, 10.0], [0.0, 3.0, -0.5]])
 
@@ -119,14 +121,90 @@ def test_user_diverged_mask(glider):
     dict(max_steps=0),
     dict(h0=-1.0),
     dict(jacobian="forward"),
-    dict(f=lambda X: X[:, :1]),
+    dict(X0=np.ones((0, 2))),
+    dict(h_min_rel=0.0),
+    dict(bound=-1.0),
+    dict(time_limit=-1.0),
+    dict(on_budget="ignore"),
+    dict(t_eval=[0.5, np.inf]),
 ])
 def test_bad_inputs(kwargs):
     args = dict(f=lambda X: -X, X0=np.ones((3, 2)), t_final=1.0)
     args.update(kwargs)
-    with pytest.raises(ModelError):
+    with pytest.raises(ArgumentError):
         integrate_batch(args.pop("f"), args.pop("X0"), args.pop("t_final"), **args)
-    assert issubclass(ModelError, GlidectlError)
+    assert issubclass(ArgumentError, GlidectlError) and issubclass(ArgumentError, ValueError)
+
+
+@pytest.mark.parametrize("kwargs", [
+    dict(f="not a function"),
+    dict(t_final="10"),
+    dict(t0=None),
+    dict(max_steps=10.0),
+    dict(X0="ones"),
+    dict(diverged=3),
+    dict(rtol=True),
+])
+def test_bad_input_types(kwargs):
+    args = dict(f=lambda X: -X, X0=np.ones((3, 2)), t_final=1.0)
+    args.update(kwargs)
+    with pytest.raises(ArgumentTypeError):
+        integrate_batch(args.pop("f"), args.pop("X0"), args.pop("t_final"), **args)
+    assert issubclass(ArgumentTypeError, TypeError)
+
+
+def test_bad_outputs_of_callbacks_are_model_errors():
+    with pytest.raises(ModelError, match="shape"):
+        integrate_batch(lambda X: X[:, :1], np.ones((3, 2)), 1.0)
+    with pytest.raises(ModelError, match="one bool per row"):
+        integrate_batch(lambda X: -X, np.ones((3, 2)), 1.0, diverged=lambda X: np.zeros(1, dtype=bool))
+
+
+def test_user_exceptions_pass_through():
+    class Mine(Exception):
+        pass
+
+    def f(X):
+        raise Mine("from the user's right-hand side")
+
+    with pytest.raises(Mine):
+        integrate_batch(f, np.ones((3, 2)), 1.0)
+
+
+def test_time_limit_raises_or_stops():
+    def slow(X):
+        time.sleep(0.002)
+        return X @ A_STIFF.T
+
+    with pytest.raises(BudgetError, match="time limit"):
+        integrate_batch(slow, np.ones((2, 3)), 1e4, time_limit=0.05)
+    res = integrate_batch(slow, np.ones((2, 3)), 1e4, time_limit=0.05, on_budget="stop")
+    assert res.stopped_by == "time_limit" and np.all(res.status == TIME_LIMIT) and np.all(res.t < 1e4)
+    assert np.all(np.isfinite(res.x_final)) and "stopped by time_limit" in res.summary()
+    done = integrate_batch(lambda X: -X, np.ones((2, 3)), 1.0, time_limit=60.0)
+    assert done.stopped_by == "t_final" and done.all_finished
+
+
+def test_singular_iteration_matrix_is_retried_not_raised():
+    # J = 2/h0 I makes I/(gamma h0) - J singular at the first step; the step is rejected and retried smaller
+    h0 = 0.01
+    res = integrate_batch(lambda X: (2.0 / h0) * X * 0.0 + X * 0.0 - X, np.ones((1, 2)), 1.0, h0=h0,
+                          jacobian=lambda X: np.broadcast_to(2.0 / h0 * np.eye(2), (X.shape[0], 2, 2)).copy())
+    assert res.status[0] in (FINISHED, STEP_UNDERFLOW, DIVERGED)
+
+
+def test_batch_jacobian_and_converged_to_check_inputs():
+    with pytest.raises(ArgumentError):
+        batch_jacobian(lambda X: -X, np.ones((2, 2)), method="forward")
+    with pytest.raises(ArgumentError):
+        batch_jacobian(lambda X: -X, [[np.nan, 1.0]])
+    res = integrate_batch(lambda X: -X, np.ones((2, 2)), 1.0)
+    with pytest.raises(ArgumentError):
+        res.converged_to([0.0, 0.0, 0.0], 1e-3)
+    with pytest.raises(ArgumentError):
+        res.converged_to([0.0, 0.0], -1.0)
+    with pytest.raises(ArgumentTypeError):
+        res.converged_to([0.0, 0.0], "1e-3")
 
 
 @pytest.mark.filterwarnings("ignore::numpy.exceptions.ComplexWarning")

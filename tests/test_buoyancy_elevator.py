@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+import glidectl as gc
 from glidectl import GlidectlError, InfeasibleGlideError, composite_lyapunov, load_vehicle, simulate
 from glidectl.controllers.buoyancy import (
     BuoyancyController,
@@ -181,12 +182,26 @@ def test_closed_loop_eigenvalues_theorem3(eq62):
     (1.0, -10.0, "no steady glide"),
     (1.0, -18.0, "saturation u2_max"),
     (2.0, -45.0, "m0_max"),
-    (-1.0, -45.0, "speed"),
-    (1.0, -95.0, "gamma_e"),
 ])
 def test_elevator_infeasible(speed, gamma_deg, match):
     with pytest.raises(InfeasibleGlideError, match=match):
         elevator_equilibrium(ELEV, speed, math.radians(gamma_deg))
+
+
+@pytest.mark.parametrize(("speed", "gamma", "err", "match"), [
+    (-1.0, -math.pi / 4, gc.ArgumentError, "speed"),
+    (0.0, -math.pi / 4, gc.ArgumentError, "speed"),
+    (1e200, -math.pi / 4, gc.ArgumentError, "speed"),
+    (math.nan, -math.pi / 4, gc.ArgumentError, "speed"),
+    (1.0, math.radians(-95.0), gc.ArgumentError, "gamma_e"),
+    (1.0, math.pi / 2, gc.ArgumentError, "gamma_e"),
+    ("1.0", -math.pi / 4, gc.ArgumentTypeError, "speed"),
+    (1.0, None, gc.ArgumentTypeError, "gamma_e"),
+    (np.array([1.0]), -math.pi / 4, gc.ArgumentTypeError, "speed"),
+])
+def test_elevator_bad_arguments(speed, gamma, err, match):
+    with pytest.raises(err, match=match):
+        elevator_equilibrium(ELEV, speed, gamma)
 
 
 def test_climb_is_mirror_of_descent(eq62):
@@ -241,7 +256,7 @@ def test_buoyancy_equilibrium_67():
     assert up.m0e < 0 and 0 < up.gamma < math.pi / 2 and up.residual < 1e-12
     with pytest.raises(InfeasibleGlideError, match="m0_max"):
         buoyancy_equilibrium(SPHERE, 2.5)
-    with pytest.raises(InfeasibleGlideError, match="speed"):
+    with pytest.raises(gc.ArgumentError, match="speed"):
         buoyancy_equilibrium(SPHERE, 0.0)
 
 
@@ -279,3 +294,79 @@ def test_buoyancy_lyapunov_cross_term_and_local_threshold():
     assert np.all(dnub < 0)
     big = buoyancy_lyapunov_check(eq, SPHERE100, K_b=2 * chk.K_b_star, n=4000, cert=cert)
     assert big.n_positive == 0 and big.n_positive_local == 0 and big.passed and big.failing() == {}
+
+
+# ------------------------------------------------------------------------------------------- bad inputs (issue 15)
+def test_elevator_eigenvalues_check_that_the_equilibrium_belongs_to_the_vehicle(eq62):
+    other = ELEV.with_overrides(delta=ELEV.delta * 1.1)
+    with pytest.raises(gc.VehicleMismatchError):
+        closed_loop_eigenvalues(eq62, other)
+    with pytest.raises(gc.VehicleMismatchError):
+        ElevatorBuoyancyController(eq62, other)
+    with pytest.raises(gc.ArgumentTypeError, match="ElevatorEquilibrium"):
+        closed_loop_eigenvalues(eq62.state, ELEV)
+    with pytest.raises(gc.ArgumentError):
+        closed_loop_eigenvalues(eq62, ELEV, K=math.nan)
+    with pytest.raises(gc.ArgumentTypeError):
+        closed_loop_eigenvalues(eq62, ELEV, K="1")
+    with pytest.raises(gc.ModelError, match="not an underwater glider"):
+        closed_loop_eigenvalues(eq62, load_vehicle("dc8_ctol"))
+
+
+def test_buoyancy_equilibrium_and_controller_inputs():
+    for bad, err in [(math.nan, gc.ArgumentError), (-1.5, gc.ArgumentError), (1e6, gc.ArgumentError),
+                     ("1.5", gc.ArgumentTypeError), (None, gc.ArgumentTypeError), (True, gc.ArgumentTypeError)]:
+        with pytest.raises(err):
+            buoyancy_equilibrium(SPHERE, bad)
+    with pytest.raises(gc.ArgumentTypeError, match="descending"):
+        buoyancy_equilibrium(SPHERE, 1.5, descending="yes")
+    with pytest.raises(gc.ModelError, match="not an underwater glider"):
+        buoyancy_equilibrium(load_vehicle("dc8_ctol"), 1.5)
+    with pytest.raises(gc.ArgumentTypeError, match="load_vehicle"):
+        buoyancy_equilibrium("sphere_ch5", 1.5)
+    eq = buoyancy_equilibrium(SPHERE, 1.5)
+    with pytest.raises(gc.VehicleMismatchError):
+        BuoyancyController(eq, SPHERE100)
+    with pytest.raises(gc.ArgumentError, match="K_b"):
+        BuoyancyController(eq, SPHERE, K_b=-1.0)
+    with pytest.raises(gc.ArgumentTypeError, match="BuoyancyEquilibrium"):
+        BuoyancyController(None, SPHERE)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 5"):
+        BuoyancyController(eq, SPHERE)(0.0, np.zeros(4))
+
+
+def test_buoyancy_lyapunov_check_budget_and_inputs():
+    eq = buoyancy_equilibrium(SPHERE100, 1.5)
+    for kw, err in [({"n": 0}, gc.ArgumentError), ({"n": 10**9}, gc.ArgumentError),
+                    ({"n": 100.0}, gc.ArgumentTypeError), ({"n_m0": 4}, gc.ArgumentError),
+                    ({"mbar0_max": -0.01}, gc.ArgumentError),
+                    ({"K_b": math.nan}, gc.ArgumentError), ({"local_radius": 0.0}, gc.ArgumentError),
+                    ({"seed": -1}, gc.ArgumentError), ({"cert": "nu"}, gc.ArgumentTypeError)]:
+        with pytest.raises(err):
+            buoyancy_lyapunov_check(eq, SPHERE100, **kw)
+    with pytest.raises(gc.VehicleMismatchError):
+        buoyancy_lyapunov_check(eq, SPHERE)
+
+
+def test_elevator_example_and_infer_J2_inputs():
+    for kw in ({"t_final": 0.0}, {"t_final": math.inf}, {"x0": [1.0, -0.7, 0.06, 0.0]},
+               {"x0": [-1.0, -0.7, 0.06, 0.0, 2.5]}, {"m0_start": 0.0}, {"K": 0.0}):
+        with pytest.raises(gc.ArgumentError):
+            elevator_example(ELEV, 1.0, -math.pi / 4, **kw)
+    with pytest.raises(gc.ArgumentError, match="eps2"):
+        infer_J2(ELEV, -0.012, 1.0, -math.pi / 4)
+    with pytest.raises(gc.ModelError, match="K_q"):
+        elevator_equilibrium(ELEV.with_overrides(K_q=0.0), 1.0, -math.pi / 4)  # was a ZeroDivisionError in (5.17)
+
+
+def test_actuator_and_model_inputs():
+    with pytest.raises(gc.ArgumentError, match="u4_max"):
+        ActuatorLimits(u4_max=-0.05)
+    with pytest.raises(gc.ArgumentTypeError):
+        ActuatorLimits(m0_max="1")
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 5"):
+        loaded_rates(SPHERE, np.zeros(4))
+    with pytest.raises(gc.ModelError, match="not an underwater glider"):
+        elevator_loads(load_vehicle("dc8_ctol"), 1.0, 0.1)  # was an AttributeError (K_M)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 1"):
+        BuoyancyGlider(SPHERE).rhs(np.ones(5), np.zeros(2))

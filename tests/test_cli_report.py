@@ -186,3 +186,68 @@ def test_library_never_selects_a_backend():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.strip() == "svg"
+
+
+# ------------------------------------------------------------------------------------------ issue 15
+def test_a_design_that_raises_exits_2_with_one_line(tmp_path, capsys):
+    design = tmp_path / "raises.py"
+    design.write_text("TITLE = 'x'\n\ndef design(progress, quick=False):\n    return 1 / 0\n")
+    assert main(["report", str(design), "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "ZeroDivisionError" in err and "raises.py:4" in err
+
+
+def test_usage_errors_exit_2_with_one_line(capsys):
+    for argv in (["bogus"], ["report", "--quick", "extra", "args"], []):
+        with pytest.raises(SystemExit) as info:
+            main(argv)
+        assert info.value.code == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("glidectl: error:"), err
+
+
+def test_every_error_of_the_command_is_one_line_with_status_2(tmp_path, capsys):
+    returns_none = tmp_path / "none.py"
+    returns_none.write_text("TITLE = 'x'\n\ndef design(progress, quick=False):\n    return None\n")
+    cases = [["report", "no_such_design", "--designs", str(DESIGNS), "--out", str(tmp_path)],
+             ["report", "all", "--designs", str(DESIGNS), "--out", "/dev/null/x"],
+             ["report", str(returns_none), "--out", str(tmp_path)]]
+    for argv in cases:
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and err.startswith("glidectl: error:"), (argv, err)
+
+
+def test_report_api_errors_are_glidectl_errors(tmp_path):
+    from matplotlib.figure import Figure
+
+    with pytest.raises(gc.ArgumentTypeError):
+        Report(123)
+    with pytest.raises(gc.ArgumentTypeError, match="load_vehicle"):
+        Report("t", vehicle="rogue")
+    with pytest.raises(gc.ArgumentTypeError):
+        Report("t", vehicle=[gc.load_vehicle("rogue"), "x"])
+    with pytest.raises(gc.ArgumentTypeError):
+        Report("t", reference=5)
+    rep = Report("t")
+    with pytest.raises(gc.ArgumentError, match="cells"):
+        rep.table("c", ["a", "b"], [[1]])
+    rep.number("x", 1.0, "m")
+    with pytest.raises(gc.ArgumentError, match="duplicate"):
+        rep.number("x", 2.0, "m")
+    with pytest.raises(gc.ArgumentError):
+        rep.number("y", 2.0, "m", published=2.0, tolerance=-1.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        rep.figure("f", "not a figure", "cap")
+    with pytest.raises(gc.ArgumentError):
+        rep.figure("../f", Figure(), "cap")
+    rep.figure("f", Figure(), "a")
+    with pytest.raises(gc.ArgumentError, match="duplicate"):
+        rep.figure("f", Figure(), "b")
+    with pytest.raises(gc.ArgumentTypeError):
+        rep.text(None, "body")
+    with pytest.raises(gc.OutputError, match="cannot write"):
+        rep.write("/dev/null/x")
+    with pytest.raises(OSError):              # OutputError is also an OSError
+        rep.write("/dev/null/x")
+    assert rep.write(tmp_path / "ok").exists()

@@ -41,8 +41,113 @@ def test_lqr_gain_matches_riccati():
 def test_lqr_rejects_non_equilibrium_and_shapes():
     with pytest.raises(gc.ModelError, match="not an equilibrium"):
         lqr_state_feedback(_Linear(), [1.0, 0.0], [0.0])
-    with pytest.raises(gc.ModelError, match="shape"):
+    with pytest.raises(gc.ArgumentError, match="shape"):
         lqr_state_feedback(_Linear(), [0.0], [0.0])
+
+
+class _Tiny:
+    """x' = -x + u + c with tiny numbers: the equilibrium test must be relative to the terms, not absolute."""
+
+    state_names = ("x",)
+    input_names = ("u",)
+
+    def rhs(self, x, u):
+        return -np.asarray(x) + np.asarray(u) + 1e-12 * np.ones_like(np.asarray(x))
+
+
+def test_lqr_equilibrium_check_is_relative():
+    # |rhs| = 1e-12 passed the old absolute test (1e-8 (1 + |x_e|)) although x_e = 1e-15 is far from x* = 1e-12
+    with pytest.raises(gc.ModelError, match="not an equilibrium"):
+        lqr_state_feedback(_Tiny(), [1e-15], [0.0])
+    c = lqr_state_feedback(_Tiny(), [1e-12], [0.0])
+    assert np.all(c.closed_loop_poles.real < 0)
+
+
+@pytest.mark.parametrize(("kw", "exc"), [
+    ({"model": None}, gc.ArgumentTypeError), ({"x_e": [np.nan, 0.0]}, gc.ArgumentError),
+    ({"x_e": "0"}, gc.ArgumentTypeError), ({"Q": np.eye(3)}, gc.ArgumentError),
+    ({"Q": [[1.0, 1.0], [0.0, 1.0]]}, gc.ArgumentError), ({"R": [0.0]}, gc.ArgumentError),
+    ({"R": [-1.0]}, gc.ArgumentError), ({"u_min": [1.0], "u_max": [-1.0]}, gc.ArgumentError),
+    ({"u_min": [0.5]}, gc.ArgumentError), ({"u_min": [np.nan]}, gc.ArgumentError), ({"name": 3}, gc.ArgumentTypeError),
+])
+def test_lqr_bad_arguments(kw, exc):
+    args = {"model": _Linear(), "x_e": [0.0, 0.0], "u_e": [0.0]} | kw
+    with pytest.raises(exc):
+        lqr_state_feedback(args.pop("model"), args.pop("x_e"), args.pop("u_e"), **args)
+
+
+class _Blowup:
+    """x' = 1 / (1 - x) + u: the state reaches the pole x = 1 from x0 = 0.9 in finite time without feedback."""
+
+    state_names = ("x",)
+    input_names = ("u",)
+
+    def rhs(self, x, u):
+        x = np.asarray(x)
+        with np.errstate(all="ignore"):
+            return np.where(x < 1.0, 1.0 / (1.0 - x), np.nan) + np.asarray(u)
+
+
+def test_non_finite_derivatives_are_not_zeroed():
+    """A run that leaves the model's domain used to get d = 0 there (frozen silently, counted as a plain failure);
+    now the batch raises a SolverError naming the run, unless diverged= freezes it explicitly."""
+    zero = lambda t, X: np.zeros((len(X), 1))  # noqa: E731
+    X0 = np.array([[0.9], [-5.0]])
+    with pytest.raises(gc.SolverError, match="non-finite"):
+        compare_controllers(_Blowup(), {"none": zero}, X0, [0.0], [0.0], 1.0, method="RK45")
+    out = compare_controllers(_Blowup(), {"none": zero}, X0, [0.0], [0.0], 1.0, method="RK45",
+                              diverged=lambda X: X[:, 0] > 0.95)
+    assert not out.records["none"].converged.any()
+
+
+def test_controller_returning_wrong_shape_or_nan():
+    m = _Linear()
+    X0 = np.array([[0.1, 0.0], [0.0, 0.1]])
+    with pytest.raises(gc.ArgumentError, match="'two'"):
+        compare_controllers(m, {"two": lambda t, X: np.zeros((len(X), 2))}, X0, [0.0, 0.0], [0.0], 1.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        compare_controllers(m, {"none": lambda t, X: None}, X0, [0.0, 0.0], [0.0], 1.0)
+    with pytest.raises(gc.SolverError, match="non-finite input"):
+        compare_controllers(m, {"nan": lambda t, X: np.full((len(X), 1), np.nan)}, X0, [0.0, 0.0], [0.0], 1.0)
+
+
+def test_user_callback_errors_pass_through():
+    class Boom(Exception):
+        pass
+
+    def ctrl(t, X):
+        raise Boom("mine")
+
+    with pytest.raises(Boom):
+        compare_controllers(_Linear(), {"boom": ctrl}, np.zeros((1, 2)), [0.0, 0.0], [0.0], 1.0)
+
+
+@pytest.mark.parametrize(("kw", "exc"), [
+    ({"controllers": {}}, gc.ArgumentError), ({"controllers": {"x": "lqr"}}, gc.ArgumentTypeError),
+    ({"controllers": [1]}, gc.ArgumentTypeError), ({"x0": np.zeros((2, 3))}, gc.ArgumentError),
+    ({"x0": np.zeros(2)}, gc.ArgumentError), ({"t_final": 0.0}, gc.ArgumentError),
+    ({"t_final": "10"}, gc.ArgumentTypeError), ({"t_final": np.inf}, gc.ArgumentError),
+    ({"scale": [1.0, 0.0]}, gc.ArgumentError), ({"n_out": 1}, gc.ArgumentError),
+    ({"method": "Euler"}, gc.ArgumentError), ({"rtol": -1.0}, gc.ArgumentError),
+    ({"diverged": 3}, gc.ArgumentTypeError), ({"max_evaluations": 0}, gc.ArgumentError),
+])
+def test_compare_bad_arguments(kw, exc):
+    c = lqr_state_feedback(_Linear(), [0.0, 0.0], [0.0])
+    args = {"controllers": {"lqr": c}, "x0": np.zeros((2, 2)), "t_final": 5.0} | kw
+    with pytest.raises(exc):
+        compare_controllers(_Linear(), args.pop("controllers"), args.pop("x0"), [0.0, 0.0], [0.0],
+                            args.pop("t_final"), **args)
+
+
+def test_compare_budgets():
+    c = lqr_state_feedback(_Linear(), [0.0, 0.0], [0.0])
+    X0 = np.array([[0.5, 0.0]])
+    with pytest.raises(gc.BudgetError, match="max_evaluations"):
+        compare_controllers(_Linear(), {"lqr": c}, X0, [0.0, 0.0], [0.0], 1e6, method="RK45", max_evaluations=50)
+    with pytest.raises(gc.BudgetError, match="size"):
+        compare_controllers(_Linear(), {"lqr": c}, np.zeros((400_000, 2)), [0.0, 0.0], [0.0], 1.0)
+    r = compare_controllers(_Linear(), {"lqr": c}, X0, [0.0, 0.0], [0.0], 5.0).records["lqr"]
+    assert 0 < r.evaluations <= 2_000_000
 
 
 def test_batch_metrics_on_an_integrator():

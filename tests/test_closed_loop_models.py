@@ -136,13 +136,84 @@ def test_two_argument_form_and_errors():
     np.testing.assert_array_equal(cl.rhs(ctrl.eq.state), gc.closed_loop(ctrl).rhs(ctrl.eq.state))
     free = gc.closed_loop(plant, ctrl.u)
     assert free.equilibrium is None
-    with pytest.raises(gc.GlidectlError, match="equilibrium"):
+    with pytest.raises(gc.ArgumentError, match="equilibrium"):
         gc.closed_loop(ctrl, equilibrium=ctrl.eq.state)
-    with pytest.raises(gc.GlidectlError, match="does not know"):
+    with pytest.raises(gc.ArgumentTypeError, match="does not know"):
         gc.closed_loop(gc.FeedbackLinearizingController(DC8, gc.climb_trajectory(DC8)))
-    with pytest.raises(gc.ModelError, match="equilibrium"):
+    with pytest.raises(gc.ArgumentError, match="equilibrium"):
         gc.ClosedLoop(plant, ctrl.u, np.zeros(3))
-    with pytest.raises(gc.ModelError, match="not a glidectl model"):
+    with pytest.raises(gc.ArgumentTypeError, match="not a glidectl model"):
         gc.ClosedLoop(object(), ctrl.u)
-    with pytest.raises(gc.ModelError, match="trailing dimension"):
+    with pytest.raises(gc.ArgumentError, match="trailing dimension"):
         cl.rhs(np.zeros(4))
+
+
+# ------------------------------------------------------------------------------------------- bad inputs (issue 15)
+@pytest.mark.parametrize("thing", [None, "lqr", 3.0, object(), ROGUE, np.zeros(3)])
+def test_closed_loop_of_a_non_controller_is_an_argument_type_error(thing):
+    with pytest.raises(gc.ArgumentTypeError, match="does not know"):
+        gc.closed_loop(thing)
+    with pytest.raises(TypeError):  # the builtin still catches it
+        gc.closed_loop(thing)
+
+
+def test_closed_loop_with_a_law_checks_plant_law_and_outputs():
+    ctrl = _elevator()
+    plant = gc.ElevatorBuoyancyGlider(ELEV)
+    with pytest.raises(gc.ArgumentTypeError, match="callable"):
+        gc.closed_loop(plant, "u")
+    with pytest.raises(gc.ArgumentError, match="equilibrium"):
+        gc.closed_loop(plant, ctrl.u, equilibrium=[1.0, math.nan, 0.0, 0.0, 2.6])
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.ClosedLoop(plant, ctrl.u, description=3)
+    cl = gc.closed_loop(plant, lambda x: np.zeros((*np.shape(x)[:-1], 3)))
+    with pytest.raises(gc.ArgumentError, match="the law returned shape"):
+        cl.rhs(ctrl.eq.state)
+    with pytest.raises(gc.ArgumentTypeError):
+        cl.rhs("state")
+
+    def bad_law(x):
+        raise KeyError("the user's own error")
+
+    with pytest.raises(KeyError, match="user"):  # a law's own exception reaches the caller unchanged
+        gc.closed_loop(plant, bad_law).rhs(ctrl.eq.state)
+
+
+def test_linear_controller_without_vehicle_is_a_model_error():
+    ctrl = dataclasses.replace(_lqr(), vehicle=None)
+    with pytest.raises(gc.ModelError, match="without its vehicle"):
+        gc.closed_loop(ctrl)
+
+
+@pytest.mark.parametrize("model, n, m", [
+    (lambda: gc.LongitudinalGlider(ROGUE), 11, 3), (lambda: gc.AccelerationControlledGlider(ROGUE), 11, 3),
+    (lambda: gc.BuoyancyGlider(SPHERE), 5, 1), (lambda: gc.ElevatorBuoyancyGlider(ELEV), 5, 2),
+    (lambda: gc.TorqueControlledGlider(SPHERE), 4, 1), (lambda: gc.CTOLAircraft(DC8), 6, 2),
+    (lambda: gc.ExtendedCTOL(DC8), 8, 2), (lambda: gc.Glider3D(gc.load_vehicle("slocum_ch8")), 20, 4),
+])
+def test_plant_rhs_checks_the_shapes_of_state_and_input(model, n, m):
+    plant = model()
+    with pytest.raises(gc.ArgumentError, match=f"trailing dimension {n}"):
+        plant.rhs(np.ones(n + 1), np.zeros(m))
+    with pytest.raises(gc.ArgumentError, match=f"trailing dimension {m}"):
+        plant.rhs(np.ones(n), np.zeros(m + 1))
+    with pytest.raises(gc.ArgumentTypeError):
+        plant.rhs(np.ones(n), None)
+    with pytest.raises(gc.ArgumentTypeError):
+        plant.rhs([[1.0, 2.0], [3.0]], np.zeros(m))  # ragged
+
+
+@pytest.mark.parametrize("cls", [gc.LongitudinalGlider, gc.BuoyancyGlider, gc.ElevatorBuoyancyGlider,
+                                 gc.TorqueControlledGlider, gc.ReducedLongitudinalGlider, gc.Glider3D])
+def test_glider_models_refuse_other_vehicles_at_construction(cls):
+    with pytest.raises(gc.ModelError, match="not an underwater glider"):
+        cls(DC8)
+    with pytest.raises(gc.ArgumentTypeError, match="load_vehicle"):
+        cls("rogue")
+
+
+def test_realized_torque_loop_needs_a_controller_with_a_vehicle():
+    with pytest.raises(gc.ArgumentTypeError, match="callable"):
+        gc.RealizedTorqueLoop(3.0)
+    with pytest.raises(gc.ArgumentTypeError, match="vehicle"):
+        gc.RealizedTorqueLoop(lambda t, x: np.zeros(3))

@@ -26,6 +26,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
+import glidectl as gc
 from glidectl import (
     CompositeCertificate,
     Domain,
@@ -381,3 +382,74 @@ def test_finite_omega_bound_limits_w0() -> None:
     Cinv = np.linalg.inv(_cw_by_hand(c_fin.sp.r1, c_fin.sp.r2, (1 + V) ** 2))
     assert np.all(np.sqrt(2 * c_fin.w0 * Cinv[:, 1, 1]) <= 0.05 * (1 + 1e-9))
     assert c_fin.verify(n=N).passed
+
+
+# ------------------------------------------------------------------------------- argument checks (issue 15)
+@pytest.mark.parametrize(("kwargs", "exc"), [
+    ({"Vbar": 0.4}, gc.ArgumentTypeError),              # issue 15: was a TypeError from unpacking
+    ({"Vbar": (-0.4, 0, 0.4)}, gc.ArgumentError),       # issue 15: was an unpacking ValueError
+    ({"Vbar": "(-0.4, 0.4)"}, gc.ArgumentTypeError),
+    ({"alphabar": (-0.2, None)}, gc.ArgumentTypeError),
+    ({"gammabar": (True, 1.0)}, gc.ArgumentTypeError),
+    ({"Omegabar": (1.0, -1.0)}, gc.ArgumentError),
+    ({"cw": "bogus"}, gc.ArgumentError),
+])
+def test_domain_arguments_get_precise_errors(kwargs: dict, exc: type) -> None:
+    with pytest.raises(exc):
+        composite_lyapunov(VARIANTS["baseline"], **kwargs)
+    with pytest.raises(TypeError if exc is gc.ArgumentTypeError else ValueError):
+        composite_lyapunov(VARIANTS["baseline"], **kwargs)
+
+
+def test_vehicle_checks() -> None:
+    with pytest.raises(gc.ArgumentTypeError):
+        composite_lyapunov("sphere_ch5")  # type: ignore[arg-type]
+    with pytest.raises(ModelError):
+        composite_lyapunov(load_vehicle("dc8_ctol"))
+    with pytest.raises(ModelError, match="equal added masses"):
+        composite_lyapunov(load_vehicle("sphere_ch5", m3=31.0))
+
+
+def test_tiny_domain_has_no_cancellation() -> None:
+    """Issue 15: Vbar = alphabar = (-1e-12, 1e-12) gave negative d and mu_d (2/3 - (1 + V) + (1 + V)^3/3 cancels).
+    Phi is now evaluated as V^2 (1 + V/3) + 2 (1 + V) sin^2(g/2): the levels are right, d and mu_d positive."""
+    c = composite_lyapunov(VARIANTS["baseline"], Vbar=(-1e-12, 1e-12), alphabar=(-1e-12, 1e-12))
+    assert c.v0 == pytest.approx(1e-24 * (1 - 1e-12 / 3), rel=1e-12)  # Phi(-1e-12, 0), the smallest face value
+    assert 0 < c.d < 1 and c.mu_d > 0 and c.level > 0 and c.mu_d_best >= c.mu_d
+    assert CompositeCertificate.Phi(np.array([1e-12, 0.0])) == pytest.approx(1e-24, rel=1e-11)
+    # sampling cannot resolve such a domain (dimensional round trip): verify refuses instead of failing bounds
+    with pytest.raises(gc.ArgumentError, match="too small to verify"):
+        c.verify(n=1000)
+
+
+@pytest.mark.parametrize("kwargs", [{"Vbar": (-1e-200, 1e-200)},
+                                    {"Vbar": (-1e-160, 1e-160), "alphabar": (-1e-160, 1e-160)}])
+def test_underflowing_domain_raises(kwargs: dict) -> None:
+    with pytest.raises(gc.ArgumentError, match="too small"):
+        composite_lyapunov(VARIANTS["baseline"], **kwargs)
+
+
+def test_certificate_methods_check_their_arguments() -> None:
+    c = CERT["baseline"]
+    with pytest.raises(gc.ArgumentError):
+        c.verify(n=0)
+    with pytest.raises(gc.ArgumentTypeError):
+        c.verify(n="100")  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentError):
+        c.mu_d_of(1.5)
+    with pytest.raises(gc.ArgumentError):
+        c.nu(np.zeros(3))
+    with pytest.raises(gc.ArgumentError):
+        c.W(np.array([-1.0, 0.0]), np.zeros(2))  # V = 0: C_W is singular
+    with pytest.raises(gc.ArgumentTypeError):
+        CompositeCertificate.Phi("p")
+    with pytest.raises(gc.ArgumentError):
+        c.in_estimate(np.full(4, np.nan))
+    with pytest.raises(gc.ArgumentTypeError):
+        c.domain.sample(10, 0)  # type: ignore[arg-type]
+    # points outside the box (even with Vbar <= -1) are simply outside the estimate
+    assert not c.in_estimate(np.array([-2.0, 0.0, 0.0, 0.0])) and c.in_estimate(np.zeros(4))
+    # complex points stay accepted by nu (complex-step gradients of the buoyancy controller)
+    h = 1e-30
+    g = np.imag(c.nu(np.array([1j * h, 0.1, 0.05, 0.0]))) / h
+    assert np.isfinite(g)

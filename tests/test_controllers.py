@@ -148,3 +148,74 @@ def test_modes_and_rank_tests_print_readably():
     assert "rank 10/10 (full" in str(gc.controllability(sys))
     with pytest.raises(gc.GlidectlError, match="empty"):
         gc.controllability(sys, inputs=[])
+
+
+# ---------------------------------------------------------------------------------------------- bad inputs (issue 15)
+@pytest.mark.parametrize("kw, err, match", [
+    ({"glide": None}, gc.ArgumentTypeError, "SteadyGlide"),
+    ({"veh": "rogue"}, gc.ArgumentTypeError, "load_vehicle"),
+    ({"veh": gc.load_vehicle("dc8_ctol")}, gc.ModelError, "not an underwater glider"),
+    ({"veh": gc.load_vehicle("rogue", K_D=4.0)}, gc.VehicleMismatchError, "recompute"),
+    ({"inputs": "forces"}, gc.ArgumentError, "inputs"),
+    ({"Q": np.eye(3)}, gc.ArgumentError, "Q"),
+    ({"Q": -np.eye(10)}, gc.ArgumentError, "semidefinite"),
+    ({"Q": np.full((10, 10), np.nan)}, gc.ArgumentError, "finite"),
+    ({"R": np.zeros((3, 3))}, gc.ArgumentError, "definite"),
+    ({"R": np.array([[1.0, 2.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])}, gc.ArgumentError, "symmetric"),
+    ({"R": "eye"}, gc.ArgumentTypeError, "R"),
+    ({"max_deviation": {"nope": 1.0}}, gc.ArgumentError, "nope"),
+    ({"max_deviation": {"theta": -0.1}}, gc.ArgumentError, "theta"),
+    ({"max_deviation": {"theta": "0.1"}}, gc.ArgumentTypeError, "theta"),
+    ({"max_deviation": [("theta", 0.1)]}, gc.ArgumentTypeError, "mapping"),
+])
+def test_lqr_glide_bad_inputs(kw, err, match):
+    args = {"veh": ROGUE, "glide": DOWN, **kw}
+    with pytest.raises(err, match=match):
+        gc.lqr_glide(args.pop("veh"), args.pop("glide"), **args)
+
+
+def test_place_glide_bad_inputs():
+    poles = [-0.4, -0.5, -0.6, -0.7, -0.8, -0.9, -1.0, -1.1, -1.2, -1.3]
+    with pytest.raises(gc.ArgumentError, match="10"):
+        gc.place_glide(ROGUE, DOWN, poles[:2])
+    with pytest.raises(gc.ArgumentError, match="finite"):
+        gc.place_glide(ROGUE, DOWN, [np.nan, *poles[1:]])
+    with pytest.raises(gc.ArgumentError, match="conjugation"):
+        gc.place_glide(ROGUE, DOWN, [-1 + 1j, *poles[1:]])
+    with pytest.raises(gc.ArgumentError, match="repeated"):
+        gc.place_glide(ROGUE, DOWN, [-1.0] * 10)
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.place_glide(ROGUE, DOWN, None)
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.place_glide(ROGUE, DOWN, ["a"] * 10)
+    with pytest.raises(gc.VehicleMismatchError):
+        gc.place_glide(gc.load_vehicle("rogue", K_D=4.0), DOWN, poles)
+    with pytest.raises(ValueError):  # the builtin still catches it
+        gc.place_glide(ROGUE, DOWN, poles[:2])
+
+
+def test_decoupled_feedback_bad_inputs():
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.decoupled_gain_matrix("100", 300.0, 100.0, 300.0, 50.0)
+    with pytest.raises(gc.ArgumentError):
+        gc.decoupled_gain_matrix(100.0, np.nan, 100.0, 300.0, 50.0)
+    K = gc.decoupled_gain_matrix(*THESIS_DIAG)
+    with pytest.raises(gc.ArgumentTypeError, match="SteadyGlide"):
+        gc.DecoupledAccelerationFeedback(K, (None,))
+    with pytest.raises(gc.ArgumentError, match="at least one"):
+        gc.DecoupledAccelerationFeedback(K, ())
+    with pytest.raises(gc.ArgumentError, match="finite"):
+        gc.DecoupledAccelerationFeedback(np.full((3, 5), np.inf), (DOWN,))
+    other = gc.steady_glide(gc.load_vehicle("rogue", K_D=4.0), 0.3, math.radians(45), r_p3=0.05)
+    with pytest.raises(gc.VehicleMismatchError):
+        gc.DecoupledAccelerationFeedback(K, (DOWN, other), (0.0, 5.0))
+    fb = gc.DecoupledAccelerationFeedback(K, (DOWN,))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 11"):
+        fb(0.0, np.zeros(10))
+
+
+def test_linear_controller_checks_state_shapes(lqr):
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 11"):
+        lqr(0.0, np.zeros(10))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 10"):
+        lqr.path_input(np.zeros(11))

@@ -59,7 +59,7 @@ def test_normalized_parameters_and_physical_constants_do_not_enter():
 def test_model_rejects_non_ctol_vehicle():
     with pytest.raises(gc.ModelError, match="not a CTOL"):
         CTOLAircraft(gc.load_vehicle("rogue"))
-    with pytest.raises(gc.ModelError, match="reference time"):
+    with pytest.raises(gc.ArgumentError, match="reference time"):
         CTOLReduced(VEH, 0.2, 0.0, 0.0, T=0.0)
 
 
@@ -100,19 +100,63 @@ def test_thrust_changes_sign_on_steep_descents():
 
 @pytest.mark.parametrize("kw, err, match", [
     ({"speed": 0.05, "gamma": 0.0}, gc.InfeasibleGlideError, "no steady glide"),
-    ({"speed": -0.1, "gamma": 0.0}, gc.ModelError, "positive"),
-    ({"speed": float("nan"), "gamma": 0.0}, gc.ModelError, "positive"),
-    ({"speed": 0.2, "gamma": float("inf")}, gc.ModelError, "finite"),
-    ({"speed": "fast", "gamma": 0.0}, gc.ModelError, "numbers"),
+    ({"speed": -0.1, "gamma": 0.0}, gc.ArgumentError, "speed"),
+    ({"speed": 0.0, "gamma": 0.0}, gc.ArgumentError, "speed"),
+    ({"speed": float("nan"), "gamma": 0.0}, gc.ArgumentError, "speed"),
+    ({"speed": 0.2, "gamma": float("inf")}, gc.ArgumentError, "gamma"),
+    ({"speed": 0.2, "gamma": 1e300}, gc.ArgumentError, "gamma"),
+    ({"speed": 0.2, "gamma": 3.2}, gc.ArgumentError, "gamma"),
+    ({"speed": "fast", "gamma": 0.0}, gc.ArgumentTypeError, "speed"),
+    ({"speed": None, "gamma": 0.0}, gc.ArgumentTypeError, "speed"),
+    ({"speed": np.array([0.2]), "gamma": 0.0}, gc.ArgumentTypeError, "speed"),
+    ({"speed": 0.2, "gamma": True}, gc.ArgumentTypeError, "gamma"),
+    ({"speed": 0.2, "gamma": 0.0, "alpha_max": "a"}, gc.ArgumentTypeError, "alpha_max"),
+    ({"speed": 0.2, "gamma": 0.0, "alpha_max": float("nan")}, gc.ArgumentError, "alpha_max"),
+    ({"speed": 0.2, "gamma": 0.0, "alpha_max": 0.0}, gc.ArgumentError, "alpha_max"),
+    ({"speed": 1e-200, "gamma": 0.1}, gc.ArgumentError, "underflow"),
 ])
 def test_ctol_glide_bad_inputs(kw, err, match):
     with pytest.raises(err, match=match):
         gc.ctol_glide(VEH, **kw)
 
 
+@pytest.mark.parametrize("speed", [1e200, 100.0001, 1e3])
+def test_ctol_glide_speed_beyond_the_plausibility_limit(speed):
+    """Issue 15: ctol_glide(dc8, 1e200, .1) raised OverflowError; speeds beyond SPEED_MAX_REF V_ref are refused."""
+    from glidectl.trim.ctol import SPEED_MAX_REF
+
+    assert SPEED_MAX_REF == 100.0 and VEH.m * VEH.g / VEH.rho_AW_half == 1.0  # V_ref = 1: limit 100 here
+    with pytest.raises(gc.ArgumentError, match="speed"):
+        gc.ctol_glide(VEH, speed, 0.1)
+    with pytest.raises(ValueError):
+        gc.ctol_glide(VEH, speed, 0.1)
+
+
+def test_ctol_glide_accepts_numpy_scalars_and_the_limits():
+    gl = gc.ctol_glide(VEH, np.float32(0.2), np.float64(0.1))
+    assert gl.speed == pytest.approx(0.2) and isinstance(gl.speed, float)
+    assert gc.ctol_glide(VEH, 0.2, math.pi).gamma == math.pi  # gamma in [-pi, pi]
+    with pytest.raises(gc.ArgumentTypeError):
+        gl.full_state("origin")
+    with pytest.raises(gc.ArgumentError):
+        gl.full_state((0.0, math.nan))
+
+
 def test_ctol_glide_rejects_glider():
     with pytest.raises(gc.ModelError, match="not a CTOL"):
         gc.ctol_glide(gc.load_vehicle("rogue"), 0.2, 0.0)
+    with pytest.raises(gc.ArgumentTypeError, match="Vehicle"):
+        gc.ctol_glide("dc8_ctol", 0.2, 0.0)
+
+
+def test_angle_equation_checks_its_arguments():
+    assert abs(angle_equation(VEH, 0.2, 0.1, 0.0)) > 0
+    with pytest.raises(gc.ArgumentTypeError):
+        angle_equation(VEH, "a", 0.1, 0.1)
+    with pytest.raises(gc.ArgumentError):
+        angle_equation(VEH, 0.2, 0.1, [0.1, math.nan])
+    with pytest.raises(gc.ModelError):
+        angle_equation(gc.load_vehicle("rogue"), 0.2, 0.1, 0.1)
 
 
 # ---------------------------------------------------------------------------------------------- controller
@@ -153,7 +197,7 @@ def test_rotational_loop_unstable_below_the_thrust_condition():
     gl = gc.ctol_glide(VEH, V_LEVEL, 0.0)
     ev = closed_loop_eigenvalues(VEH, gl, 0.5 * gl.thrust, 1.0)  # k3 + k'' < 0: a saddle
     assert np.max(ev.real) > 0
-    with pytest.raises(gc.ModelError, match="k3"):
+    with pytest.raises(gc.ArgumentError, match="k3"):
         SteadyGlideController(VEH, gl, k3=-1.0, k4=1.0)
 
 
@@ -171,7 +215,7 @@ def test_climb_trajectory_solves_7_91():
     assert TRAJ.derivatives(60.0, 0)[0, 1] == pytest.approx(10.0, abs=1e-6)
     np.testing.assert_array_equal(TRAJ.derivatives(np.array([-1.0, 0.0]), 5)[:, :, 1], 0.0)
     assert TRAJ.speed == pytest.approx(V_LEVEL)
-    with pytest.raises(gc.ModelError, match="order"):
+    with pytest.raises(gc.ArgumentError, match="order"):
         TRAJ.derivatives(1.0, 6)
 
 
@@ -206,7 +250,7 @@ def test_tracking_reports_a_step_without_a_steady_glide():
 @pytest.mark.parametrize("kw, match", [({"dt": 0.0}, "dt"), ({"k3": float("nan")}, "k3"),
                                        ({"x0": [0.0, 1.0]}, "x0")])
 def test_tracking_bad_inputs(kw, match):
-    with pytest.raises(gc.ModelError, match=match):
+    with pytest.raises(gc.ArgumentError, match=match):
         track_with_steady_glides(VEH, TRAJ, **kw)
 
 
@@ -219,7 +263,7 @@ def test_tracking_run_metrics():
     assert r.effort == pytest.approx(math.sqrt(2.5), rel=1e-6)
     assert r.peak_u2 == pytest.approx(2.0)
     assert r.max_error == pytest.approx(2 * np.pi)
-    with pytest.raises(gc.ModelError, match="inconsistent"):
+    with pytest.raises(gc.ArgumentError, match="inconsistent"):
         TrackingRun.from_arrays("bad", t, np.zeros((t.size, 6)), u[:-1], np.zeros((t.size, 2)))
 
 
@@ -280,3 +324,199 @@ def test_approximate_linearization_exact_on_design_model_unstable_on_aircraft():
     bad = track_approximate_linearization(VEH, TRAJ, t_final=8.0)
     assert not bad.completed and bad.stopped_at < 3.0
     assert "stopped" in bad.note
+
+
+# ---------------------------------------------------------------------------------------------- bad inputs (issue 15)
+GLIDE = gc.ctol_glide(VEH, V_LEVEL, 0.0)
+
+
+def test_closed_loop_eigenvalues_refuse_a_glider_and_eps_zero():
+    # a glider has no epsilon: a ModelError naming the kind, not AttributeError('epsilon')
+    with pytest.raises(gc.ModelError, match="not a CTOL"):
+        gc.ctol_closed_loop_eigenvalues(gc.load_vehicle("rogue"), GLIDE, 10.0, 5.0)
+    with pytest.raises(gc.ModelError, match="not a CTOL"):
+        gc.SteadyGlideController(gc.load_vehicle("sphere_ch5"), GLIDE, 10.0, 5.0)
+    # epsilon = 0: the law divides by eps -> ModelError, not ZeroDivisionError
+    flat = VEH.with_overrides(epsilon=0.0)
+    gl0 = gc.ctol_glide(flat, V_LEVEL, 0.0)
+    for call in (lambda: gc.ctol_closed_loop_eigenvalues(flat, gl0, 10.0, 5.0),
+                 lambda: gc.SteadyGlideController(flat, gl0, 10.0, 5.0),
+                 lambda: ClosedLoopCTOL(flat, gl0, 10.0, 5.0)):
+        with pytest.raises(gc.ModelError, match="epsilon"):
+            call()
+
+
+@pytest.mark.parametrize("k3, k4, T, err", [
+    (-1.0, 5.0, 1.0, gc.ArgumentError), (0.0, 5.0, 1.0, gc.ArgumentError), (10.0, -5.0, 1.0, gc.ArgumentError),
+    (10.0, 0.0, 1.0, gc.ArgumentError), (10.0, 5.0, 0.0, gc.ArgumentError), (math.nan, 5.0, 1.0, gc.ArgumentError),
+    (10.0, math.inf, 1.0, gc.ArgumentError), ("10", 5.0, 1.0, gc.ArgumentTypeError),
+    (10.0, None, 1.0, gc.ArgumentTypeError), (True, 5.0, 1.0, gc.ArgumentTypeError),
+])
+def test_steady_glide_law_gains_are_checked(k3, k4, T, err):
+    with pytest.raises(err):
+        gc.ctol_closed_loop_eigenvalues(VEH, GLIDE, k3, k4, T)
+    with pytest.raises(err):
+        gc.SteadyGlideController(VEH, GLIDE, k3, k4, T)
+    with pytest.raises(ValueError if issubclass(err, ValueError) else TypeError):
+        ClosedLoopCTOL(VEH, GLIDE, k3, k4, T)
+
+
+def test_glide_provenance_and_type_are_checked():
+    other = VEH.with_overrides(a_L=31.0)
+    with pytest.raises(gc.VehicleMismatchError):
+        gc.ctol_closed_loop_eigenvalues(other, GLIDE, 10.0, 5.0)
+    with pytest.raises(gc.VehicleMismatchError):
+        gc.SteadyGlideController(other, GLIDE, 10.0, 5.0)
+    with pytest.raises(gc.ArgumentTypeError, match="CTOLGlide"):
+        gc.ctol_closed_loop_eigenvalues(VEH, None, 10.0, 5.0)
+    with pytest.raises(gc.ArgumentTypeError, match="Vehicle"):
+        gc.ctol_closed_loop_eigenvalues("dc8_ctol", GLIDE, 10.0, 5.0)
+    ctrl = gc.SteadyGlideController(VEH, GLIDE, 10.0, 5.0)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 6"):
+        ctrl(0.0, np.zeros(4))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 4"):
+        ctrl.reduced_input(np.zeros(6))
+
+
+def test_models_check_vehicle_and_array_shapes():
+    with pytest.raises(gc.ModelError, match="not a CTOL"):
+        gc.ExtendedCTOL(gc.load_vehicle("rogue"))  # refused at construction, not at the first rhs call
+    with pytest.raises(gc.ArgumentTypeError):
+        CTOLAircraft("dc8_ctol")
+    m = CTOLAircraft(VEH)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 6"):
+        m.rhs(np.zeros(5), np.zeros(2))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 2"):
+        m.rhs(GLIDE.full_state((0.0, 0.0)), np.zeros(3))
+    with pytest.raises(gc.ArgumentTypeError):
+        m.rhs(GLIDE.full_state((0.0, 0.0)), None)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 8"):
+        gc.ExtendedCTOL(VEH).rhs(np.zeros(6), np.zeros(2))
+    with pytest.raises(gc.ArgumentError, match="V_e"):
+        CTOLReduced(VEH, -0.2, 0.0, 0.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        CTOLReduced(VEH, 0.2, "0", 0.0)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension"):
+        feedback_linearizing_inputs(VEH, np.zeros(6), np.zeros(3))
+
+
+def test_climb_trajectory_inputs():
+    with pytest.raises(gc.ModelError, match="not a CTOL"):
+        climb_trajectory(gc.load_vehicle("rogue"))
+    with pytest.raises(gc.ArgumentTypeError, match="load_vehicle"):
+        climb_trajectory("dc8_ctol")
+    with pytest.raises(gc.ArgumentError):
+        climb_trajectory(VEH, mach_like=-0.85)
+    with pytest.raises(gc.ArgumentTypeError):
+        climb_trajectory(VEH, mach_like="0.85")
+    with pytest.raises(gc.ArgumentError):
+        ClimbTrajectory(math.nan)
+    with pytest.raises(gc.ArgumentError, match="coeffs"):
+        ClimbTrajectory(V_LEVEL, coeffs=(1.0, 2.0))
+    with pytest.raises(gc.ModelError, match="settle"):
+        ClimbTrajectory(V_LEVEL, coeffs=(1.0, -3.5, 4.9, -3.4, 1.2, -0.17))  # mirrored roots: unstable
+    with pytest.raises(gc.ArgumentError, match="finite"):
+        TRAJ.derivatives(np.array([0.0, math.nan]))
+    with pytest.raises(gc.ArgumentTypeError, match="order"):
+        TRAJ.derivatives(1.0, 2.0)
+
+
+def test_approximate_linearization_dt_zero_is_an_argument_error():
+    from glidectl.controllers.ctol_approximate_linearization import track_approximate_linearization
+
+    for dt in (0.0, -0.01, math.nan, 50.0):  # dt = 0 used to be a ZeroDivisionError; dt > t_final is refused
+        with pytest.raises(gc.ArgumentError, match="dt"):
+            track_approximate_linearization(VEH, TRAJ, t_final=8.0, dt=dt)
+    with pytest.raises(ValueError):  # the builtin still catches it
+        track_approximate_linearization(VEH, TRAJ, t_final=8.0, dt=0.0)
+    with pytest.raises(gc.ArgumentTypeError, match="ClimbTrajectory"):
+        track_approximate_linearization(VEH, "climb")
+    with pytest.raises(gc.ArgumentError, match="speed"):
+        gc.approximate_linearization_eigenvalues(VEH, 0.0)
+    with pytest.raises(gc.ArgumentError, match="pole"):
+        gc.approximate_linearization_eigenvalues(VEH, V_LEVEL, pole=-1.0)
+
+
+def test_track_stable_inversion_checks_arguments_before_the_expensive_solve(monkeypatch):
+    import glidectl.controllers.ctol_stable_inversion as si
+
+    def no_solve(*args, **kw):
+        raise AssertionError("stable_inversion must not run before the arguments are checked")
+
+    monkeypatch.setattr(si, "stable_inversion", no_solve)
+    for kw, err in [({"t_final": -1.0}, gc.ArgumentError), ({"t_final": math.nan}, gc.ArgumentError),
+                    ({"t_final": "40"}, gc.ArgumentTypeError), ({"start": "middle"}, gc.ArgumentError),
+                    ({"dt": 0.0}, gc.ArgumentError), ({"q": (1.0, 1.0)}, gc.ArgumentError),
+                    ({"r": -1.0}, gc.ArgumentError), ({"kp": math.inf}, gc.ArgumentError),
+                    ({"inversion": "inv"}, gc.ArgumentTypeError)]:
+        with pytest.raises(err):
+            si.track_stable_inversion(VEH, TRAJ, **kw)
+    with pytest.raises(gc.ModelError, match="epsilon"):
+        si.track_stable_inversion(VEH.with_overrides(epsilon=0.0), TRAJ)
+    with pytest.raises(gc.ArgumentError, match="t0 < 0 < t1"):
+        stable_inversion(VEH, TRAJ, t0=1.0)
+
+
+def test_inversion_window_and_vehicle_are_checked(inversion):
+    with pytest.raises(gc.ArgumentError, match="past the end"):
+        track_stable_inversion(VEH, TRAJ, inversion=inversion, t_final=30.0)
+    with pytest.raises(gc.VehicleMismatchError):
+        track_stable_inversion(VEH.with_overrides(epsilon=0.31), TRAJ, inversion=inversion, t_final=20.0)
+    with pytest.raises(gc.ArgumentError, match="another trajectory"):
+        track_stable_inversion(VEH, ClimbTrajectory(0.2), inversion=inversion, t_final=20.0)
+    with pytest.raises(gc.ArgumentError, match="reference exists"):
+        inversion.pitch(100.0)
+    with pytest.raises(gc.ArgumentError, match="ends at"):
+        feedback_linearization_blowup(VEH, TRAJ, inversion=inversion, t_final=30.0)
+    with pytest.raises(gc.ArgumentError, match="dt"):
+        feedback_linearization_blowup(VEH, TRAJ, inversion=inversion, t_final=20.0, dt=0.0)
+
+
+def test_steady_glide_tracking_inputs_and_budget():
+    for kw, err in [({"dt": 50.0}, gc.ArgumentError), ({"t_final": -1.0}, gc.ArgumentError),
+                    ({"k4": -1.0}, gc.ArgumentError), ({"x0": [0.0, 0.0, 0.2, 0.0, 0.0, math.nan]}, gc.ArgumentError),
+                    ({"method": "Euler"}, gc.ArgumentError), ({"dt": 1e-9, "t_final": 40.0}, gc.ArgumentError),
+                    ({"k3": "7e5"}, gc.ArgumentTypeError)]:
+        with pytest.raises(err):
+            track_with_steady_glides(VEH, TRAJ, **kw)
+    with pytest.raises(gc.ArgumentTypeError, match="ClimbTrajectory"):
+        track_with_steady_glides(VEH, None)
+    with pytest.raises(gc.ModelError, match="not a CTOL"):
+        track_with_steady_glides(gc.load_vehicle("rogue"), TRAJ)
+    with pytest.raises(gc.BudgetError, match="max_nfev"):
+        track_with_steady_glides(VEH, TRAJ, t_final=1.0, max_nfev=50)
+
+
+def test_pareto_and_grid_inputs():
+    assert pareto_front([]) == []
+    with pytest.raises(gc.ArgumentError, match="pairs"):
+        pareto_front([1.0, 2.0, 3.0])
+    with pytest.raises(gc.ArgumentError, match="finite"):
+        pareto_front([(1.0, math.nan)])
+    with pytest.raises(gc.ArgumentTypeError):
+        pareto_front([("a", "b")])
+    from glidectl.controllers.ctol_tracking import tracking_grid
+
+    with pytest.raises(gc.ArgumentError, match="at least one"):
+        tracking_grid(VEH, TRAJ, [], [(1.0, 1.0)])
+    with pytest.raises(gc.ArgumentError, match="pairs"):
+        tracking_grid(VEH, TRAJ, [0.1], [1.0, 2.0, 3.0])
+    with pytest.raises(gc.ArgumentError, match="positive"):
+        tracking_grid(VEH, TRAJ, [-0.1], [(1.0, 1.0)])
+    with pytest.raises(gc.ArgumentError, match="at most"):
+        tracking_grid(VEH, TRAJ, np.linspace(0.1, 1.0, 200), [(1.0, k) for k in np.linspace(1, 2, 100)])
+    with pytest.raises(gc.ArgumentTypeError, match="map"):
+        tracking_grid(VEH, TRAJ, [0.1], [(1.0, 1.0)], executor=object())
+
+
+def test_zero_dynamics_inputs():
+    with pytest.raises(gc.ArgumentError, match="speed"):
+        zero_dynamics(VEH, -V_LEVEL)
+    with pytest.raises(gc.ArgumentTypeError):
+        zero_dynamics(VEH, None)
+    with pytest.raises(gc.ModelError, match="epsilon"):
+        zero_dynamics(VEH.with_overrides(epsilon=0.0), V_LEVEL)
+    with pytest.raises(gc.ArgumentTypeError, match="ClimbTrajectory"):
+        gc.FeedbackLinearizingController(VEH, None)
+    with pytest.raises(gc.ArgumentError, match="kp"):
+        gc.FeedbackLinearizingController(VEH, TRAJ, kp=0.0)

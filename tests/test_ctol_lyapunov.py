@@ -237,16 +237,50 @@ def test_immutable_and_provenance(certs, verifications):
     {"r": 0.0}, {"r": 1.0}, {"r": -0.5}, {"r": math.inf},
     {"k3": 0.0}, {"k3": -1.0}, {"k4": 0.0}, {"k4": math.nan}, {"T": 0.0}, {"T": -1.0},
     {"k3": 0.01},  # k3 + k'' < 0 at the level glide (k'' = -0.049)
-    {"margin": 0.7}, {"n": 10},
+    {"margin": 0.7}, {"n": 10}, {"n": 10**9}, {"seed": -1}, {"T": 1e200},  # T**2 overflows
 ])
-def test_bad_inputs_raise_model_error(kw):
+def test_bad_inputs_raise_argument_error(kw):
     args = {"k3": 10.0, "k4": 5.0} | kw
-    with pytest.raises(ModelError):
+    with pytest.raises(gc.ArgumentError):
+        ctol_lyapunov(VEH, LEVEL, **args)
+    with pytest.raises(ValueError):  # the builtin class catches it too
+        ctol_lyapunov(VEH, LEVEL, **args)
+
+
+@pytest.mark.parametrize("kw", [{"k3": "10"}, {"k4": None}, {"T": True}, {"k_prime": 0.5j}, {"margin": "0.1"},
+                                {"n": 1000.0}, {"seed": "a"}])
+def test_wrong_types_raise_argument_type_error(kw):
+    args = {"k3": 10.0, "k4": 5.0} | kw
+    with pytest.raises(gc.ArgumentTypeError):
         ctol_lyapunov(VEH, LEVEL, **args)
 
 
 def test_wrong_vehicle_or_glide():
     with pytest.raises(ModelError):
         ctol_lyapunov(gc.load_vehicle("rogue"), LEVEL, 10.0, 5.0)
-    with pytest.raises(ModelError):
+    with pytest.raises(gc.ArgumentTypeError):
         ctol_lyapunov(VEH, (0.155, 0.0), 10.0, 5.0)  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentTypeError):
+        ctol_lyapunov("dc8_ctol", LEVEL, 10.0, 5.0)  # type: ignore[arg-type]
+    with pytest.raises(gc.VehicleMismatchError):  # a glide of another vehicle
+        ctol_lyapunov(VEH.with_overrides(c=1.0), LEVEL, 10.0, 5.0)
+
+
+def test_huge_gains_do_not_return_non_finite_constants():
+    """Gains that overflow the constants raise instead of returning inf/NaN constants."""
+    with pytest.raises(gc.GlidectlError, match=r"finite|overflow"):
+        ctol_lyapunov(VEH, LEVEL, 1e200, 5.0, n=200)
+
+
+def test_certificate_methods_check_points(certs):
+    c = certs["moderate"]
+    for bad in (np.zeros(3), [[0.1, 0.0]], np.full(4, np.nan)):
+        with pytest.raises(gc.ArgumentError):
+            c.Q(bad)
+    with pytest.raises(gc.ArgumentTypeError):
+        c.rhs("x")
+    with pytest.raises(gc.ArgumentError):
+        c.Q1(np.zeros(4))
+    with pytest.raises(gc.ArgumentError):
+        c.verify(n=10)
+    assert c.in_region(np.zeros(4)) and c.Q1(np.zeros(2)) == 0.0

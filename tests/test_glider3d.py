@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import glidectl as gc
 from glidectl import LongitudinalGlider, ModelError, load_vehicle
 from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
 from glidectl.hydro import loads_3d, longitudinal_loads
@@ -490,6 +491,55 @@ def test_models_refuse_vehicles_without_3d_parameters():
         Glider3D(load_vehicle("dc8_ctol"))
     with pytest.raises(ModelError, match="mbar"):
         Glider3D(load_vehicle("slocum_ch8", mbar=0.0))
-    with pytest.raises(ModelError, match="finite"):
+    with pytest.raises(gc.ArgumentError, match="finite"):
         FixedMassGlider3D(SLOCUM, (0.02, float("nan"), 0.04), M0)
     assert Glider3D(SLOCUM).input_names == FORCE3D_INPUTS
+
+
+# ------------------------------------------------------------------------------------- bad inputs (issue 15)
+def test_fixed_mass_model_refuses_implausible_mass_positions_and_ballast():
+    # r_p = 1e9 m made the generalized mass matrix singular (LinAlgError); now a clear refusal up front
+    with pytest.raises(gc.ArgumentError, match="R_P_MAX"):
+        FixedMassGlider3D(SLOCUM, (1e9, 1e9, 1e9), 1e6)
+    with pytest.raises(gc.ArgumentError, match="shape"):
+        FixedMassGlider3D(SLOCUM, (0.02, 0.04), M0)
+    with pytest.raises(gc.ArgumentTypeError):
+        FixedMassGlider3D(SLOCUM, R_P, "0.25")
+    with pytest.raises(gc.ArgumentTypeError):
+        FixedMassGlider3D(SLOCUM, None, M0)
+    # m0 = -41 kg leaves slocum (m = 50, mbar = 9) without solid mass: refused, not a 'helix' of a massless hull
+    with pytest.raises(ModelError, match="solid mass"):
+        FixedMassGlider3D(SLOCUM, R_P, -41.0)
+    model = FixedMassGlider3D(SLOCUM, [0.02, 0.02, 0.04], np.float64(0.25))
+    assert model.r_p == (0.02, 0.02, 0.04) and isinstance(model.m0, float)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 13"):
+        model.rhs(np.zeros(12))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 3"):
+        model.accelerations(np.zeros(2), np.zeros(3), np.zeros(3))
+
+
+def test_rotation_helpers_check_their_inputs():
+    with pytest.raises(gc.ArgumentError, match="nonzero"):
+        quat_to_R(np.zeros(4))
+    with pytest.raises(gc.ArgumentError, match="finite"):
+        quat_to_R([1.0, 0.0, np.nan, 0.0])
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 4"):
+        quat_to_R([1.0, 0.0, 0.0])
+    with pytest.raises(gc.ArgumentTypeError):
+        quat_to_R("1 0 0 0")
+    with pytest.raises(gc.ArgumentError, match="finite"):
+        ypr_to_R(0.0, np.nan, 0.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        ypr_to_quat(0.0, None, 0.0)
+    with pytest.raises(gc.ArgumentError, match="broadcast"):
+        ypr_to_R(np.zeros(2), np.zeros(3), 0.0)
+    with pytest.raises(gc.ArgumentError, match="rotation"):
+        R_to_ypr(2 * np.eye(3))
+    with pytest.raises(gc.ArgumentError, match="rotation"):
+        R_to_ypr(-np.eye(3))
+    with pytest.raises(gc.ArgumentError, match="3, 3"):
+        R_to_ypr(np.eye(2))
+    R = ypr_to_R(0.3, -0.2, 0.1)
+    np.testing.assert_allclose(R_to_ypr(R), [0.3, -0.2, 0.1], atol=1e-14)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 20"):
+        Glider3D(SLOCUM).rhs(np.zeros(13), np.zeros(4))

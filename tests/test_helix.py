@@ -11,6 +11,8 @@ import pytest
 from scipy.optimize import linear_sum_assignment
 
 from glidectl import (
+    ArgumentError,
+    ArgumentTypeError,
     FixedMassGlider3D,
     GlidectlError,
     InfeasibleGlideError,
@@ -22,7 +24,15 @@ from glidectl import (
 from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
 from glidectl.models.glider3d import R_to_ypr, quat_to_R, ypr_to_quat
 from glidectl.sim import simulate
-from glidectl.trim.helix import Helix, reduced_rhs, zeta_of
+from glidectl.trim.helix import (
+    RESIDUAL_TOL,
+    Helix,
+    helix_eigenvalues,
+    helix_equations,
+    helix_newton,
+    reduced_rhs,
+    zeta_of,
+)
 
 SLOCUM = load_vehicle("slocum_ch8")
 R_P = (0.02, 0.02, 0.04)  # m, §8.2.2
@@ -244,32 +254,129 @@ def test_neutral_buoyancy_is_infeasible():
 
 @pytest.mark.parametrize("r_p", [(0.02, float("nan"), 0.04), (float("inf"), 0.02, 0.04), (0.02, 0.04)])
 def test_bad_r_p_raises_glidectl_error(r_p):
-    with pytest.raises(GlidectlError, match="r_p must be three finite numbers"):
+    with pytest.raises(GlidectlError, match="r_p"):
         helix_trim(SLOCUM, r_p, M0)
 
 
-@pytest.mark.parametrize("bad", [(0.02, float("nan"), 0.04), (0.02, 0.04), ("a", 0, 0), ((1, 2), 0, 0)])
-def test_bad_r_p_raises_model_error(bad):
-    with pytest.raises(ModelError, match="r_p must be three finite numbers"):
-        helix_trim(SLOCUM, bad, M0)
+@pytest.mark.parametrize(("bad", "err"), [((0.02, float("nan"), 0.04), ArgumentError), ((0.02, 0.04), ArgumentError),
+                                          (("a", 0, 0), ArgumentTypeError), (((1, 2), 0, 0), ArgumentTypeError),
+                                          ("abc", ArgumentTypeError), (None, ModelError)])
+def test_bad_r_p_raises_argument_errors(bad, err):
+    veh = SLOCUM if bad is not None else load_vehicle("rogue")  # None: no nominal r_P in the ROGUE file
+    with pytest.raises(err, match=r"r_p|r_P1"):
+        helix_trim(veh, bad, M0)
 
 
-@pytest.mark.parametrize("m0", [float("nan"), float("inf"), "heavy"])
-def test_non_finite_m0_raises_model_error(m0):
-    with pytest.raises(ModelError, match="m0 must be a finite number"):
+@pytest.mark.parametrize(("m0", "err"), [(float("nan"), ArgumentError), (float("inf"), ArgumentError),
+                                         ("heavy", ArgumentTypeError), (True, ArgumentTypeError),
+                                         (np.array([0.25]), ArgumentTypeError)])
+def test_bad_m0_raises_argument_errors(m0, err):
+    with pytest.raises(err, match="m0"):
         helix_trim(SLOCUM, R_P, m0)
 
 
+def test_numpy_scalars_are_accepted():
+    h = helix_trim(SLOCUM, np.array(R_P), np.float32(M0))
+    assert h.m0 == pytest.approx(M0) and isinstance(h.m0, float)
+
+
 def test_m0_that_makes_a_mass_negative_is_refused():
-    with pytest.raises(ModelError, match="non-positive"):
+    with pytest.raises(ModelError, match="solid mass"):
         helix_trim(SLOCUM, R_P, -1e4)
 
 
-@pytest.mark.parametrize("kw", [{"continuation_steps": 0}, {"continuation_steps": 2.5}, {"n_random": -1},
-                                {"guess": (1.0, 0.0)}])
-def test_bad_solver_options_raise_model_error(kw):
-    with pytest.raises(ModelError):
+@pytest.mark.parametrize("m0", [-41.0, -41.5])
+def test_m0_that_leaves_no_solid_mass_is_refused(m0):
+    """Issue 15: m0 = -41 kg (m_s = m + m0 - mbar = 0) returned a helix of a vehicle with no solid mass."""
+    with pytest.raises(ModelError, match="solid mass"):
+        helix_trim(SLOCUM, R_P, m0)
+
+
+def test_huge_mass_offset_is_a_clear_error_not_a_singular_matrix():
+    """Issue 15: r_p = (1e9, 1e9, 1e9), m0 = 1e6 raised numpy's LinAlgError."""
+    with pytest.raises(ArgumentError, match="R_P_MAX"):
+        helix_trim(SLOCUM, r_p=(1e9, 1e9, 1e9), m0=1e6)
+
+
+def test_tiny_buoyancy_is_not_accepted_on_an_absolute_residual():
+    """Issue 15: m0 = 1e-300 returned a 'glide' at 5.7e-8 m/s whose residual was small only in absolute terms; the
+    drag there is ~1e-14 N against a net weight of 1e-299 N. The residual is now judged against the forces."""
+    with pytest.raises(InfeasibleGlideError):
+        helix_trim(SLOCUM, R_P, 1e-300)
+    model = FixedMassGlider3D(SLOCUM, R_P, 1e-300)
+    # a fake like the old answer: creeping at 5.9e-8 m/s with the moving mass hanging straight down (r_P || zeta)
+    zeta = np.array(R_P) / np.linalg.norm(R_P)
+    y_fake = np.array([5.9e-8, 0.0, 0.0, 0.0, -math.asin(zeta[0]), math.atan2(zeta[1], zeta[2])])
+    assert np.max(np.abs(helix_equations(model, y_fake))) < 1e-10  # it passes an absolute test
+    y, _, ok = helix_newton(model, y_fake)
+    assert not ok or np.linalg.norm(y[:3]) < 1e-100  # only a true equilibrium (V ~ sqrt(m0)) would be accepted
+
+
+def test_relative_residual_of_a_helix(helix):
+    assert 0.0 <= helix.relative_residual < RESIDUAL_TOL
+
+
+@pytest.mark.parametrize(("kw", "err"), [({"continuation_steps": 0}, ArgumentError),
+                                         ({"continuation_steps": 2.5}, ArgumentTypeError),
+                                         ({"continuation_steps": 10**9}, ArgumentError),
+                                         ({"n_random": -1}, ArgumentError), ({"n_random": 10**9}, ArgumentError),
+                                         ({"seed": "a"}, ArgumentTypeError), ({"seed": -1}, ArgumentError),
+                                         ({"guess": (1.0, 0.0)}, ArgumentError), ({"guess": "x"}, ArgumentTypeError),
+                                         ({"guess": (math.nan,) * 6}, ArgumentError)])
+def test_bad_solver_options_raise_argument_errors(kw, err):
+    with pytest.raises(err):
         helix_trim(SLOCUM, R_P, M0, **kw)
+
+
+@pytest.mark.parametrize("veh", [load_vehicle("dc8_ctol")])
+def test_wrong_kind_of_vehicle_is_a_model_error(veh):
+    with pytest.raises(ModelError, match="not an underwater glider"):
+        helix_trim(veh, R_P, M0)
+    with pytest.raises(ArgumentTypeError, match="Vehicle"):
+        helix_trim("slocum_ch8", R_P, M0)
+
+
+def test_helpers_check_their_arguments(helix):
+    model = helix.model
+    with pytest.raises(ArgumentTypeError, match="FixedMassGlider3D"):
+        helix_newton(SLOCUM, helix.unknowns)
+    with pytest.raises(ArgumentError):
+        helix_newton(model, helix.unknowns[:5])
+    with pytest.raises(ArgumentError):
+        helix_eigenvalues(model, np.full(6, math.nan))
+    with pytest.raises(ArgumentError, match="trailing dimension 6"):
+        helix_equations(model, np.zeros(5))
+    with pytest.raises(ArgumentTypeError):
+        helix_equations(model, "y")
+    with pytest.raises(ArgumentError, match="trailing dimension 8"):
+        reduced_rhs(model, np.zeros(6))
+    with pytest.raises(ArgumentTypeError):
+        zeta_of("a", 0.0)
+    with pytest.raises(ArgumentError):
+        zeta_of(np.zeros(2), np.zeros(3))
+    assert zeta_of(0.1, np.zeros(4)).shape == (4, 3)
+    for bad, err in (("a", ArgumentTypeError), (math.nan, ArgumentError), (-1.0, ArgumentError)):
+        with pytest.raises(err, match="tol"):
+            classify_motion([1.0, 0.0, 0.0], [0.0, 0.0, 0.1], tol=bad)
+    with pytest.raises(ArgumentError):
+        classify_motion([1.0, 0.0], [0.0, 0.0, 0.1])
+    with pytest.raises(ArgumentTypeError):
+        helix.initial_state("0")
+    with pytest.raises(ArgumentError):
+        helix.initial_state(0.0, (0.0, 0.0))
+
+
+def test_loads_3d_at_rest_is_finite_and_checks_shapes():
+    from glidectl import hydro
+
+    F, T, _, beta, V = hydro.loads_3d(SLOCUM, [0.0, 0.0, 0.0], [0.0, 0.0, 0.1])
+    assert np.all(np.isfinite(F)) and np.all(np.isfinite(T)) and beta == 0.0 and V == 0.0
+    with pytest.raises(ArgumentError, match="trailing dimension 3"):
+        hydro.loads_3d(SLOCUM, [1.0, 2.0], [0.0, 0.0, 0.0])
+    with pytest.raises(ArgumentError, match="broadcast"):
+        hydro.loads_3d(SLOCUM, np.ones((4, 3)), np.zeros((5, 3)))
+    with pytest.raises(ModelError):
+        hydro.loads_3d(load_vehicle("dc8_ctol"), [1.0, 0.0, 0.0], [0.0, 0.0, 0.0])
 
 
 def test_helix_arrays_are_read_only():

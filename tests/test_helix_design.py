@@ -50,6 +50,58 @@ def test_design_bad_inputs():
         gc.design_helix(SLOCUM, radius=50.0, pitch=100.0, m0_bounds=(0.5, 0.1))
 
 
+@pytest.mark.parametrize(("kw", "err", "match"), [
+    ({}, gc.ArgumentError, "exactly one"),
+    ({"pitch": 100.0, "speed": 0.5}, gc.ArgumentError, "exactly one"),
+    ({"pitch": 100.0, "radius": -5.0}, gc.ArgumentError, "radius"),
+    ({"pitch": 100.0, "radius": "10"}, gc.ArgumentTypeError, "radius"),
+    ({"pitch": 100.0, "radius": None}, gc.ArgumentTypeError, "radius"),
+    ({"pitch": 100.0, "radius": 1e300}, gc.ArgumentError, "radius"),
+    ({"pitch": "5"}, gc.ArgumentTypeError, "pitch"),
+    ({"pitch": 0.0}, gc.ArgumentError, "pitch"),
+    ({"pitch": float("nan")}, gc.ArgumentError, "pitch"),
+    ({"speed": 0.0}, gc.ArgumentError, "speed"),
+    ({"speed": 1e200}, gc.ArgumentError, "speed"),
+    ({"pitch": 100.0, "r_p_bounds": 5}, gc.ArgumentError, "r_p_bounds"),
+    ({"pitch": 100.0, "r_p_bounds": ((0, 1e9), (0, 1), (0, 1))}, gc.ArgumentError, "R_P_MAX"),
+    ({"pitch": 100.0, "m0_bounds": (0, "a")}, gc.ArgumentTypeError, "m0_bounds"),
+    ({"pitch": 100.0, "m0_bounds": (0.1, float("inf"))}, gc.ArgumentError, "m0_bounds"),
+    ({"pitch": 100.0, "n_starts": 0}, gc.ArgumentError, "n_starts"),
+    ({"pitch": 100.0, "n_starts": 10**9}, gc.ArgumentError, "n_starts"),
+    ({"pitch": 100.0, "n_starts": 2.0}, gc.ArgumentTypeError, "n_starts"),
+    ({"pitch": 100.0, "tol": -1.0}, gc.ArgumentError, "tol"),
+    ({"pitch": 100.0, "stability_margin": float("nan")}, gc.ArgumentError, "stability_margin"),
+    ({"pitch": 100.0, "seed": -1}, gc.ArgumentError, "seed"),
+    ({"pitch": 100.0, "time_limit": 0.0}, gc.ArgumentError, "time_limit"),
+])
+def test_design_bad_inputs_get_precise_classes(kw, err, match):
+    args = {"radius": 50.0, **kw}
+    with pytest.raises(err, match=match):
+        gc.design_helix(SLOCUM, **args)
+
+
+def test_design_with_a_vehicle_of_the_wrong_kind_is_a_model_error():
+    """A CTOL aircraft or a longitudinal-only glider is a ModelError, not 'no stable helix found'."""
+    with pytest.raises(gc.ModelError, match="not an underwater glider"):
+        gc.design_helix(gc.load_vehicle("dc8_ctol"), radius=10.0, pitch=5.0)
+    with pytest.raises(gc.ModelError, match="3D parameters"):
+        gc.design_helix(gc.load_vehicle("rogue"), radius=10.0, pitch=5.0)
+    with pytest.raises(gc.ArgumentTypeError, match="Vehicle"):
+        gc.design_helix("slocum_ch8", radius=10.0, pitch=5.0)
+
+
+def test_design_m0_bounds_must_leave_a_solid_mass():
+    with pytest.raises(gc.ModelError, match="solid mass"):
+        gc.design_helix(SLOCUM, radius=50.0, pitch=-100.0, m0_bounds=(-41.0, 0.5))
+
+
+def test_design_time_limit_is_a_budget_error():
+    with pytest.raises(gc.BudgetError, match="time limit"):
+        gc.design_helix(SLOCUM, radius=50.0, pitch=150.0, time_limit=1e-9)
+    with pytest.raises(RuntimeError):  # BudgetError is also a RuntimeError
+        gc.design_helix(SLOCUM, radius=50.0, pitch=150.0, time_limit=1e-9)
+
+
 @pytest.fixture(scope="module")
 def frozen():
     return gc.helix_rbh_locus(SLOCUM, NOMINAL_83, 0.25, np.linspace(-0.03, 0.1, 131), frozen=True)

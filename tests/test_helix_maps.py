@@ -14,9 +14,11 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
+import glidectl as gc
 from glidectl import FixedMassGlider3D, GlidectlError, InfeasibleGlideError, ModelError, helix_trim, load_vehicle
 from glidectl.analysis.continuation import COLUMNS
 from glidectl.analysis.helix_existence import existence_scan
+from glidectl.analysis.helix_stability import mass_position_at_rbh
 from glidectl.analysis.helix_sweeps import HelixSweep, helix_sweep
 from glidectl.trim.helix import zeta_of
 
@@ -277,3 +279,93 @@ def test_existence_claim_of_822():
     assert "claim does not hold" in scan.summary()
     with pytest.raises(InfeasibleGlideError):  # m0 = 0 stays infeasible
         helix_trim(SLOCUM, (0.01, 0.02, 0.04), 0.0)
+
+
+# ------------------------------------------------------------------------------------- argument checks (issue 15)
+
+NOM = (0.02, -0.02, 0.04)  # §8.3 nominal r_P (m), with m0 = 0.25 kg
+
+
+@pytest.mark.parametrize(("args", "kw", "exc"), [
+    (("bogus", [0.01]), {}, gc.ArgumentError),
+    (("r_P1", []), {}, gc.ArgumentError),
+    (("r_P1", "abc"), {}, gc.ArgumentTypeError),
+    (("r_P1", [0.01]), {"chunks": 0}, gc.ArgumentError),
+    (("r_P1", [0.01]), {"chunks": 2.0}, gc.ArgumentTypeError),
+    (("r_P1", [0.01]), {"executor": "pool"}, gc.ArgumentTypeError),
+    (("r_P1", [0.01]), {"continuation": 1}, gc.ArgumentTypeError),
+    (("r_P1", [0.01]), {"m0": "0.25"}, gc.ArgumentTypeError),
+    (("r_P1", [0.01]), {"seed": -1}, gc.ArgumentError),
+    (("r_P1", [0.01]), {"n_random": 10**6}, gc.ArgumentError),  # multistart is bounded
+    (("r_P1", [20.0]), {}, gc.ArgumentError),  # the moving mass 20 m from the centre
+    (("m0", [-41.0, 0.25]), {"r_p": (0.02, 0.02, 0.04)}, gc.ModelError),  # issue 15: solid mass 0 at m0 = -41 kg
+])
+def test_sweep_arguments_are_refused_before_solving(args, kw, exc):
+    with pytest.raises(exc):
+        helix_sweep(SLOCUM, *args, **kw)
+
+
+def test_sweep_and_scan_budgets():
+    with pytest.raises(gc.BudgetError, match="Newton solves"):
+        helix_sweep(SLOCUM, "r_P1", np.linspace(0.0, 0.01, 200_000))
+    with pytest.raises(gc.BudgetError, match="Newton solves"):
+        existence_scan(SLOCUM, np.linspace(-0.02, 0.02, 300), np.linspace(0.1, 0.3, 300), n_starts=100)
+    with pytest.raises(gc.ArgumentError):
+        existence_scan(SLOCUM, [0.01], [0.25], n_starts=10**6)
+
+
+@pytest.mark.parametrize(("args", "kw", "exc"), [
+    (([0.01], [math.nan]), {}, gc.ArgumentError),
+    (([0.01], [0.25]), {"n_starts": -1}, gc.ArgumentError),
+    (([0.01], [0.25]), {"tol": -1.0}, gc.ArgumentError),
+    (([0.01], [0.25]), {"continuation": "yes"}, gc.ArgumentTypeError),
+    (([0.01], [-41.0]), {}, gc.ModelError),
+])
+def test_existence_scan_bad_arguments(args, kw, exc):
+    with pytest.raises(exc):
+        existence_scan(SLOCUM, *args, **kw)
+    with pytest.raises(ModelError):
+        existence_scan(load_vehicle("dc8_ctol"), [0.01], [0.25])
+
+
+def test_straight_glides_checks_the_sweep():
+    sw = _sweep("r_P2", np.linspace(-0.01, 0.01, 3), HEAVY)
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.straight_glides(SLOCUM, "sweep")
+    with pytest.raises(gc.VehicleMismatchError):  # was silently re-trimmed with the other vehicle
+        gc.straight_glides(SLOCUM.with_overrides(K_M=-40.0), sw)
+    with pytest.raises(gc.ArgumentError):
+        gc.straight_glides(SLOCUM, sw, xtol=0.0)
+    with pytest.raises(gc.ArgumentError):
+        sw.column("nope")
+    with pytest.raises(gc.ArgumentError):
+        sw.controls(3)
+
+
+def test_helix_stability_arguments():
+    with pytest.raises(gc.ArgumentError):
+        gc.helix_rbh_locus(SLOCUM, NOM, 0.25, [0.01, math.nan])
+    with pytest.raises(gc.ArgumentError):
+        gc.helix_rbh_locus(SLOCUM, (0.02, 0.04), 0.25, [0.01, 0.02])
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.helix_rbh_locus(SLOCUM, NOM, "0.25", [0.01, 0.02])
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.helix_rbh_locus(SLOCUM, NOM, 0.25, [0.01, 0.02], frozen="no")
+    for kw in ({"step": 0.0}, {"step": -5e-4}, {"stop": math.nan}, {"max_steps": 0}):
+        with pytest.raises(gc.ArgumentError):
+            gc.resolved_crossing(SLOCUM, NOM, 0.25, **kw)
+    with pytest.raises(gc.BudgetError, match="max_steps"):  # 1e11 continuation steps: refused up front
+        gc.resolved_crossing(SLOCUM, NOM, 0.25, step=1e-12)
+    with pytest.raises(gc.ArgumentTypeError):
+        mass_position_at_rbh("helix", 0.01)
+
+
+def test_resolved_crossing_needs_a_stable_nominal_helix():
+    """The walk bisects between a stable upper and an unstable lower point; from an unstable nominal helix it used
+    to return a 'crossing' where stability is gained. Now it refuses."""
+    nominal = helix_trim(SLOCUM, NOM, 0.25)
+    assert nominal.stable
+    below = mass_position_at_rbh(nominal, -0.0293)  # past the re-solved crossing near r_bh = -0.0273 m
+    assert not helix_trim(SLOCUM, below, 0.25).stable
+    with pytest.raises(ModelError, match="not stable"):
+        gc.resolved_crossing(SLOCUM, below, 0.25)

@@ -306,3 +306,95 @@ def test_empty_selection_is_not_everything(what):
     assert r.rank == 0
     if what != "states":  # with no inputs/outputs a 10-state system is neither controllable nor observable
         assert r.n == 10 and not r.full
+
+
+# ------------------------------------------------------------------------------------------ argument checks (issue 15)
+
+
+@pytest.mark.parametrize(("veh", "g", "exc"), [
+    (ROGUE, None, "ArgumentTypeError"),          # issue 15: was an AttributeError
+    (ROGUE, "glide", "ArgumentTypeError"),
+    ("rogue", None, "ArgumentTypeError"),
+    (load_vehicle("dc8_ctol"), None, "ModelError"),
+])
+def test_linearize_glide_bad_arguments(veh, g, exc):
+    import glidectl as gc
+
+    with pytest.raises(getattr(gc, exc)):
+        linearize_glide(veh, glide(-45.0) if g is None and exc == "ModelError" else g)
+    with pytest.raises(TypeError if exc == "ArgumentTypeError" else ValueError):  # builtin classes catch them too
+        linearize_glide(veh, glide(-45.0) if g is None and exc == "ModelError" else g)
+
+
+def test_linearize_glide_of_another_vehicle_is_a_mismatch():
+    import glidectl as gc
+
+    with pytest.raises(gc.VehicleMismatchError):
+        linearize_glide(load_vehicle("rogue", K_M=-40.0), glide(-45.0))
+    with pytest.raises(gc.ArgumentError):
+        linearize_glide(ROGUE, glide(-45.0), inputs="torque")
+
+
+def test_single_channel_name_is_not_split_into_characters():
+    """observability(sys, "theta") used to report channels ('t', 'h', 'e', 't', 'a')."""
+    sys = lin(-45.0, "force")
+    r = observability(sys, "theta")
+    assert r.channels == ("theta",)
+    assert r.rank == observability(sys, ["theta"]).rank
+    c = controllability(sys, inputs="u1")
+    assert c.channels == ("u1",) and c.rank == controllability(sys, inputs=["u1"]).rank
+
+
+@pytest.mark.parametrize("kw", [{"inputs": 3}, {"inputs": [b"u1"]}, {"states": [1, 2]}, {"pbh_tol": "1e-8"}])
+def test_controllability_wrong_types(kw):
+    import glidectl as gc
+
+    with pytest.raises(gc.ArgumentTypeError):
+        controllability(lin(-45.0, "force"), **kw)
+
+
+@pytest.mark.parametrize("kw", [{"inputs": ["u1", "u1"]}, {"tol": -1.0}, {"tol": math.nan}, {"pbh_tol": 0.0}])
+def test_controllability_bad_values(kw):
+    import glidectl as gc
+
+    with pytest.raises(gc.ArgumentError):
+        controllability(lin(-45.0, "force"), **kw)
+
+
+@pytest.mark.parametrize("bad", [None, "sys", np.eye(3)])
+def test_modes_and_ranks_need_a_state_space(bad):
+    import glidectl as gc
+
+    for fn in (modes, controllability, lambda s: observability(s, ["theta"])):
+        with pytest.raises(gc.ArgumentTypeError):
+            fn(bad)
+
+
+def test_non_finite_model_is_refused():
+    import glidectl as gc
+
+    sys = control.ss(np.array([[np.nan]]), np.array([[1.0]]), np.eye(1), 0)
+    with pytest.raises(gc.ArgumentError):
+        modes(sys)
+    with pytest.raises(gc.ArgumentError):
+        controllability(sys)
+    zero = controllability(control.ss(np.zeros((2, 2)), np.zeros((2, 1)), np.eye(2), 0))
+    assert not zero.full and np.all(np.isfinite(zero.pbh_min))  # A = B = 0: no NaN margins
+
+
+def test_jacobians_refuse_functions_that_are_not_complex_safe():
+    import glidectl as gc
+
+    with pytest.raises(gc.ModelError, match="complex-safe"):
+        gc.jacobians(lambda x, u: np.real(x * x), [1.0, 2.0], [])  # would give a zero derivative
+    with pytest.raises(gc.ModelError):
+        gc.jacobians(lambda x, u: x + np.nan, [1.0], [])  # not finite at x
+    with pytest.raises(gc.ArgumentError):
+        gc.jacobians(lambda x, u: x, [np.nan], [0.0])
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.jacobians(42, [0.0], [0.0])
+    with pytest.raises(gc.ArgumentError):
+        gc.hessian(lambda x: (x**2).sum(-1), [1.0, 2.0], h=0.0)
+    A, B = gc.jacobians(lambda x, u: x * x + u, [1.0, 2.0], [0.0, 0.0])
+    np.testing.assert_array_equal(A, np.diag([2.0, 4.0]))
+    np.testing.assert_array_equal(B, np.eye(2))

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import linear_sum_assignment
 
+import glidectl as gc
 from glidectl import GlidectlError, load_vehicle
 from glidectl.analysis.jacobian import jacobians
 from glidectl.analysis.locus import (
@@ -253,3 +254,64 @@ def test_known_answer_max_step_jump():
     assert L.max_step_jump == pytest.approx(0.2, rel=1e-12)
     assert L.crossings == () and L.breakpoints == ()
 
+
+
+# ------------------------------------------------------------------------------------------ argument checks (issue 15)
+
+
+@pytest.mark.parametrize(("call", "exc"), [
+    (lambda: uncontrolled_eigs(ROGUE, "0.3", GAMMA, r_p3=0.05), gc.ArgumentTypeError),
+    (lambda: uncontrolled_eigs(ROGUE, SPEED, math.nan, r_p3=0.05), gc.ArgumentError),
+    (lambda: uncontrolled_eigs(ROGUE, -0.3, GAMMA, r_p3=0.05), gc.ArgumentError),
+    (lambda: uncontrolled_eigs(ROGUE, 1e3, GAMMA, r_p3=0.05), gc.ArgumentError),  # implausible speed
+    (lambda: uncontrolled_eigs(ROGUE, SPEED, GAMMA), gc.ArgumentError),  # neither r_p3 nor r_bh
+    (lambda: uncontrolled_eigs(ROGUE, SPEED, GAMMA, r_p3=0.05, r_bh=0.01), gc.ArgumentError),
+    (lambda: uncontrolled_eigs(ROGUE, SPEED, GAMMA, r_p3=0.05, bogus=1.0), gc.ArgumentTypeError),
+    (lambda: eta_r_eigenvalues(ROGUE, SPEED, GAMMA, r_bh="0.01"), gc.ArgumentTypeError),
+    (lambda: uncontrolled_eigs(load_vehicle("dc8_ctol"), SPEED, GAMMA, r_p3=0.05), gc.ModelError),
+    (lambda: rbh_locus(ROGUE, SPEED, GAMMA, "abc"), gc.ArgumentTypeError),
+    (lambda: rbh_locus(ROGUE, SPEED, GAMMA, [0.01, math.nan]), gc.ArgumentError),
+    (lambda: mbar_locus(ROGUE, SPEED, GAMMA, [0.0, 1.0], r_p3=0.05), gc.ArgumentError),  # was a VehicleFileError
+    (lambda: mbar_locus(ROGUE, SPEED, GAMMA, [-1.0, 1.0], r_p3=0.05), gc.ArgumentError),
+    (lambda: parameter_locus(42, [1.0, 2.0], "p", "-"), gc.ArgumentTypeError),
+    (lambda: parameter_locus(lambda p: "x", [1.0, 2.0], "p", "-"), gc.ArgumentTypeError),
+    (lambda: parameter_locus(lambda p: np.array([-p]), [1.0, 2.0], 3, "-"), gc.ArgumentTypeError),
+    (lambda: parameter_locus(lambda p: np.array([np.nan, -p]), [1.0, 2.0], "p", "-"), gc.ModelError),
+    (lambda: parameter_locus(lambda p: np.zeros((2, 2)), [1.0, 2.0], "p", "-"), gc.ArgumentError),
+])
+def test_bad_arguments_get_precise_errors(call, exc):
+    with pytest.raises(exc):
+        call()
+
+
+def test_eig_fn_errors_pass_through_brent():
+    """An exception of the user's eig_fn raised while Brent refines a crossing is not turned into a SolverError."""
+    class Mine(ValueError):
+        pass
+
+    def eig(p: float) -> np.ndarray:
+        if 0.0 < p < 1.0:
+            raise Mine("inside")
+        return np.array([p - 0.5])
+
+    with pytest.raises(Mine):
+        parameter_locus(eig, [0.0, 1.0], "p", "-")
+
+
+def test_locus_time_limit_and_index_checks():
+    def slow(p: float) -> np.ndarray:
+        import time
+
+        time.sleep(0.02)
+        return np.array([-p])
+
+    with pytest.raises(gc.BudgetError):
+        parameter_locus(slow, np.linspace(1.0, 2.0, 50), "p", "-", time_limit=0.1)
+    L = parameter_locus(lambda p: np.array([-p]), [1.0, 2.0], "p", "-")
+    assert L.stable_at(-1)
+    with pytest.raises(gc.ArgumentError):
+        L.stable_at(2)
+    with pytest.raises(gc.ArgumentTypeError):
+        L.stable_at(1.0)
+    with pytest.raises(gc.ArgumentError):
+        L.plot(kind="polar")

@@ -12,6 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import glidectl as gc
 from glidectl import ModelError, load_vehicle
 from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
 from glidectl.models.longitudinal import (
@@ -367,8 +368,13 @@ R_INPUT = np.array([1, -1, 1], dtype=float)
 
 
 def _reversed_gravity(veh):
-    """The same vehicle in a world whose gravity points up (bypasses file validation on purpose)."""
-    return dataclasses.replace(veh, params=MappingProxyType({**veh.params, "g": -veh.g}))
+    """The same vehicle in a world whose gravity points up (bypasses the vehicle's validation on purpose: g < 0 is
+    not a vehicle a user can load)."""
+    out = object.__new__(type(veh))
+    for f in dataclasses.fields(veh):
+        object.__setattr__(out, f.name, getattr(veh, f.name))
+    object.__setattr__(out, "params", MappingProxyType({**veh.params, "g": -veh.g}))
+    return out
 
 
 def test_mirror_with_reversed_gravity_is_exact():
@@ -478,3 +484,65 @@ def test_acceleration_model_without_moving_mass_is_model_error(call):
             acc.to_force_state(xa)
         else:
             acc.from_force_state(xf)
+
+
+# ---------------------------------------------------------------------------------------- bad inputs (issue 15)
+def test_rhs_checks_state_and_input_shapes():
+    force, accel = LongitudinalGlider(ROGUE), AccelerationControlledGlider(ROGUE)
+    x = np.zeros(11)
+    x[4] = 0.3
+    for model in (force, accel):
+        with pytest.raises(gc.ArgumentError, match="trailing dimension 11"):
+            model.rhs(np.zeros(10), np.zeros(3))  # was an IndexError deep in numpy
+        with pytest.raises(gc.ArgumentError, match="trailing dimension 3"):
+            model.rhs(x, np.zeros(2))
+        with pytest.raises(gc.ArgumentTypeError):
+            model.rhs(x, None)
+        with pytest.raises(gc.ArgumentTypeError):
+            model.rhs(["a"] * 11, np.zeros(3))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 11"):
+        accel.to_force_state(np.zeros(9))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 3"):
+        accel.force_input(x, np.zeros(4))
+
+
+def test_glide_path_model_checks_its_base_and_angle():
+    with pytest.raises(gc.ArgumentTypeError, match="base"):
+        GlidePathModel("rogue", -0.5)
+    with pytest.raises(gc.ArgumentError, match="gamma"):
+        GlidePathModel(LongitudinalGlider(ROGUE), np.nan)
+    with pytest.raises(gc.ArgumentError, match="gamma"):
+        GlidePathModel(LongitudinalGlider(ROGUE), 2.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        GlidePathModel(LongitudinalGlider(ROGUE), "-0.5")
+    gp = GlidePathModel(LongitudinalGlider(ROGUE), np.float64(-0.5))
+    assert isinstance(gp.gamma, float)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 10"):
+        gp.rhs(np.zeros(11), np.zeros(3))
+
+
+def test_reduced_and_nondimensional_models_check_inputs():
+    from glidectl.models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
+    from glidectl.models.reduced import ReducedLongitudinalGlider
+
+    sphere = load_vehicle("sphere_ch5")
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 4"):
+        ReducedLongitudinalGlider(sphere).rhs(np.ones(5))
+    with pytest.raises(gc.ArgumentError, match="speed"):
+        NondimensionalScaling(sphere, -1.0, -0.9, 0.02, 10.0, 0.1, 0.1)
+    with pytest.raises(gc.ArgumentTypeError, match="tau_s"):
+        NondimensionalScaling(sphere, 1.0, -0.9, 0.02, "10", 0.1, 0.1)
+    sc = NondimensionalScaling(sphere, 1.6, -0.9, 0.02, 10.0, 0.1, 0.1)
+    box = (np.array([-0.4, -1.0]), np.array([0.4, 1.0]))
+    with pytest.raises(gc.ArgumentError, match="kind"):
+        NondimensionalModel(sc, "fast", ("Vbar", "gammabar"), box)
+    with pytest.raises(gc.ArgumentError, match="states"):
+        NondimensionalModel(sc, "full", ("Vbar", "gammabar"), box)
+    with pytest.raises(gc.ArgumentError, match="lo < hi"):
+        NondimensionalModel(sc, "reduced", ("Vbar", "gammabar"), (box[1], box[0]))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 2"):
+        NondimensionalModel(sc, "reduced", ("Vbar", "gammabar"), box).rhs(np.zeros(4))
+    with pytest.raises(gc.ArgumentError, match="alpha"):
+        SlowModel(sphere, np.inf)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 2"):
+        SlowModel(sphere, 0.02).rhs(np.zeros(3))

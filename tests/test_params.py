@@ -6,9 +6,11 @@ import math
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import glidectl
+import glidectl.errors as gc_errors
 from glidectl import GlidectlError, ModelError, VehicleFileError, list_presets, load_vehicle
 from glidectl.params import PARAMETER_SPECS
 
@@ -361,3 +363,145 @@ def test_vehicle_pickles_and_deep_copies():
         assert dict(clone.overrides) == {"K_M": -40.0}
         with pytest.raises(ModelError):
             _ = clone.K_beta
+
+
+# ------------------------------------------------------------------------------ issue 15: clear errors
+
+
+def test_file_that_is_not_utf8_is_a_vehicle_file_error(tmp_path):
+    p = tmp_path / "latin1.toml"
+    p.write_bytes(make_toml().replace("test glider", "t\xe9st glider").encode("latin-1"))
+    msg = load_error(p)
+    assert "UTF-8" in msg and str(p) in msg
+    p.write_bytes(b"\xff\xfe[vehicle]\n")
+    assert "UTF-8" in load_error(p)
+
+
+@pytest.mark.parametrize("bad", [None, 3, 2.5, b"rogue", ["rogue"]])
+def test_name_or_path_of_the_wrong_type(bad):
+    with pytest.raises(gc_errors.ArgumentTypeError, match="name_or_path"):
+        load_vehicle(bad)
+    with pytest.raises(TypeError):  # also a TypeError
+        load_vehicle(bad)
+
+
+def test_empty_name_is_not_a_preset():
+    with pytest.raises(VehicleFileError, match="no preset or file named ''"):
+        load_vehicle("")
+
+
+def test_directory_and_device_are_not_vehicle_files(tmp_path):
+    d = tmp_path / "dir.toml"
+    d.mkdir()
+    assert "not a regular file" in load_error(d)
+    if Path("/dev/zero").exists():  # reading it would never end
+        assert "not a regular file" in load_error(Path("/dev/zero"))
+
+
+def test_path_with_a_nul_byte(tmp_path):
+    with pytest.raises(VehicleFileError, match="cannot read"):
+        load_vehicle(str(tmp_path / "a\x00b.toml"))
+
+
+def test_oversized_file_is_refused_before_parsing(tmp_path):
+    from glidectl.params import MAX_FILE_BYTES
+
+    p = write(tmp_path, make_toml() + "#" * (MAX_FILE_BYTES + 10))
+    assert "larger than" in load_error(p)
+
+
+def test_deeply_nested_toml_is_a_vehicle_file_error(tmp_path):
+    depth = 50_000
+    p = write(tmp_path, make_toml(extra=f"x = {'[' * depth}{']' * depth}\n"))
+    with pytest.raises(VehicleFileError):
+        load_vehicle(p)
+
+
+@pytest.mark.parametrize("snippet", ["x = ", "[parameters\n", "g = { value = 1, unit = }\n", "\x00"])
+def test_bad_toml_is_a_vehicle_file_error(tmp_path, snippet):
+    p = write(tmp_path, make_toml(tail=snippet))
+    with pytest.raises(VehicleFileError):
+        load_vehicle(p)
+
+
+@pytest.mark.parametrize("entry", ['{ value = 13.0, unit = 3, source = "t" }',
+                                   '{ value = 13.0, unit = "kg", source = ["t"] }',
+                                   '{ value = 13.0, unit = "kg", source = "t", note = 1.0 }'])
+def test_entry_strings_must_be_strings(tmp_path, entry):
+    p = write(tmp_path, make_toml(extra=f"m2 = {entry}\n"))
+    with pytest.raises(VehicleFileError, match="must be strings"):
+        load_vehicle(p)
+
+
+def test_header_title_must_be_a_string(tmp_path):
+    p = write(tmp_path, make_toml().replace('title = "test glider"', "title = 3"))
+    assert "'title' must be a string" in load_error(p)
+
+
+@pytest.mark.parametrize("value", [np.float64(-90.0), np.float32(-90.0), np.int64(-90), np.array(-90.0)])
+def test_numpy_real_overrides_are_accepted(value):
+    veh = load_vehicle("rogue", K_M=value)
+    assert veh.K_M == -90.0 and isinstance(veh.K_M, float)
+    assert isinstance(veh.overrides["K_M"], float)
+
+
+@pytest.mark.parametrize("value", ["-90", None, True, np.bool_(True), 1j, [1.0], np.array([1.0]), {"value": 1.0}])
+def test_override_of_the_wrong_type_is_refused(value):
+    with pytest.raises(VehicleFileError, match="must be a real number"):
+        load_vehicle("rogue", K_M=value)
+
+
+@pytest.mark.parametrize("kw", [{"K_M": 1e13}, {"m1": 1e-13}, {"J2": 1e-300}, {"g": 1e300}])
+def test_override_beyond_the_plausibility_limits(kw):
+    with pytest.raises(VehicleFileError, match="plausibility limit"):
+        load_vehicle("rogue", **kw)
+
+
+def test_file_value_beyond_the_plausibility_limits(tmp_path):
+    assert "plausibility limit" in load_error(write(tmp_path, make_toml(replace={"K_D0": "1e300"})))
+
+
+def test_with_overrides_follows_the_same_rules():
+    rogue = load_vehicle("rogue")
+    with pytest.raises(VehicleFileError):
+        rogue.with_overrides(K_M="x")
+    with pytest.raises(VehicleFileError):
+        rogue.with_overrides(bogus=1.0)
+    assert rogue.with_overrides(K_M=np.float32(-1.0)).K_M == -1.0
+
+
+def test_direct_construction_is_validated():
+    good = load_vehicle("rogue")
+    kw = dict(name="x", kind="underwater_glider", title="x", params=dict(good.params), sources={}, path="x.toml")
+    assert dict(glidectl.Vehicle(**kw).params) == dict(good.params)  # valid parameters pass
+    with pytest.raises(VehicleFileError, match="unknown parameter"):
+        glidectl.Vehicle(**{**kw, "params": {**good.params, "bogus": 1.0}})
+    with pytest.raises(VehicleFileError, match="finite"):
+        glidectl.Vehicle(**{**kw, "params": {**good.params, "K_M": math.nan}})
+    with pytest.raises(VehicleFileError, match="missing required"):
+        glidectl.Vehicle(**{**kw, "params": {"g": 9.81}})
+    with pytest.raises(VehicleFileError, match="unknown vehicle kind"):
+        glidectl.Vehicle(**{**kw, "kind": "blimp"})
+    with pytest.raises(gc_errors.ArgumentTypeError):
+        glidectl.Vehicle(**{**kw, "params": None})
+    with pytest.raises(gc_errors.ArgumentTypeError):
+        glidectl.Vehicle(**{**kw, "name": 3})
+
+
+def test_mass_and_has_check_their_arguments():
+    slocum = load_vehicle("slocum_ch8")
+    assert slocum.mass(1) == pytest.approx(slocum.m + slocum.m0 - slocum.mbar + slocum.m_f1)
+    assert slocum.mass(np.int64(2), np.array([0.1, 0.2])).shape == (2,)
+    with pytest.raises(gc_errors.ArgumentError, match="axis"):
+        slocum.mass(7)
+    with pytest.raises(gc_errors.ArgumentTypeError, match="axis"):
+        slocum.mass("1")
+    with pytest.raises(gc_errors.ArgumentTypeError, match="axis"):
+        slocum.mass(True)
+    with pytest.raises(gc_errors.ArgumentTypeError, match="m0"):
+        slocum.mass(1, "0.3")
+    with pytest.raises(ModelError, match="mass m"):
+        load_vehicle("dc8_ctol").mass(1)
+    with pytest.raises(gc_errors.ArgumentTypeError):
+        slocum.has(3)
+    assert slocum.has("m", "m0") and not slocum.has("m1")

@@ -16,6 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.special import beta
 
+import glidectl as gc
 from glidectl import GlidectlError, ModelError, load_vehicle
 from glidectl.analysis.jacobian import jacobians
 from glidectl.errors import InfeasibleGlideError
@@ -140,11 +141,17 @@ def test_classify_C():
     assert classify_C(-1e-10, tol=1e-11) is PhugoidClass.LOOPS
     assert classify_C(-0.5) is PhugoidClass.LOOPS
     assert classify_C(1e-3, tol=1e-2) is PhugoidClass.CUSP
-    for bad in (0.7, math.nan, math.inf, "0.1"):
-        with pytest.raises(InfeasibleGlideError):
-            classify_C(bad)  # type: ignore[arg-type]
-    with pytest.raises(GlidectlError):
+    with pytest.raises(InfeasibleGlideError):
+        classify_C(0.7)  # no state has C > 2/3
+    for bad in (math.nan, math.inf):
+        with pytest.raises(gc.ArgumentError):
+            classify_C(bad)
+    with pytest.raises(gc.ArgumentTypeError):
+        classify_C("0.1")  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentError):
         classify_C(0.1, tol=-1.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        classify_C(0.1, tol="small")  # type: ignore[arg-type]
 
 
 @given(model=models, C=_u(-2.0, 2 / 3))
@@ -171,10 +178,14 @@ def test_initial_state_branches_and_errors():
     assert np.all(np.diff(fast) < 0)  # one smooth decreasing branch
     with pytest.raises(InfeasibleGlideError, match="2/3"):
         initial_state_for_C(m, 0.7)
-    with pytest.raises(InfeasibleGlideError):
+    with pytest.raises(gc.ArgumentError):
         initial_state_for_C(m, math.nan)
-    with pytest.raises(InfeasibleGlideError):
+    with pytest.raises(gc.ArgumentError, match="branch"):
         initial_state_for_C(m, 0.1, branch="middle")  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentError, match="x0"):
+        initial_state_for_C(m, 0.1, x0=math.inf)
+    with pytest.raises(gc.ArgumentTypeError, match="PhugoidModel"):
+        initial_state_for_C(None, 0.1)  # type: ignore[arg-type]
 
 
 def test_orbit_period_against_simulation_and_closed_form():
@@ -398,7 +409,7 @@ def test_4_46_printed_pdot_is_wrong():
     np.testing.assert_allclose(-(m.K / m.mass) * r * m.mass, exact - np.array([0.0, m.m0 * m.g]), rtol=1e-12)
     r2 = ph.pdot_as_printed(m, y, 2) - np.array([0.0, m.m0 * m.g])
     np.testing.assert_allclose(m.K / m.mass * r2, exact - np.array([0.0, m.m0 * m.g]), rtol=1e-12)
-    with pytest.raises(ModelError):
+    with pytest.raises(gc.ArgumentError, match="line"):
         ph.pdot_as_printed(m, y, 3)
 
 
@@ -450,9 +461,12 @@ def test_4_24_pendulum_hamiltonian_corrected():
                                 {"mass": "14"}, {"K": True}])
 def test_bad_parameters_raise(kw):
     args = {"mass": 14.0, "m0": 1.0, "K": 100.0, "g": 9.81, **kw}
-    with pytest.raises(ModelError) as exc:
+    value = next(iter(kw.values()))
+    err = gc.ArgumentTypeError if isinstance(value, str | bool) else gc.ArgumentError
+    with pytest.raises(err) as exc:
         PhugoidModel(**args)
     assert isinstance(exc.value, GlidectlError)
+    assert isinstance(exc.value, TypeError if err is gc.ArgumentTypeError else ValueError)
     assert next(iter(kw)) in str(exc.value)
 
 
@@ -470,13 +484,39 @@ def test_from_vehicle():
         PhugoidModel.from_vehicle(sphere, -0.01)  # K <= 0
     with pytest.raises(ModelError):
         PhugoidModel.from_vehicle(load_vehicle("dc8_ctol"), 0.05)
-    with pytest.raises(ModelError):
+    with pytest.raises(gc.ArgumentError):
         PhugoidModel.from_vehicle(sphere, math.nan)
+    with pytest.raises(gc.ArgumentTypeError, match="load_vehicle"):
+        PhugoidModel.from_vehicle("sphere_ch5", 0.02)  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentError, match="m0"):
+        PhugoidModel.from_vehicle(sphere, 0.02, m0=-0.3)
 
 
 def test_formulation_domain_errors():
     m = FIG41
     with pytest.raises(ModelError, match="z >= 0"):
         ph.euler_lagrange_field(m, np.array([0.0, -0.1, 0.2, 0.0]))
-    with pytest.raises(ModelError, match="last dimension 4"):
+    with pytest.raises(gc.ArgumentError, match="last dimension 4"):
         ph.symplectic_field(m, np.zeros(3))
+    with pytest.raises(gc.ArgumentTypeError, match="PhugoidModel"):
+        ph.symplectic_field(None, np.zeros(4))
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 4"):
+        m.rhs(np.zeros(3))
+    with pytest.raises(gc.ArgumentTypeError):
+        m.rhs(None)
+
+
+def test_orbit_period_inputs():
+    m = FIG41
+    with pytest.raises(gc.ArgumentError):
+        orbit_period(m, math.nan)
+    with pytest.raises(gc.ArgumentTypeError):
+        orbit_period(m, "0.1")  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentTypeError, match="PhugoidModel"):
+        orbit_period("model", 0.1)  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentError, match="tol"):
+        orbit_period(m, 0.1, tol=-1e-3)
+    with pytest.raises(gc.ArgumentTypeError):
+        PhugoidModel(14.0, 1.0, 100.0, vehicle="sphere_ch5")  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentError):
+        ph.PendulumAnalogue(length=0.0, gravity=1.0, mass=1.0)

@@ -138,3 +138,25 @@ def test_docs_stand_alone():
     for path in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
         text = path.read_text()
         assert "../shared" not in text and "/work/" not in text and "DESIGN.md" not in text, path.name
+
+
+def _raises_section(doc: str) -> str:
+    parts = re.split(r"^\s*Raises\s*\n\s*-{3,}", doc, flags=re.M)
+    return re.split(r"^\s*(?:See Also|Notes|Examples|References|Warns)\s*\n\s*-{3,}", parts[1], flags=re.M)[0] \
+        if len(parts) > 1 else ""
+
+
+@pytest.mark.parametrize(("name", "obj"), [(n, o) for n, o in _public_callables() if not inspect.isclass(o)],
+                         ids=lambda v: v if isinstance(v, str) else "")
+def test_docstring_lists_the_errors_the_function_raises(name, obj):
+    """Every glidectl error a public function raises itself (``raise XError(`` in its body) is in its Raises
+    section, by name or through a listed base class."""
+    try:
+        source = inspect.getsource(inspect.unwrap(obj))
+    except (OSError, TypeError):
+        return
+    listed = {getattr(gc, n) for n in re.findall(r"^\s*(\w+Error)\b", _raises_section(inspect.getdoc(obj) or ""),
+                                                 re.M) if hasattr(gc, n)}
+    raised = {getattr(gc, n) for n in re.findall(r"\braise\s+(\w+Error)\(", source) if hasattr(gc, n)}
+    missing = [e.__name__ for e in raised if not any(issubclass(e, lst) for lst in listed)]
+    assert not missing, f"{name} raises {missing} but its docstring's Raises section does not list them"

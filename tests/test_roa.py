@@ -4,6 +4,7 @@ problem against known answers and Drake, certificates and their soundness on the
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -13,7 +14,14 @@ from scipy.integrate import solve_ivp
 
 import glidectl as gc
 from glidectl.batch import integrate_batch
-from glidectl.errors import GlidectlError, ModelError, SolverError
+from glidectl.errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    BudgetError,
+    GlidectlError,
+    ModelError,
+    SolverError,
+)
 from glidectl.roa import Poly, SOSProgram, max_level, monomials, polynomial_system, recast
 from glidectl.roa.certify import lyapunov_quadratic
 
@@ -151,14 +159,172 @@ def test_recast_refuses_non_polynomial_model_unless_mixed_angle():
 
 def test_certify_rejects_bad_inputs():
     vdp = gc.benchmarks.van_der_pol()
-    with pytest.raises(GlidectlError, match="even"):
+    with pytest.raises(ArgumentError, match="even"):
         gc.certify_roa(vdp, degree=3)
     x1, x2 = Poly.variables(2)
     unstable = polynomial_system("unstable", ("x1", "x2"), [x1 + x2, -x2], box=((-1, -1), (1, 1)))
-    with pytest.raises(GlidectlError, match="not exponentially stable"):
+    with pytest.raises(ModelError, match="not exponentially stable"):
         gc.certify_roa(unstable, degree=2)
-    with pytest.raises(GlidectlError, match="origin is not an equilibrium"):
+    with pytest.raises(ArgumentError, match="origin is not an equilibrium"):
         polynomial_system("shifted", ("x1", "x2"), [x1 + 1.0, -x2], box=((-1, -1), (1, 1)))
+
+
+VDP = gc.benchmarks.van_der_pol()
+
+
+@pytest.mark.parametrize(("exc", "kwargs"), [
+    (ArgumentTypeError, dict(degree=float("nan"))),
+    (ArgumentTypeError, dict(degree=4.0)),
+    (ArgumentTypeError, dict(degree="4")),
+    (ArgumentTypeError, dict(degree=True)),
+    (ArgumentError, dict(degree=0)),
+    (ArgumentError, dict(degree=-2)),
+    (ArgumentError, dict(degree=3)),
+    (ArgumentError, dict(degree=2, backoff=-1.0)),
+    (ArgumentError, dict(degree=2, backoff=1.0)),
+    (ArgumentError, dict(degree=2, backoff=2.0)),
+    (ArgumentError, dict(degree=2, backoff=float("nan"))),
+    (ArgumentError, dict(degree=2, iterations=0)),
+    (ArgumentError, dict(degree=2, eps=0.0)),
+    (ArgumentError, dict(degree=2, center=1.0)),
+    (ArgumentError, dict(degree=2, n_truth=0)),
+    (ArgumentError, dict(degree=2, n_verify=0)),
+    (ArgumentError, dict(degree=2, horizon=-1.0)),
+    (ArgumentError, dict(degree=2, solver="BOGUS")),
+    (ArgumentError, dict(degree=2, speed_floor=0.0)),
+    (ArgumentError, dict(degree=2, extra=-2)),
+    (ArgumentError, dict(degree=2, time_limit=0.0)),
+    (ArgumentError, dict(degree=2, memory_limit=-1.0)),
+    (ArgumentError, dict(degree=2, on_budget="ignore")),
+    (ArgumentError, dict(degree=2, initial=Poly.variables(3)[0] ** 2)),
+    (ArgumentError, dict(degree=2, initial=Poly.const(1.0, 2) + Poly.variables(2)[0] ** 2)),
+    (ArgumentTypeError, dict(degree=2, initial="x1^2 + x2^2")),
+    (ArgumentTypeError, dict(degree=2, solver=None)),
+])
+def test_certify_roa_checks_every_argument(exc, kwargs):
+    t0 = time.perf_counter()
+    with pytest.raises(exc):
+        gc.certify_roa(VDP, **kwargs)
+    assert time.perf_counter() - t0 < 2.0, "refused before any SDP"
+
+
+def test_certify_roa_refuses_systems_it_cannot_certify():
+    with pytest.raises(ArgumentTypeError, match="PolySystem"):
+        gc.certify_roa("vdp")
+    with pytest.raises(ArgumentTypeError, match="equilibrium"):        # a model with inputs and no equilibrium
+        gc.certify_roa(gc.LongitudinalGlider(gc.load_vehicle("rogue")), degree=2)
+    x1, x2 = Poly.variables(2)
+    centre = polynomial_system("centre", ("x1", "x2"), [-x2, 1.0 * x1], box=((-1, -1), (1, 1)))
+    # a marginally stable centre (even a nonlinearly stable one) is refused with a message, not ZeroDivisionError
+    weak = polynomial_system("weak centre", ("x1", "x2"), [-x2 - x1**3, x1 - x2**3], box=((-1, -1), (1, 1)))
+    for ps in (centre, weak):
+        with pytest.raises(ModelError, match="marginally stable"):
+            gc.certify_roa(ps, degree=2)
+        with pytest.raises(ModelError, match="marginally stable"):
+            gc.lyapunov_matrix(ps)
+        with pytest.raises(ModelError):
+            gc.certify_roa(ps, degree=2, horizon=10.0, initial=x1**2 + x2**2)
+
+
+def test_degree_100_is_refused_quickly_with_what_fits():
+    t0 = time.perf_counter()
+    with pytest.raises(BudgetError, match="largest degree within the limits is 8") as info:
+        gc.certify_roa(VDP, degree=100)
+    assert time.perf_counter() - t0 < 1.0
+    assert "max_degree = 8" in str(info.value) and isinstance(info.value, RuntimeError)
+    # the memory limit alone: degree 12 needs ~250 MB
+    with pytest.raises(BudgetError, match=r"above memory_limit = 100 MB.*largest degree within the limits is 8"):
+        gc.certify_roa(VDP, degree=12, max_degree=12, memory_limit=1e8)
+    with pytest.raises(BudgetError, match="no degree fits"):
+        gc.certify_roa(VDP, degree=2, memory_limit=1e6)
+    with pytest.raises(BudgetError, match="max_degree"):
+        gc.max_level(VDP, Poly.variables(2)[0] ** 10 + Poly.variables(2)[1] ** 2)
+
+
+def test_estimate_sos_size_counts_what_is_built():
+    """The closed-form counts equal the Gram matrices the builder creates, for a plain and a lifted system."""
+    from glidectl.roa.certify import _auto_extra, _build, _scaled
+
+    sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    for system, degree in ((VDP, 4), (recast(sp.reduced_model()), 4), (recast(sp.full_model()), 2)):
+        size = gc.estimate_sos_size(system, degree)
+        ex = _auto_extra(system, None)
+        F = _scaled(system)
+        prog, _ = _build(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex)
+        built = sorted(u.var.shape[0] for u in prog.unknowns if u.gram)
+        assert built == sorted(k for _, k in size.gram), (system.name, size.gram)
+        assert size.n_gram_entries == sum(k * (k + 1) // 2 for k in built)
+        assert len(prog.constraints) > 0 and size.n_constraints > 0 and size.bytes > 0
+    big = gc.estimate_sos_size(VDP, 100)
+    assert big.largest_gram == 1484 and big.bytes > 1e14 and "degree 100" in big.summary()
+    with pytest.raises(ArgumentError):
+        gc.estimate_sos_size(VDP, 3)
+    with pytest.raises(ArgumentTypeError):
+        gc.estimate_sos_size(VDP, float("nan"))
+
+
+def test_time_limit_raises_or_certifies_the_best_so_far():
+    cheap = dict(n_truth=128, n_verify=2000, n_simulate=8)
+    with pytest.raises(BudgetError, match=r"time limit of 0\.01 s"):
+        gc.certify_roa(VDP, degree=4, time_limit=0.01, **cheap)
+    c = gc.certify_roa(VDP, degree=4, time_limit=0.01, on_budget="stop", **cheap)
+    assert c.stopped_by == "time_limit" and c.certified and c.degree == 2
+    assert "time limit" in c.history[-1]["step"]
+
+
+def test_contains_checks_n_path_and_shapes(vdp_cert):
+    X = np.array([[0.5, 0.5]])
+    with pytest.raises(ArgumentError, match="n_path"):
+        vdp_cert.contains(X, n_path=0)             # n_path=0 used to return True for every point
+    with pytest.raises(ArgumentTypeError):
+        vdp_cert.contains(X, n_path=2.5)
+    with pytest.raises(ArgumentError, match="dimension 2"):
+        vdp_cert.contains(np.zeros(3))
+    assert vdp_cert.contains(np.array([0.1, 0.1])).tolist() == [True]
+    assert vdp_cert.contains(np.array([[np.nan, 0.0], [2.9, 3.4]]), n_path=1).tolist() == [False, False]
+    with pytest.raises(ArgumentError):
+        vdp_cert.value([[np.nan, 0.0]])
+    with pytest.raises(ArgumentError):
+        vdp_cert.volume(n=0)
+    with pytest.raises(ArgumentError):
+        vdp_cert.volume(box=((1.0, 1.0), (0.0, 0.0)))
+    assert vdp_cert.stopped_by in ("iterations", "no improvement", "solver failure")
+
+
+def test_level_lyapunov_and_helpers_check_inputs():
+    V = lyapunov_quadratic(VDP)
+    with pytest.raises(ArgumentError):
+        gc.max_level(VDP, V, rho_cap=-1.0)
+    with pytest.raises(ArgumentTypeError):
+        gc.max_level(VDP, "V")
+    with pytest.raises(ArgumentError):
+        gc.max_level(VDP, Poly.variables(3)[0] ** 2)
+    with pytest.raises(ArgumentError):
+        gc.dVdt(V, VDP.lift, VDP.rhs, np.zeros(3))
+    with pytest.raises(ArgumentError):
+        gc.taylor_system(VDP, order=0)
+    with pytest.raises(ArgumentTypeError):
+        gc.taylor_system(VDP, order=2.0)
+    sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    with pytest.raises(ArgumentError):
+        gc.recast(sp.reduced_model(), speed_floor=0.0)
+    with pytest.raises(ArgumentTypeError):
+        gc.recast(object())
+    x = Poly.variables(2)[0]
+    with pytest.raises(ArgumentTypeError):
+        Poly({(1, 0): "a"}, 2)
+    with pytest.raises(ArgumentError):
+        Poly({(-1, 0): 1.0}, 2)
+    with pytest.raises(ArgumentError):
+        x / 0
+    with pytest.raises(ArgumentTypeError):
+        x ** 1.5
+    with pytest.raises(ArgumentError):
+        x(np.zeros(3))
+    t0 = time.perf_counter()
+    with pytest.raises(BudgetError):
+        monomials(3, 10**6)
+    assert time.perf_counter() - t0 < 1.0
 
 
 # ------------------------------------------------------------------------------------------- certificates

@@ -507,3 +507,61 @@ def test_no_pitch_damping_is_refused() -> None:
     """rogue has K_q = 0: eps1 = 0 and eps2 = J2/(0 ...): a ModelError, not a ZeroDivisionError from (5.17)."""
     with pytest.raises(ModelError, match="K_q"):
         singular_perturbation(load_vehicle("rogue", m0=0.3))
+
+
+# ---------------------------------------------------------------------------------- argument checks (issue 15)
+def test_vehicle_argument_is_checked() -> None:
+    import glidectl as gc
+
+    with pytest.raises(gc.ArgumentTypeError):
+        singular_perturbation("sphere_ch5")  # type: ignore[arg-type]
+    with pytest.raises(gc.ArgumentTypeError):
+        singular_perturbation(None)  # type: ignore[arg-type]
+    with pytest.raises(ModelError):
+        singular_perturbation(load_vehicle("dc8_ctol"))
+
+
+def test_underflowing_glide_is_refused() -> None:
+    """m0 = 1e-300 kg gives V_e ~ 2e-150 m/s: the complex-step derivatives underflow and the eigenvalues came out as
+    exact zeros. The implausible glide speed is refused."""
+    with pytest.raises(ModelError, match="plausible range"):
+        singular_perturbation(load_vehicle("sphere_ch5", m0=1e-300))
+    with pytest.raises(ModelError):
+        singular_perturbation(load_vehicle("sphere_ch5", K_q=-1e-300))  # eps overflows
+
+
+def test_equal_masses_margin_is_not_reported_holding_when_R_is_positive() -> None:
+    """With Delta m = 0, (5.109) reads R <= 0. The margin used to be 1 / max|R| (huge, 'holds') whatever the sign
+    of R. Now it is inf only when R <= 0 (within rounding of its terms) on every sample, else 0."""
+    r = unequal_mass_check(SPHERE, n=5000)
+    assert r.delta_m == 0.0 and r.condition_lhs == 0.0
+    assert r.bound_margin == math.inf and r.passed  # R = 0 up to rounding for equal masses
+
+
+def test_equal_masses_with_positive_R_fail(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A reduced field that makes R > 0 (the drag halved: dPhi = -psi^2/2 + ...) must fail (5.109) at Delta m = 0."""
+    sp = singular_perturbation(SPHERE)
+    monkeypatch.setattr(SingularPerturbation, "reduced_rhs", lambda self, p: 0.5 * sp.scaling.reduced_rhs(p))
+    r = unequal_mass_check(SPHERE, n=2000)
+    assert r.bound_margin == 0.0 and not r.passed and "(5.109) R <= kappa_dm psi^2" in r.failing()
+
+
+@pytest.mark.parametrize(("kw", "exc"), [({"n": 0}, "ArgumentError"), ({"n": 2.5}, "ArgumentTypeError"),
+                                         ({"seed": "a"}, "ArgumentTypeError"), ({"Vbar": 0.4}, "ArgumentTypeError"),
+                                         ({"Vbar": (0.4, -0.4)}, "ArgumentError"),
+                                         ({"gammabar": (-4.0, 1.0)}, "ArgumentError")])
+def test_unequal_mass_check_bad_arguments(kw: dict, exc: str) -> None:
+    import glidectl as gc
+
+    with pytest.raises(getattr(gc, exc)):
+        unequal_mass_check(SPHERE, **kw)
+
+
+@pytest.mark.parametrize(("args", "exc"), [((math.nan, -0.4), "ArgumentError"), ((-1.0, -0.4), "ArgumentError"),
+                                           ((0.0, -0.4), "ArgumentError"), ((0.5, "-0.4"), "ArgumentTypeError"),
+                                           ((0.5, -2.0), "ArgumentError"), ((0.5, [-0.4, 0.3]), "ArgumentError")])
+def test_allowable_delta_m_ratio_bad_arguments(args: tuple, exc: str) -> None:
+    import glidectl as gc
+
+    with pytest.raises(getattr(gc, exc)):
+        allowable_delta_m_ratio(*args)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+import glidectl as gc
 from glidectl.analysis.jacobian import jacobians
 from glidectl.controllers.moving_mass import MovingMassTorque, compare_realized_torque
 from glidectl.controllers.torque import (
@@ -200,3 +201,80 @@ def test_moving_mass_realizes_torque_law(massive):
     assert c.max_difference["gamma"] < 3e-4 and c.max_difference_system["gamma"] < 3e-4
     assert c.max_difference["alpha"] < 2e-4 and c.max_difference["Omega2"] < 1e-3
     assert c.max_torque_error < 3e-3 and c.max_r_p1 < 0.05
+
+
+# ------------------------------------------------------------------------------------------- bad inputs (issue 15)
+@pytest.mark.parametrize("kw, err", [
+    ({"speed": None}, gc.ArgumentError),                      # neither target
+    ({"speed": "1.6"}, gc.ArgumentTypeError),
+    ({"speed": math.nan}, gc.ArgumentError),
+    ({"speed": 1e9}, gc.ArgumentError),
+    ({"gamma": math.inf}, gc.ArgumentError),
+    ({"speed": 1.6, "Vbar": 0.4}, gc.ArgumentError),          # not a pair (used to be an unpacking ValueError)
+    ({"speed": 1.6, "Vbar": (-0.4, 0.0, 0.4)}, gc.ArgumentError),
+    ({"speed": 1.6, "alphabar": (0.2, -0.2)}, gc.ArgumentError),
+    ({"speed": 1.6, "Omegabar": ("a", 1.0)}, gc.ArgumentTypeError),
+    ({"speed": 1.6, "torque_max": -1.0}, gc.ArgumentError),
+    ({"speed": 1.6, "margin": 1.5}, gc.ArgumentError),
+    ({"speed": 1.6, "s_max": 0.5}, gc.ArgumentError),
+    ({"speed": 1.6, "eps_ratio": -1.0}, gc.ArgumentError),
+])
+def test_design_torque_control_bad_arguments(sphere, kw, err):
+    with pytest.raises(err):
+        design_torque_control(sphere, **kw)
+
+
+def test_design_torque_control_vehicle_and_law_types(sphere):
+    with pytest.raises(gc.ArgumentTypeError, match="load_vehicle"):
+        design_torque_control("sphere_ch5", speed=1.6)
+    with pytest.raises(ModelError, match="not an underwater glider"):
+        design_torque_control(load_vehicle("dc8_ctol"), speed=1.6)
+    with pytest.raises(ModelError, match="not an underwater glider"):
+        closed_loop_formulas(load_vehicle("dc8_ctol"), TorqueLaw(0, 0, 0))  # was an AttributeError (K_M0)
+    with pytest.raises(ModelError, match="unequal added masses"):
+        closed_loop_formulas(load_vehicle("rogue", m0=0.5, K_q=-1.0), TorqueLaw(0, 0, 0))
+    with pytest.raises(gc.ArgumentTypeError, match="TorqueLaw"):
+        closed_loop_formulas(sphere, (0.0, 0.0, 0.0))
+    with pytest.raises(gc.ArgumentTypeError):
+        TorqueLaw("1", 0.0, 0.0)
+    with pytest.raises(gc.ArgumentError):
+        TorqueLaw(0.0, math.inf, 0.0)
+    with pytest.raises(gc.ArgumentError, match="trailing dimension 4"):
+        TorqueLaw(0.0, 0.0, 0.0).u(np.zeros(3))
+    with pytest.raises(gc.ArgumentError, match="exactly one"):
+        alpha_for_target(sphere, speed=1.6, gamma=-0.9)
+    with pytest.raises(gc.ArgumentError, match="alpha_e"):
+        torque_gain_family(sphere, 1.0)
+    with pytest.raises(gc.ArgumentError):
+        torque_gain_family(sphere, 0.02).law(-1.0)
+    with pytest.raises(gc.ArgumentTypeError, match="CompositeCertificate"):
+        peak_torque(TorqueLaw(0, 0, 0), None)
+
+
+def test_moving_mass_inputs_and_budget(sphere):
+    veh = sphere.with_overrides(mbar=2.0, m1=26.0, m3=26.0)
+    law = TorqueLaw(0.0, 0.0, 0.0)
+    with pytest.raises(gc.ArgumentError, match="feedback"):
+        MovingMassTorque(veh, law, feedback="imu")
+    with pytest.raises(gc.ArgumentTypeError, match="TorqueLaw"):
+        MovingMassTorque(veh, None)
+    with pytest.raises(gc.ArgumentError, match="r_p3"):
+        MovingMassTorque(veh, law, r_p3=1e9)
+    for x0 in ([1.6, -0.9, 0.02], [-1.6, -0.9, 0.02, 0.0], [1.6, math.nan, 0.02, 0.0]):
+        with pytest.raises(gc.ArgumentError):
+            compare_realized_torque(veh, law, x0, 1.0)
+    with pytest.raises(gc.ArgumentError, match="t_eval"):
+        compare_realized_torque(veh, law, [1.6, -0.9, 0.02, 0.0], 1.0, t_eval=[0.0, 2.0])
+    with pytest.raises(gc.ArgumentError, match="t_final"):
+        compare_realized_torque(veh, law, [1.6, -0.9, 0.02, 0.0], 0.0)
+    from glidectl.controllers.moving_mass import simulate_realized_torque
+
+    ctrl = MovingMassTorque(veh, law)
+    loop = RealizedTorqueLoop(ctrl)
+    y0 = ctrl.initial_state([1.6, -0.9, 0.02, 0.0])[2:]
+    with pytest.raises(gc.BudgetError, match="max_nfev"):
+        simulate_realized_torque(loop, y0, np.linspace(0.0, 1.0, 5), max_nfev=20)
+    with pytest.raises(gc.ArgumentError, match="method"):
+        simulate_realized_torque(loop, y0, np.linspace(0.0, 1.0, 5), method="Euler")
+    with pytest.raises(gc.ArgumentError, match="te"):
+        simulate_realized_torque(loop, y0, np.array([0.0, 2.0, 1.0]))

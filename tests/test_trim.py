@@ -7,13 +7,14 @@ import re
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import minimize_scalar
 
-from glidectl import InfeasibleGlideError, ModelError, load_vehicle
+import glidectl as gc
+from glidectl import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, load_vehicle
 from glidectl.models.longitudinal import LongitudinalGlider
-from glidectl.trim.glide import permissible_gamma, steady_glide
+from glidectl.trim.glide import alpha_for_gamma, permissible_gamma, steady_glide
 
 ROGUE = load_vehicle("rogue")
 ROGUE_ASYM = load_vehicle("rogue", K_L0=20.0, K_M0=0.5)
@@ -39,11 +40,20 @@ def glide_requests(draw: st.DrawFn):
     return veh, speed, gamma, {key: value}
 
 
+def _glide_or_skip(veh, speed, gamma, **family):
+    """The glide, or skip the example when (near vertical) its moment balance needs |r_P| > R_P_MAX."""
+    try:
+        return steady_glide(veh, speed, gamma, **family)
+    except InfeasibleGlideError as exc:
+        assert "R_P_MAX" in str(exc) and abs(gamma) > 1.2, str(exc)
+        assume(False)
+
+
 @FAST
 @given(req=glide_requests())
 def test_steady_glide_is_an_equilibrium(req):
     veh, speed, gamma, family = req
-    gl = steady_glide(veh, speed, gamma, **family)
+    gl = _glide_or_skip(veh, speed, gamma, **family)
     assert gl.residual < 1e-10
     # independent residual on the force model, zero inputs
     f = LongitudinalGlider(veh).rhs(gl.force_state(), np.zeros(3))
@@ -85,7 +95,7 @@ def test_steady_glide_is_an_equilibrium(req):
 @given(req=glide_requests())
 def test_family_parameterizations_agree(req):
     veh, speed, gamma, family = req
-    gl = steady_glide(veh, speed, gamma, **family)
+    gl = _glide_or_skip(veh, speed, gamma, **family)
     other = (steady_glide(veh, speed, gamma, r_bh=gl.r_bh) if "r_p3" in family
              else steady_glide(veh, speed, gamma, r_p3=gl.r_p3))
     # r_p1 = (a_perp - r_p3 sin(theta))/cos(theta): rounding grows like 1/|cos(theta)| near vertical glides
@@ -154,23 +164,131 @@ def test_boundary_of_permissible_set(name):
         assert any(abs(v - math.degrees(hi)) < 1e-3 for v in nums), str(info.value)
 
 
-@pytest.mark.parametrize("gamma", [math.pi / 2, -math.pi / 2, 2.0, -3.0, math.nan, math.inf])
+@pytest.mark.parametrize("gamma", [math.pi / 2, -math.pi / 2, 2.0, -3.0])
 def test_gamma_out_of_range(gamma):
     with pytest.raises(InfeasibleGlideError):
         steady_glide(ROGUE, 0.3, gamma, r_p3=0.0)
 
 
-@pytest.mark.parametrize("speed", [0.0, -0.3, math.nan, math.inf])
+@pytest.mark.parametrize("gamma", [math.nan, math.inf, -math.inf])
+def test_non_finite_gamma_is_an_argument_error(gamma):
+    with pytest.raises(ArgumentError, match="gamma"):
+        steady_glide(ROGUE, 0.3, gamma, r_p3=0.0)
+
+
+@pytest.mark.parametrize("speed", [0.0, -0.3, math.nan, math.inf, 100.01, 1e200])
 def test_bad_speed(speed):
-    with pytest.raises(InfeasibleGlideError, match="speed"):
+    with pytest.raises(ArgumentError, match="speed"):
+        steady_glide(ROGUE, speed, math.radians(-30), r_p3=0.0)
+    with pytest.raises(ValueError):  # ArgumentError is also a ValueError
         steady_glide(ROGUE, speed, math.radians(-30), r_p3=0.0)
 
 
 def test_mass_position_parameter_must_be_unique():
-    with pytest.raises(InfeasibleGlideError):
+    with pytest.raises(ArgumentError, match="exactly one"):
         steady_glide(ROGUE, 0.3, math.radians(-30), r_p3=0.0, r_bh=0.01)
-    with pytest.raises(InfeasibleGlideError):
+    with pytest.raises(ArgumentError, match="exactly one"):
         steady_glide(ROGUE, 0.3, math.radians(-30))
+
+
+# ------------------------------------------------------------------------- issue 15: argument checks
+
+
+@pytest.mark.parametrize("speed", ["0.3", None, np.array([0.3]), [0.3], True, 0.3 + 0j])
+def test_speed_of_the_wrong_type_is_an_argument_type_error(speed):
+    """Issue 15: ``steady_glide(v, '0.3', ...)``, ``speed=None``, ``speed=np.array([.3])`` raised raw TypeErrors."""
+    with pytest.raises(ArgumentTypeError, match="speed"):
+        steady_glide(ROGUE, speed, -0.785, r_p3=0.05)
+    with pytest.raises(TypeError):
+        steady_glide(ROGUE, speed, -0.785, r_p3=0.05)
+
+
+@pytest.mark.parametrize("speed", [np.float64(0.3), np.float32(0.3), np.int64(1), np.array(0.3)])
+def test_numpy_real_speeds_are_accepted(speed):
+    gl = steady_glide(ROGUE, speed, -0.785, r_p3=0.05)
+    assert gl.speed == pytest.approx(float(speed)) and isinstance(gl.speed, float)
+
+
+@pytest.mark.parametrize(("kw", "err"), [({"gamma": "x"}, ArgumentTypeError), ({"gamma": None}, ArgumentTypeError),
+                                         ({"r_p3": "1"}, ArgumentTypeError), ({"r_p3": math.nan}, ArgumentError),
+                                         ({"r_p3": 1e300}, ArgumentError), ({"r_bh": 1e300}, ArgumentError),
+                                         ({"r_bh": [0.01]}, ArgumentTypeError)])
+def test_other_arguments_are_checked(kw, err):
+    args = {"speed": 0.3, "gamma": -0.785, **kw}
+    if "r_bh" not in kw:
+        args.setdefault("r_p3", 0.05)
+    with pytest.raises(err):
+        steady_glide(ROGUE, **args)
+
+
+@pytest.mark.parametrize("veh", ["rogue", None, 3])
+def test_vehicle_must_be_a_vehicle(veh):
+    for call in (lambda: steady_glide(veh, 0.3, -0.785, r_p3=0.05), lambda: permissible_gamma(veh),
+                 lambda: alpha_for_gamma(veh, -0.785)):
+        with pytest.raises(ArgumentTypeError, match="Vehicle"):
+            call()
+
+
+def test_alpha_for_gamma_checks_gamma():
+    with pytest.raises(ArgumentTypeError):
+        alpha_for_gamma(ROGUE, "x")
+    with pytest.raises(ArgumentError):
+        alpha_for_gamma(ROGUE, math.nan)
+    with pytest.raises(InfeasibleGlideError):
+        alpha_for_gamma(ROGUE, 2.0)
+    with pytest.raises(InfeasibleGlideError):  # K_D = 0 at gamma = 0 used to divide by zero
+        alpha_for_gamma(load_vehicle("rogue", K_D=0.0), 0.0)
+
+
+def test_mass_position_beyond_the_plausibility_limit_is_infeasible():
+    """Near a vertical glide r_p3 = 0.1 m needs r_P1 far outside any hull: refused, not returned."""
+    with pytest.raises(InfeasibleGlideError, match="R_P_MAX"):
+        steady_glide(ROGUE, 0.3, -math.pi / 2 + 1e-4, r_p3=0.1)
+
+
+def test_underflowing_speed_is_refused_not_a_zero_buoyancy_glide():
+    """speed = 1e-200 gave m0 = 0.0 (V^2 underflows) and a 'glide' with no net weight."""
+    with pytest.raises(ArgumentError, match="underflow"):
+        steady_glide(ROGUE, 1e-200, -0.785, r_p3=0.05)
+
+
+def test_residual_check_is_relative_so_tiny_valid_glides_pass():
+    """The residual test scales with the forces: a glide at 1e-100 m/s is the 0.3 m/s glide with m0 scaled by V^2."""
+    ref = steady_glide(ROGUE, 0.3, -0.785, r_bh=0.05)
+    tiny = steady_glide(ROGUE, 1e-100, -0.785, r_bh=0.05)
+    assert tiny.alpha == ref.alpha and tiny.theta == ref.theta
+    assert tiny.m0 == pytest.approx(ref.m0 * (1e-100 / 0.3) ** 2, rel=1e-12)
+    f = LongitudinalGlider(ROGUE).rhs(tiny.force_state(), np.zeros(3))
+    weight = abs(tiny.m0) * ROGUE.g  # ~2.6e-199 N: the force equations balance to that scale, not to 1e-9 absolute
+    assert abs(f[4]) * ROGUE.m1 <= 1e-12 * weight and abs(f[5]) * ROGUE.m3 <= 1e-12 * weight
+
+
+def test_state_helpers_check_positions():
+    gl = steady_glide(ROGUE, 0.3, -0.785, r_p3=0.05)
+    assert gl.force_state(1.0, np.float32(2.0))[:2].tolist() == [1.0, 2.0]
+    with pytest.raises(ArgumentTypeError):
+        gl.force_state("1")
+    with pytest.raises(ArgumentError):
+        gl.accel_state(0.0, math.inf)
+
+
+def test_hydrodynamic_loads_check_their_arguments():
+    from glidectl import hydro
+
+    alpha, L, D, M = hydro.longitudinal_loads(ROGUE, 0.3, 0.02, 0.0)
+    assert np.isfinite([alpha, L, D, M]).all()
+    with pytest.raises(ArgumentTypeError, match="Vehicle"):
+        hydro.longitudinal_loads("rogue", 0.3, 0.0, 0.0)
+    with pytest.raises(ModelError):
+        hydro.loads_at(load_vehicle("dc8_ctol"), 0.09, 0.0, 0.0)
+    with pytest.raises(ArgumentTypeError, match="V2"):
+        hydro.loads_at(ROGUE, "a", 0.0, 0.0)
+    with pytest.raises(ArgumentTypeError):
+        hydro.angle_of_attack(None, 0.0)
+    with pytest.raises(ArgumentError, match="broadcast"):
+        hydro.atan2_cs(np.zeros(2), np.zeros(3))
+    # complex input (complex-step derivatives) is still accepted
+    assert np.iscomplexobj(hydro.loads_at(ROGUE, 0.09 + 1e-20j, 0.1, 0.0)[0])
 
 
 def test_ctol_vehicle_is_model_error():
@@ -179,6 +297,9 @@ def test_ctol_vehicle_is_model_error():
         steady_glide(ctol, 0.3, math.radians(-30), r_p3=0.0)
     with pytest.raises(ModelError):
         permissible_gamma(ctol)
+    with pytest.raises(ModelError):
+        alpha_for_gamma(ctol, -0.5)
+    assert issubclass(gc.ModelError, gc.GlidectlError)
 
 
 def test_no_moving_mass_is_model_error():

@@ -27,13 +27,15 @@ from typing import Any
 
 import numpy as np
 
-from .errors import ModelError, SolverError
+from . import checks
+from .errors import ArgumentError, ModelError, SolverError
 
 __all__ = [
     "DIVERGED",
     "FINISHED",
     "MAX_STEPS",
     "STEP_UNDERFLOW",
+    "TIME_LIMIT",
     "BatchResult",
     "batch_jacobian",
     "integrate_batch",
@@ -43,8 +45,9 @@ FINISHED = 0
 DIVERGED = 1
 STEP_UNDERFLOW = 2
 MAX_STEPS = 3
+TIME_LIMIT = 4
 STATUS_NAMES = {FINISHED: "finished", DIVERGED: "diverged", STEP_UNDERFLOW: "step-size underflow",
-                MAX_STEPS: "max_steps reached"}
+                MAX_STEPS: "max_steps reached", TIME_LIMIT: "stopped by time_limit"}
 
 # Shampine (1982) parameter set of the 4-stage Rosenbrock method (Numerical Recipes 2nd ed., routine stiff).
 _GAM = 1.0 / 2.0
@@ -75,7 +78,8 @@ class BatchResult:
     samples : ndarray, shape (N, m, n)
         States at ``t_eval`` (steps are clipped to hit them exactly); NaN where a run stopped before the time.
     status : ndarray of int, shape (N,)
-        :data:`FINISHED`, :data:`DIVERGED`, :data:`STEP_UNDERFLOW` or :data:`MAX_STEPS` per run.
+        :data:`FINISHED`, :data:`DIVERGED`, :data:`STEP_UNDERFLOW`, :data:`MAX_STEPS` or :data:`TIME_LIMIT` per
+        run.
     n_steps, n_rejected : ndarray of int, shape (N,)
         Accepted and rejected steps per run.
     nfev : int
@@ -84,6 +88,11 @@ class BatchResult:
         Total number of states passed to the right-hand side (rows summed over all calls, Jacobians included).
     method : str
     rtol, atol : float or ndarray
+    stopped_by : str
+        What ended the call: ``"t_final"`` (every run ended by itself: finished, diverged, step-size underflow or
+        its own ``max_steps``) or ``"time_limit"`` (the runs still going then have status :data:`TIME_LIMIT`).
+    wall_time : float
+        Seconds spent.
     """
 
     t_final: float
@@ -99,6 +108,8 @@ class BatchResult:
     method: str
     rtol: Any
     atol: Any
+    stopped_by: str = "t_final"
+    wall_time: float = 0.0
 
     @property
     def finished(self) -> np.ndarray:
@@ -112,8 +123,30 @@ class BatchResult:
 
     def converged_to(self, x_eq: Any, tol: float) -> np.ndarray:
         """Runs that reached ``t_final`` within ``tol`` (Euclidean) of ``x_eq``: the simulated region of
-        attraction of an equilibrium."""
-        return self.finished & (np.linalg.norm(self.x_final - np.asarray(x_eq, dtype=float), axis=1) < tol)
+        attraction of an equilibrium.
+
+        Parameters
+        ----------
+        x_eq : array_like, shape (n,)
+            The equilibrium (finite).
+        tol : float
+            Distance (> 0, state units).
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+            The runs that finished within ``tol`` of ``x_eq``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x_eq`` or ``tol`` is not numeric.
+        ArgumentError
+            If ``x_eq`` does not have shape ``(n,)`` or is not finite, or ``tol`` is not a positive finite number.
+        """
+        x_eq = checks.array("x_eq", x_eq, shape=(self.x_final.shape[1],))
+        tol = checks.positive("tol", tol)
+        return self.finished & (np.linalg.norm(self.x_final - x_eq, axis=1) < tol)
 
     @property
     def all_finished(self) -> bool:
@@ -155,8 +188,19 @@ def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray 
     Returns
     -------
     ndarray, shape (N, n, n)
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``f`` is not callable or ``X`` is not a real array.
+    ArgumentError
+        If ``X`` is not a finite (N, n) array or ``method`` is unknown.
+    ModelError
+        If ``f`` returns the wrong shape, or drops the imaginary part of complex states (use ``"central"``).
     """
-    X = np.asarray(X, dtype=float)
+    checks.function("f", f)
+    X = checks.array("X", X, shape=(None, None), min_size=1)
+    checks.choice("method", method, ("complex", "central"))
     N, n = X.shape
     eye = np.eye(n)
     if method == "complex":
@@ -175,23 +219,39 @@ def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray 
         Z = np.concatenate([(X[None] + dX).reshape(n * N, n), (X[None] - dX).reshape(n * N, n)])
         D = _call(f, Z, n).reshape(2, n, N, n)
         cols = (D[0] - D[1]) / (2.0 * step.T[:, :, None])
-    else:
-        raise ModelError(f"jacobian method must be 'complex' or 'central', got {method!r}")
     return np.transpose(cols, (1, 2, 0))              # (N, i, j)
 
 
 def _check_tol(tol: Any, name: str, n: int) -> np.ndarray:
-    a = np.asarray(tol, dtype=float)
-    if a.ndim > 1 or (a.ndim == 1 and a.shape[0] != n) or not np.all(np.isfinite(a)) or np.any(a < 0):
-        raise ModelError(f"{name} must be a non-negative finite scalar or a length-{n} vector, got {tol!r}")
+    if isinstance(tol, np.ndarray | list | tuple):
+        a = checks.array(name, tol, shape=(n,))
+    else:
+        a = np.array(checks.real(name, tol))
+    if np.any(a < 0):
+        raise ArgumentError(f"{name} must be >= 0 (a scalar or a length-{n} vector), got {tol!r}")
     return np.broadcast_to(a, (n,)).copy()
+
+
+def _inverse(W: np.ndarray) -> np.ndarray:
+    """Inverses of a stack of matrices; a singular one gives NaN (its step is rejected and retried smaller)."""
+    try:
+        return np.linalg.inv(W)
+    except np.linalg.LinAlgError:
+        out = np.full_like(W, np.nan)
+        for i in range(W.shape[0]):
+            try:
+                out[i] = np.linalg.inv(W[i])
+            except np.linalg.LinAlgError:
+                pass
+        return out
 
 
 def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, t0: float = 0.0,
                     t_eval: Any = None, rtol: Any = 1e-6, atol: Any = 1e-9, h0: float | None = None,
                     h_max: float = np.inf, h_min_rel: float = 1e-12, max_steps: int = 100_000,
                     jacobian: str | Callable[[np.ndarray], Any] = "complex",
-                    diverged: Callable[[np.ndarray], Any] | None = None, bound: float = np.inf) -> BatchResult:
+                    diverged: Callable[[np.ndarray], Any] | None = None, bound: float = np.inf,
+                    time_limit: float | None = None, on_budget: str = "raise") -> BatchResult:
     """Integrate ``x' = f(x)`` from each row of ``X0`` over ``[t0, t_final]`` (vectorized, stiff-aware).
 
     Every run has its own adaptive step size (4th-order Rosenbrock method, embedded 3rd-order error estimate,
@@ -204,9 +264,10 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
         Autonomous, batch-capable right-hand side ``(M, n) -> (M, n)``; with ``jacobian="complex"`` it must also
         accept complex states (the glidectl models do).
     X0 : array_like, shape (N, n)
-        Initial states.
+        Initial states (one row may be given as shape ``(n,)``); a row with NaN or inf is flagged
+        :data:`DIVERGED` at ``t0``.
     t_final : float
-        Final time (``> t0``).
+        Final time (``> t0``, finite).
     t0 : float, optional
         Initial time (the system is autonomous; only the time axis shifts).
     t_eval : array_like, optional
@@ -221,7 +282,8 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
         A run whose step falls below ``h_min_rel * max(1, |t|, |t_final - t0|)`` stops with status
         :data:`STEP_UNDERFLOW`.
     max_steps : int, optional
-        Attempted steps per run (accepted + rejected) before status :data:`MAX_STEPS`.
+        Attempted steps per run (accepted + rejected) before status :data:`MAX_STEPS` (a per-run outcome, like
+        divergence: the call goes on with the other runs; at most ``max_steps`` iterations in all).
     jacobian : {"complex", "central"} or callable
         How the ``(N, n, n)`` Jacobians are formed: see :func:`batch_jacobian`, or a callable
         ``(M, n) -> (M, n, n)``.
@@ -231,6 +293,11 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
     bound : float, optional
         Runs with ``max |x_i| > bound`` are flagged :data:`DIVERGED` (default: no bound; non-finite states and
         derivatives are always flagged).
+    time_limit : float, optional
+        Wall-time budget of the whole call (s), checked every iteration; default none.
+    on_budget : {"raise", "stop"}
+        What hitting ``time_limit`` does: raise :class:`~glidectl.BudgetError` (default), or return with the runs
+        still going marked :data:`TIME_LIMIT` (at the time and state they reached) and ``stopped_by="time_limit"``.
 
     Returns
     -------
@@ -238,30 +305,48 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
 
     Raises
     ------
+    ArgumentTypeError
+        If ``f``, ``jacobian`` or ``diverged`` is not callable (or a known method name), or a number or array has
+        the wrong type.
+    ArgumentError
+        For a bad ``X0`` (shape, empty), time span, tolerances, step options, ``t_eval`` (unsorted or outside
+        ``(t0, t_final]``) or budget.
     ModelError
-        For a bad ``X0``, time span, tolerances, ``t_eval`` or a right-hand side with the wrong output shape.
+        For a right-hand side, Jacobian or ``diverged`` mask with the wrong output shape.
+    BudgetError
+        If ``time_limit`` is hit (unless ``on_budget="stop"``).
+    SolverError
+        If a run is left without a status (an internal consistency check).
     """
-    X0 = np.array(X0, dtype=float)
+    checks.function("f", f)
+    X0 = checks.array("X0", X0, min_size=1, finite=False)   # non-finite rows are flagged DIVERGED (documented)
     if X0.ndim == 1:
         X0 = X0[None, :]
     if X0.ndim != 2 or X0.shape[1] == 0:
-        raise ModelError(f"X0 must have shape (N, n) (one initial state per row), got {np.shape(X0)}")
+        raise ArgumentError(f"X0 must have shape (N, n) (one initial state per row), got {np.shape(X0)}")
+    X0 = X0.copy()
     N, n = X0.shape
-    if not (np.isfinite(t0) and np.isfinite(t_final) and t_final > t0):
-        raise ModelError(f"need finite t0 < t_final, got t0 = {t0!r}, t_final = {t_final!r}")
+    t0 = checks.real("t0", t0)
+    t_final = checks.real("t_final", t_final)
+    if not t_final > t0:
+        raise ArgumentError(f"need t0 < t_final, got t0 = {t0!r}, t_final = {t_final!r}")
     rt, at = _check_tol(rtol, "rtol", n), _check_tol(atol, "atol", n)
     if np.any(rt < 1e-12) or np.any(rt + at == 0):
-        raise ModelError(f"rtol must be >= 1e-12 (got {rtol!r}) and rtol + atol > 0 in every component")
-    if not (isinstance(max_steps, int | np.integer) and max_steps > 0):
-        raise ModelError(f"max_steps must be a positive integer, got {max_steps!r}")
-    if not (h_max > 0) or (h0 is not None and not (np.isfinite(h0) and h0 > 0)):
-        raise ModelError(f"h0 and h_max must be positive, got h0 = {h0!r}, h_max = {h_max!r}")
-    if not callable(jacobian) and jacobian not in ("complex", "central"):
-        raise ModelError(f"jacobian must be 'complex', 'central' or a callable, got {jacobian!r}")
-    te = np.empty(0) if t_eval is None else np.atleast_1d(np.asarray(t_eval, dtype=float))
-    if te.ndim != 1 or not np.all(np.isfinite(te)) or np.any(np.diff(te) <= 0) or (
-            te.size and (te[0] <= t0 or te[-1] > t_final)):
-        raise ModelError(f"t_eval must be strictly increasing and inside (t0, t_final] = ({t0:g}, {t_final:g}]")
+        raise ArgumentError(f"rtol must be >= 1e-12 (got {rtol!r}) and rtol + atol > 0 in every component")
+    max_steps = checks.integer("max_steps", max_steps, lo=1)
+    h_max = checks.positive("h_max", h_max, allow_inf=True)
+    h0 = None if h0 is None else checks.positive("h0", h0)
+    h_min_rel = checks.positive("h_min_rel", h_min_rel)
+    bound = checks.positive("bound", bound, allow_inf=True)
+    if not callable(jacobian):
+        checks.choice("jacobian", jacobian, ("complex", "central"))
+    if diverged is not None:
+        checks.function("diverged", diverged)
+    deadline = checks.Deadline(time_limit, f"integrate_batch ({N} runs)")
+    checks.choice("on_budget", on_budget, ("raise", "stop"))
+    te = np.empty(0) if t_eval is None else np.atleast_1d(checks.array("t_eval", t_eval))
+    if te.ndim != 1 or np.any(np.diff(te) <= 0) or (te.size and (te[0] <= t0 or te[-1] > t_final)):
+        raise ArgumentError(f"t_eval must be strictly increasing and inside (t0, t_final] = ({t0:g}, {t_final:g}]")
     targets = np.append(te, t_final) if (te.size == 0 or te[-1] < t_final) else te
 
     def jac(X: np.ndarray) -> np.ndarray:
@@ -277,7 +362,11 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
         if F is not None:
             bad |= ~np.all(np.isfinite(F), axis=1)
         if diverged is not None:
-            bad |= np.asarray(diverged(X), dtype=bool).reshape(X.shape[0])
+            mask = np.asarray(diverged(X))
+            if mask.size != X.shape[0]:
+                raise ModelError(f"diverged returned {mask.size} values for {X.shape[0]} states; it must return one "
+                                 "bool per row")
+            bad |= mask.astype(bool).reshape(X.shape[0])
         return bad
 
     span = t_final - t0
@@ -289,6 +378,7 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
     samples = np.full((N, te.size, n), np.nan)
     k_target = np.zeros(N, dtype=np.int64)
     nfev = nrows = 0
+    stopped_by = "t_final"
 
     with np.errstate(all="ignore"):
         F = _call(f, X, n)
@@ -317,7 +407,7 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
             nfev += 1
             nrows += 0 if callable(jacobian) else (n if jacobian == "complex" else 2 * n) * m
             W = np.eye(n)[None] / (_GAM * ha)[:, None, None] - J
-            Winv = np.linalg.inv(W)
+            Winv = _inverse(W)
             ih = (1.0 / ha)[:, None]
 
             def solve(R: np.ndarray, Winv: np.ndarray = Winv) -> np.ndarray:
@@ -368,8 +458,15 @@ def integrate_batch(f: Callable[[np.ndarray], Any], X0: Any, t_final: float, *, 
             status[still[h[still] < h_min]] = STEP_UNDERFLOW
             status[still[(n_steps[still] + n_rej[still] >= max_steps) & (status[still] < 0)]] = MAX_STEPS
             act = np.flatnonzero(status < 0)
+            if act.size and deadline.limit is not None and deadline.elapsed > deadline.limit:
+                if on_budget == "raise":
+                    deadline.check(f"{act.size} of {N} runs still going, the slowest at t = {np.min(t[act]):.6g}; "
+                                   "pass on_budget='stop' for the runs finished so far")
+                status[act] = TIME_LIMIT
+                stopped_by = "time_limit"
+                act = act[:0]
 
     if np.any(status < 0):  # pragma: no cover - the loop only exits when every run has a status
         raise SolverError("internal error: integrate_batch left runs without a status")
     return BatchResult(float(t_final), t, X, te, samples, status.astype(np.int64), n_steps, n_rej, nfev, nrows,
-                       "Rosenbrock4(3) Shampine, per-run adaptive", rtol, atol)
+                       "Rosenbrock4(3) Shampine, per-run adaptive", rtol, atol, stopped_by, deadline.elapsed)

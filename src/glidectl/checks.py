@@ -253,7 +253,7 @@ def choice(name: str, value: Any, options: Iterable[Any]) -> Any:
 
 
 def array(name: str, value: Any, *, shape: Sequence[int | None] | None = None, ndim: int | None = None,
-          finite: bool = True, min_size: int = 0) -> np.ndarray:
+          finite: bool = True, min_size: int = 0, allow_complex: bool = False) -> np.ndarray:
     """A real float array of the given shape (``None`` in ``shape`` matches any length).
 
     Parameters
@@ -270,11 +270,13 @@ def array(name: str, value: Any, *, shape: Sequence[int | None] | None = None, n
         Refuse NaN and infinities.
     min_size : int
         Smallest number of elements.
+    allow_complex : bool
+        Accept complex arrays (functions that are differentiated by complex steps must); they keep their dtype.
 
     Returns
     -------
     ndarray
-        ``np.asarray(value, dtype=float)`` (a copy when needed).
+        ``np.asarray(value, dtype=float)`` (a copy when needed), or the complex array when ``allow_complex``.
 
     Raises
     ------
@@ -285,12 +287,22 @@ def array(name: str, value: Any, *, shape: Sequence[int | None] | None = None, n
     """
     if value is None or isinstance(value, str | bytes):
         raise ArgumentTypeError(f"{name} must be an array of real numbers, got {type(value).__name__} {value!r}")
+    if allow_complex and np.iscomplexobj(value):
+        arr = np.asarray(value)
+        if arr.dtype.kind != "c":
+            raise ArgumentTypeError(f"{name} must hold numbers, got an array of dtype {arr.dtype}")
+        return _shape_checked(name, value, arr, shape, ndim, finite, min_size)
     if isinstance(value, np.ndarray) and value.dtype.kind in "cbOUS":
         raise ArgumentTypeError(f"{name} must hold real numbers, got an array of dtype {value.dtype}")
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError) as exc:
         raise ArgumentTypeError(f"{name} must be an array of real numbers: {exc}") from exc
+    return _shape_checked(name, value, arr, shape, ndim, finite, min_size)
+
+
+def _shape_checked(name: str, value: Any, arr: np.ndarray, shape: Sequence[int | None] | None, ndim: int | None,
+                   finite: bool, min_size: int) -> np.ndarray:
     if shape is not None:
         ok = arr.ndim == len(shape) and all(s is None or s == a for s, a in zip(shape, arr.shape, strict=False))
         if not ok:

@@ -10,14 +10,29 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import traceback
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NoReturn
 
 from .errors import GlidectlError
 from .params import list_presets, load_vehicle
 from .report.designs import check_writable, find_designs, load_design
 
 __all__ = ["main"]
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line usage errors (``glidectl: error: ...``, exit status 2)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"glidectl: error: {message} (see {self.prog} --help)\n")
+
+
+def _where(exc: BaseException) -> str:
+    """``file:line`` of the innermost frame of ``exc``'s traceback (where a design file failed)."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    return f" ({Path(frames[-1].filename).name}:{frames[-1].lineno})" if frames else ""
 
 
 def _progress(prefix: str, t0: float):
@@ -74,12 +89,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit status: 0 on success, 2 on any glidectl error (a one-line message on stderr).
+        Exit status: 0 on success, 2 on any error (a one-line message on stderr): a glidectl error, an exception
+        raised by a design file (with its file and line), or a usage error (argparse exits with status 2).
+
+    Raises
+    ------
+    SystemExit
+        With status 2 on a usage error (one line on stderr), or 0 after ``--help``.
     """
     import matplotlib
 
     matplotlib.use("Agg")  # the command builds files; it never opens windows
-    parser = argparse.ArgumentParser(prog="glidectl", description="Control design for gliding vehicles.")
+    parser = _Parser(prog="glidectl", description="Control design for gliding vehicles.")
     sub = parser.add_subparsers(dest="cmd", required=True)
     lp = sub.add_parser("list", help="list vehicle presets and designs")
     lp.add_argument("--designs", default="designs", help="folder of design files (default: ./designs)")
@@ -95,7 +116,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(args))
     except GlidectlError as exc:
-        print(f"glidectl: error: {exc}", file=sys.stderr)
+        print(f"glidectl: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    except Exception as exc:  # a design file's own failure: one line, where it happened, status 2
+        print(f"glidectl: error: {type(exc).__name__}: {' '.join(str(exc).split())}{_where(exc)}", file=sys.stderr)
         return 2
 
 

@@ -2,6 +2,12 @@
 
 All functions are written with numpy ufuncs only, broadcast over leading dimensions and accept complex input,
 so they serve simulation (batched real states) and exact complex-step linearization alike.
+
+Argument checks: the vehicle must be an underwater glider (:class:`~glidectl.ModelError` otherwise) and every
+array argument an array of numbers (:class:`~glidectl.ArgumentTypeError` for strings, ``None``, booleans or
+objects); vectors need the documented trailing dimension (:class:`~glidectl.ArgumentError`). These formulas are
+evaluated inside every right-hand side, so values are not checked for finiteness: NaN and infinities propagate
+elementwise to the outputs (the public entry points, such as :func:`glidectl.simulate`, refuse non-finite states).
 """
 
 from __future__ import annotations
@@ -10,9 +16,51 @@ from typing import Any
 
 import numpy as np
 
+from . import checks
+from .errors import ArgumentError, ArgumentTypeError
 from .params import Vehicle
 
 __all__ = ["angle_of_attack", "atan2_cs", "loads_3d", "loads_at", "longitudinal_loads"]
+
+
+def _numeric(name: str, value: Any) -> Any:
+    """``value`` as a number or an array of real or complex numbers (any shape); ArgumentTypeError otherwise."""
+    if isinstance(value, float | int | complex) and not isinstance(value, bool):
+        return value
+    if value is None or isinstance(value, str | bytes):
+        raise ArgumentTypeError(f"{name} must be a number or an array of numbers, got {type(value).__name__} "
+                                f"{value!r}")
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentTypeError(f"{name} must be a number or an array of numbers: {exc}") from exc
+    if a.dtype.kind not in "iufc":
+        raise ArgumentTypeError(f"{name} must hold numbers, got {type(value).__name__} of dtype {a.dtype}")
+    return a
+
+
+def _vector3(name: str, value: Any) -> np.ndarray:
+    a = np.asarray(_numeric(name, value))
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise ArgumentError(f"{name} must have a trailing dimension 3 (body components 1, 2, 3), got shape "
+                            f"{a.shape}")
+    return a
+
+
+def _broadcast(names: str, *arrays: Any) -> None:
+    shapes = [getattr(a, "shape", ()) for a in arrays]
+    if all(sh == shapes[0] or sh == () for sh in shapes):  # fast path
+        return
+    try:
+        np.broadcast_shapes(*shapes)
+    except ValueError as exc:
+        raise ArgumentError(f"{names} must broadcast together, got shapes {', '.join(map(str, shapes))}") from exc
+
+
+def _glider(veh: Any) -> Vehicle:
+    if isinstance(veh, Vehicle) and veh.kind == "underwater_glider":  # fast path: these run in every rhs call
+        return veh
+    return checks.vehicle("veh", veh, kind="underwater_glider")  # raises the right error
 
 
 def atan2_cs(y: Any, x: Any) -> Any:
@@ -21,9 +69,27 @@ def atan2_cs(y: Any, x: Any) -> Any:
     For real input this is :func:`numpy.arctan2`. For complex input the branch is chosen from the real parts and
     the analytic continuation ``2 arctan(y / (sqrt(x^2 + y^2) + x))`` (for ``Re x >= 0``) or
     ``arctan(y/x) +- pi`` (for ``Re x < 0``) is used, so the imaginary part carries the exact derivative.
+
+    Parameters
+    ----------
+    y, x : array_like
+        Numbers (real or complex), broadcast together.
+
+    Returns
+    -------
+    ndarray
+        The angle (rad) in ``(-pi, pi]`` (real part).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``y`` or ``x`` is not a number or an array of numbers.
+    ArgumentError
+        If their shapes do not broadcast.
     """
-    y = np.asarray(y)
-    x = np.asarray(x)
+    y = np.asarray(_numeric("y", y))
+    x = np.asarray(_numeric("x", x))
+    _broadcast("y and x", y, x)
     if not (np.iscomplexobj(x) or np.iscomplexobj(y)):
         return np.arctan2(y, x)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -34,8 +100,26 @@ def atan2_cs(y: Any, x: Any) -> Any:
 
 
 def angle_of_attack(v1: Any, v3: Any) -> Any:
-    """Angle of attack ``alpha = atan2(v3, v1)`` (rad), §2.2.4; body 3-axis points down."""
-    return atan2_cs(v3, v1)
+    """Angle of attack ``alpha = atan2(v3, v1)`` (rad), §2.2.4; body 3-axis points down.
+
+    Parameters
+    ----------
+    v1, v3 : array_like
+        Body-frame velocity components (m/s), real or complex.
+
+    Returns
+    -------
+    ndarray
+        ``alpha`` (rad).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``v1`` or ``v3`` is not a number or an array of numbers.
+    ArgumentError
+        If their shapes do not broadcast.
+    """
+    return atan2_cs(_numeric("v3", v3), _numeric("v1", v1))
 
 
 def longitudinal_loads(veh: Vehicle, v1: Any, v3: Any, Omega2: Any) -> tuple[Any, Any, Any, Any]:
@@ -56,7 +140,18 @@ def longitudinal_loads(veh: Vehicle, v1: Any, v3: Any, Omega2: Any) -> tuple[Any
     alpha : angle of attack (rad)
     L, D : lift and drag (N), ``L = (K_L0 + K_L alpha) V^2``, ``D = (K_D0 + K_D alpha^2) V^2``
     M_DL2 : pitching moment (N m), ``(K_M0 + K_M alpha + K_q Omega2) V^2``
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or an array argument is not a number or an array of numbers.
+    ArgumentError
+        If the shapes do not broadcast.
+    ModelError
+        If ``veh`` is not an underwater glider.
     """
+    _glider(veh)
+    v1, v3 = _numeric("v1", v1), _numeric("v3", v3)
     alpha = angle_of_attack(v1, v3)
     L, D, M = loads_at(veh, v1 * v1 + v3 * v3, alpha, Omega2)
     return alpha, L, D, M
@@ -68,7 +163,35 @@ def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, 
 
     ``L = (K_L0 + K_L alpha) V^2`` (2.11), ``D = (K_D0 + K_D alpha^2) V^2`` (2.9),
     ``M_DL2 = (K_M0 + K_M alpha + K_q Omega2) V^2`` (2.13); equivalently (5.24)-(5.25).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider (uses ``K_L0, K_L, K_D0, K_D, K_M0, K_M, K_q``).
+    V2 : array_like
+        Squared speed (m^2/s^2).
+    alpha : array_like
+        Angle of attack (rad).
+    Omega2 : array_like
+        Pitch rate (rad/s).
+
+    Returns
+    -------
+    L, D, M_DL2 : ndarray
+        Lift (N), drag (N) and pitching moment (N m), broadcast over the inputs.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or an array argument is not a number or an array of numbers.
+    ArgumentError
+        If the shapes do not broadcast.
+    ModelError
+        If ``veh`` is not an underwater glider.
     """
+    _glider(veh)
+    V2, alpha, Omega2 = _numeric("V2", V2), _numeric("alpha", alpha), _numeric("Omega2", Omega2)
+    _broadcast("V2, alpha and Omega2", V2, alpha, Omega2)
     p = veh.params
     L = (p["K_L0"] + p["K_L"] * alpha) * V2
     D = (p["K_D0"] + p["K_D"] * alpha * alpha) * V2
@@ -103,21 +226,34 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]
         ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
     T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, K_MY beta V^2)`` plus damping
         ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis.
-    alpha, beta, V : angle of attack ``atan2(v3, v1)``, sideslip ``asin(v2/V)`` (rad) and speed (m/s).
+    alpha, beta, V : angle of attack ``atan2(v3, v1)``, sideslip ``asin(v2/V)`` (rad) and speed (m/s); at rest
+        (``V = 0``) ``beta = 0`` (every term it enters carries ``V^2``).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``v`` or ``Omega`` is not an array of numbers.
+    ArgumentError
+        If ``v`` or ``Omega`` does not have a trailing dimension 3, or their shapes do not broadcast.
+    ModelError
+        If ``veh`` is not an underwater glider.
 
     Notes
     -----
     The quadratic chapter-8 damping is implemented as ``K_Omega2_i Omega_i |Omega_i|`` so that it opposes the
     rotation for either sign (the thesis writes ``Omega_i^2``; Table 8.1 sets these coefficients to 0).
     """
-    v = np.asarray(v)
-    Om = np.asarray(Omega)
+    _glider(veh)
+    v = _vector3("v", v)
+    Om = _vector3("Omega", Omega)
+    _broadcast("v and Omega", v, Om)
     p = veh.params
     v1, v2, v3 = v[..., 0], v[..., 1], v[..., 2]
     V2 = v1 * v1 + v2 * v2 + v3 * v3
     V = np.sqrt(V2)
     alpha = atan2_cs(v3, v1)
-    beta = np.arcsin(v2 / V)
+    at_rest = np.real(V2) == 0
+    beta = np.arcsin(v2 / np.where(at_rest, 1.0, V))  # v2 = 0 at rest, so beta = 0 there
     ca, sa, cb, sb = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta)
     L, D, M2 = loads_at(veh, V2, alpha, 0.0 * V2)
     SF = _opt(veh, "K_beta") * beta * V2

@@ -13,6 +13,13 @@ Two ways to give the body-frame mass matrix ``M = diag(m1, m2, m3)`` of §2.2.2 
 * ``added``: ``m`` (mass of displaced fluid) and added masses ``m_f1, m_f2, m_f3``; then, with
   ``m_s = m_h + m_b = m + m0 - mbar`` (docs/conventions.md, chapter 8 convention), ``M = m_s I + diag(m_f)``
   depends on the buoyancy ``m0``. This is the convention of Table 8.1 and of §6.3 (``m = m1 - m0 = m3 - m0``).
+
+Plausibility limits
+-------------------
+A vehicle file is read only if it is a regular file of at most :data:`MAX_FILE_BYTES` (1 MiB) of UTF-8 TOML. Every
+value (from the file or an override) must be a finite real number with ``|value| <=`` :data:`VALUE_MAX` (1e12, SI
+units); a parameter that must be positive (masses, inertias, ``g``, ``K_L``...) must also be ``>=``
+:data:`POSITIVE_MIN` (1e-12), so that no later division overflows.
 """
 
 from __future__ import annotations
@@ -20,6 +27,8 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import numbers
+import os
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -28,16 +37,38 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Literal
 
-from .errors import ModelError, VehicleFileError
+import numpy as np
 
-__all__ = ["PARAMETER_SPECS", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
+from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
+
+__all__ = ["MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "VALUE_MAX", "ParamSpec", "Vehicle", "list_presets",
+           "load_vehicle"]
+
+#: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
+MAX_FILE_BYTES = 1 << 20
+#: Plausibility limit on the magnitude of every parameter value (SI units).
+VALUE_MAX = 1e12
+#: Smallest value of a parameter that must be positive (masses, inertias, g, lift slopes...).
+POSITIVE_MIN = 1e-12
 
 Constraint = Literal["positive", "nonnegative", "any"]
 
 
 @dataclass(frozen=True)
 class ParamSpec:
-    """Specification of one vehicle parameter: unit, meaning, sign constraint and where it is used."""
+    """Specification of one vehicle parameter: unit, meaning, sign constraint and where it is used.
+
+    Attributes
+    ----------
+    unit : str
+        The unit the vehicle file must state (SI, angles in rad).
+    description : str
+        What the parameter is, with the thesis equation.
+    constraint : {"positive", "nonnegative", "any"}
+        Sign constraint checked on loading.
+    required : bool
+        Whether every vehicle of the kind must define it.
+    """
 
     unit: str
     description: str
@@ -124,7 +155,28 @@ class Vehicle:
 
     Parameters are reached as attributes (``veh.m1``, ``veh.K_M``) or through :attr:`params`. ``provenance`` is
     a SHA-256 of the canonical parameter set (file values plus overrides), carried by every result computed from
-    this vehicle.
+    this vehicle. Make one with :func:`load_vehicle` (or :meth:`with_overrides`); constructing it directly applies
+    the same validation as a vehicle file.
+
+    Parameters
+    ----------
+    name, kind, title, path, notes : str
+        As the attributes below.
+    params : Mapping[str, float]
+        Parameter values (SI units, angles in rad).
+    sources : Mapping[str, str]
+        Source of each value.
+    overrides : Mapping[str, float], optional
+        Values that replaced the file's.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a text field is not a ``str`` or ``params``, ``sources`` or ``overrides`` is not a mapping.
+    VehicleFileError
+        If ``kind`` is unknown, a parameter is unknown for the kind, not a finite real number, outside its sign
+        constraint or plausibility limits (:data:`VALUE_MAX`, :data:`POSITIVE_MIN`), a required parameter is
+        missing, or the mass model is inconsistent.
 
     Attributes
     ----------
@@ -148,6 +200,31 @@ class Vehicle:
     path: str
     overrides: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     notes: str = ""
+
+    def __post_init__(self) -> None:
+        for key in ("name", "kind", "title", "path", "notes"):
+            value = object.__getattribute__(self, key)
+            if not isinstance(value, str):
+                raise ArgumentTypeError(f"Vehicle {key} must be a str, got {type(value).__name__} {value!r}")
+        for key in ("params", "sources", "overrides"):
+            value = object.__getattribute__(self, key)
+            if not isinstance(value, Mapping):
+                raise ArgumentTypeError(f"Vehicle {key} must be a mapping, got {type(value).__name__}")
+        if self.kind not in PARAMETER_SPECS:
+            raise VehicleFileError(f"{self.path or self.name}: unknown vehicle kind '{self.kind}'; expected one of "
+                                   f"{sorted(PARAMETER_SPECS)}")
+        spec = PARAMETER_SPECS[self.kind]
+        where = self.path or f"vehicle '{self.name}'"
+        values: dict[str, float] = {}
+        for key, value in self.params.items():
+            if not isinstance(key, str) or key not in spec:
+                raise VehicleFileError(
+                    f"{where}: unknown parameter {key!r} for a {self.kind} vehicle; known: {', '.join(spec)}")
+            values[key] = _check_value(key, value, spec[key], where)
+        _check_consistency(self.kind, values, where)
+        object.__setattr__(self, "params", MappingProxyType(values))
+        object.__setattr__(self, "sources", MappingProxyType({str(k): str(v) for k, v in self.sources.items()}))
+        object.__setattr__(self, "overrides", MappingProxyType(dict(self.overrides)))
 
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
         # mappingproxy fields do not pickle; rebuild from plain dicts (used by pickle, copy and multiprocessing)
@@ -181,7 +258,25 @@ class Vehicle:
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
     def has(self, *keys: str) -> bool:
-        """True when every key in ``keys`` is defined."""
+        """True when every key in ``keys`` is defined.
+
+        Parameters
+        ----------
+        *keys : str
+            Parameter names.
+
+        Returns
+        -------
+        bool
+
+        Raises
+        ------
+        ArgumentTypeError
+            If a key is not a string.
+        """
+        for k in keys:
+            if not isinstance(k, str):
+                raise ArgumentTypeError(f"parameter names must be strings, got {type(k).__name__} {k!r}")
         return all(k in self.params for k in keys)
 
     @property
@@ -198,8 +293,36 @@ class Vehicle:
             Body axis 1, 2 or 3.
         m0 : float or array, optional
             Net buoyancy (kg); needed only for the ``added`` mass model, where
-            ``m_i = m + m0 - mbar + m_fi`` (§2.2.2 with the chapter 8 convention of docs/conventions.md).
+            ``m_i = m + m0 - mbar + m_fi`` (§2.2.2 with the chapter 8 convention of docs/conventions.md). Arrays
+            (also complex, for complex-step derivatives) are used elementwise; default the file's ``m0``.
+
+        Returns
+        -------
+        float or ndarray
+            ``m_i`` (kg), shaped like ``m0``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``axis`` is not an integer or ``m0`` is not a number or an array of numbers.
+        ArgumentError
+            If ``axis`` is not 1, 2 or 3.
+        ModelError
+            If the vehicle is not an underwater glider (a CTOL aircraft has the single mass ``m``), or does not
+            define the mass needed (``m2`` for 3D work, ``m0`` for the default).
         """
+        if self.kind != "underwater_glider":
+            raise ModelError(f"vehicle '{self.name}' is a {self.kind}: body-axis masses m_i belong to underwater "
+                             "gliders; use its mass m")
+        if isinstance(axis, bool | np.bool_) or not isinstance(axis, numbers.Integral):
+            raise ArgumentTypeError(f"axis must be the integer 1, 2 or 3, got {type(axis).__name__} {axis!r}")
+        if axis not in (1, 2, 3):
+            raise ArgumentError(f"axis must be 1, 2 or 3 (body axes), got {axis!r}")
+        axis = int(axis)
+        if m0 is not None and not (isinstance(m0, numbers.Real) and not isinstance(m0, bool)):
+            if isinstance(m0, bool | np.bool_ | str | bytes) or np.asarray(m0).dtype.kind not in "iufc":
+                raise ArgumentTypeError(f"m0 must be a number (kg) or an array of numbers, got "
+                                        f"{type(m0).__name__} {m0!r}")
         p = self.params
         if self.mass_model == "fixed":
             key = f"m{axis}"
@@ -211,12 +334,35 @@ class Vehicle:
         return p["m"] + m0 - p["mbar"] + p.get(f"m_f{axis}", 0.0)
 
     def with_overrides(self, **overrides: float) -> Vehicle:
-        """Return a new validated vehicle with some parameters replaced (same rules as the file)."""
+        """Return a new validated vehicle with some parameters replaced (same rules as the file).
+
+        Parameters
+        ----------
+        **overrides : float
+            Parameter values (SI units), e.g. ``K_M=-100.0``.
+
+        Returns
+        -------
+        Vehicle
+            A new vehicle; ``self`` is unchanged.
+
+        Raises
+        ------
+        VehicleFileError
+            An unknown parameter, a value that is not a finite real number or breaks a sign constraint or a
+            plausibility limit, or an inconsistent mass model.
+        """
         return _build_vehicle(self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                               self.path, {**self.overrides, **overrides}, self.notes, overrides)
 
     def summary_rows(self) -> list[tuple[str, str, str, str]]:
-        """(key, value, unit, source) rows for reports."""
+        """(key, value, unit, source) rows for reports.
+
+        Returns
+        -------
+        list of tuple of str
+            One ``(key, value, unit, source)`` row per parameter.
+        """
         spec = PARAMETER_SPECS[self.kind]
         return [(k, f"{v:.6g}", spec[k].unit, self.sources.get(k, "")) for k, v in self.params.items()]
 
@@ -241,9 +387,19 @@ def list_presets() -> list[str]:
     return sorted(p.name[:-5] for p in _presets_dir().iterdir() if p.name.endswith(".toml"))
 
 
+def _is_real(value: Any) -> bool:
+    """A Python or numpy real scalar (0-d real arrays included), never a bool."""
+    if isinstance(value, bool | np.bool_):
+        return False
+    if isinstance(value, np.ndarray):
+        return value.ndim == 0 and value.dtype.kind in "iuf"
+    return isinstance(value, numbers.Real)
+
+
 def _check_value(key: str, value: Any, spec: ParamSpec, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise VehicleFileError(f"{where}: parameter '{key}' must be a number, got {value!r}")
+    if not _is_real(value):
+        raise VehicleFileError(f"{where}: parameter '{key}' must be a real number, got "
+                               f"{type(value).__name__} {value!r}")
     v = float(value)
     if not math.isfinite(v):
         raise VehicleFileError(f"{where}: parameter '{key}' must be finite, got {value!r}")
@@ -251,26 +407,18 @@ def _check_value(key: str, value: Any, spec: ParamSpec, where: str) -> float:
         raise VehicleFileError(f"{where}: parameter '{key}' ({spec.description}) must be > 0, got {v:g}")
     if spec.constraint == "nonnegative" and not v >= 0:
         raise VehicleFileError(f"{where}: parameter '{key}' ({spec.description}) must be >= 0, got {v:g}")
+    if abs(v) > VALUE_MAX:
+        raise VehicleFileError(f"{where}: parameter '{key}' = {v:g} {spec.unit} is beyond the plausibility limit "
+                               f"|value| <= {VALUE_MAX:g} (SI units); check the unit")
+    if spec.constraint == "positive" and v < POSITIVE_MIN:
+        raise VehicleFileError(f"{where}: parameter '{key}' = {v:g} {spec.unit} is below the plausibility limit "
+                               f"{POSITIVE_MIN:g} for a positive parameter; check the unit")
     return v
 
 
-def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
-                        path: str, overrides: dict[str, float], notes: str) -> Vehicle:
-    return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
-                   sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
-                   notes=notes)
-
-
-def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],
-                   path: str, all_overrides: dict[str, float], notes: str,
-                   new_overrides: Mapping[str, float]) -> Vehicle:
+def _check_consistency(kind: str, values: Mapping[str, float], path: str) -> None:
+    """Required keys and the mass model (the checks that need the whole parameter set)."""
     spec = PARAMETER_SPECS[kind]
-    for key, val in new_overrides.items():
-        if key not in spec:
-            raise VehicleFileError(
-                f"override '{key}' is not a parameter of a {kind} vehicle ({path}); known: {', '.join(spec)}")
-        values[key] = _check_value(key, val, spec[key], f"override for {path}")
-        sources[key] = "override"
     missing = [k for k, s in spec.items() if s.required and k not in values]
     if missing:
         raise VehicleFileError(f"{path}: missing required parameter(s) {', '.join(missing)} for a {kind} vehicle")
@@ -293,6 +441,27 @@ def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], s
             if m_b < 0:
                 raise VehicleFileError(
                     f"{path}: buoyancy mass m_b = m0 + m - m_h - mbar = {m_b:g} kg is negative")
+
+
+def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
+                        path: str, overrides: dict[str, float], notes: str) -> Vehicle:
+    return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
+                   sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
+                   notes=notes)
+
+
+def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],
+                   path: str, all_overrides: dict[str, float], notes: str,
+                   new_overrides: Mapping[str, float]) -> Vehicle:
+    spec = PARAMETER_SPECS[kind]
+    for key, val in new_overrides.items():
+        if key not in spec:
+            raise VehicleFileError(
+                f"override '{key}' is not a parameter of a {kind} vehicle ({path}); known: {', '.join(spec)}")
+        values[key] = _check_value(key, val, spec[key], f"override for {path}")
+        sources[key] = "override"
+    all_overrides = {k: (values[k] if k in new_overrides else v) for k, v in all_overrides.items()}
+    _check_consistency(kind, values, path)
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(dict(values)),
                    sources=MappingProxyType(dict(sources)), path=path,
                    overrides=MappingProxyType(dict(all_overrides)), notes=notes)
@@ -303,6 +472,8 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise VehicleFileError(f"{where}: not valid TOML: {exc}") from None
+    except RecursionError:
+        raise VehicleFileError(f"{where}: not a usable TOML file (nested too deeply)") from None
     unknown_top = set(doc) - {"vehicle", "parameters"}
     if unknown_top:
         raise VehicleFileError(f"{where}: unknown top-level table(s) {sorted(unknown_top)}; "
@@ -316,6 +487,9 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
     for k in ("name", "kind"):
         if not isinstance(head.get(k), str):
             raise VehicleFileError(f"{where}: [vehicle] needs a string '{k}'")
+    for k in ("title", "source", "notes"):
+        if k in head and not isinstance(head[k], str):
+            raise VehicleFileError(f"{where}: [vehicle] '{k}' must be a string, got {head[k]!r}")
     kind = head["kind"]
     if kind not in PARAMETER_SPECS:
         raise VehicleFileError(f"{where}: unknown vehicle kind '{kind}'; expected one of {sorted(PARAMETER_SPECS)}")
@@ -334,7 +508,10 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
             raise VehicleFileError(
                 f"{where}: parameter '{key}' must be an inline table {{ value = ..., unit = \"...\", "
                 f"source = \"...\" }} (optional 'note'), got {entry!r}")
-        unit = str(entry["unit"])
+        if not all(isinstance(entry[k], str) for k in ("unit", "source", "note") if k in entry):
+            raise VehicleFileError(f"{where}: parameter '{key}': 'unit', 'source' and 'note' must be strings, got "
+                                   f"{entry!r}")
+        unit = entry["unit"]
         if _norm_unit(unit) != _norm_unit(spec[key].unit):
             raise VehicleFileError(
                 f"{where}: parameter '{key}' has unit '{unit}', glidectl expects '{spec[key].unit}' "
@@ -344,6 +521,37 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
         values[key] = _check_value(key, entry["value"], spec[key], where)
         sources[key] = str(entry["source"])
     return head["name"], kind, str(head.get("title", head["name"])), str(head.get("notes", "")), values, sources
+
+
+def _read_file(s: str) -> tuple[str, str]:
+    """Text of the vehicle file ``s`` (a regular UTF-8 file of at most MAX_FILE_BYTES) and its name."""
+    p = Path(s)
+    problem = ""
+    try:
+        exists = p.exists()
+        regular = exists and p.is_file()
+    except (OSError, ValueError) as exc:  # ValueError: an embedded NUL byte in the path
+        raise VehicleFileError(f"cannot read vehicle file {s!r}: {getattr(exc, 'strerror', None) or exc}") from None
+    if not s or (not p.suffix and not exists):
+        problem = f"no preset or file named '{s}'; presets: {', '.join(list_presets())}"
+    elif exists and not regular:
+        problem = f"vehicle file '{p}' is not a regular file"
+    if problem:
+        raise VehicleFileError(problem)
+    try:
+        with p.open("rb") as fh:
+            data = fh.read(MAX_FILE_BYTES + 1)
+    except (OSError, ValueError) as exc:  # ValueError: an embedded NUL byte in the path
+        raise VehicleFileError(f"cannot read vehicle file {s!r}: {getattr(exc, 'strerror', None) or exc}") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise VehicleFileError(f"vehicle file '{p}' is larger than {MAX_FILE_BYTES} bytes; vehicle files are "
+                               "small TOML files")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise VehicleFileError(f"vehicle file '{p}' is not UTF-8 text (byte {exc.start}: {exc.reason}); save "
+                               "it as UTF-8 TOML") from None
+    return text, str(p)
 
 
 def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
@@ -362,21 +570,25 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
 
     Raises
     ------
+    ArgumentTypeError
+        ``name_or_path`` is not a ``str`` or a path.
     VehicleFileError
-        Unknown preset, unreadable file, unknown/missing keys, wrong units, non-finite or out-of-range values.
+        Unknown preset, a file that cannot be read, is not a regular file, is larger than :data:`MAX_FILE_BYTES`
+        or is not UTF-8; invalid TOML; unknown/missing keys, wrong units, values that are not finite real numbers,
+        out of their sign constraint or plausibility limits (:data:`VALUE_MAX`, :data:`POSITIVE_MIN`); the same for
+        the overrides.
     """
-    s = str(name_or_path)
+    if not isinstance(name_or_path, str | os.PathLike):
+        raise ArgumentTypeError(f"name_or_path must be a preset name (str) or a path, got "
+                                f"{type(name_or_path).__name__} {name_or_path!r}; presets: "
+                                f"{', '.join(list_presets())}")
+    s = os.fspath(name_or_path)
+    if not isinstance(s, str):  # a bytes path
+        raise ArgumentTypeError(f"name_or_path must be a str or a str path, got {type(s).__name__} {s!r}")
     if s in list_presets():
         res = _presets_dir() / f"{s}.toml"
         text, where = res.read_text(encoding="utf-8"), f"preset '{s}'"
     else:
-        p = Path(s)
-        if not p.suffix and not p.exists():
-            raise VehicleFileError(f"no preset or file named '{s}'; presets: {', '.join(list_presets())}")
-        try:
-            text = p.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise VehicleFileError(f"cannot read vehicle file '{p}': {exc.strerror}") from None
-        where = str(p)
+        text, where = _read_file(s)
     name, kind, title, notes, values, sources = _parse(text, where)
     return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides)

@@ -8,7 +8,6 @@ linearization is the complex-step Jacobian of that one right-hand side.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -18,8 +17,60 @@ import numpy as np
 from scipy import sparse
 from scipy.integrate import solve_ivp
 
-from ..errors import ModelError, SolverError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .jacobian import jacobians
+
+#: integrators of :func:`scipy.integrate.solve_ivp` accepted by :func:`compare_controllers`
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+#: largest stacked ODE (runs x (states + inputs)) and largest output array (that times ``n_out``) of one comparison
+MAX_STACKED_STATES = 1_000_000
+MAX_OUTPUT_VALUES = 50_000_000
+EQUILIBRIUM_RTOL = 1e-8  # |rhs(x_e, u_e)| relative to the size of the linear terms |A| |x_e| + |B| |u_e|
+
+
+def _check_model(model: Any) -> tuple[int, int]:
+    """``(n, m)`` of a glidectl model (``rhs``, ``state_names``, ``input_names``); ArgumentTypeError otherwise."""
+    try:
+        names, inputs = tuple(model.state_names), tuple(model.input_names)
+    except (AttributeError, TypeError):
+        names = inputs = None
+    if names is None or not callable(getattr(model, "rhs", None)) or not all(
+            isinstance(q, str) for q in (*names, *inputs)):
+        raise ArgumentTypeError(f"model must be a glidectl model with rhs(x, u), state_names and input_names, got "
+                                f"{type(model).__name__}")
+    if not names:
+        raise ArgumentError(f"model {type(model).__name__} has no states")
+    return len(names), len(inputs)
+
+
+def _weight(name: str, value: Any, k: int, *, definite: bool) -> np.ndarray:
+    """An LQR weight: ``None`` (identity), a 1-D diagonal of length k or a symmetric (k, k) matrix, positive
+    semidefinite (``definite=False``) or definite."""
+    if value is None:
+        return np.eye(k)
+    W = checks.array(name, value)
+    if W.ndim == 1 and W.shape == (k,):
+        W = np.diag(W)
+    if W.shape != (k, k):
+        raise ArgumentError(f"{name} must be a diagonal of length {k} or a ({k}, {k}) matrix, got shape {W.shape}")
+    if not np.allclose(W, W.T, rtol=1e-12, atol=0.0):
+        raise ArgumentError(f"{name} must be symmetric")
+    lam = np.linalg.eigvalsh(0.5 * (W + W.T))
+    floor = 1e-12 * max(float(np.max(np.abs(lam))), np.finfo(float).tiny)
+    if (definite and not lam[0] > 0) or lam[0] < -floor:
+        raise ArgumentError(f"{name} must be positive {'definite' if definite else 'semidefinite'}, its smallest "
+                            f"eigenvalue is {lam[0]:.3g}")
+    return W
+
+
+def _bound(name: str, value: Any, m: int, fill: float) -> np.ndarray:
+    if value is None:
+        return np.full(m, fill)
+    b = checks.array(name, value, shape=(m,), finite=False)
+    if np.any(np.isnan(b)):
+        raise ArgumentError(f"{name} must not contain NaN (use -inf/inf for no bound), got {value!r}")
+    return b
 
 __all__ = ["BatchComparison", "ControllerRecord", "StateFeedback", "compare_controllers", "lqr_state_feedback"]
 
@@ -54,7 +105,28 @@ class StateFeedback:
     name: str = "LQR"
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
+        """The saturated law at state(s) ``x`` (shape ``(n,)`` or a batch ``(N, n)``); ``t`` is unused.
+
+        Parameters
+        ----------
+        t : float
+            Time (s), unused (the law is time-invariant).
+        x : array_like, shape (n,) or (N, n)
+            State(s) in model units.
+
+        Returns
+        -------
+        ndarray, shape (m,) or (N, m)
+            ``sat(u_e - K (x - x_e))`` in input units.
+
+        Raises
+        ------
+        ArgumentError
+            If the last dimension of ``x`` is not ``n``.
+        """
         x = np.asarray(x)
+        if x.ndim == 0 or x.shape[-1] != self.x_e.size:
+            raise ArgumentError(f"x must have {self.x_e.size} states in its last dimension, got shape {x.shape}")
         u = self.u_e - (x - self.x_e) @ self.K.T
         return np.clip(u, self.u_min, self.u_max)
 
@@ -67,13 +139,16 @@ def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any 
     Parameters
     ----------
     model
-        A glidectl model with inputs.
+        A glidectl model with inputs (``rhs(x, u)`` complex-safe, ``state_names``, ``input_names``).
     x_e, u_e : array_like
-        Equilibrium; ``model.rhs(x_e, u_e)`` must vanish (checked, relative 1e-8).
+        Equilibrium, finite, shapes ``(n,)`` and ``(m,)``; ``model.rhs(x_e, u_e)`` must vanish relative to the size
+        of the linear terms ``|A| |x_e| + |B| |u_e|`` (relative tolerance 1e-8).
     Q, R : array_like, optional
-        Weights (default identity); a 1-D array is a diagonal.
+        Weights (default identity); a 1-D array is a diagonal. ``Q`` symmetric positive semidefinite, ``R``
+        symmetric positive definite.
     u_min, u_max : sequence of float, optional
-        Input saturation applied by the controller.
+        Input saturation applied by the controller (``-inf``/``inf`` for none); ``u_min < u_max`` and ``u_e``
+        within the bounds.
     name : str
         Label of the controller (for comparisons and reports).
 
@@ -85,31 +160,48 @@ def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any 
 
     Raises
     ------
+    ArgumentTypeError
+        If ``model`` is not a glidectl model, an array is not real numbers or ``name`` is not a string.
+    ArgumentError
+        Bad shapes, non-finite values, weights that are not symmetric positive (semi)definite, bounds with
+        ``u_min >= u_max`` or not containing ``u_e``, a model without inputs.
     ModelError
-        Not an equilibrium, bad shapes.
+        ``(x_e, u_e)`` is not an equilibrium of the model, or the linearization there is not finite (or the model
+        is not complex-safe).
     SolverError
         The LQR problem has no stabilizing solution (python-control's message is included).
     """
-    x_e, u_e = np.asarray(x_e, dtype=float), np.asarray(u_e, dtype=float)
-    n, m = len(model.state_names), len(model.input_names)
-    if x_e.shape != (n,) or u_e.shape != (m,) or m == 0:
-        raise ModelError(f"need x_e of shape ({n},) and u_e of shape ({m},) with m > 0, got {x_e.shape}, {u_e.shape}")
-    f0 = np.asarray(model.rhs(x_e, u_e), dtype=float)
-    if np.max(np.abs(f0)) > 1e-8 * (1 + np.max(np.abs(x_e))):
-        raise ModelError(f"(x_e, u_e) is not an equilibrium of {type(model).__name__}: "
-                         f"|rhs| = {np.max(np.abs(f0)):.3g}")
+    n, m = _check_model(model)
+    if m == 0:
+        raise ArgumentError(f"{type(model).__name__} has no inputs: there is nothing to feed back")
+    x_e = checks.array("x_e", x_e, shape=(n,))
+    u_e = checks.array("u_e", u_e, shape=(m,))
+    if not isinstance(name, str):
+        raise ArgumentTypeError(f"name must be a string, got {type(name).__name__}")
+    Qm = _weight("Q", Q, n, definite=False)
+    Rm = _weight("R", R, m, definite=True)
+    lo = _bound("u_min", u_min, m, -np.inf)
+    hi = _bound("u_max", u_max, m, np.inf)
+    if np.any(lo >= hi) or np.any(u_e < lo) or np.any(u_e > hi):
+        raise ArgumentError(f"need u_min < u_max with u_e inside: u_min = {lo}, u_max = {hi}, u_e = {u_e}")
     A, B = jacobians(model.rhs, x_e, u_e)
-    Qm = np.eye(n) if Q is None else np.asarray(Q, dtype=float)
-    Rm = np.eye(m) if R is None else np.asarray(R, dtype=float)
-    Qm = np.diag(Qm) if Qm.ndim == 1 else Qm
-    Rm = np.diag(Rm) if Rm.ndim == 1 else Rm
+    with np.errstate(all="ignore"):
+        f0 = np.asarray(model.rhs(x_e, u_e), dtype=float)
+    if f0.shape != (n,):
+        raise ArgumentError(f"model.rhs(x_e, u_e) must return shape ({n},), got {f0.shape}")
+    terms = float(np.max(np.abs(A) @ np.abs(x_e) + np.abs(B) @ np.abs(u_e)))
+    res = float(np.max(np.abs(f0)))
+    if not res <= EQUILIBRIUM_RTOL * terms:
+        raise ModelError(f"(x_e, u_e) is not an equilibrium of {type(model).__name__}: |rhs| = {res:.3g}, relative "
+                         f"to the linear terms {terms:.3g} (tolerance {EQUILIBRIUM_RTOL:g})")
     try:
         K, _, poles = control.lqr(A, B, Qm, Rm)
     except Exception as exc:  # python-control raises several types
         raise SolverError(f"LQR failed for {type(model).__name__} at the equilibrium: {exc}") from exc
-    lo = np.full(m, -np.inf) if u_min is None else np.asarray(u_min, dtype=float)
-    hi = np.full(m, np.inf) if u_max is None else np.asarray(u_max, dtype=float)
-    return StateFeedback(x_e, u_e, np.asarray(K), lo, hi, np.asarray(poles), Qm, Rm, name)
+    K = np.asarray(K, dtype=float)
+    if not np.all(np.isfinite(K)):
+        raise SolverError(f"LQR returned a non-finite gain for {type(model).__name__}")
+    return StateFeedback(x_e, u_e, K, lo, hi, np.asarray(poles), Qm, Rm, name)
 
 
 @dataclass(frozen=True)
@@ -127,6 +219,9 @@ class ControllerRecord:
         ``int_0^T |u_j - u_e,j| dt`` per run (exact quadrature state).
     settling_time : ndarray (N,)
         First output time after which the scaled error stays below ``settle`` (s); ``inf`` if never.
+    evaluations : int
+        Right-hand-side evaluations the batch integration used (capped by ``max_evaluations`` of
+        :func:`compare_controllers`).
     """
 
     name: str
@@ -134,6 +229,7 @@ class ControllerRecord:
     peak_u: np.ndarray = field(repr=False)
     integrated_u: np.ndarray = field(repr=False)
     settling_time: np.ndarray = field(repr=False)
+    evaluations: int = 0
 
     @property
     def fraction(self) -> float:
@@ -142,8 +238,34 @@ class ControllerRecord:
 
     def as_dict(self, common: np.ndarray | None = None) -> dict[str, Any]:
         """Medians over the converged runs (or over ``common``, a mask of runs all controllers converged from), as a
-        plain dict for tables and JSON."""
-        sel = self.converged if common is None else common
+        plain dict for tables and JSON.
+
+        Parameters
+        ----------
+        common : ndarray of bool, shape (N,), optional
+            The runs to summarize (e.g. :attr:`BatchComparison.common`); default the converged ones.
+
+        Returns
+        -------
+        dict
+            ``name``, ``fraction``, ``n`` and, when ``n > 0``, medians and maxima of the metrics.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``common`` is not an array of booleans.
+        ArgumentError
+            If ``common`` does not have one entry per run.
+        """
+        if common is None:
+            sel = self.converged
+        else:
+            sel = np.asarray(common)
+            if sel.dtype != bool:
+                raise ArgumentTypeError(f"common must be a boolean mask of the runs, got dtype {sel.dtype}")
+            if sel.shape != self.converged.shape:
+                raise ArgumentError(f"common must have shape {self.converged.shape} (one flag per run), got "
+                                    f"{sel.shape}")
         if not np.any(sel):
             return {"name": self.name, "fraction": self.fraction, "n": 0}
         return {"name": self.name, "fraction": self.fraction, "n": int(np.sum(sel)),
@@ -153,7 +275,24 @@ class ControllerRecord:
                 "median_settling_time": float(np.median(self.settling_time[sel]))}
 
     def summary(self, common: np.ndarray | None = None) -> str:
-        """One line of text: the converged fraction and the medians of :meth:`as_dict`."""
+        """One line of text: the converged fraction and the medians of :meth:`as_dict`.
+
+        Parameters
+        ----------
+        common : ndarray of bool, shape (N,), optional
+            As in :meth:`as_dict`.
+
+        Returns
+        -------
+        str
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``common`` is not an array of booleans.
+        ArgumentError
+            If ``common`` does not have one entry per run.
+        """
         d = self.as_dict(common)
         text = f"{self.name}: {100 * d['fraction']:.1f}% of the runs converge"
         if d["n"]:
@@ -223,10 +362,25 @@ class BatchComparison:
             return plot_batch_comparison(self, ax, dims=dims)
 
 
+def _inputs(name: str, raw: Any, N: int, m: int) -> np.ndarray:
+    """A controller's batch output as an (N, m) float array; ArgumentError/ArgumentTypeError naming it otherwise."""
+    try:
+        if raw is None or isinstance(raw, str | bytes) or np.iscomplexobj(raw):
+            raise TypeError(type(raw).__name__)
+        U = np.asarray(raw, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentTypeError(f"controller '{name}' must return real inputs, got {type(raw).__name__}") from exc
+    if U.size != N * m:
+        raise ArgumentError(f"controller '{name}' must return {m} input(s) per state of the batch (shape ({N}, {m})), "
+                            f"got shape {U.shape}")
+    return U.reshape(N, m)
+
+
 def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, Any], Any]], x0: Any, x_e: Any,
                         u_e: Any, t_final: float, *, scale: Any = None, tol: float = 0.02, settle: float = 0.05,
                         n_out: int = 401, method: str = "BDF", rtol: float = 1e-6, atol: float = 1e-9,
-                        diverged: Callable[[np.ndarray], np.ndarray] | None = None) -> BatchComparison:
+                        diverged: Callable[[np.ndarray], np.ndarray] | None = None,
+                        max_evaluations: int = 2_000_000, time_limit: float | None = None) -> BatchComparison:
     """Simulate every controller from every initial state (one stacked, vectorized ODE per controller).
 
     Parameters
@@ -234,70 +388,130 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
     model
         glidectl model with inputs; ``rhs`` batch-capable.
     controllers : mapping name -> controller
-        Time-invariant feedback ``controller(t, X)`` accepting a batch ``X`` of shape (N, n).
+        Time-invariant feedback ``controller(t, X)`` accepting a batch ``X`` of shape (N, n) and returning shape
+        (N, m); at least one.
     x0 : array_like (N, n)
-        Initial states.
+        Initial states, finite, ``N >= 1``.
     x_e, u_e : array_like
-        The equilibrium all controllers regulate to (metrics are deviations from it).
+        The equilibrium all controllers regulate to (metrics are deviations from it), shapes ``(n,)``, ``(m,)``.
     t_final : float
-        Horizon (s).
+        Horizon (s), ``> 0``.
     scale : array_like (n,), optional
-        Per-state scale of the error norm (default ones).
+        Per-state scale of the error norm (default ones), finite and ``> 0``.
     tol, settle : float
-        Convergence (at ``t_final``) and settling thresholds on ``max_i |x_i - x_e,i| / scale_i``.
+        Convergence (at ``t_final``) and settling thresholds on ``max_i |x_i - x_e,i| / scale_i``, ``> 0``.
     n_out : int
-        Number of evenly spaced output times on which peaks and settling are evaluated.
+        Number of evenly spaced output times on which peaks and settling are evaluated, in ``[2, 100000]``.
     method : str
-        Integrator of :func:`scipy.integrate.solve_ivp`; default ``"BDF"`` (with the block-diagonal Jacobian
-        sparsity of the independent runs for ``"BDF"`` and ``"Radau"``).
+        Integrator of :func:`scipy.integrate.solve_ivp` (:data:`METHODS`); default ``"BDF"`` (with the
+        block-diagonal Jacobian sparsity of the independent runs for ``"BDF"`` and ``"Radau"``).
     rtol, atol : float
-        Integrator tolerances (relative, nondimensional; absolute, in state and integrated-input units).
+        Integrator tolerances (relative, nondimensional; absolute, in state and integrated-input units), ``> 0``.
     diverged : callable, optional
         ``X (N, n) -> bool (N,)``: runs that leave the model's domain (e.g. speed near zero) are frozen there and
         count as not converged.
+    max_evaluations : int
+        Budget of right-hand-side evaluations per controller (each evaluates the whole batch), ``>= 1``. The
+        default is about 8 times what the stiffest comparison of the chapter-6 design needs (elevator control,
+        300 runs over 150 s: 2.6e5 with BDF).
+    time_limit : float, optional
+        Wall-time budget (s) of the whole comparison; default none.
 
     Returns
     -------
     BatchComparison
         One :class:`ControllerRecord` per controller (convergence mask, peak and integrated input deviation in
-        input units and input units x s, settling times in s), with the settings used.
+        input units and input units x s, settling times in s, evaluations used), with the settings used.
 
     Raises
     ------
-    ModelError
-        If ``t_final`` is not a positive finite number.
+    ArgumentTypeError
+        If ``model`` is not a glidectl model, ``controllers`` is not a mapping of names to callables, an array or
+        number has the wrong type, ``diverged`` is not callable, or a controller returns something that is not real
+        numbers.
+    ArgumentError
+        Bad shapes, non-finite or non-positive values, an unknown ``method``, no controllers, or a controller (or
+        ``diverged``) returning the wrong number of values.
     SolverError
-        If the batch integration of a controller fails.
-    ValueError
-        If ``x0`` is not two-dimensional, or the controller's output cannot be reshaped to ``(N, m)``.
+        If the batch integration of a controller fails, or a run that is not frozen by ``diverged`` gets a
+        non-finite derivative or input (it left the model's or the controller's domain: pass ``diverged`` to
+        freeze such runs). Non-finite derivatives are never zeroed silently.
+    BudgetError
+        If a controller's integration needs more than ``max_evaluations`` right-hand-side evaluations, the
+        ``time_limit`` is reached, or the stacked problem exceeds :data:`MAX_STACKED_STATES` states or
+        :data:`MAX_OUTPUT_VALUES` output values.
+    Exception
+        Whatever a controller, ``diverged`` or ``model.rhs`` raises passes through unchanged.
     """
-    X0 = np.asarray(x0, dtype=float)
-    x_e, u_e = np.asarray(x_e, dtype=float), np.asarray(u_e, dtype=float)
-    N, n = X0.shape
-    m = u_e.size
-    sc = np.ones(n) if scale is None else np.asarray(scale, dtype=float)
-    if not (math.isfinite(t_final) and t_final > 0):
-        raise ModelError(f"t_final must be positive, got {t_final!r}")
+    n, m = _check_model(model)
+    if not isinstance(controllers, Mapping):
+        raise ArgumentTypeError(f"controllers must be a mapping name -> controller(t, X), got "
+                                f"{type(controllers).__name__}")
+    if not controllers:
+        raise ArgumentError("controllers is empty: give at least one name -> controller(t, X)")
+    for name, ctrl in controllers.items():
+        if not isinstance(name, str):
+            raise ArgumentTypeError(f"controller names must be strings, got {type(name).__name__} {name!r}")
+        checks.function(f"controllers[{name!r}]", ctrl)
+    X0 = checks.array("x0", x0, shape=(None, n), min_size=1)
+    x_e = checks.array("x_e", x_e, shape=(n,))
+    u_e = checks.array("u_e", u_e, shape=(m,))
+    t_final = checks.positive("t_final", t_final, unit="s")
+    sc = np.ones(n) if scale is None else checks.array("scale", scale, shape=(n,))
+    if np.any(sc <= 0):
+        raise ArgumentError(f"scale must be positive, got {sc}")
+    tol = checks.positive("tol", tol)
+    settle = checks.positive("settle", settle)
+    n_out = checks.integer("n_out", n_out, lo=2, hi=100_000)
+    checks.choice("method", method, METHODS)
+    rtol = checks.positive("rtol", rtol)
+    atol = checks.positive("atol", atol)
+    if diverged is not None:
+        checks.function("diverged", diverged)
+    max_evaluations = checks.integer("max_evaluations", max_evaluations, lo=1)
+    deadline = checks.Deadline(time_limit, "compare_controllers")
+    N = X0.shape[0]
+    if N * (n + m) > MAX_STACKED_STATES or N * (n + m) * n_out > MAX_OUTPUT_VALUES:
+        raise BudgetError(f"{N} runs x {n + m} states (x {n_out} output times) exceed the size limits of one "
+                          f"comparison ({MAX_STACKED_STATES} stacked states, {MAX_OUTPUT_VALUES} output values); "
+                          "compare fewer initial states or output times at once")
     te = np.linspace(0.0, t_final, n_out)
     # runs are independent: block-diagonal Jacobian, so the implicit methods difference N runs at once
     sparsity = sparse.block_diag([np.ones((n + m, n + m))] * N, format="csr")
     records = {}
     for name, ctrl in controllers.items():
         frozen = np.zeros(N, dtype=bool)
+        count = [0]
 
-        def f(t: float, y: np.ndarray, ctrl: Callable[[float, Any], Any] = ctrl,
-              frozen: np.ndarray = frozen) -> np.ndarray:
+        def f(t: float, y: np.ndarray, name: str = name, ctrl: Callable[[float, Any], Any] = ctrl,
+              frozen: np.ndarray = frozen, count: list[int] = count) -> np.ndarray:
+            count[0] += 1
+            if count[0] > max_evaluations:
+                raise BudgetError(f"batch simulation of '{name}' stopped at t = {t:.4g} s after max_evaluations = "
+                                  f"{max_evaluations} right-hand-side evaluations (of t_final = {t_final:g} s); "
+                                  "raise max_evaluations, loosen rtol/atol, or shorten t_final")
+            deadline.check(f"controller '{name}' at t = {t:.4g} s")
             Y = y.reshape(N, n + m)
             X = Y[:, :n]
             if diverged is not None:
-                frozen |= np.asarray(diverged(X), dtype=bool)
-            U = np.asarray(ctrl(t, X), dtype=float).reshape(N, m)
+                flag = np.asarray(diverged(X))
+                if flag.size != N:
+                    raise ArgumentError(f"diverged must return one flag per run (shape ({N},)), got {flag.shape}")
+                frozen |= flag.reshape(N).astype(bool)
+            U = _inputs(name, ctrl(t, X), N, m)
             d = np.empty_like(Y)
             with np.errstate(all="ignore"):
                 d[:, :n] = np.asarray(model.rhs(X, U), dtype=float)
-            d[:, n:] = np.abs(U - u_e)
+                d[:, n:] = np.abs(U - u_e)
             d[frozen] = 0.0
-            d[~np.isfinite(d)] = 0.0
+            bad = ~np.all(np.isfinite(d), axis=1)
+            if np.any(bad):
+                k = int(np.flatnonzero(bad)[0])
+                what = "input" if not np.all(np.isfinite(U[k])) else "state derivative"
+                raise SolverError(f"batch simulation of '{name}': run {k} (x0 = {X0[k]}) has a non-finite {what} at "
+                                  f"t = {t:.4g} s, x = {X[k]} ({int(np.sum(bad))} run(s) affected): it left the "
+                                  "domain of the model or the controller; pass diverged=lambda X: ... to freeze "
+                                  "runs that leave it")
             return d.ravel()
 
         y0 = np.concatenate([X0, np.zeros((N, m))], axis=1).ravel()
@@ -309,11 +523,11 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         X = Y[:, :n, :]
         err = np.max(np.abs(X - x_e[None, :, None]) / sc[None, :, None], axis=1)  # (N, T)
         conv = (err[:, -1] <= tol) & ~frozen
-        U = np.stack([np.asarray(ctrl(t, X[:, :, k]), dtype=float).reshape(N, m) for k, t in enumerate(sol.t)], -1)
+        U = np.stack([_inputs(name, ctrl(t, X[:, :, k]), N, m) for k, t in enumerate(sol.t)], -1)
         peak = np.max(np.abs(U - u_e[None, :, None]), axis=2)
         above = err > settle
         last = np.where(above.any(axis=1), above.shape[1] - 1 - np.argmax(above[:, ::-1], axis=1), -1)
         ts = np.where(last + 1 < sol.t.size, sol.t[np.minimum(last + 1, sol.t.size - 1)], np.inf)
         ts[~conv] = np.inf
-        records[name] = ControllerRecord(name, conv, peak, Y[:, n:, -1], ts)
+        records[name] = ControllerRecord(name, conv, peak, Y[:, n:, -1], ts, count[0])
     return BatchComparison(X0, x_e, sc, float(t_final), tol, settle, records, tuple(model.state_names))

@@ -34,13 +34,13 @@ Determinism: cold solves use ``seed``; nothing depends on timing or on which wor
 from __future__ import annotations
 
 import itertools
-import math
 from collections.abc import Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from ..errors import InfeasibleGlideError, ModelError
+from .. import checks
+from ..errors import BudgetError, InfeasibleGlideError
 from ..models.glider3d import FixedMassGlider3D
 from ..params import Vehicle
 from ..trim.helix import Helix, helix_newton, helix_trim
@@ -49,9 +49,14 @@ __all__ = [
     "AGREE_TOL",
     "COLUMNS",
     "COLUMN_UNITS",
+    "MAX_CONTINUATION_STEPS",
+    "MAX_NEWTON_SOLVES",
+    "MAX_RANDOM_STARTS",
     "PARAMETERS",
     "ContinuationOptions",
     "ContinuationPoint",
+    "check_options",
+    "check_solve_budget",
     "check_sweep_inputs",
     "chunk_bounds",
     "readonly_array",
@@ -71,6 +76,11 @@ COLUMN_UNITS: dict[str, str] = {"radius": "m", "speed": "m/s", "pitch": "m", "pe
                                 "Omega_norm": "rad/s", "max_re_eig": "1/s", "residual": "m/s^2, rad/s^2",
                                 "r_bh": "m", "v1": "m/s", "v2": "m/s", "v3": "m/s"}
 AGREE_TOL = 1e-7  # max |difference of trim unknowns| for two solves to be the same motion (chunk reconciliation)
+#: bounds of the multistart searches: r_P2 continuation steps and random starts of one cold solve, and the largest
+#: number of Newton solves a sweep or scan may plan (checked before anything is solved)
+MAX_CONTINUATION_STEPS = 1_000
+MAX_RANDOM_STARTS = 10_000
+MAX_NEWTON_SOLVES = 5_000_000
 _NAN_ROW = np.full(len(COLUMNS), np.nan)
 _NAN_Y = np.full(6, np.nan)
 
@@ -105,8 +115,30 @@ def _fmt(x: float) -> str:
 def sweep_controls(parameter: str, x: float, r_p: tuple[float, float, float], m0: float
                    ) -> tuple[tuple[float, float, float], float]:
     """Controls ``(r_P (m), m0 (kg))`` at the value ``x`` of the swept ``parameter`` (:data:`PARAMETERS`): the swept
-    component replaces its entry of ``r_p`` (m), or ``m0`` (kg) itself."""
-    idx = PARAMETERS[parameter][1]
+    component replaces its entry of ``r_p`` (m), or ``m0`` (kg) itself.
+
+    Parameters
+    ----------
+    parameter : str
+        A key of :data:`PARAMETERS`.
+    x : float
+        Its value (m or kg).
+    r_p : tuple of 3 floats
+        Moving-mass position held fixed (m).
+    m0 : float
+        Buoyancy held fixed (kg).
+
+    Returns
+    -------
+    tuple
+        ``((r_P1, r_P2, r_P3), m0)``.
+
+    Raises
+    ------
+    ArgumentError
+        If ``parameter`` is not a key of :data:`PARAMETERS`.
+    """
+    idx = PARAMETERS[checks.choice("parameter", parameter, PARAMETERS)][1]
     if idx is None:
         return r_p, float(x)
     r = list(r_p)
@@ -202,8 +234,34 @@ def walk_chunk(veh: Vehicle, parameter: str, values: Sequence[float], r_p: tuple
                ) -> tuple[list[ContinuationPoint], int | None, dict[int, ContinuationPoint]]:
     """Walk one contiguous chunk of values (module level so that executors can pickle it).
 
-    Returns the points, the seed index (first point where the cold solve succeeded; None if none did) and every
-    cold solve made, by index (reused by the parent's reconciliation).
+    Parameters
+    ----------
+    veh : Vehicle
+        3D underwater glider.
+    parameter : str
+        Swept parameter (:data:`PARAMETERS`).
+    values : sequence of float
+        The chunk's values, in walking order.
+    r_p, m0
+        Controls held fixed (m, kg).
+    opts : ContinuationOptions
+        Cold-solve settings.
+    continuation : bool
+        Warm-start from the previous solution (True) or cold-solve every point.
+
+    Returns
+    -------
+    tuple
+        The points, the seed index (first point where the cold solve succeeded; None if none did) and every cold
+        solve made, by index (reused by the parent's reconciliation).
+
+    Raises
+    ------
+    ArgumentError
+        If a point's controls are implausible (from the model; :func:`check_sweep_inputs` checks them first).
+    ModelError
+        If a point's ``m0`` makes a mass non-positive (idem). A point without a steady motion is recorded, not
+        raised.
     """
     vals = [float(v) for v in values]
     n = len(vals)
@@ -244,7 +302,29 @@ def reconcile_chunks(veh: Vehicle, parameter: str, values: np.ndarray, r_p: tupl
                      opts: ContinuationOptions, continuation: bool, bounds: list[tuple[int, int]],
                      results: list[tuple[list[ContinuationPoint], int | None, dict[int, ContinuationPoint]]]
                      ) -> tuple[list[ContinuationPoint], list[str]]:
-    """Assemble independently walked chunks into the serial walk (module docstring). Returns the points and a log."""
+    """Assemble independently walked chunks into the serial walk (module docstring).
+
+    Parameters
+    ----------
+    veh, parameter, values, r_p, m0, opts, continuation
+        As given to :func:`walk_chunk` (``values`` all of the sweep's values).
+    bounds : list of (int, int)
+        The chunks' index ranges (:func:`chunk_bounds`).
+    results : list
+        :func:`walk_chunk`'s results, one per chunk.
+
+    Returns
+    -------
+    tuple
+        The points of the serial walk and a log of the reconciliation.
+
+    Raises
+    ------
+    ArgumentError
+        As in :func:`walk_chunk`, for the serial steps repeated here.
+    ModelError
+        As in :func:`walk_chunk`.
+    """
     if not continuation:
         return [p for pts, _, _ in results for p in pts], []
     n = values.size
@@ -286,45 +366,153 @@ def reconcile_chunks(veh: Vehicle, parameter: str, values: np.ndarray, r_p: tupl
 
 
 def readonly_array(a: np.ndarray) -> np.ndarray:
-    """A read-only copy of ``a`` (results are frozen)."""
+    """A read-only copy of ``a`` (results are frozen).
+
+    Parameters
+    ----------
+    a : array_like
+        Anything :func:`numpy.array` accepts.
+
+    Returns
+    -------
+    ndarray
+        A copy with ``writeable = False``.
+
+    Raises
+    ------
+    ValueError
+        If ``a`` does not convert to an array (numpy's own error).
+    """
     a = np.array(a)
     a.setflags(write=False)
     return a
+
+
+def check_options(continuation_steps: Any, n_random: Any, seed: Any) -> ContinuationOptions:
+    """Validated cold-solve settings: ``continuation_steps`` in ``[1, MAX_CONTINUATION_STEPS]``, ``n_random`` in
+    ``[0, MAX_RANDOM_STARTS]``, ``seed`` an integer ``>= 0``.
+
+    Parameters
+    ----------
+    continuation_steps, n_random, seed : int
+        As in :func:`glidectl.trim.helix.helix_trim`.
+
+    Returns
+    -------
+    ContinuationOptions
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a value is not an integer.
+    ArgumentError
+        If a value is outside its range.
+    """
+    return ContinuationOptions(checks.integer("continuation_steps", continuation_steps, lo=1,
+                                              hi=MAX_CONTINUATION_STEPS),
+                               checks.integer("n_random", n_random, lo=0, hi=MAX_RANDOM_STARTS),
+                               checks.integer("seed", seed, lo=0))
+
+
+def check_solve_budget(what: str, solves: int) -> None:
+    """Refuse a sweep or scan that plans more than :data:`MAX_NEWTON_SOLVES` Newton solves (worst case).
+
+    Parameters
+    ----------
+    what : str
+        The computation, for the message.
+    solves : int
+        Worst-case number of Newton solves it would make.
+
+    Raises
+    ------
+    BudgetError
+        If ``solves > MAX_NEWTON_SOLVES``.
+    """
+    if solves > MAX_NEWTON_SOLVES:
+        raise BudgetError(f"{what} would make up to {solves:,} Newton solves, above the limit of "
+                          f"{MAX_NEWTON_SOLVES:,}; use fewer values, random starts (n_random, n_starts) or "
+                          "continuation steps")
 
 
 def check_sweep_inputs(veh: Vehicle, parameter: str, values: Any, r_p: Any, m0: Any
                        ) -> tuple[np.ndarray, tuple[float, float, float], float]:
     """Validate a sweep request; returns the values as an array, ``r_P`` as three floats (m) and ``m0`` (kg).
 
-    ``r_p`` and ``m0`` default to the vehicle's nominal ``(r_P1, r_P2, r_P3)`` and ``m0``. Raises
-    :class:`~glidectl.errors.ModelError` for an unknown parameter (not in :data:`PARAMETERS`), empty or non-finite
-    values, bad ``r_p``/``m0``, or a vehicle without the 3D parameters.
+    ``r_p`` and ``m0`` default to the vehicle's nominal ``(r_P1, r_P2, r_P3)`` and ``m0``. The swept points'
+    controls are checked by building the models (:class:`~glidectl.models.glider3d.FixedMassGlider3D`) at the
+    smallest and largest value: the moving mass within ``R_P_MAX`` of the centre and positive masses then hold at
+    every point (masses are affine in ``m0``, ``|r_P|`` convex in a swept component).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        3D underwater glider.
+    parameter : str
+        A key of :data:`PARAMETERS`.
+    values : array_like
+        Non-empty 1-D sequence of finite values of ``parameter`` (m or kg).
+    r_p : array_like of 3 floats or None
+        Fixed moving-mass position (m).
+    m0 : float or None
+        Fixed buoyancy (kg).
+
+    Returns
+    -------
+    tuple
+        ``(values, r_p, m0)``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, or ``values``, ``r_p``, ``m0`` are not real numbers.
+    ArgumentError
+        Unknown parameter, empty, multi-dimensional or non-finite values, ``r_p`` not three finite numbers, ``m0``
+        not finite, or a point whose moving mass is farther than ``R_P_MAX`` from the centre.
+    ModelError
+        A vehicle that is not an underwater glider or lacks the 3D parameters, or a point whose ``m0`` makes a mass
+        non-positive (or the mass matrix singular).
     """
-    if parameter not in PARAMETERS:
-        raise ModelError(f"unknown sweep parameter {parameter!r}; choose one of {', '.join(PARAMETERS)}")
-    try:
-        vals = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ModelError(f"values must be a 1-D sequence of numbers, got {values!r}") from None
-    if vals.ndim != 1 or vals.size == 0:
-        raise ModelError(f"values must be a non-empty 1-D sequence of {parameter} values "
-                            f"({PARAMETERS[parameter][0]}), got shape {vals.shape}")
-    if not np.all(np.isfinite(vals)):
-        raise ModelError(f"values of {parameter} must be finite, got {vals[~np.isfinite(vals)][:3]}")
+    checks.vehicle("veh", veh, "underwater_glider")
+    checks.choice("parameter", parameter, PARAMETERS)
+    vals = checks.array(f"values of {parameter}" if isinstance(parameter, str) else "values", values, ndim=1,
+                        min_size=1)
     FixedMassGlider3D(veh, (0.0, 0.0, 0.0), 1.0)  # raises ModelError for a vehicle without the 3D parameters
     r_p = (veh.r_P1, veh.r_P2, veh.r_P3) if r_p is None else r_p  # ModelError naming the key if not in the file
     m0 = veh.m0 if m0 is None else m0
-    try:
-        r = np.asarray(r_p, dtype=float)
-        m = float(m0)
-    except (TypeError, ValueError):
-        raise ModelError(f"r_p must be three numbers (m) and m0 a number (kg), got {r_p!r}, {m0!r}") from None
-    if r.shape != (3,) or not np.all(np.isfinite(r)) or not math.isfinite(m):
-        raise ModelError(f"r_p must be three finite numbers (m) and m0 finite (kg), got {r_p!r}, {m0!r}")
-    return vals, (float(r[0]), float(r[1]), float(r[2])), m
+    r = checks.array("r_p (m)", r_p, shape=(3,))
+    m = checks.real("m0", m0, unit="kg")
+    rp = (float(r[0]), float(r[1]), float(r[2]))
+    # every point is a valid model: the masses are affine in m0 and |r_P| is convex in a swept component, so the
+    # extreme values decide (two models, whatever the number of values)
+    for x in {float(np.min(vals)), float(np.max(vals))}:
+        FixedMassGlider3D(veh, *sweep_controls(parameter, x, rp, m))
+    return vals, rp, m
 
 
 def chunk_bounds(n: int, chunks: int) -> list[tuple[int, int]]:
-    """Index ranges ``[(a, b), ...]`` of ``chunks`` contiguous, nearly equal, non-empty pieces of ``range(n)``."""
+    """Index ranges ``[(a, b), ...]`` of ``chunks`` contiguous, nearly equal, non-empty pieces of ``range(n)``.
+
+    Parameters
+    ----------
+    n : int
+        Number of items, ``>= 0``.
+    chunks : int
+        Number of pieces, ``>= 1``.
+
+    Returns
+    -------
+    list of (int, int)
+        Half-open index ranges (at most ``chunks`` of them, empty ones dropped).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``n`` or ``chunks`` is not an integer.
+    ArgumentError
+        If ``n < 0`` or ``chunks < 1``.
+    """
+    n = checks.integer("n", n, lo=0)
+    chunks = checks.integer("chunks", chunks, lo=1)
     edges = np.linspace(0, n, chunks + 1).round().astype(int)
     return [(int(a), int(b)) for a, b in itertools.pairwise(edges) if b > a]

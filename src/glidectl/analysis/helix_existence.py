@@ -13,11 +13,19 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InfeasibleGlideError, ModelError
+from .. import checks
+from ..errors import ArgumentTypeError, InfeasibleGlideError
 from ..models.glider3d import FixedMassGlider3D
 from ..params import Vehicle
 from ..trim.helix import Helix, helix_newton, helix_trim
-from .continuation import ContinuationOptions, check_sweep_inputs, readonly_array
+from .continuation import (
+    MAX_RANDOM_STARTS,
+    ContinuationOptions,
+    check_options,
+    check_solve_budget,
+    check_sweep_inputs,
+    readonly_array,
+)
 from .helix_sweeps import helix_sweep
 
 __all__ = ["ExistenceScan", "existence_scan"]
@@ -159,7 +167,25 @@ class ExistenceScan:
         return not bool(np.any(self.exists & self.claim_region))
 
     def counterexamples(self, *, stable_only: bool = False, upright_only: bool = False) -> list[dict[str, Any]]:
-        """Motions found inside :attr:`claim_region`, each with its ``r_P1`` (m) and ``m0`` (kg)."""
+        """Motions found inside :attr:`claim_region`, each with its ``r_P1`` (m) and ``m0`` (kg).
+
+        Parameters
+        ----------
+        stable_only, upright_only : bool
+            Keep only stable (reduced linearization Hurwitz) or upright (``|phi| < pi/2``) motions.
+
+        Returns
+        -------
+        list of dict
+            The solution records of :attr:`solutions` with ``r_P1`` and ``m0`` added.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If a flag is not a bool.
+        """
+        stable_only = checks.boolean("stable_only", stable_only)
+        upright_only = checks.boolean("upright_only", upright_only)
         out = []
         for i, j in zip(*np.nonzero(self.claim_region), strict=True):
             for s in self.solutions[i][j]:
@@ -224,11 +250,16 @@ def existence_scan(veh: Vehicle, r_P1_values: Sequence[float], m0_values: Sequen
         Fixed moving-mass components (m); default the vehicle's nominal values (2 cm, 4 cm for ``slocum_ch8``, those
         of Fig 8.5-8.6).
     n_starts : int
-        Random Newton starts per grid point; ``seed`` seeds them (grid point ``k`` uses ``seed + k``).
+        Random Newton starts per grid point, in ``[0, 10000]``; ``seed`` (``>= 0``) seeds them (grid point ``k``
+        uses ``seed + k``).
+    continuation : bool
+        Also continue along ``r_P1`` at each ``m0`` (both ways).
     tol : float
-        Two solutions are the same motion when their trim unknowns differ by at most ``tol``.
+        Two solutions are the same motion when their trim unknowns differ by at most ``tol`` (> 0).
     executor : concurrent.futures.Executor, optional
         Runs the grid points and the continuation rows in parallel.
+    continuation_steps, n_random : int
+        Cold-solve settings of :func:`glidectl.trim.helix.helix_trim`, in ``[1, 1000]`` and ``[0, 10000]``.
 
     Returns
     -------
@@ -238,26 +269,42 @@ def existence_scan(veh: Vehicle, r_P1_values: Sequence[float], m0_values: Sequen
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, a grid or ``r_P2``/``r_P3``/``tol`` is not real numbers, a count or ``seed``
+        is not an integer, ``continuation`` is not a bool, or ``executor`` has no ``submit``.
+    ArgumentError
+        If ``r_P1_values`` or ``m0_values`` is empty, not one-dimensional or not finite; a count is out of its
+        range; ``tol <= 0``; a grid point puts the moving mass farther than 10 m from the centre.
     ModelError
-        If ``r_P1_values`` or ``m0_values`` is empty, not one-dimensional or not finite; ``n_starts`` or
-        ``n_random`` is negative, ``continuation_steps < 1`` or ``tol <= 0``; the vehicle lacks the 3D parameters,
-        or ``r_P2``/``r_P3`` are omitted and the vehicle has no nominal value for them.
+        If the vehicle is not a 3D underwater glider, ``r_P2``/``r_P3`` are omitted and the vehicle has no nominal
+        value for them, or an ``m0`` of the grid makes a mass non-positive.
+    BudgetError
+        If the scan could need more than :data:`~glidectl.analysis.continuation.MAX_NEWTON_SOLVES` Newton solves
+        (grid points x (n_starts + 1 + continuation_steps + n_random), plus the continuation rows), checked before
+        anything is solved.
     InfeasibleGlideError
         If a helix trim warm-started from a converged multi-start Newton solution fails (only the cold solve's
         failure is absorbed as "no motion").
     """
-    r1 = np.asarray(r_P1_values, dtype=float)
-    m0s = np.asarray(m0_values, dtype=float)
-    if r1.ndim != 1 or m0s.ndim != 1 or r1.size == 0 or m0s.size == 0:
-        raise ModelError("r_P1_values and m0_values must be non-empty 1-D sequences (m, kg)")
-    if not (np.all(np.isfinite(r1)) and np.all(np.isfinite(m0s))):
-        raise ModelError("r_P1_values and m0_values must be finite")
-    if n_starts < 0 or continuation_steps < 1 or n_random < 0 or not tol > 0:
-        raise ModelError("n_starts and n_random must be >= 0, continuation_steps >= 1 and tol > 0")
-    p2 = float(veh.r_P2 if r_P2 is None else r_P2)
-    p3 = float(veh.r_P3 if r_P3 is None else r_P3)
-    check_sweep_inputs(veh, "r_P1", r1, (0.0, p2, p3), 1.0)
-    opts = ContinuationOptions(int(continuation_steps), int(n_random), int(seed))
+    checks.vehicle("veh", veh, "underwater_glider")
+    r1 = checks.array("r_P1_values (m)", r_P1_values, ndim=1, min_size=1)
+    m0s = checks.array("m0_values (kg)", m0_values, ndim=1, min_size=1)
+    n_starts = checks.integer("n_starts", n_starts, lo=0, hi=MAX_RANDOM_STARTS)
+    continuation = checks.boolean("continuation", continuation)
+    tol = checks.positive("tol", tol)
+    opts = check_options(continuation_steps, n_random, seed)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise ArgumentTypeError(f"executor must be a concurrent.futures.Executor (with submit), got "
+                                f"{type(executor).__name__}")
+    p2 = checks.real("r_P2", veh.r_P2 if r_P2 is None else r_P2, unit="m")
+    p3 = checks.real("r_P3", veh.r_P3 if r_P3 is None else r_P3, unit="m")
+    cold = 1 + opts.continuation_steps + opts.n_random
+    points = r1.size * int(np.count_nonzero(m0s))
+    check_solve_budget(f"existence_scan over {m0s.size} x {r1.size} points",
+                       points * (n_starts + cold) + (2 * points * (1 + cold) if continuation else 0))
+    for m in {float(np.min(m0s)), float(np.max(m0s))}:  # masses are affine in m0: the extremes decide
+        check_sweep_inputs(veh, "r_P1", r1, (0.0, p2, p3), m)  # every grid point is a valid model
+    seed = opts.seed
     grid = [(i, j) for i in range(m0s.size) for j in range(r1.size)]
     point_args = [(veh, (float(r1[j]), p2, p3), float(m0s[i]), int(n_starts), int(seed) + k, opts, float(tol))
                   for k, (i, j) in enumerate(grid) if m0s[i] != 0]

@@ -19,7 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InfeasibleGlideError, SolverError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, InfeasibleGlideError, ModelError, SolverError
 from ..models.glider3d import FixedMassGlider3D
 from ..params import Vehicle
 from ..trim.helix import Helix, helix_eigenvalues, helix_equations, helix_trim, zeta_of
@@ -63,6 +64,7 @@ class HelixRbhLocus:
 
     @property
     def crossings(self) -> tuple[float, ...]:
+        """Stability crossings of the locus (m)."""
         return self.locus.crossings
 
     def plot(self, ax: Any = None, *, kind: str = "real", **kw: Any) -> Any:
@@ -103,23 +105,47 @@ def mass_position_at_rbh(nominal: Helix, rbh: float) -> tuple[float, float, floa
     -------
     tuple of 3 floats
         ``(r_P1, r_P2, r_P3)`` (m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``nominal`` is not a :class:`~glidectl.trim.helix.Helix` or ``rbh`` not a real number.
+    ArgumentError
+        If ``rbh`` is not finite.
     """
+    if not isinstance(nominal, Helix):
+        raise ArgumentTypeError(f"nominal must be a Helix from gc.helix_trim(...), got {type(nominal).__name__}")
+    rbh = checks.real("rbh", rbh, unit="m")
     z = zeta_of(nominal.theta, nominal.phi)
     r = np.asarray(nominal.r_p) + (rbh - nominal.r_bh) * z
     return (float(r[0]), float(r[1]), float(r[2]))
 
 
+def _helix_args(veh: Vehicle, r_p: Any, m0: Any) -> tuple[tuple[float, float, float], float]:
+    checks.vehicle("veh", veh, "underwater_glider")
+    r = checks.array("r_p (m)", r_p, shape=(3,))
+    return (float(r[0]), float(r[1]), float(r[2])), checks.real("m0", m0, unit="kg")
+
+
 def helix_rbh_locus(veh: Vehicle, r_p: Sequence[float], m0: float, rbh_values: Sequence[float], *,
-                    frozen: bool = True) -> HelixRbhLocus:
+                    frozen: bool = True, time_limit: float | None = None) -> HelixRbhLocus:
     """Eigenvalues of the reduced helix linearization versus bottom-heaviness ``r_bh`` (m), Fig 8.13-8.14.
 
     Parameters
     ----------
     veh : Vehicle
         3D glider (``slocum_ch8``).
-    r_p, m0 : nominal moving-mass position (m) and buoyancy (kg); §8.3 uses (0.02, -0.02, 0.04), 0.25.
-    rbh_values : increasing r_bh values (m).
-    frozen : see the module docstring.
+    r_p : sequence of 3 floats
+        Nominal moving-mass position (m); §8.3 uses (0.02, -0.02, 0.04).
+    m0 : float
+        Nominal buoyancy (kg); §8.3 uses 0.25.
+    rbh_values : sequence of float
+        Strictly increasing, finite ``r_bh`` values (m), at least 2.
+    frozen : bool
+        Keep the nominal steady motion (True) or re-solve it at every ``r_bh`` (False); see the module docstring.
+    time_limit : float, optional
+        Wall-time budget (s). Otherwise the work is one trim (re-solved) or one linearization (frozen) per value,
+        plus the bounded refinements of :func:`~glidectl.analysis.locus.parameter_locus`.
 
     Returns
     -------
@@ -130,21 +156,30 @@ def helix_rbh_locus(veh: Vehicle, r_p: Sequence[float], m0: float, rbh_values: S
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``r_p``, ``m0`` or ``rbh_values`` are not real numbers, or ``frozen`` is not a
+        bool.
+    ArgumentError
+        If ``r_p`` is not three finite numbers, ``m0`` is not finite, ``rbh_values`` is not a finite, strictly
+        increasing grid of at least 2 points, or a moving-mass position is implausible (see the model).
     ModelError
-        If ``veh`` lacks the 3D parameters, ``r_p`` is not three finite numbers, or ``m0`` is not finite or makes a
-        body mass non-positive (from :func:`~glidectl.trim.helix.helix_trim` and the model).
+        If ``veh`` is not a 3D underwater glider, or ``m0`` makes a body mass non-positive.
     InfeasibleGlideError
         If no steady motion is found at the nominal ``(r_p, m0)`` (or, when ``frozen=False``, at some ``r_bh``),
         or ``m0 = 0``.
-    GlidectlError
-        If ``rbh_values`` is not a strictly increasing grid of at least 2 points (from
-        :func:`~glidectl.analysis.locus.parameter_locus`).
     SolverError
         As in :func:`~glidectl.analysis.locus.parameter_locus`.
+    BudgetError
+        If ``time_limit`` is reached.
     """
+    r_p, m0 = _helix_args(veh, r_p, m0)
+    frozen = checks.boolean("frozen", frozen)
+    vals = checks.array("rbh_values", rbh_values, ndim=1, min_size=2)
+    if np.any(np.diff(vals) <= 0):
+        raise ArgumentError(f"rbh_values must be a strictly increasing grid of >= 2 points (m), got {vals!r}")
+    deadline = checks.Deadline(time_limit, "helix_rbh_locus")
     nominal = helix_trim(veh, r_p, m0)
     y_nom = nominal.unknowns
-    vals = np.asarray(rbh_values, dtype=float)
     cache: dict[float, tuple[np.ndarray, float, np.ndarray]] = {}
     solved: dict[float, Helix] = {nominal.r_bh: nominal}
 
@@ -152,6 +187,7 @@ def helix_rbh_locus(veh: Vehicle, r_p: Sequence[float], m0: float, rbh_values: S
         rbh = float(rbh)
         if rbh in cache:
             return cache[rbh]
+        deadline.check(f"at r_bh = {rbh:g} m")
         rp = mass_position_at_rbh(nominal, rbh)
         model = FixedMassGlider3D(veh, rp, m0)
         if frozen:
@@ -174,13 +210,14 @@ def helix_rbh_locus(veh: Vehicle, r_p: Sequence[float], m0: float, rbh_values: S
         state(vals[k])
     loc = parameter_locus(lambda r: state(r)[0], vals, "r_bh", "m",
                           context={"vehicle": veh.name, "r_p_nominal": tuple(r_p), "m0": m0, "frozen": frozen},
-                          vehicle=veh)
+                          vehicle=veh, time_limit=None if time_limit is None else max(
+                              time_limit - deadline.elapsed, 1e-9))
     res = np.array([state(r)[1] for r in vals])
     return HelixRbhLocus(loc, nominal, frozen, res, np.array([state(r)[2] for r in vals]))
 
 
 def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: float = 5e-4,
-                      stop: float = -0.05) -> tuple[float | None, Helix]:
+                      stop: float = -0.05, max_steps: int = 10_000) -> tuple[float | None, Helix]:
     """Walk the re-solved helix branch from the nominal ``r_bh`` downwards in steps of ``step`` (m), warm-starting each
     trim from the previous one, and locate the first ``r_bh`` where the reduced linearization loses stability
     (bisection on the branch, to 1e-9 m). Returns ``(r_bh or None, the helix at the last stable point)``.
@@ -196,7 +233,10 @@ def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: fl
     step : float
         Decrement of ``r_bh`` per continuation step (m), ``> 0``.
     stop : float
-        Lowest ``r_bh`` visited (m).
+        Lowest ``r_bh`` visited (m), finite.
+    max_steps : int
+        Budget of continuation steps, ``>= 1``: ``(r_bh,nominal - stop) / step`` may not exceed it (checked before
+        the walk). The bisection takes at most 200 more trims.
 
     Returns
     -------
@@ -208,21 +248,37 @@ def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: fl
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``r_p``, ``m0``, ``step`` or ``stop`` are not real numbers, or ``max_steps``
+        is not an integer.
+    ArgumentError
+        If a value is not finite, ``step <= 0`` or ``max_steps < 1``, or a moving-mass position is implausible.
     ModelError
-        If ``veh`` lacks the 3D parameters, ``r_p`` is not three finite numbers, or ``m0`` is not finite or makes a
-        body mass non-positive.
+        If ``veh`` is not a 3D underwater glider, ``m0`` makes a body mass non-positive, or the nominal helix is
+        not stable (the walk looks for where a stable branch loses stability; start from a stable helix, e.g. a
+        larger ``r_bh``).
     InfeasibleGlideError
         If the nominal helix or a continuation step cannot be trimmed, or ``m0 = 0``.
     SolverError
         If stability changes without an eigenvalue crossing zero (the branch folds or jumps; retry with a smaller
         ``step``).
-
-    Notes
-    -----
-    The bisection assumes the nominal helix is stable (stable above, unstable below the crossing); the nominal
-    stability is not checked.
+    BudgetError
+        If the walk would take more than ``max_steps`` steps.
     """
+    r_p, m0 = _helix_args(veh, r_p, m0)
+    step = checks.positive("step", step, unit="m")
+    stop = checks.real("stop", stop, unit="m")
+    max_steps = checks.integer("max_steps", max_steps, lo=1)
     nominal = helix_trim(veh, r_p, m0)
+    if not nominal.stable:
+        raise ModelError(f"the nominal helix at r_p = {r_p} m, m0 = {m0:g} kg is not stable (max Re(lambda) = "
+                         f"{float(np.max(nominal.eigenvalues.real)):.3g} 1/s): resolved_crossing walks a stable branch "
+                         "down to where it loses stability; start from a stable helix (e.g. a larger r_bh)")
+    n_steps = (nominal.r_bh - stop) / step
+    if n_steps > max_steps:
+        raise BudgetError(f"walking r_bh from {nominal.r_bh:.6g} m down to stop = {stop:g} m in steps of {step:g} m "
+                          f"takes {n_steps:.3g} steps, above max_steps = {max_steps}; raise step or stop, or "
+                          "max_steps")
     h = nominal
     r = nominal.r_bh
     while r - step >= stop:
@@ -230,8 +286,10 @@ def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: fl
         h_new = helix_trim(veh, mass_position_at_rbh(nominal, r_new), m0, guess=h, n_random=0, continuation_steps=1)
         if h_new.stable != h.stable:
             lo, hi, h_lo = r_new, r, h  # unstable at lo, stable at hi
-            while hi - lo > 1e-9:
+            for _ in range(200):  # bounded: halves the bracket until 1e-9 m or floating-point resolution
                 mid = 0.5 * (lo + hi)
+                if hi - lo <= 1e-9 or not lo < mid < hi:
+                    break
                 hm = helix_trim(veh, mass_position_at_rbh(nominal, mid), m0, guess=h_lo, n_random=0,
                                 continuation_steps=1)
                 if hm.stable:

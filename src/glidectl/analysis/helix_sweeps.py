@@ -20,14 +20,16 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, SolverError
 from ..params import Vehicle
 from ..trim.helix import Helix, helix_trim
 from .continuation import (
     COLUMN_UNITS,
     COLUMNS,
     PARAMETERS,
-    ContinuationOptions,
+    check_options,
+    check_solve_budget,
     check_sweep_inputs,
     chunk_bounds,
     readonly_array,
@@ -113,11 +115,26 @@ class HelixSweep:
     r_bh = _column_property("r_bh")
 
     def column(self, name: str) -> np.ndarray:
-        """One column of :attr:`data` by name (read-only view)."""
-        try:
-            return self.data[:, self.columns.index(name)]
-        except ValueError:
-            raise ModelError(f"unknown column {name!r}; available: {', '.join(self.columns)}") from None
+        """One column of :attr:`data` by name (read-only view).
+
+        Parameters
+        ----------
+        name : str
+            One of :attr:`columns` (units in :data:`~glidectl.analysis.continuation.COLUMN_UNITS`).
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            NaN where no motion was found.
+
+        Raises
+        ------
+        ArgumentError
+            If ``name`` is not a column.
+        """
+        if not (isinstance(name, str) and name in self.columns):
+            raise ArgumentError(f"unknown column {name!r}; available: {', '.join(self.columns)}")
+        return self.data[:, self.columns.index(name)]
 
     @property
     def stable(self) -> np.ndarray:
@@ -126,7 +143,27 @@ class HelixSweep:
             return self.exists & (np.nan_to_num(self.max_re_eig, nan=1.0) < 0)
 
     def controls(self, i: int) -> tuple[tuple[float, float, float], float]:
-        """``(r_p (m), m0 (kg))`` at point ``i``."""
+        """``(r_p (m), m0 (kg))`` at point ``i``.
+
+        Parameters
+        ----------
+        i : int
+            Index into :attr:`values` (negative counts from the end).
+
+        Returns
+        -------
+        tuple
+            ``((r_P1, r_P2, r_P3), m0)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``i`` is not an integer.
+        ArgumentError
+            If ``i`` is outside the sweep.
+        """
+        n = self.values.size
+        i = checks.integer("i", i, lo=-n, hi=n - 1)
         return sweep_controls(self.parameter, float(self.values[i]), self.r_p, self.m0)
 
     def records(self) -> list[dict[str, Any]]:
@@ -165,10 +202,15 @@ class HelixSweep:
         matplotlib.axes.Axes
             The curve (broken at :attr:`branch_jumps`), unstable points marked ``x``; see
             :func:`glidectl.plotting.plot_helix_sweep`.
+
+        Raises
+        ------
+        ArgumentError
+            If ``column`` is not a column.
         """
         from ..plotting import plot_helix_sweep, style
 
-        self.column(column)  # unknown column: ModelError before anything is drawn
+        self.column(column)  # unknown column: ArgumentError before anything is drawn
         with style():
             return plot_helix_sweep(self, ax, column=column, **kw)
 
@@ -201,9 +243,10 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
         does not depend on it (module docstring).
     continuation : bool
         Warm-start each point from the previous solution (True) or cold-solve every point independently (False).
-    continuation_steps, n_random, seed
+    continuation_steps, n_random, seed : int
         Cold-solve settings of :func:`glidectl.trim.helix.helix_trim` (steps of the ``r_P2`` continuation from the
-        longitudinal straight glide; number of random starts; their seed).
+        longitudinal straight glide, in ``[1, 1000]``; number of random starts, in ``[0, 10000]``; their seed,
+        ``>= 0``).
 
     Returns
     -------
@@ -213,20 +256,30 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle; ``values``, ``r_p`` or ``m0`` are not real numbers; ``chunks``,
+        ``continuation_steps``, ``n_random`` or ``seed`` are not integers; ``continuation`` is not a bool;
+        ``executor`` has no ``submit``.
+    ArgumentError
+        Unknown parameter; empty, multi-dimensional or non-finite values; ``r_p`` not three finite numbers; a
+        setting out of its range; a swept point with the moving mass farther than 10 m from the centre.
     ModelError
-        Unknown parameter, empty or non-finite values, invalid ``r_p``/``m0``/``chunks``; ``ModelError`` for a
-        vehicle without the 3D parameters.
+        A vehicle that is not a 3D underwater glider, or a swept point whose ``m0`` makes a mass non-positive.
+    BudgetError
+        If the sweep could need more than :data:`~glidectl.analysis.continuation.MAX_NEWTON_SOLVES` Newton
+        solves (values x (1 + continuation_steps + n_random)).
     """
     vals, rp, m = check_sweep_inputs(veh, parameter, values, r_p, m0)
     n = vals.size
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise ArgumentTypeError(f"executor must be a concurrent.futures.Executor (with submit), got "
+                                f"{type(executor).__name__}")
     if chunks is None:
         chunks = 1 if executor is None else min(n, os.cpu_count() or 1)
-    if isinstance(chunks, bool) or not isinstance(chunks, int | np.integer) or chunks < 1:
-        raise ModelError(f"chunks must be a positive integer, got {chunks!r}")
-    if continuation_steps < 1 or n_random < 0:
-        raise ModelError(f"continuation_steps must be >= 1 and n_random >= 0, got {continuation_steps}, "
-                            f"{n_random}")
-    opts = ContinuationOptions(int(continuation_steps), int(n_random), int(seed))
+    chunks = checks.integer("chunks", chunks, lo=1)
+    continuation = checks.boolean("continuation", continuation)
+    opts = check_options(continuation_steps, n_random, seed)
+    check_solve_budget(f"helix_sweep over {n} values", n * (2 + opts.continuation_steps + opts.n_random))
     bounds = chunk_bounds(n, min(int(chunks), n))
     args = [(veh, parameter, [float(x) for x in vals[a:b]], rp, m, opts, bool(continuation)) for a, b in bounds]
     if executor is None:
@@ -260,8 +313,9 @@ def straight_glides(veh: Vehicle, sweep: HelixSweep, *, xtol: float = 1e-10) -> 
     veh : Vehicle
         The vehicle the sweep was computed for.
     sweep : HelixSweep
+        From :func:`helix_sweep` for ``veh``.
     xtol : float
-        Absolute tolerance on the swept value (m or kg).
+        Absolute tolerance on the swept value (m or kg), ``> 0``.
 
     Returns
     -------
@@ -270,18 +324,27 @@ def straight_glides(veh: Vehicle, sweep: HelixSweep, *, xtol: float = 1e-10) -> 
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``sweep`` is not a :class:`HelixSweep` or ``xtol`` is not a real number.
+    ArgumentError
+        If ``xtol`` is not positive and finite.
+    VehicleMismatchError
+        If ``sweep`` was computed for another vehicle.
     ModelError
-        If ``veh`` cannot carry the sweep's controls (not a 3D underwater glider, or ``m0`` making a body mass
-        non-positive). ``veh`` is not checked against the vehicle the sweep was computed for.
+        If ``veh`` is not a 3D underwater glider.
     InfeasibleGlideError
         If a warm-started trim inside the bracket fails.
-    ValueError
-        If the re-solved ``psidot`` has the same sign at both ends of a bracket (:func:`scipy.optimize.brentq`).
-    RuntimeError
-        If Brent's method does not converge.
+    SolverError
+        If the re-solved ``psidot`` has the same sign at both ends of a bracket, or Brent's method does not
+        converge (at most 100 iterations per bracket).
     """
     from scipy.optimize import brentq
 
+    checks.vehicle("veh", veh, "underwater_glider")
+    if not isinstance(sweep, HelixSweep):
+        raise ArgumentTypeError(f"sweep must be a HelixSweep from gc.helix_sweep(...), got {type(sweep).__name__}")
+    checks.same_vehicle("sweep", sweep, veh)
+    xtol = checks.positive("xtol", xtol, unit=sweep.unit)
     jumps = set(np.round(sweep.branch_jumps, 12))
     out = []
     idx = np.flatnonzero(sweep.exists)
@@ -297,6 +360,13 @@ def straight_glides(veh: Vehicle, sweep: HelixSweep, *, xtol: float = 1e-10) -> 
             r_p, m0 = sweep_controls(sweep.parameter, x, sweep.r_p, sweep.m0)
             return helix_trim(veh, r_p, m0, guess=guess, n_random=0)
 
-        x0 = brentq(lambda x: trim(x).psidot, a, b, xtol=xtol)
+        fa, fb = trim(a).psidot, trim(b).psidot
+        if not fa * fb < 0:
+            raise SolverError(f"re-solved psidot has the same sign at {sweep.parameter} = {a:g} and {b:g} "
+                              f"({fa:.3g}, {fb:.3g} rad/s): the warm-started trims left the sweep's branch")
+        x0, info = brentq(lambda x: trim(x).psidot, a, b, xtol=xtol, maxiter=100, full_output=True, disp=False)
+        if not info.converged:
+            raise SolverError(f"Brent's method did not converge on psidot = 0 between {sweep.parameter} = {a:g} and "
+                              f"{b:g}: {info.flag}")
         out.append(trim(x0))
     return tuple(out)

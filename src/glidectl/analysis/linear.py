@@ -10,12 +10,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import control
 import numpy as np
 
-from ..errors import GlidectlError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, SolverError
 from ..models.longitudinal import (
     AccelerationControlledGlider,
     GlidePathModel,
@@ -28,6 +29,14 @@ from .jacobian import jacobians
 __all__ = ["Modes", "RankTest", "controllability", "glide_model", "linearize_glide", "modes", "observability"]
 
 InputKind = Literal["force", "acceleration"]
+
+
+def _check_glide(veh: Vehicle, glide: SteadyGlide) -> None:
+    checks.vehicle("veh", veh, "underwater_glider")
+    if not isinstance(glide, SteadyGlide):
+        raise ArgumentTypeError(f"glide must be a SteadyGlide from gc.steady_glide(veh, speed, gamma, ...), got "
+                                f"{type(glide).__name__}")
+    checks.same_vehicle("glide", glide, veh)
 
 
 def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -> tuple[GlidePathModel, np.ndarray]:
@@ -54,23 +63,23 @@ def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -
 
     Raises
     ------
-    GlidectlError
-        If ``inputs`` is neither ``"force"`` nor ``"acceleration"``, or ``glide`` was trimmed for another vehicle
-        (different provenance).
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``glide`` is not a :class:`~glidectl.trim.glide.SteadyGlide` (e.g. ``None``).
+    ArgumentError
+        If ``inputs`` is neither ``"force"`` nor ``"acceleration"``.
+    VehicleMismatchError
+        If ``glide`` was trimmed for another vehicle (different provenance).
     ModelError
-        If ``veh`` is not an underwater glider or has ``mbar <= 0`` (checked first, by the model).
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``.
     """
+    _check_glide(veh, glide)
+    checks.choice("inputs", inputs, ("force", "acceleration"))
     if inputs == "force":
         base: LongitudinalGlider | AccelerationControlledGlider = LongitudinalGlider(veh)
         xe = glide.force_state()
-    elif inputs == "acceleration":
+    else:
         base = AccelerationControlledGlider(veh)
         xe = glide.accel_state()
-    else:
-        raise GlidectlError(f"inputs must be 'force' (u1, u3, u4) or 'acceleration' (w1, w3, w4), got {inputs!r}")
-    if glide.provenance != veh.provenance:
-        raise GlidectlError(f"glide was trimmed for vehicle '{glide.vehicle.name}' ({glide.provenance}), "
-                            f"not for '{veh.name}' ({veh.provenance})")
     model = GlidePathModel(base, glide.gamma)
     return model, np.concatenate([[0.0], xe[2:]])
 
@@ -97,11 +106,14 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
 
     Raises
     ------
-    GlidectlError
-        If ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``glide`` was trimmed for another vehicle (from
-        :func:`glide_model`).
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``glide`` is not a :class:`~glidectl.trim.glide.SteadyGlide` (e.g. ``None``).
+    ArgumentError
+        If ``inputs`` is not ``"force"`` or ``"acceleration"``.
+    VehicleMismatchError
+        If ``glide`` was trimmed for another vehicle (different provenance).
     ModelError
-        If ``veh`` is not an underwater glider or has ``mbar <= 0`` (from :func:`glide_model`).
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite at the glide.
     """
     model, xe = glide_model(veh, glide, inputs)
     A, B = jacobians(model.rhs, xe, np.zeros(3))
@@ -147,6 +159,18 @@ class Modes:
         return "\n".join(lines)
 
 
+def _state_matrix(sys: Any) -> np.ndarray:
+    if not isinstance(sys, control.StateSpace):
+        raise ArgumentTypeError(f"sys must be a control.StateSpace (e.g. from gc.linearize_glide), got "
+                                f"{type(sys).__name__}")
+    A = np.asarray(sys.A)
+    if A.shape[0] == 0:
+        raise ArgumentError("sys has no states")
+    if np.iscomplexobj(A) or not np.all(np.isfinite(A)):
+        raise ArgumentError("sys.A must be a finite real matrix (no NaN or inf)")
+    return A
+
+
 def modes(sys: control.StateSpace) -> Modes:
     """Eigenvalues, eigenvectors, natural frequencies, damping ratios and dominant states of ``sys``.
 
@@ -164,10 +188,18 @@ def modes(sys: control.StateSpace) -> Modes:
 
     Raises
     ------
-    numpy.linalg.LinAlgError
-        If the eigenvalue computation does not converge (or ``sys.A`` is not square).
+    ArgumentTypeError
+        If ``sys`` is not a :class:`control.StateSpace`.
+    ArgumentError
+        If ``sys`` has no states or ``sys.A`` is not finite.
+    SolverError
+        If the eigenvalue computation does not converge.
     """
-    lam, vec = np.linalg.eig(np.asarray(sys.A))
+    A = _state_matrix(sys)
+    try:
+        lam, vec = np.linalg.eig(A)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigenvalues of the {A.shape[0]}-state model did not converge: {exc}") from exc
     order = np.lexsort((-lam.imag, -lam.real))
     lam, vec = lam[order], vec[:, order]
     vec = vec / np.linalg.norm(vec, axis=0)
@@ -243,21 +275,35 @@ def _scaled_rank(K: np.ndarray, tol: float | None) -> tuple[int, float, np.ndarr
 def _pbh(A: np.ndarray, B: np.ndarray, pbh_tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     n = A.shape[0]
     lam = np.linalg.eigvals(A)
-    scale = np.linalg.norm(np.hstack([A, B]), 2)
+    scale = np.linalg.norm(np.hstack([A, B]), 2) or 1.0  # A = 0, B = 0: every margin is 0 (uncontrollable)
     mins = np.array([np.linalg.svd(np.hstack([A - l * np.eye(n), B]), compute_uv=False)[-1] / scale
                      for l in lam])
     return lam, mins, lam[mins < pbh_tol]
 
 
-def _index(sys: control.StateSpace, names: Sequence[str], labels: Sequence[str], what: str) -> list[int]:
+def _index(names: Any, labels: Sequence[str], what: str) -> list[int]:
+    """Indices of the selected names (a single name is one channel, never split into characters)."""
+    labels = list(labels)
     if isinstance(names, str):
         names = [names]
+    elif isinstance(names, bytes) or not isinstance(names, Sequence | np.ndarray):
+        raise ArgumentTypeError(f"the {what} selection must be a name or a sequence of names from {labels}, got "
+                                f"{type(names).__name__} {names!r}")
+    names = list(names)
+    if not all(isinstance(q, str) for q in names):
+        raise ArgumentTypeError(f"the {what} selection must hold names (str) from {labels}, got {names!r}")
     if len(names) == 0:
-        raise GlidectlError(f"empty {what} selection; pass None for all of {list(labels)}")
+        raise ArgumentError(f"empty {what} selection; pass None for all of {labels}")
     bad = [q for q in names if q not in labels]
     if bad:
-        raise GlidectlError(f"unknown {what} {bad}; this model has {list(labels)}")
-    return [list(labels).index(q) for q in names]
+        raise ArgumentError(f"unknown {what} {bad}; this model has {labels}")
+    if len(set(names)) != len(names):
+        raise ArgumentError(f"the {what} selection {names} names a channel twice")
+    return [labels.index(q) for q in names]
+
+
+def _tolerances(tol: Any, pbh_tol: Any) -> tuple[float | None, float]:
+    return (None if tol is None else checks.positive("tol", tol)), checks.positive("pbh_tol", pbh_tol)
 
 
 def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None,
@@ -268,9 +314,9 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
     Parameters
     ----------
     sys : control.StateSpace
-    inputs : sequence of str, optional
-        Input names to keep (default: all).
-    states : sequence of str, optional
+    inputs : str or sequence of str, optional
+        Input names to keep (default: all); a single name is one input.
+    states : str or sequence of str, optional
         States to keep (the others are removed, e.g. to model a moving mass locked along one axis).
     tol : float, optional
         Rank tolerance for the Kalman matrix ``ctrb(A, B)`` computed by python-control on state-scaled
@@ -286,20 +332,35 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
 
     Raises
     ------
-    GlidectlError
-        If ``inputs`` or ``states`` names an input or state ``sys`` does not have, or selects none.
+    ArgumentTypeError
+        If ``sys`` is not a :class:`control.StateSpace`, a selection is not a name or a sequence of names, or a
+        tolerance is not a real number.
+    ArgumentError
+        If ``inputs`` or ``states`` names an input or state ``sys`` does not have, names one twice or selects none;
+        a tolerance is not positive and finite; ``sys`` has no states or non-finite matrices.
+    SolverError
+        If the balancing, SVD or eigenvalue computation fails.
     """
-    A, B = np.asarray(sys.A), np.asarray(sys.B)
-    si = _index(sys, sys.state_labels if states is None else states, sys.state_labels, "state")
-    ui = _index(sys, sys.input_labels if inputs is None else inputs, sys.input_labels, "input")
+    A = _state_matrix(sys)
+    B = np.asarray(sys.B)
+    if np.iscomplexobj(B) or not np.all(np.isfinite(B)):
+        raise ArgumentError("sys.B must be a finite real matrix (no NaN or inf)")
+    if inputs is None and B.shape[1] == 0:
+        raise ArgumentError("sys has no inputs: nothing can be controllable")
+    si = _index(sys.state_labels if states is None else states, sys.state_labels, "state")
+    ui = _index(sys.input_labels if inputs is None else inputs, sys.input_labels, "input")
+    tol, pbh_tol = _tolerances(tol, pbh_tol)
     A, B = A[np.ix_(si, si)], B[np.ix_(si, ui)]
     # diagonal similarity scaling (balancing) to make the Kalman matrix well conditioned
     from scipy.linalg import matrix_balance
-    _, T = matrix_balance(A, permute=False, separate=True)
-    d = T[0]
-    As, Bs = A * (1 / d)[:, None] * d[None, :], B / d[:, None]
-    rank, tol_used, s = _scaled_rank(np.asarray(control.ctrb(As, Bs)), tol)
-    lam, mins, bad = _pbh(As, Bs, pbh_tol)
+    try:
+        _, T = matrix_balance(A, permute=False, separate=True)
+        d = T[0]
+        As, Bs = A * (1 / d)[:, None] * d[None, :], B / d[:, None]
+        rank, tol_used, s = _scaled_rank(np.asarray(control.ctrb(As, Bs)), tol)
+        lam, mins, bad = _pbh(As, Bs, pbh_tol)
+    except (np.linalg.LinAlgError, ValueError, FloatingPointError, ZeroDivisionError) as exc:
+        raise SolverError(f"controllability test failed numerically ({type(exc).__name__}: {exc})") from exc
     return RankTest("controllability", rank, A.shape[0], tol_used, s, mins, lam, bad, pbh_tol,
                     tuple(sys.input_labels[i] for i in ui))
 
@@ -312,8 +373,8 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
     ----------
     sys : control.StateSpace
         Linear model with named states.
-    outputs : sequence of str
-        Names of the measured states.
+    outputs : str or sequence of str
+        Names of the measured states; a single name is one output (never split into characters).
     tol : float, optional
         Rank tolerance of the (scaled) Kalman observability matrix; default as in :func:`controllability`.
     pbh_tol : float
@@ -327,13 +388,20 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
 
     Raises
     ------
-    GlidectlError
-        If ``outputs`` is empty or names a state ``sys`` does not have.
+    ArgumentTypeError
+        If ``sys`` is not a :class:`control.StateSpace`, ``outputs`` is not a name or a sequence of names, or a
+        tolerance is not a real number.
+    ArgumentError
+        If ``outputs`` is empty, names a state ``sys`` does not have or names one twice; a tolerance is not positive
+        and finite; ``sys`` has no states or a non-finite ``A``.
+    SolverError
+        If the balancing, SVD or eigenvalue computation fails.
     """
-    A = np.asarray(sys.A)
-    oi = _index(sys, outputs, sys.state_labels, "output state")
+    A = _state_matrix(sys)
+    oi = _index(outputs, sys.state_labels, "output state")
+    tol, pbh_tol = _tolerances(tol, pbh_tol)
     C = np.eye(A.shape[0])[oi]
     r = controllability(control.ss(A.T, C.T, np.eye(A.shape[0]), 0, states=list(sys.state_labels)),
                         tol=tol, pbh_tol=pbh_tol)
     return RankTest("observability", r.rank, r.n, r.tol, r.singular_values, r.pbh_min, r.eigenvalues,
-                    r.uncontrollable_modes, pbh_tol, tuple(outputs))
+                    r.uncontrollable_modes, pbh_tol, tuple(sys.state_labels[i] for i in oi))

@@ -10,14 +10,16 @@ matrices.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Callable, Sequence
+import math
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq, linear_sum_assignment
 
-from ..errors import GlidectlError, SolverError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..models.longitudinal import AccelerationControlledGlider, LongitudinalGlider
 from ..params import Vehicle
 from ..trim.glide import steady_glide
@@ -87,7 +89,26 @@ class ParameterLocus:
     provenance: str = ""
 
     def stable_at(self, i: int) -> bool:
-        """True when every branch has negative real part at grid index i."""
+        """True when every branch has negative real part at grid index ``i``.
+
+        Parameters
+        ----------
+        i : int
+            Grid index, ``-N <= i < N`` (negative counts from the end).
+
+        Returns
+        -------
+        bool
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``i`` is not an integer.
+        ArgumentError
+            If ``i`` is outside the grid.
+        """
+        n = self.values.size
+        i = checks.integer("i", i, lo=-n, hi=n - 1)
         return bool(np.all(self.branches[i].real < 0))
 
     def plot(self, ax: Any = None, *, kind: str = "complex", **kw: Any) -> Any:
@@ -107,13 +128,21 @@ class ParameterLocus:
         Returns
         -------
         matplotlib.axes.Axes
+
+        Raises
+        ------
+        ArgumentError
+            If ``kind`` is neither ``"complex"`` nor ``"real"``.
         """
         from ..plotting import plot_locus, plot_locus_real, style
 
-        if kind not in ("complex", "real"):
-            raise GlidectlError(f"kind must be 'complex' or 'real', got {kind!r}")
+        checks.choice("kind", kind, ("complex", "real"))
         with style():
             return plot_locus(self, ax=ax, **kw) if kind == "complex" else plot_locus_real(self, ax=ax, **kw)
+
+
+class _Passthrough(Exception):
+    """Carries an exception raised by ``eig_fn`` through :func:`scipy.optimize.brentq` unchanged."""
 
 
 def _match(prev: np.ndarray, new: np.ndarray) -> np.ndarray:
@@ -126,9 +155,16 @@ def _n_real(lam: np.ndarray) -> int:
     return int(np.sum(lam.imag == 0))
 
 
+def _grid(name: str, values: Any) -> np.ndarray:
+    vals = checks.array(name, values, ndim=1, min_size=2)
+    if np.any(np.diff(vals) <= 0):
+        raise ArgumentError(f"{name} must be a strictly increasing 1-D grid of >= 2 points, got {vals!r}")
+    return vals
+
+
 def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[float], parameter: str,
                     unit: str, context: dict[str, Any] | None = None, *,
-                    vehicle: Vehicle | None = None) -> ParameterLocus:
+                    vehicle: Vehicle | None = None, time_limit: float | None = None) -> ParameterLocus:
     """Eigenvalue locus of ``eig_fn(p)`` over ``values`` with branch matching, crossings and break points.
 
     Parameters
@@ -143,6 +179,10 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
         What the matrix is (vehicle, glide, block), stored as :attr:`ParameterLocus.context`.
     vehicle : Vehicle, optional
         The vehicle the matrix belongs to; the locus keeps it and its parameter hash as ``provenance``.
+    time_limit : float, optional
+        Wall-time budget (s) of the whole computation; default none. The work is otherwise bounded: one
+        ``eig_fn`` call per grid point, at most 200 Brent iterations per stability crossing and 80 bisection steps
+        per break point.
 
     Returns
     -------
@@ -153,16 +193,51 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
 
     Raises
     ------
-    GlidectlError
-        If ``values`` is not a strictly increasing one-dimensional grid of at least 2 points.
+    ArgumentTypeError
+        If ``eig_fn`` is not callable, ``values`` is not an array of real numbers, ``parameter``/``unit`` are not
+        strings, ``context`` is not a mapping, ``vehicle`` is not a Vehicle, or ``eig_fn`` returns something that is
+        not an array of numbers.
+    ArgumentError
+        If ``values`` is not a finite, strictly increasing one-dimensional grid of at least 2 points, or ``eig_fn``
+        returns an empty or multi-dimensional array.
+    ModelError
+        If ``eig_fn`` returns a non-finite eigenvalue.
     SolverError
         If the number of eigenvalues changes along the grid, or Brent's method fails on a sign change of
         ``max Re(lambda)``.
+    BudgetError
+        If ``time_limit`` is reached.
+    Exception
+        Whatever ``eig_fn`` raises passes through unchanged.
     """
-    vals = np.asarray(values, dtype=float)
-    if vals.ndim != 1 or vals.size < 2 or np.any(np.diff(vals) <= 0):
-        raise GlidectlError("locus parameter values must be a strictly increasing 1-D grid of >= 2 points")
-    eigs = [np.asarray(eig_fn(float(p)), dtype=complex) for p in vals]
+    checks.function("eig_fn", eig_fn)
+    vals = _grid("values", values)
+    for nm, txt in (("parameter", parameter), ("unit", unit)):
+        if not isinstance(txt, str):
+            raise ArgumentTypeError(f"{nm} must be a string, got {type(txt).__name__} {txt!r}")
+    if context is not None and not isinstance(context, Mapping):
+        raise ArgumentTypeError(f"context must be a mapping (dict) or None, got {type(context).__name__}")
+    if vehicle is not None:
+        checks.vehicle("vehicle", vehicle)
+    deadline = checks.Deadline(time_limit, f"locus over {parameter}")
+
+    def eig_at(p: float) -> np.ndarray:
+        deadline.check(f"at {parameter} = {p:g}")
+        raw = eig_fn(float(p))
+        try:
+            lam = np.asarray(raw, dtype=complex)
+        except (TypeError, ValueError) as exc:
+            raise ArgumentTypeError(f"eig_fn must return an array of eigenvalues, got {type(raw).__name__} at "
+                                    f"{parameter} = {p:g}") from exc
+        if lam.ndim != 1 or lam.size == 0:
+            raise ArgumentError(f"eig_fn must return a non-empty 1-D array of eigenvalues, got shape {lam.shape} at "
+                                f"{parameter} = {p:g}")
+        if not np.all(np.isfinite(lam)):
+            raise ModelError(f"eig_fn returned non-finite eigenvalues at {parameter} = {p:g}: the matrix is not "
+                             "finite there")
+        return lam
+
+    eigs = [eig_at(float(p)) for p in vals]
     k = eigs[0].size
     branches = np.empty((vals.size, k), dtype=complex)
     branches[0] = np.sort_complex(eigs[0])
@@ -173,7 +248,10 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
     jump = float(np.max(np.abs(np.diff(branches, axis=0)))) if vals.size > 1 else 0.0
 
     def h(p: float) -> float:
-        return float(np.max(np.asarray(eig_fn(p)).real))
+        try:
+            return float(np.max(eig_at(p).real))
+        except Exception as exc:  # eig_fn's own errors (and budget) must not be mistaken for Brent's
+            raise _Passthrough(exc) from exc
 
     hv = np.array([np.max(e.real) for e in eigs])
     crossings: list[float] = []
@@ -187,6 +265,8 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
             continue
         try:
             crossings.append(float(brentq(h, vals[i], vals[j], xtol=1e-13, rtol=1e-12, maxiter=200)))
+        except _Passthrough as wrapped:
+            raise wrapped.args[0] from None
         except (ValueError, RuntimeError) as exc:  # pragma: no cover - brentq is guaranteed by the sign change
             raise SolverError(
                 f"stability boundary search failed between {vals[i]:g} and {vals[j]:g}: {exc}") from exc
@@ -196,21 +276,51 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
         a, b, na = vals[i], vals[i + 1], nr[i]
         for _ in range(80):
             mid = 0.5 * (a + b)
-            if _n_real(np.asarray(eig_fn(mid))) == na:
+            if _n_real(eig_at(mid)) == na:
                 a = mid
             else:
                 b = mid
             if b - a <= 1e-13 * max(1.0, abs(a)):
                 break
-        lam = np.asarray(eig_fn(b))
+        lam = eig_at(b)
         kind = "break-away" if nr[i + 1] < nr[i] else "break-in"
         # the meeting point: the real eigenvalue pair (or complex pair) closest to each other at the transition
-        cand = np.asarray(eig_fn(a)) if kind == "break-away" else lam
+        cand = eig_at(a) if kind == "break-away" else lam
         re = np.sort(cand[cand.imag == 0].real)
         loc = float(re[np.argmin(np.diff(re))] + np.min(np.diff(re)) / 2) if re.size >= 2 else float("nan")
         bps.append(BreakPoint(kind, float(0.5 * (a + b)), loc))
     return ParameterLocus(parameter, unit, vals, branches, tuple(crossings), tuple(bps), jump, dict(context or {}),
                           vehicle, "" if vehicle is None else vehicle.provenance)
+
+
+SPEED_MAX = 100.0  # m/s, plausibility limit of a glide speed
+
+
+def _glide_args(veh: Vehicle, speed: Any, gamma: Any, family: dict[str, Any] | None) -> tuple[float, float,
+                                                                                               dict[str, float]]:
+    """Check the arguments of a steady glide at the boundary: vehicle kind, speed in (0, 100] m/s, finite gamma
+    and (when given) exactly one of ``r_p3=`` / ``r_bh=`` (m)."""
+    checks.vehicle("veh", veh, "underwater_glider")
+    speed = checks.real("speed", speed, lo=0.0, hi=SPEED_MAX, lo_open=True, unit="m/s")
+    gamma = checks.real("gamma", gamma, lo=-math.pi / 2, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
+    if family is None:
+        return speed, gamma, {}
+    unknown = sorted(set(family) - {"r_p3", "r_bh"})
+    if unknown:
+        raise ArgumentTypeError(f"unknown keyword argument(s) {unknown}; the mass position is given by r_p3= or "
+                                "r_bh= (m)")
+    if len(family) != 1:
+        raise ArgumentError("give exactly one of r_p3= (m) or r_bh= (m) to pick the moving-mass position from the "
+                            f"one-parameter family of equilibria, got {sorted(family) or 'neither'}")
+    (key, value), = family.items()
+    return speed, gamma, {key: checks.real(key, value, unit="m")}
+
+
+def _eigvals(M: np.ndarray, what: str) -> np.ndarray:
+    try:
+        return np.linalg.eigvals(M)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigenvalues of {what} did not converge: {exc}") from exc
 
 
 def eta_r_eigenvalues(veh: Vehicle, speed: float, gamma: float, **family: float) -> np.ndarray:
@@ -233,15 +343,32 @@ def eta_r_eigenvalues(veh: Vehicle, speed: float, gamma: float, **family: float)
     -------
     ndarray, shape (4,)
         Eigenvalues of the 4x4 block of the exact (complex-step) Jacobian (unsorted).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``speed``, ``gamma`` or the family value is not a real number, or a keyword
+        other than ``r_p3``/``r_bh`` is given.
+    ArgumentError
+        If ``speed`` is not in (0, 100] m/s, ``gamma`` not in (-pi/2, pi/2), a value is not finite, or not exactly
+        one of ``r_p3``, ``r_bh`` is given.
+    ModelError
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite.
+    InfeasibleGlideError
+        If no steady glide exists at ``speed`` and ``gamma``.
+    SolverError
+        If the steady glide's residual check or the eigenvalue computation fails.
     """
+    speed, gamma, family = _glide_args(veh, speed, gamma, family)
     acc = AccelerationControlledGlider(veh)
     g = steady_glide(veh, speed, gamma, **family)
     A, _ = jacobians(acc.rhs, g.accel_state(), np.zeros(3))
     idx = [acc.state_names.index(s) for s in ETA_R]
-    return np.linalg.eigvals(A[np.ix_(idx, idx)])
+    return _eigvals(A[np.ix_(idx, idx)], "dq_r/deta_r")
 
 
-def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[float]) -> ParameterLocus:
+def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[float], *,
+              time_limit: float | None = None) -> ParameterLocus:
     """Eigenvalues of ``dq_r/deta_r`` (acceleration-controlled glider, (2.35)) versus bottom-heaviness (Fig 2.7).
 
     At each ``r_bh`` the steady glide (speed in m/s, gamma in rad) is re-solved (the speed, gamma, alpha and m0 do
@@ -257,7 +384,9 @@ def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[flo
     gamma : float
         Flight-path angle (rad), in the permissible set (2.26).
     rbh_values : sequence of float
-        Strictly increasing grid of bottom-heaviness values ``r_bh`` (m), at least 2 points.
+        Strictly increasing grid of bottom-heaviness values ``r_bh`` (m), at least 2 points, finite.
+    time_limit : float, optional
+        Wall-time budget (s); see :func:`parameter_locus` for the bounded work.
 
     Returns
     -------
@@ -266,18 +395,26 @@ def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[flo
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``speed`` or ``gamma`` is not a real number, or ``rbh_values`` not real numbers.
+    ArgumentError
+        If ``speed`` is not in (0, 100] m/s, ``gamma`` not in (-pi/2, pi/2), or ``rbh_values`` is not a finite,
+        strictly increasing grid of at least 2 points.
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``.
     InfeasibleGlideError
         If no steady glide exists at ``speed`` and ``gamma`` (:func:`glidectl.trim.glide.steady_glide`).
     SolverError
         If a steady glide's residual check fails, or as in :func:`parameter_locus`.
-    GlidectlError
-        If ``rbh_values`` is not a strictly increasing grid of at least 2 points.
+    BudgetError
+        If ``time_limit`` is reached.
     """
-    return parameter_locus(lambda r: eta_r_eigenvalues(veh, speed, gamma, r_bh=r), rbh_values, "r_bh", "m",
+    speed, gamma, _ = _glide_args(veh, speed, gamma, None)
+    vals = _grid("rbh_values", rbh_values)
+    return parameter_locus(lambda r: eta_r_eigenvalues(veh, speed, gamma, r_bh=r), vals, "r_bh", "m",
                            {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
-                            "matrix": "dq_r/deta_r of (2.35), acceleration control"}, vehicle=veh)
+                            "matrix": "dq_r/deta_r of (2.35), acceleration control"}, vehicle=veh,
+                           time_limit=time_limit)
 
 
 UNCONTROLLED_BLOCK = ("theta", "Omega2", "v1", "v3", "r_P1", "r_P3")
@@ -310,23 +447,30 @@ def uncontrolled_eigs(veh: Vehicle, speed: float, gamma: float, **family: float)
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``speed``, ``gamma`` or the family value is not a real number, or a keyword
+        other than ``r_p3``/``r_bh`` is given.
+    ArgumentError
+        If ``speed`` is not in (0, 100] m/s, ``gamma`` not in (-pi/2, pi/2), a value is not finite, or not exactly
+        one of ``r_p3``, ``r_bh`` is given.
     ModelError
-        If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+        If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite.
     InfeasibleGlideError
-        If no steady glide exists at ``speed`` and ``gamma``, or not exactly one of ``r_p3``, ``r_bh`` is given.
+        If no steady glide exists at ``speed`` and ``gamma``.
     SolverError
-        If the steady glide's residual check fails.
+        If the steady glide's residual check or the eigenvalue computation fails.
     """
+    speed, gamma, family = _glide_args(veh, speed, gamma, family)
     model = LongitudinalGlider(veh)
     g = steady_glide(veh, speed, gamma, **family)
     A, _ = jacobians(model.rhs, g.force_state(), np.zeros(3))
     idx = [model.state_names.index(s) for s in UNCONTROLLED_BLOCK]
-    lam = np.linalg.eigvals(A[np.ix_(idx, idx)])
+    lam = _eigvals(A[np.ix_(idx, idx)], "the uncontrolled block")
     return np.delete(lam, np.argmin(np.abs(lam)))
 
 
-def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[float],
-               **family: float) -> ParameterLocus:
+def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[float], *,
+               time_limit: float | None = None, **family: float) -> ParameterLocus:
     """Nonzero eigenvalues of the uncontrolled glider versus the moving mass mbar (kg) (§2.3.1, 0.257 kg).
 
     The glide is re-trimmed at each mbar holding ``r_p3`` (or ``r_bh``) given in ``family`` fixed.
@@ -340,7 +484,9 @@ def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[f
     gamma : float
         Flight-path angle (rad), in the permissible set (2.26).
     mbar_values : sequence of float
-        Strictly increasing grid of moving masses (kg), at least 2 points, all ``> 0``.
+        Strictly increasing grid of moving masses (kg), at least 2 points, all finite and ``> 0``.
+    time_limit : float, optional
+        Wall-time budget (s); see :func:`parameter_locus` for the bounded work.
     **family : float
         ``r_p3=`` or ``r_bh=`` (m), held fixed along the locus.
 
@@ -351,18 +497,27 @@ def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[f
 
     Raises
     ------
-    VehicleFileError
-        If a grid value is not a valid ``mbar`` override (negative or non-finite).
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``speed``, ``gamma`` or the family value is not a real number, a keyword other
+        than ``r_p3``/``r_bh`` is given, or ``mbar_values`` is not real numbers.
+    ArgumentError
+        If ``speed`` is not in (0, 100] m/s, ``gamma`` not in (-pi/2, pi/2), not exactly one of ``r_p3``, ``r_bh``
+        is given, or ``mbar_values`` is not a finite, strictly increasing grid of at least 2 positive masses.
     ModelError
-        If ``veh`` is not an underwater glider, or a grid value is ``mbar = 0``.
+        If ``veh`` is not an underwater glider.
     InfeasibleGlideError
-        If no steady glide exists at ``speed`` and ``gamma``, or not exactly one of ``r_p3``, ``r_bh`` is given.
+        If no steady glide exists at ``speed`` and ``gamma``.
     SolverError
         If a steady glide's residual check fails, or as in :func:`parameter_locus`.
-    GlidectlError
-        If ``mbar_values`` is not a strictly increasing grid of at least 2 points.
+    BudgetError
+        If ``time_limit`` is reached.
     """
+    speed, gamma, family = _glide_args(veh, speed, gamma, family)
+    vals = _grid("mbar_values", mbar_values)
+    if vals[0] <= 0:
+        raise ArgumentError(f"mbar_values must be moving masses > 0 kg, got {vals[0]!r}")
     return parameter_locus(lambda mb: uncontrolled_eigs(veh.with_overrides(mbar=mb), speed, gamma, **family),
-                           mbar_values, "mbar", "kg",
+                           vals, "mbar", "kg",
                            {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
-                            "matrix": "uncontrolled force model, u = 0", **family}, vehicle=veh)
+                            "matrix": "uncontrolled force model, u = 0", **family}, vehicle=veh,
+                           time_limit=time_limit)

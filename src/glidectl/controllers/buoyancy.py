@@ -39,7 +39,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GlidectlError, InfeasibleGlideError
+from .. import checks
+from ..errors import ArgumentError, InfeasibleGlideError, SolverError
+from ..models._validate import require_glider, require_instance, speed_arg, trailing_array
 from ..models.buoyancy_glider import BuoyancyGlider, actuator_limits, loaded_rates
 from ..models.reduced import ReducedLongitudinalGlider
 from ..params import Vehicle
@@ -113,7 +115,7 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
     veh : Vehicle
         Chapter-5 glider (``K_q < 0``, ``K_M < 0``); ``m0_max`` (kg) is enforced when defined.
     speed : float
-        Requested steady speed ``V_e`` (m/s), > 0.
+        Requested steady speed ``V_e`` (m/s), in ``(0, 100]``.
     descending : bool
         Sign of (6.7): ``m0e > 0`` (descent, ``gamma_e < 0``) or ``m0e < 0`` (climb). Only the sign of ``K_Le``
         (fixed by ``alpha_e``) gives an upright glide; the other raises.
@@ -126,20 +128,30 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``speed`` not a real number or ``descending`` not a bool.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]`` m/s.
     InfeasibleGlideError
-        Non-positive speed, ``|m0e| > m0_max``, or a direction that would need an inverted glide.
+        ``|m0e| > m0_max``, or a direction that would need an inverted glide.
     ModelError
         If ``veh`` is not an underwater glider, its nominal ``m0`` is 0, ``K_M = 0``, or it has no singularly
         perturbed chapter-5 glide at ``m0e`` (``K_q >= 0``, ``K_M >= 0``, ``K_De <= 0``; from
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
+    SolverError
+        If the equilibrium residual is not small relative to the forces at the glide (a loss of accuracy).
     """
-    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
-        raise InfeasibleGlideError(f"speed must be a positive number of m/s, got {speed!r}")
+    require_glider(veh, "veh")
+    speed = speed_arg("speed", speed)
+    descending = checks.boolean("descending", descending)
     a_e = ReducedLongitudinalGlider(veh).trim_alpha()
     K_De = veh.K_D0 + veh.K_D * a_e**2
     K_Le = veh.K_L0 + veh.K_L * a_e
     m0e = (1.0 if descending else -1.0) * math.hypot(K_De, K_Le) * speed**2 / veh.g          # (6.7)
     lim = actuator_limits(veh)
+    if not (math.isfinite(m0e) and m0e != 0):
+        raise InfeasibleGlideError(f"speed {speed:g} m/s needs buoyancy m0e = {m0e:g} kg (6.7) for vehicle "
+                                   f"'{veh.name}' (K_De = {K_De:g}, K_Le = {K_Le:g} kg/m): no steady glide")
     if abs(m0e) > lim.m0_max:
         vmax = math.sqrt(lim.m0_max * veh.g / math.hypot(K_De, K_Le))
         raise InfeasibleGlideError(
@@ -156,6 +168,11 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
     M1, _ = sp.model.masses
     x_e = np.array([sp.speed, sp.gamma, sp.alpha, 0.0, m0e])
     res = float(np.max(np.abs(BuoyancyGlider(veh).rhs(x_e, np.zeros(1)))))
+    # relative to the accelerations involved: weight over mass, V_e / tau_s
+    scale = max(abs(m0e) * veh.g / M1, sp.speed / sp.tau_s)
+    if not res <= 1e-8 * scale:
+        raise SolverError(f"the buoyancy equilibrium at V_e = {speed:g} m/s has a residual {res:.3g} (relative "
+                          f"{res / scale:.3g}): not an equilibrium to working accuracy")
     return BuoyancyEquilibrium(float(sp.speed), float(sp.gamma), float(sp.alpha), float(m0e), float(M1),
                                float(K_De), float(K_Le), float(sp.tau_s), float(sp.eps1), float(sp.eps2), res, sp,
                                veh, veh.provenance)
@@ -178,6 +195,17 @@ class BuoyancyController:
     K_b : float
         Nondimensional gain of (6.9), > 0 (the closed-loop buoyancy time constant is ``tau_s / K_b`` seconds when
         the pump is not rate limited).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``eq`` is not a BuoyancyEquilibrium, ``vehicle`` not a Vehicle or ``K_b`` not a real number.
+    ArgumentError
+        If ``K_b`` is not a positive finite number.
+    ModelError
+        If ``vehicle`` is not an underwater glider.
+    VehicleMismatchError
+        If ``eq`` was computed for another vehicle.
     """
 
     eq: BuoyancyEquilibrium
@@ -185,8 +213,10 @@ class BuoyancyController:
     K_b: float = 1.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.K_b) and self.K_b > 0):
-            raise GlidectlError(f"the buoyancy gain K_b of (6.9) must be > 0, got {self.K_b!r}")
+        require_instance("eq", self.eq, BuoyancyEquilibrium, " (from gc.buoyancy_equilibrium)")
+        require_glider(self.vehicle)
+        checks.same_vehicle("eq", self.eq, self.vehicle)
+        object.__setattr__(self, "K_b", checks.positive("the buoyancy gain K_b of (6.9)", self.K_b))
 
     @property
     def rate_gain(self) -> float:
@@ -194,8 +224,9 @@ class BuoyancyController:
         return self.K_b / self.eq.tau_s
 
     def u(self, x: Any) -> np.ndarray:
-        """Input ``(u1,)`` (kg/s), shape ``x.shape[:-1] + (1,)``, at states ``x = (V, gamma, alpha, Omega2, m0)``."""
-        m0 = np.asarray(x)[..., 4]
+        """Input ``(u1,)`` (kg/s), shape ``x.shape[:-1] + (1,)``, at states ``x = (V, gamma, alpha, Omega2, m0)``
+        (shape ``(..., 5)``)."""
+        m0 = trailing_array("x", x, 5)[..., 4]
         u = -self.rate_gain * (m0 - self.eq.m0e)
         return np.asarray(actuator_limits(self.vehicle).pump(m0, u))[..., None]
 
@@ -319,6 +350,14 @@ def _grad_nu(cert: CompositeCertificate, z: np.ndarray) -> np.ndarray:
     return g
 
 
+def _check_lyapunov_args(eq: Any, veh: Any, cert: Any) -> None:
+    require_instance("eq", eq, BuoyancyEquilibrium, " (from gc.buoyancy_equilibrium)")
+    require_glider(veh, "veh")
+    checks.same_vehicle("eq", eq, veh)
+    if cert is not None:
+        require_instance("cert", cert, CompositeCertificate, " (from gc.composite_lyapunov)")
+
+
 def nu_b_derivative(eq: BuoyancyEquilibrium, veh: Vehicle, cert: CompositeCertificate, z: Any, mbar0: Any,
                     K_b: float) -> tuple[np.ndarray, np.ndarray]:
     """``dnu_b/dt_n`` (6.11) along the true closed loop, and the cross term the text omits.
@@ -341,9 +380,27 @@ def nu_b_derivative(eq: BuoyancyEquilibrium, veh: Vehicle, cert: CompositeCertif
     -------
     dnu_b : ``grad nu(z) . zdot(z, mbar0) - K_b mbar0^2``
     cross : ``grad nu(z) . [zdot(z, mbar0) - zdot(z, 0)]`` (zero according to the text)
+
+    Raises
+    ------
+    ArgumentTypeError
+        If an argument has the wrong type.
+    ArgumentError
+        If ``z`` is not finite of shape ``(N, 4)``, ``mbar0`` not finite and broadcastable to ``(N,)``, or ``K_b``
+        not finite.
+    VehicleMismatchError
+        If ``eq`` was computed for another vehicle.
     """
-    z = np.atleast_2d(np.asarray(z, dtype=float))
-    mb = np.broadcast_to(np.asarray(mbar0, dtype=float), z.shape[:1])
+    _check_lyapunov_args(eq, veh, cert)
+    K_b = checks.real("K_b", K_b)
+    z = np.atleast_2d(checks.array("z", z))
+    if z.ndim != 2 or z.shape[1] != 4:
+        raise ArgumentError(f"z must have shape (N, 4), got {z.shape}")
+    mbar0 = checks.array("mbar0", mbar0)
+    try:
+        mb = np.broadcast_to(mbar0, z.shape[:1])
+    except ValueError as exc:
+        raise ArgumentError(f"mbar0 of shape {mbar0.shape} does not broadcast to ({z.shape[0]},)") from exc
     gn = _grad_nu(cert, z)
     dnu_m = np.sum(gn * _nd_rates(veh, eq.sp, z, eq.m0e + eq.m_e * mb), axis=1)
     dnu_0 = np.sum(gn * _nd_rates(veh, eq.sp, z, np.full(len(z), eq.m0e)), axis=1)
@@ -389,10 +446,12 @@ def buoyancy_lyapunov_check(eq: BuoyancyEquilibrium, veh: Vehicle, *, K_b: float
     mbar0_max : float
         Half-width of the sampled ``mbar0`` interval (nondimensional; ``|m0 - m0e| <= m_e mbar0_max`` kg).
     n, n_m0 : int
-        Number of samples of ``z`` and of grid values of ``mbar0`` (odd, so that 0 is on the grid).
+        Number of samples of ``z`` (``1 <= n <= 10^6``, the budget of the check) and of grid values of ``mbar0``
+        (odd, ``3 <= n_m0 <= 10001``, so that 0 is on the grid).
     local_radius : float
-        Radius of the small ball on which ``K_b_required_local`` is measured.
+        Radius of the small ball on which ``K_b_required_local`` is measured, in ``(0, 1]``.
     seed : int
+        Seed of the random sampler (``>= 0``).
     cert : CompositeCertificate, optional
         ``composite_lyapunov`` of the vehicle at ``m0e`` (default: its default domain ``|Vbar| <= 0.4``,
         ``|alphabar| <= 0.2``).
@@ -406,15 +465,28 @@ def buoyancy_lyapunov_check(eq: BuoyancyEquilibrium, veh: Vehicle, *, K_b: float
 
     Raises
     ------
-    GlidectlError
-        If ``mbar0_max``, ``n`` or ``local_radius`` is not positive or ``n_m0`` is not an odd number ``>= 3``; or
-        (default ``cert``) the vehicle has unequal added masses (from
-        :func:`~glidectl.stability.composite.composite_lyapunov`).
+    ArgumentTypeError
+        If ``eq`` is not a BuoyancyEquilibrium, ``veh`` not a Vehicle, ``cert`` not a CompositeCertificate, or a
+        number has the wrong type (``n``, ``n_m0``, ``seed`` must be integers).
+    ArgumentError
+        If ``K_b``, ``mbar0_max`` or ``local_radius`` is not a positive finite number (``local_radius <= 1``),
+        ``n`` is not in ``[1, 10^6]``, ``n_m0`` is not an odd number in ``[3, 10001]`` or ``seed`` is negative.
+    VehicleMismatchError
+        If ``eq`` was computed for another vehicle.
     ModelError
-        If (default ``cert``) the vehicle at ``m0e`` has no singularly perturbed chapter-5 glide.
+        If ``veh`` is not an underwater glider, or (default ``cert``) the vehicle at ``m0e`` has no singularly
+        perturbed chapter-5 glide or has unequal added masses (from
+        :func:`~glidectl.stability.composite.composite_lyapunov`).
     """
-    if not (mbar0_max > 0 and n > 0 and n_m0 >= 3 and n_m0 % 2 == 1 and local_radius > 0):
-        raise GlidectlError("need mbar0_max > 0, n > 0, an odd n_m0 >= 3 and local_radius > 0")
+    _check_lyapunov_args(eq, veh, cert)
+    K_b = checks.positive("K_b", K_b)
+    mbar0_max = checks.positive("mbar0_max", mbar0_max)
+    n = checks.integer("n", n, lo=1, hi=1_000_000)
+    n_m0 = checks.integer("n_m0", n_m0, lo=3, hi=10_001)
+    if n_m0 % 2 == 0:
+        raise ArgumentError(f"n_m0 must be odd (so that mbar0 = 0 is on the grid), got {n_m0}")
+    local_radius = checks.real("local_radius", local_radius, lo=0.0, hi=1.0, lo_open=True)
+    seed = checks.integer("seed", seed, lo=0)
     if cert is None:
         cert = composite_lyapunov(veh.with_overrides(m0=eq.m0e))
     rng = np.random.default_rng(seed)

@@ -30,8 +30,9 @@ from typing import Any
 
 import numpy as np
 
+from .. import checks
 from ..analysis.linear import glide_model
-from ..errors import GlidectlError
+from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from ..models.buoyancy_glider import BuoyancyGlider
 from ..models.closed_loop import ClosedLoop
 from ..models.ctol import CTOLReduced
@@ -72,20 +73,25 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
 
     Raises
     ------
-    GlidectlError
-        Not a controller of this package (or a time-varying one), a :class:`LinearGlideController` built without
-        its vehicle, or ``equilibrium`` given with a controller.
+    ArgumentTypeError
+        Not a controller of this package (or a time-varying one, e.g. a tracking controller); with ``law``: the
+        plant is not a glidectl model or ``law`` is not callable.
+    ArgumentError
+        ``equilibrium`` given with a controller, or (with ``law``) not a finite state of the plant.
+    ModelError
+        A :class:`LinearGlideController` built without its vehicle, or a controller whose plant refuses its vehicle.
     """
     if law is not None:
+        checks.function("law", law)
         desc = getattr(law, "__qualname__", type(law).__name__)
         return ClosedLoop(controller_or_model, law, equilibrium, desc)
     c = controller_or_model
     if equilibrium is not None:
-        raise GlidectlError("equilibrium= is only for closed_loop(plant, law): a controller brings its own "
+        raise ArgumentError("equilibrium= is only for closed_loop(plant, law): a controller brings its own "
                             "(the equilibrium it was designed for)")
     if isinstance(c, LinearGlideController):
         if c.vehicle is None:
-            raise GlidectlError("this LinearGlideController was built without its vehicle (use lqr_glide or "
+            raise ModelError("this LinearGlideController was built without its vehicle (use lqr_glide or "
                                 "place_glide), so its plant is unknown; use closed_loop(glide_model(veh, glide, "
                                 "inputs)[0], controller.path_input)")
         model, xe = glide_model(c.vehicle, c.glide, c.inputs)  # type: ignore[arg-type]
@@ -95,7 +101,7 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
                           f"{c.method} glide-path regulator (gamma_e = {np.degrees(c.glide.gamma):.4g} deg)")
     if isinstance(c, TorqueDesign):
         if c.plant_vehicle is None:
-            raise GlidectlError("this TorqueDesign does not carry its open-loop vehicle (use design_torque_control); "
+            raise ModelError("this TorqueDesign does not carry its open-loop vehicle (use design_torque_control); "
                                 "use design.law.closed_loop(vehicle, design.equilibrium)")
         return ClosedLoop(TorqueControlledGlider(c.plant_vehicle), c.law.u, c.equilibrium,
                           f"torque law (6.5) for {c.target} = {c.target_value:.6g}")
@@ -109,7 +115,7 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
         plant = CTOLReduced(c.vehicle, g.speed, g.gamma, g.theta, c.T)
         return ClosedLoop(plant, c.reduced_input, np.zeros(4),
                           f"steady-glide law (7.16)-(7.20), k3 = {c.k3:g}, k4 = {c.k4:g}")
-    raise GlidectlError(
+    raise ArgumentTypeError(
         f"closed_loop() does not know the plant and equilibrium of a {type(c).__name__}: give the plant and a state "
         "feedback, closed_loop(model, law) with u = law(x). Supported controllers: LinearGlideController, "
         "TorqueDesign, BuoyancyController, ElevatorBuoyancyController, SteadyGlideController (tracking controllers "

@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import positive_number
-from ..errors import ModelError
-from ..models.ctol_closed_loop import ClosedLoopCTOL, steady_glide_inputs
+from ..errors import SolverError
+from ..models._validate import trailing_array
+from ..models.ctol_closed_loop import ClosedLoopCTOL, check_steady_glide_law, steady_glide_inputs
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
 
@@ -35,21 +35,27 @@ class SteadyGlideController:
     Parameters
     ----------
     vehicle : Vehicle
+        A CTOL aircraft with ``epsilon > 0``.
     glide : CTOLGlide
-        The steady glide to stabilize (gains ``k1, k2`` and ``theta_e``).
+        The steady glide to stabilize (gains ``k1, k2`` and ``theta_e``), from :func:`glidectl.ctol_glide` for
+        ``vehicle``.
     k3 : float
         Pitch stiffness gain (N; enters as ``k3 / eps``), > 0.
     k4 : float
         Pitch damping gain on ``Omega2bar = T Omega2`` (N m s), > 0.
     T : float
-        Reference time of (7.11) (s).
+        Reference time of (7.11) (s), > 0.
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle, ``glide`` not a CTOLGlide, or a gain not a real number.
+    ArgumentError
+        If ``k3``, ``k4`` or ``T`` is not a positive finite number.
     ModelError
-        If ``vehicle.epsilon <= 0`` or ``k3``, ``k4`` or ``T`` is not a positive finite number.
-    AttributeError
-        If ``vehicle`` is not a CTOL vehicle (it has no ``epsilon``).
+        If ``vehicle`` is not a CTOL aircraft or has ``epsilon = 0`` (the law divides by eps).
+    VehicleMismatchError
+        If ``glide`` was computed for another vehicle.
     """
 
     vehicle: Vehicle
@@ -59,22 +65,22 @@ class SteadyGlideController:
     T: float = 1.0
 
     def __post_init__(self) -> None:
-        if self.vehicle.epsilon <= 0:
-            raise ModelError("the steady-glide controller divides by eps: it needs epsilon > 0")
-        for name in ("k3", "k4", "T"):
-            positive_number(name, getattr(self, name))
+        k3, k4, T = check_steady_glide_law(self.vehicle, self.glide, self.k3, self.k4, self.T)
+        object.__setattr__(self, "k3", k3)
+        object.__setattr__(self, "k4", k4)
+        object.__setattr__(self, "T", T)
 
     def u(self, x: Any) -> np.ndarray:
         """Inputs ``(u1, u2)`` (N, N m), shape ``(..., 2)``, at full states ``x = (x, y, xdot, ydot, theta,
-        Omega2)``."""
-        x = np.asarray(x)
+        Omega2)`` (shape ``(..., 6)``)."""
+        x = trailing_array("x", x, 6)
         return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, x[..., 4], x[..., 5])
 
     def reduced_input(self, s: Any) -> np.ndarray:
         """Inputs ``(u1, u2)`` (N, N m) at reduced states ``s = (Vbar, gammabar, thetabar, Omega2bar)`` of
         (7.8)-(7.11) about :attr:`glide` (``theta = thetabar + theta_e``, ``Omega2 = Omega2bar / T``): the law of
-        :class:`~glidectl.models.ctol_closed_loop.ClosedLoopCTOL`."""
-        s = np.asarray(s)
+        :class:`~glidectl.models.ctol_closed_loop.ClosedLoopCTOL` (``s`` of shape ``(..., 4)``)."""
+        s = trailing_array("s", s, 4)
         return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, s[..., 2] + self.glide.theta,
                                    s[..., 3] / self.T)
 
@@ -93,11 +99,12 @@ def closed_loop_eigenvalues(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float
     veh : Vehicle
         A ``kind = "ctol"`` vehicle with ``epsilon > 0``.
     glide : CTOLGlide
-        The steady glide (:func:`glidectl.trim.ctol.ctol_glide`): ``V_e`` (m/s), ``theta_e`` (rad), ``k1, k2`` (N).
+        The steady glide (:func:`glidectl.trim.ctol.ctol_glide` for ``veh``): ``V_e`` (m/s), ``theta_e`` (rad),
+        ``k1, k2`` (N).
     k3 : float
-        Pitch stiffness gain of (7.20) (N; enters as ``k3 / eps``). Not checked for sign.
+        Pitch stiffness gain of (7.20) (N; enters as ``k3 / eps``), ``> 0``.
     k4 : float
-        Pitch damping gain of (7.20) on ``Omega2bar = T Omega2`` (N m). Not checked for sign.
+        Pitch damping gain of (7.20) on ``Omega2bar = T Omega2`` (N m), ``> 0``.
     T : float
         Reference time of (7.11) (s), ``> 0``.
 
@@ -108,15 +115,21 @@ def closed_loop_eigenvalues(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``glide`` not a CTOLGlide, or a gain not a real number.
+    ArgumentError
+        If ``k3``, ``k4`` or ``T`` is not a positive finite number.
     ModelError
-        If ``glide.speed`` or ``T`` is not a positive finite number (from
-        :class:`~glidectl.models.ctol.CTOLReduced`).
-    AttributeError
-        If ``veh`` is not a CTOL vehicle (it has no ``epsilon``; the law reads it before the vehicle kind is
-        checked).
-    ZeroDivisionError
-        If ``veh.epsilon == 0``.
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0`` (the law divides by eps).
+    VehicleMismatchError
+        If ``glide`` was computed for another vehicle.
+    SolverError
+        If the Jacobian is not finite or the eigenvalue computation fails.
     """
-    lam = np.linalg.eigvals(ClosedLoopCTOL(veh, glide, k3, k4, T).jacobian())
+    J = ClosedLoopCTOL(veh, glide, k3, k4, T).jacobian()
+    try:
+        lam = np.linalg.eigvals(J)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigenvalues of the CTOL closed loop did not converge: {exc}") from exc
     return lam[np.lexsort((lam.imag, lam.real))]
 

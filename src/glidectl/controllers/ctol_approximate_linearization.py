@@ -20,9 +20,10 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import positive_number
+from .. import checks
 from ..analysis.jacobian import central_difference_jacobians
-from ..errors import ModelError, SolverError
+from ..errors import SolverError
+from ..models._validate import require_instance, speed_arg
 from ..models.ctol import CTOLAircraft, ExtendedCTOL
 from ..params import Vehicle
 from .ctol_runs import TrackingRun, simulate_window
@@ -59,7 +60,16 @@ class ApproximateLinearizationController:
         The true aircraft; the design model is ``vehicle.with_overrides(epsilon=0)``.
     trajectory : ClimbTrajectory
     pole : float
-        Error-dynamics pole magnitude (1/s): ``(s + pole)^4`` per axis.
+        Error-dynamics pole magnitude (1/s): ``(s + pole)^4`` per axis, in ``(0, 100]``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle, ``trajectory`` not a ClimbTrajectory or ``pole`` not a real number.
+    ArgumentError
+        If ``pole`` is not in ``(0, 100]`` 1/s.
+    ModelError
+        If ``vehicle`` is not a CTOL aircraft.
     """
 
     vehicle: Vehicle
@@ -70,7 +80,8 @@ class ApproximateLinearizationController:
 
     def __post_init__(self) -> None:
         require_inversion_vehicle(self.vehicle, need_eps=False)
-        positive_number("pole", self.pole)
+        require_instance("trajectory", self.trajectory, ClimbTrajectory, " (from gc.climb_trajectory)")
+        object.__setattr__(self, "pole", checks.real("pole", self.pole, lo=0.0, hi=100.0, lo_open=True, unit="1/s"))
         object.__setattr__(self, "_design", CTOLAircraft(self.vehicle.with_overrides(epsilon=0.0)))
         object.__setattr__(self, "_desired", self.trajectory)
 
@@ -92,11 +103,14 @@ class ApproximateLinearizationController:
         -------
         dict
             ``a0, j0`` (m/s^2, m/s^3), ``r0`` (m/s^4), ``M`` (2x2).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``X`` is not 8 finite real numbers (the states of :class:`ExtendedCTOL`).
         """
-        X = np.asarray(X, dtype=float)
-        if X.shape != (8,):
-            raise ModelError(f"X must be the 8 states (x, y, xdot, ydot, theta, Omega2, u1, u1dot) of "
-                             f"ExtendedCTOL, got shape {X.shape}")
+        X = checks.array("X (the 8 states x, y, xdot, ydot, theta, Omega2, u1, u1dot of ExtendedCTOL)", X,
+                         shape=(8,))
         a0 = self._a0(X)
         # first derivatives of a0 w.r.t. the 8 states (complex step, one batch)
         P = np.broadcast_to(X, (8, 8)).astype(complex)
@@ -116,15 +130,24 @@ class ApproximateLinearizationController:
         return {"a0": a0, "j0": j0, "r0": r0, "M": M}
 
     def __call__(self, t: float, X: Any) -> np.ndarray:
-        X = np.asarray(X, dtype=float)
+        """Inputs ``(u1ddot, u2)`` at time ``t`` (s) and the 8 states ``X`` of :class:`ExtendedCTOL`.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``X`` is not 8 finite real numbers or ``t`` not a finite real number.
+        SolverError
+            If the decoupling matrix is singular at this state.
+        """
         c = self.coordinates(X)
+        X = np.asarray(X, dtype=float)
         d = self._desired.derivatives(t, 4)
         k0, k1, k2, k3 = self.gains
         v = d[4] + k3 * (d[3] - c["j0"]) + k2 * (d[2] - c["a0"]) + k1 * (d[1] - X[2:4]) + k0 * (d[0] - X[:2])
         M = c["M"]
-        det = np.linalg.det(M)
-        if not np.isfinite(det) or abs(det) < 1e-12:
-            raise SolverError(f"singular decoupling matrix at t = {t:.4g} s (det = {det:.3g})")
+        cond = float(np.linalg.cond(M)) if np.all(np.isfinite(M)) else np.inf
+        if not cond < 1e12:  # relative test: the matrix's own scale, not an absolute determinant
+            raise SolverError(f"singular decoupling matrix at t = {t:.4g} s (condition number {cond:.3g})")
         return np.linalg.solve(M, v - c["r0"])
 
 
@@ -142,9 +165,9 @@ def track_approximate_linearization(veh: Vehicle, traj: ClimbTrajectory | None =
     pole : float
         Error pole magnitude (1/s), see :class:`ApproximateLinearizationController`.
     t_final : float
-        (s).
+        (s), in ``(0, 10^4]``.
     dt : float
-        Output spacing (s).
+        Output spacing (s), ``0 < dt <= t_final``.
     max_error : float
         Stop if the position error exceeds this (m).
     u_max : float
@@ -158,22 +181,27 @@ def track_approximate_linearization(veh: Vehicle, traj: ClimbTrajectory | None =
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``traj`` not a ClimbTrajectory or a number not a real number.
+    ArgumentError
+        If ``pole`` is not in ``(0, 100]``, ``t_final`` not in ``(0, 10^4]``, ``dt`` not in ``(0, t_final]``, or
+        ``max_error`` or ``u_max`` is not a positive finite number; or the stop condition already holds at the
+        start (from :func:`glidectl.sim.simulate`).
     ModelError
-        If ``veh`` is not a CTOL aircraft, or ``pole``, ``t_final``, ``max_error`` or ``u_max`` is not a positive
-        finite number.
+        If ``veh`` is not a CTOL aircraft.
+    BudgetError
+        If the integration hits its step budget (:func:`glidectl.sim.simulate`).
     SolverError
         If the zero dynamics have no level-flight equilibrium at the trajectory speed (the start), the decoupling
         matrix becomes singular during the run, or the integration fails.
-    GlidectlError
-        If the stop condition already holds at the start (from :func:`glidectl.sim.simulate`).
-    ZeroDivisionError
-        If ``dt == 0`` (``dt`` is not validated).
     """
     require_inversion_vehicle(veh, need_eps=False)
-    traj = climb_trajectory(veh) if traj is None else traj
-    positive_number("t_final", t_final)
-    positive_number("max_error", max_error)
-    positive_number("u_max", u_max)
+    traj = climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,
+                                                                          " (from gc.climb_trajectory)")
+    t_final = checks.real("t_final", t_final, lo=0.0, hi=1e4, lo_open=True, unit="s")
+    dt = checks.real("dt", dt, lo=0.0, hi=t_final, lo_open=True, unit="s")
+    max_error = checks.positive("max_error", max_error, unit="m")
+    u_max = checks.positive("u_max", u_max)
     ctrl = ApproximateLinearizationController(veh, traj, pole)
     if veh.epsilon != 0:
         zd = zero_dynamics(veh, traj.speed)
@@ -228,19 +256,28 @@ def approximate_linearization_eigenvalues(veh: Vehicle, speed: float, *, pole: f
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or a number not a real number.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]`` or ``pole`` not in ``(0, 100]``.
     ModelError
-        If ``veh`` is not a CTOL aircraft, or ``speed`` or ``pole`` is not a positive finite number.
+        If ``veh`` is not a CTOL aircraft.
     SolverError
-        If the zero dynamics have no level-flight equilibrium at ``speed``, or the decoupling matrix is singular
-        there.
+        If the zero dynamics have no level-flight equilibrium at ``speed``, the decoupling matrix is singular
+        there, or the Jacobian is not finite.
     """
     require_inversion_vehicle(veh, need_eps=False)
-    V = positive_number("speed", speed)
+    V = speed_arg("speed", speed)
     level = ClimbTrajectory(V, forcing=0.0)
     ctrl = ApproximateLinearizationController(veh, level, pole)
     zd = zero_dynamics(veh if veh.epsilon != 0 else veh.with_overrides(epsilon=1.0), V)
     X0 = np.r_[level_flight_state(V, zd.theta), zd.thrust, 0.0]
     model = ExtendedCTOL(veh)
     A, _ = central_difference_jacobians(lambda X, U: model.rhs(X, ctrl(0.0, X)), X0, np.zeros(0))
-    ev = np.linalg.eigvals(A)
+    if not np.all(np.isfinite(A)):
+        raise SolverError(f"the closed-loop Jacobian in level flight at V = {V:g} is not finite")
+    try:
+        ev = np.linalg.eigvals(A)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigenvalues of the approximate-linearization closed loop did not converge: {exc}") from exc
     return ev[np.lexsort((ev.imag, ev.real))]

@@ -14,9 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import positive_number
+from .. import checks
 from ..analysis.jacobian import jacobians
-from ..errors import ModelError, SolverError
+from ..errors import ArgumentError, SolverError
+from ..models._validate import require_instance
 from ..models.ctol import CTOLAircraft
 from ..params import Vehicle
 from .ctol_runs import TrackingRun, simulate_window
@@ -50,6 +51,15 @@ class FeedbackLinearizingController:
         Position gain (1/s^2).
     kd : float
         Velocity gain (1/s).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle, ``trajectory`` not a ClimbTrajectory or a gain not a real number.
+    ArgumentError
+        If ``kp`` or ``kd`` is not a positive finite number.
+    ModelError
+        If ``vehicle`` is not a CTOL aircraft with ``epsilon != 0``.
     """
 
     vehicle: Vehicle
@@ -60,8 +70,9 @@ class FeedbackLinearizingController:
 
     def __post_init__(self) -> None:
         require_inversion_vehicle(self.vehicle)
-        positive_number("kp", self.kp)
-        positive_number("kd", self.kd)
+        require_instance("trajectory", self.trajectory, ClimbTrajectory, " (from gc.climb_trajectory)")
+        object.__setattr__(self, "kp", checks.positive("kp", self.kp, unit="1/s^2"))
+        object.__setattr__(self, "kd", checks.positive("kd", self.kd, unit="1/s"))
         object.__setattr__(self, "_desired", self.trajectory)
 
     def outer(self, t: Any, x: Any) -> Any:
@@ -70,7 +81,13 @@ class FeedbackLinearizingController:
         return outer_loop_acceleration(self._desired, self.kp, self.kd, t, x)
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
+        """Inputs ``(u1, u2)`` (N, N m) at time ``t`` (s) and states ``x`` (shape ``(..., 6)``)."""
         return feedback_linearizing_inputs(self.vehicle, x, self.outer(t, x))
+
+
+def _trajectory(veh: Vehicle, traj: Any) -> ClimbTrajectory:
+    return climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,
+                                                                          " (from gc.climb_trajectory)")
 
 
 @dataclass(frozen=True)
@@ -134,9 +151,10 @@ def feedback_linearization_blowup(veh: Vehicle, traj: ClimbTrajectory | None = N
     u_max : float
         Stop when ``max(|u1|, |u2|) >= u_max`` (N, N m); default 10x the peak exact-tracking thrust.
     inversion : StableInversion, optional
-        Bounded reference (computed if omitted); must cover ``[0, t_final]``.
+        Bounded reference (computed if omitted); must cover ``[0, t_final]`` and be the inversion of ``traj`` for
+        ``veh``.
     dt : float
-        Output spacing (s).
+        Output spacing (s), ``0 < dt <= t_final``.
 
     Returns
     -------
@@ -145,24 +163,39 @@ def feedback_linearization_blowup(veh: Vehicle, traj: ClimbTrajectory | None = N
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``traj`` not a ClimbTrajectory, ``inversion`` not a StableInversion, or a
+        number not a real number.
+    ArgumentError
+        If ``t_final`` (at most 10^4 s), ``theta_max``, ``u_max``, ``kp``, ``kd`` or ``dt`` is not a positive
+        finite number, ``dt > t_final``, ``inversion`` ends before ``t_final`` or belongs to another trajectory.
+    VehicleMismatchError
+        If ``inversion`` was computed for another vehicle.
     ModelError
-        If ``veh`` is not a CTOL aircraft with ``epsilon != 0``; ``t_final``, ``theta_max``, ``u_max``, ``kp`` or
-        ``kd`` is not a positive finite number; or ``inversion`` ends before ``t_final``.
+        If ``veh`` is not a CTOL aircraft with ``epsilon != 0``.
+    BudgetError
+        If the integration hits its step budget (:func:`glidectl.sim.simulate`).
     SolverError
         If the stable inversion (when computed here) does not converge, the zero dynamics have no level-flight
         equilibrium, the integration fails, or the pitch deviation never grows through the fit band (fewer than 3
         samples in it).
     """
     require_inversion_vehicle(veh)
-    traj = climb_trajectory(veh) if traj is None else traj
-    positive_number("t_final", t_final)
-    positive_number("theta_max", theta_max)
-    positive_number("u_max", u_max)
-    inv = stable_inversion(veh, traj, t1=max(45.0, t_final + 5.0)) if inversion is None else inversion
-    if inv.t1 < t_final:
-        raise ModelError(f"the inversion ends at {inv.t1:g} s < t_final = {t_final:g} s")
-    zd = zero_dynamics(veh, traj.speed)
+    traj = _trajectory(veh, traj)
+    t_final = checks.real("t_final", t_final, lo=0.0, hi=1e4, lo_open=True, unit="s")
+    theta_max = checks.positive("theta_max", theta_max, unit="rad")
+    u_max = checks.positive("u_max", u_max)
+    dt = checks.real("dt", dt, lo=0.0, hi=t_final, lo_open=True, unit="s")
     ctrl = FeedbackLinearizingController(veh, traj, kp, kd)
+    if inversion is not None:
+        require_instance("inversion", inversion, StableInversion, " (from stable_inversion)")
+        checks.same_vehicle("inversion", inversion, veh)
+        if inversion.trajectory != traj:
+            raise ArgumentError("inversion was computed for another trajectory than traj")
+        if inversion.t1 < t_final:
+            raise ArgumentError(f"the inversion ends at {inversion.t1:g} s < t_final = {t_final:g} s")
+    inv = stable_inversion(veh, traj, t1=max(45.0, t_final + 5.0)) if inversion is None else inversion
+    zd = zero_dynamics(veh, traj.speed)
 
     def stop(t: float, x: np.ndarray) -> float:
         dth = abs(x[4] - float(inv.pitch(t)[0]))

@@ -11,10 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
-from ..sim import simulate
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError
+from ..sim import MAX_STEPS, simulate
 
-__all__ = ["TrackingRun", "simulate_window"]
+__all__ = ["MAX_OUTPUT_POINTS", "TrackingRun", "simulate_window"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,11 +71,29 @@ class TrackingRun:
 
         ``mean_squares``: exact time means of ``(u1^2, u2^2, |u|^2)`` when the caller integrated them (quadrature
         states); otherwise they are the trapezoid rule over ``t``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``method`` or ``note`` is not a string, or an array is not real numbers.
+        ArgumentError
+            If the arrays are not finite or their shapes are inconsistent (``t (N,)`` nondecreasing, ``x (N, 6)``,
+            ``u (N, 2)``, ``error (N, 2)``), ``stopped_at`` is not finite, or ``mean_squares`` is not three
+            finite numbers (negative rounding errors of a quadrature are clipped to 0).
         """
-        t = np.asarray(t, dtype=float)
-        x, u, error = (np.asarray(a, dtype=float) for a in (x, u, error))
-        if t.ndim != 1 or t.size < 1 or u.shape != (t.size, 2) or error.shape != (t.size, 2) or x.shape[0] != t.size:
-            raise ModelError(f"inconsistent run arrays: t {t.shape}, x {x.shape}, u {u.shape}, error {error.shape}")
+        if not isinstance(method, str) or not isinstance(note, str):
+            raise ArgumentTypeError("method and note must be strings")
+        t = checks.array("t", t, ndim=1, min_size=1)
+        x, u, error = (checks.array(n, a, ndim=2) for n, a in (("x", x), ("u", u), ("error", error)))
+        if u.shape != (t.size, 2) or error.shape != (t.size, 2) or x.shape[0] != t.size:
+            raise ArgumentError(f"inconsistent run arrays: t {t.shape}, x {x.shape}, u {u.shape}, "
+                                f"error {error.shape}")
+        if np.any(np.diff(t) < 0):
+            raise ArgumentError("run times t must be nondecreasing")
+        if stopped_at is not None:
+            stopped_at = checks.real("stopped_at", stopped_at, unit="s")
+        if mean_squares is not None:
+            checks.array("mean_squares", mean_squares, shape=(3,))  # tiny negative quadrature errors clip to 0
 
         def rms(a: np.ndarray) -> float:
             if t[-1] <= t[0]:
@@ -132,10 +151,15 @@ class TrackingRun:
         return "\n".join(lines)
 
 
+#: Largest number of output points of :func:`simulate_window` (``(t_final - t_start) / dt``).
+MAX_OUTPUT_POINTS = 10_000_000
+
+
 def simulate_window(model: Any, x0: np.ndarray, t_start: float, t_final: float,
                     controller: Callable[[float, Any], Any], dt: float,
                     stop: Callable[[float, np.ndarray], float] | None = None, method: str = "LSODA",
-                    rtol: float = 1e-9, atol: float = 1e-11
+                    rtol: float = 1e-9, atol: float = 1e-11, max_steps: int = MAX_STEPS,
+                    time_limit: float | None = None
                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float | None]:
     """:func:`glidectl.sim.simulate` on ``[t_start, t_final]`` s (time shifted to start at 0 for the integrator).
 
@@ -150,11 +174,13 @@ def simulate_window(model: Any, x0: np.ndarray, t_start: float, t_final: float,
     controller : callable
         ``(t, x) -> u`` in the original time ``t`` (s).
     dt : float
-        Output spacing (s).
+        Output spacing (s), ``0 < dt <= t_final - t_start``; at most :data:`MAX_OUTPUT_POINTS` outputs.
     stop : callable, optional
         ``(t, x) -> float`` in the original time; the run ends where it falls through zero.
     method, rtol, atol
         Integrator settings of :func:`glidectl.sim.simulate`.
+    max_steps, time_limit
+        Budgets of :func:`glidectl.sim.simulate` (integrator steps; wall time in s, default none).
 
     Returns
     -------
@@ -162,15 +188,40 @@ def simulate_window(model: Any, x0: np.ndarray, t_start: float, t_final: float,
         Output times (s, original time), states and inputs.
     stopped_at : float or None
         Time (s, original time) at which ``stop`` ended the run.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If an argument has the wrong type (see :func:`glidectl.sim.simulate`).
+    ArgumentError
+        If ``t_start``/``t_final`` are not finite with ``t_start < t_final``, ``dt`` is not in
+        ``(0, t_final - t_start]`` or gives more than :data:`MAX_OUTPUT_POINTS` points, or
+        :func:`glidectl.sim.simulate` refuses an argument.
+    BudgetError
+        If the run hits a budget of :func:`glidectl.sim.simulate`.
+    SolverError
+        If the integration fails.
     """
+    t_start = checks.real("t_start", t_start, unit="s")
+    t_final = checks.real("t_final", t_final, unit="s")
+    if not t_final > t_start:
+        raise ArgumentError(f"need t_start < t_final, got [{t_start:g}, {t_final:g}] s")
     span = t_final - t_start
-    n = round(span / dt)
+    dt = checks.real("dt", dt, lo=0.0, hi=span, lo_open=True, unit="s")
+    if span / dt > MAX_OUTPUT_POINTS:
+        raise ArgumentError(f"dt = {dt:g} s gives {span / dt:.3g} output points on [{t_start:g}, {t_final:g}] s; at "
+                            f"most {MAX_OUTPUT_POINTS} are allowed (raise dt)")
+    checks.function("controller", controller)
+    if stop is not None:
+        checks.function("stop", stop)
+    n = max(1, round(span / dt))
     te = np.linspace(0.0, span, n + 1)
 
     def ctrl(s: float, x: Any) -> Any:
         return controller(s + t_start, x)
 
     st = None if stop is None else (lambda s, x: stop(s + t_start, x))
-    sim = simulate(model, x0, span, ctrl, t_eval=te, method=method, rtol=rtol, atol=atol, stop=st)
+    sim = simulate(model, x0, span, ctrl, t_eval=te, method=method, rtol=rtol, atol=atol, stop=st, max_steps=max_steps,
+                   time_limit=time_limit)
     stopped = None if sim.stopped_at is None else sim.stopped_at + t_start
     return sim.t + t_start, sim.x, sim.u, stopped

@@ -28,9 +28,10 @@ import numpy as np
 from scipy.integrate import solve_bvp, solve_ivp
 from scipy.interpolate import CubicSpline
 
-from .._checks import positive_number
+from .. import checks
 from ..analysis.jacobian import jacobians
-from ..errors import ModelError, SolverError
+from ..errors import ArgumentError, BudgetError, SolverError
+from ..models._validate import require_instance
 from ..models.ctol import CTOLAircraft
 from ..params import Vehicle
 from .ctol_runs import TrackingRun, simulate_window
@@ -49,6 +50,7 @@ from .ctol_zero_dynamics import (
 __all__ = ["InternalEquilibrium", "InversionTracker", "StableInversion", "stable_inversion", "track_stable_inversion"]
 
 _H = 1e-30  # complex step
+_RICCATI_NFEV = 5_000_000  # evaluation budget of the backward Riccati integration of InversionTracker
 
 
 @dataclass(frozen=True)
@@ -119,9 +121,9 @@ class StableInversion:
     provenance: str = field(default="", repr=False)
 
     def _check_t(self, t: Any) -> np.ndarray:
-        t = np.asarray(t, dtype=float)
+        t = checks.array("t", t)
         if np.any(t < self.t0 - 1e-9) or np.any(t > self.t1 + 1e-9):
-            raise ModelError(f"the reference exists on [{self.t0:g}, {self.t1:g}] s only")
+            raise ArgumentError(f"the reference exists on [{self.t0:g}, {self.t1:g}] s only")
         return np.clip(t, self.t0, self.t1)
 
     def pitch(self, t: Any) -> np.ndarray:
@@ -190,10 +192,12 @@ def stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *, t0: f
         ``t0 = -15``.
     t1 : float
         Window end (s), > 0; the climb (7.91) has settled to ~1e-8 m by 45 s. Simulations must end by ``t1``.
+        The window is at most 10^4 s long.
     tol : float
-        ``solve_bvp`` tolerance (relative collocation residual).
+        ``solve_bvp`` tolerance (relative collocation residual), in ``[1e-12, 1e-2]``.
     nodes : int
-        Initial mesh size (uniform).
+        Initial mesh size (uniform), in ``[10, 100000]``; the solver may refine the mesh up to 100000 nodes (its
+        budget).
 
     Returns
     -------
@@ -201,21 +205,28 @@ def stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *, t0: f
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``traj`` not a ClimbTrajectory, or a number has the wrong type.
+    ArgumentError
+        Bad window (``t0 < 0 < t1`` finite, ``t1 - t0 <= 10^4`` s), ``tol`` or ``nodes``.
     ModelError
-        Bad window or vehicle.
+        If ``veh`` is not a CTOL aircraft with ``epsilon != 0``.
     SolverError
-        ``solve_bvp`` did not converge, or the residual check failed.
+        ``solve_bvp`` did not converge (within 100000 mesh nodes), the boundary equilibria are not saddles, or the
+        residual check failed.
     """
     require_inversion_vehicle(veh)
-    traj = climb_trajectory(veh) if traj is None else traj
-    if not isinstance(traj, ClimbTrajectory):
-        raise ModelError(f"traj must be a ClimbTrajectory, got {type(traj).__name__}")
-    if not (math.isfinite(t0) and math.isfinite(t1) and t0 < 0 < t1):
-        raise ModelError(f"need t0 < 0 < t1 (the window must contain the level flight before t = 0), got "
-                         f"[{t0!r}, {t1!r}]")
-    positive_number("tol", tol)
-    if nodes < 10:
-        raise ModelError(f"nodes must be >= 10, got {nodes}")
+    traj = climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,
+                                                                          " (from gc.climb_trajectory)")
+    t0 = checks.real("t0", t0, unit="s")
+    t1 = checks.real("t1", t1, unit="s")
+    if not t0 < 0 < t1:
+        raise ArgumentError(f"need t0 < 0 < t1 (the window must contain the level flight before t = 0), got "
+                            f"[{t0!r}, {t1!r}]")
+    if t1 - t0 > 1e4:
+        raise ArgumentError(f"the window [{t0:g}, {t1:g}] s is longer than 10^4 s")
+    tol = checks.real("tol", tol, lo=1e-12, hi=1e-2)
+    nodes = checks.integer("nodes", nodes, lo=10, hi=100_000)
     desired = traj
     zd = zero_dynamics(veh, traj.speed)
     start = _window_equilibrium(veh, desired, t0, zd.theta)
@@ -233,8 +244,14 @@ def stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *, t0: f
 
     mesh = np.linspace(t0, t1, nodes)
     guess = _quasi_static(veh, desired, mesh, zd.theta)
-    sol = solve_bvp(fun, bc, mesh, np.vstack([guess, np.gradient(guess, mesh)]), tol=tol, max_nodes=100000,
-                    bc_tol=tol)
+    if not np.all(np.isfinite(guess)):
+        raise SolverError("the quasi-static pitch along the trajectory (the initial guess) is not finite")
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_bvp(fun, bc, mesh, np.vstack([guess, np.gradient(guess, mesh)]), tol=tol, max_nodes=100000,
+                            bc_tol=tol)
+    except (np.linalg.LinAlgError, ZeroDivisionError, OverflowError, FloatingPointError) as exc:
+        raise SolverError(f"solve_bvp failed for the stable inversion: {type(exc).__name__}: {exc}") from exc
     if sol.status != 0:
         raise SolverError(f"solve_bvp did not converge for the stable inversion: {sol.message}")
     # residual of (7.84) on a fine grid
@@ -275,7 +292,22 @@ class InversionTracker:
     r : float
         Weight on ``delta u2`` (1/(N m)^2).
     dt_gain : float
-        Grid (s) on which ``A, B`` are evaluated (linearly interpolated in the Riccati equation) and ``K`` stored.
+        Grid (s) on which ``A, B`` are evaluated (linearly interpolated in the Riccati equation) and ``K`` stored;
+        at most 10^6 grid points over the window.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``inversion`` is not a StableInversion or a weight or gain is not a real number.
+    ArgumentError
+        If ``q`` is not 6 nonnegative finite weights, or ``r``, ``dt_gain``, ``kp``, ``kd`` is not a positive finite
+        number, or ``dt_gain`` gives more than 10^6 grid points.
+    ModelError
+        If the inversion's vehicle is not a CTOL aircraft with ``epsilon != 0``.
+    BudgetError
+        If the backward Riccati integration needs more than 5 million evaluations.
+    SolverError
+        If the end-point LQR or the time-varying Riccati equation fails.
     """
 
     inversion: StableInversion
@@ -288,15 +320,17 @@ class InversionTracker:
     _K: CubicSpline = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        inv = self.inversion
-        q = np.asarray(self.q, dtype=float)
-        if q.shape != (6,) or not np.all(np.isfinite(q)) or np.any(q < 0):
-            raise ModelError(f"q must be 6 nonnegative weights, got {self.q!r}")
-        positive_number("r", self.r)
-        positive_number("dt_gain", self.dt_gain)
+        inv = require_instance("inversion", self.inversion, StableInversion, " (from stable_inversion)")
+        q = checks.array("q", self.q, shape=(6,))
+        if np.any(q < 0):
+            raise ArgumentError(f"q must be 6 nonnegative weights, got {self.q!r}")
+        object.__setattr__(self, "q", tuple(float(v) for v in q))
+        for k in ("r", "dt_gain", "kp", "kd"):
+            object.__setattr__(self, k, checks.positive(k, getattr(self, k)))
+        if (inv.t1 - inv.t0) / self.dt_gain > 1e6:
+            raise ArgumentError(f"dt_gain = {self.dt_gain:g} s gives more than 10^6 gain grid points on "
+                                f"[{inv.t0:g}, {inv.t1:g}] s")
         require_inversion_vehicle(inv.vehicle)
-        positive_number("kp", self.kp)
-        positive_number("kd", self.kd)
         tg = np.linspace(inv.t0, inv.t1, math.ceil((inv.t1 - inv.t0) / self.dt_gain) + 1)
         Ag, Bg = self.linearization(tg)
         Q, Rinv = np.diag(q), 1.0 / float(self.r)
@@ -307,7 +341,13 @@ class InversionTracker:
         sg = inv.t1 - tg[::-1]  # reversed time s = t1 - t, increasing
         Ar, Br = Ag[::-1], Bg[::-1]
 
+        spent = [0]
+
         def riccati(s: float, p: np.ndarray) -> np.ndarray:
+            spent[0] += 1
+            if spent[0] > _RICCATI_NFEV:
+                raise BudgetError(f"the time-varying Riccati equation used its budget of {_RICCATI_NFEV} evaluations "
+                                  f"(at t = {inv.t1 - s:.4g} s); the linearization along the reference is too stiff")
             k = min(max(int(np.searchsorted(sg, s)) - 1, 0), sg.size - 2)
             f = (s - sg[k]) / (sg[k + 1] - sg[k])
             A, B = (1 - f) * Ar[k] + f * Ar[k + 1], (1 - f) * Br[k] + f * Br[k + 1]
@@ -316,8 +356,13 @@ class InversionTracker:
             dP = A.T @ P + P @ A - Rinv * (PB @ PB.T) + Q
             return (0.5 * (dP + dP.T)).ravel()
 
-        sol = solve_ivp(riccati, (0.0, sg[-1]), np.asarray(P1, dtype=float).ravel(), method="LSODA", rtol=1e-6,
-                        atol=1e-8, t_eval=sg)
+        if not np.all(np.isfinite(np.asarray(P1, dtype=float))):
+            raise SolverError(f"the LQR at the end of the window t1 = {inv.t1:g} s is not finite")
+        try:
+            sol = solve_ivp(riccati, (0.0, sg[-1]), np.asarray(P1, dtype=float).ravel(), method="LSODA", rtol=1e-6,
+                            atol=1e-8, t_eval=sg)
+        except (ZeroDivisionError, OverflowError, FloatingPointError, np.linalg.LinAlgError) as exc:
+            raise SolverError(f"the time-varying Riccati equation failed: {exc}") from exc
         if not sol.success or not np.all(np.isfinite(sol.y)):
             raise SolverError(f"the time-varying Riccati equation failed: {sol.message}")
         P = sol.y.T.reshape(-1, 6, 6)[::-1]
@@ -358,9 +403,10 @@ class InversionTracker:
         return self._K(min(max(float(t), tg[0]), tg[-1]))
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
+        """Inputs ``(u1, u2)`` (N, N m) at time ``t`` (s) and the state ``x`` (shape ``(6,)``)."""
         inv = self.inversion
-        tc = min(max(t, inv.t0), inv.t1)
-        x = np.asarray(x, dtype=float)
+        tc = min(max(checks.real("t", t, unit="s"), inv.t0), inv.t1)
+        x = checks.array("x", x, shape=(6,))
         du2 = -float(self.gain(tc) @ (x - inv.reference_state(tc)))
         u = feedback_linearizing_inputs(inv.vehicle, x, self.outer(t, x))
         return u + np.array([0.0, du2])
@@ -385,11 +431,11 @@ def track_stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *,
         pre-action before ``t = 0``). ``"level"``: start at ``t = 0`` in the §7.3.3 level-flight state
         (``theta = theta*``, no pre-action); the feedback absorbs the pitch mismatch.
     t_final : float
-        End (s), ``<= inversion.t1``.
+        End (s), ``0 < t_final <= inversion.t1`` (at most 10^4 s).
     kp, kd, q, r
         Gains and LQR weights, see :class:`InversionTracker`.
     dt : float
-        Output spacing (s).
+        Output spacing (s), ``0 < dt <= t_final``.
 
     Returns
     -------
@@ -398,23 +444,44 @@ def track_stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *,
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``traj`` not a ClimbTrajectory, ``inversion`` not a StableInversion, or a
+        number has the wrong type.
+    ArgumentError
+        If ``t_final`` is not a positive finite number (at most 10^4 s) or is past ``inversion.t1``; ``inversion``
+        belongs to another trajectory; ``start`` is not ``"reference"`` or ``"level"``; ``dt`` is not in
+        ``(0, t_final]``; or ``kp``, ``kd``, ``q``, ``r`` are invalid (:class:`InversionTracker`). All are checked
+        before the inversion is computed.
+    VehicleMismatchError
+        If ``inversion`` was computed for another vehicle.
     ModelError
-        If ``veh`` is not a CTOL aircraft with ``epsilon != 0``; ``t_final`` is not a positive finite number or is
-        past ``inversion.t1``; ``start`` is not ``"reference"`` or ``"level"``; or ``kp``, ``kd``, ``q``, ``r`` are
-        invalid (:class:`InversionTracker`).
+        If ``veh`` is not a CTOL aircraft with ``epsilon != 0``.
+    BudgetError
+        If the integration hits its step budget (:func:`glidectl.sim.simulate`).
     SolverError
         If the stable inversion (when computed here) does not converge, the tracker's LQR or Riccati equation
         fails, the zero dynamics have no level-flight equilibrium (``start="level"``), or the integration fails.
     """
     require_inversion_vehicle(veh)
-    traj = climb_trajectory(veh) if traj is None else traj
+    traj = climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,
+                                                                          " (from gc.climb_trajectory)")
+    t_final = checks.real("t_final", t_final, lo=0.0, hi=1e4, lo_open=True, unit="s")
+    checks.choice("start", start, ("reference", "level"))
+    dt = checks.real("dt", dt, lo=0.0, hi=t_final, lo_open=True, unit="s")
+    qa = checks.array("q", q, shape=(6,))
+    if np.any(qa < 0):
+        raise ArgumentError(f"q must be 6 nonnegative weights, got {q!r}")
+    kp, kd, r = checks.positive("kp", kp), checks.positive("kd", kd), checks.positive("r", r)
+    if inversion is not None:
+        require_instance("inversion", inversion, StableInversion, " (from stable_inversion)")
+        checks.same_vehicle("inversion", inversion, veh)
+        if inversion.trajectory != traj:
+            raise ArgumentError("inversion was computed for another trajectory than traj")
+        if t_final > inversion.t1:
+            raise ArgumentError(f"t_final = {t_final:g} s is past the end of the inversion window "
+                                f"({inversion.t1:g} s)")
     inv = stable_inversion(veh, traj, t1=max(45.0, t_final + 5.0)) if inversion is None else inversion
-    positive_number("t_final", t_final)
-    if t_final > inv.t1:
-        raise ModelError(f"t_final = {t_final:g} s is past the end of the inversion window ({inv.t1:g} s)")
-    if start not in ("reference", "level"):
-        raise ModelError(f"start must be 'reference' or 'level', got {start!r}")
-    tracker = InversionTracker(inv, kp, kd, tuple(float(v) for v in q), r)
+    tracker = InversionTracker(inv, kp, kd, tuple(float(v) for v in qa), r)
     if start == "reference":
         t_start, x0 = inv.t0, inv.reference_state(inv.t0)
         note = f"started on the reference at t0 = {inv.t0:g} s (pre-action before t = 0)"

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .._checks import positive_number
-from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, InfeasibleGlideError, ModelError, SolverError
+from ..models._validate import require_ctol_vehicle, require_instance
 from ..models.ctol import CTOLAircraft
 from ..params import Vehicle
 from ..trim.ctol import ALPHA_MAX, CTOLGlide, ctol_glide
@@ -34,7 +35,20 @@ from .ctol import SteadyGlideController
 from .ctol_runs import TrackingRun
 from .ctol_trajectory import ClimbTrajectory
 
-__all__ = ["GlideTracking", "ParetoStudy", "pareto_front", "track_with_steady_glides", "tracking_grid"]
+__all__ = ["MAX_GRID_POINTS", "MAX_INTERVALS", "MAX_NFEV", "GlideTracking", "ParetoStudy", "pareto_front",
+           "track_with_steady_glides", "tracking_grid"]
+
+#: Largest number of replanning intervals ``ceil(t_final / dt)`` of :func:`track_with_steady_glides`.
+MAX_INTERVALS = 1_000_000
+#: Default budget of right-hand-side evaluations of one :func:`track_with_steady_glides` run (all intervals).
+MAX_NFEV = 20_000_000
+#: Largest number of runs of :func:`tracking_grid` (``len(dts) * len(gains)``).
+MAX_GRID_POINTS = 10_000
+_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+class _OutOfBudget(Exception):
+    """Raised inside the integrand when the evaluation budget is spent (turned into :class:`BudgetError`)."""
 
 
 @dataclass(frozen=True)
@@ -89,7 +103,8 @@ def _level_start(veh: Vehicle, traj: ClimbTrajectory) -> np.ndarray:
 def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float = 0.1, k3: float = 7e5,
                              k4: float = 2.5e2, T: float = 1.0, t_final: float = 40.0, x0: Any = None,
                              alpha_max: float = ALPHA_MAX, method: str = "LSODA",
-                             rtol: float = 1e-8, atol: float = 1e-10) -> GlideTracking:
+                             rtol: float = 1e-8, atol: float = 1e-10, max_nfev: int = MAX_NFEV,
+                             time_limit: float | None = None) -> GlideTracking:
     """Track ``traj`` with steady glides replanned every ``dt`` seconds (§7.3.2).
 
     Parameters
@@ -108,9 +123,14 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
     x0 : array (6,), optional
         Initial state; default the level steady glide at the trajectory speed at (0, 0) (§7.3.3).
     alpha_max : float
-        Passed to :func:`ctol_glide`.
+        Passed to :func:`ctol_glide` (rad, in ``(0, pi/2)``).
     method, rtol, atol
-        :func:`scipy.integrate.solve_ivp` settings per interval.
+        :func:`scipy.integrate.solve_ivp` settings per interval (``rtol`` in ``[1e-14, 1)``, ``atol > 0``).
+    max_nfev : int
+        Budget of right-hand-side evaluations over the whole run (default :data:`MAX_NFEV`); the number of
+        intervals ``ceil(t_final / dt)`` is at most :data:`MAX_INTERVALS`.
+    time_limit : float, optional
+        Wall-time budget (s); default none.
 
     Returns
     -------
@@ -120,21 +140,41 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``traj`` not a ClimbTrajectory, or a number has the wrong type.
+    ArgumentError
+        If ``dt``, ``k3``, ``k4``, ``T`` or ``t_final`` is not a positive finite number, ``dt > t_final``, there
+        would be more than :data:`MAX_INTERVALS` intervals, ``x0`` is not six finite numbers, ``alpha_max``,
+        ``method``, a tolerance or a budget is out of range.
     ModelError
-        If ``dt``, ``k3``, ``k4``, ``T`` or ``t_final`` is not a positive finite number, ``veh`` is not a CTOL
-        aircraft or has ``epsilon <= 0``, or ``x0`` is not six finite numbers.
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     InfeasibleGlideError
         If ``x0`` is omitted and there is no level steady glide at the trajectory speed (the default start).
-    GlidectlError
+    BudgetError
+        If the run spends ``max_nfev`` right-hand-side evaluations or ``time_limit`` seconds.
+    SolverError
         If the very first replanning interval fails (no steady glide or failed integration), so there is no run.
     """
-    for name, v in (("dt", dt), ("k3", k3), ("k4", k4), ("T", T), ("t_final", t_final)):
-        positive_number(name, v)
+    require_ctol_vehicle(veh, "veh")
+    require_instance("traj", traj, ClimbTrajectory, " (from gc.climb_trajectory)")
+    t_final = checks.positive("t_final", t_final, unit="s")
+    dt = checks.real("dt", dt, lo=0.0, hi=t_final, lo_open=True, unit="s")
+    if t_final / dt > MAX_INTERVALS:
+        raise ArgumentError(f"t_final / dt = {t_final / dt:.3g} replanning intervals; at most {MAX_INTERVALS} are "
+                            "allowed (raise dt)")
+    if not veh.epsilon > 0:
+        raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law divides by eps")
+    k3, k4, T = (checks.positive(n, v) for n, v in (("k3", k3), ("k4", k4), ("T", T)))
+    alpha_max = checks.real("alpha_max", alpha_max, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
+    checks.choice("method", method, _METHODS)
+    rtol = checks.real("rtol", rtol, lo=1e-14, hi=1.0, hi_open=True)
+    atol = checks.positive("atol", atol)
+    max_nfev = checks.integer("max_nfev", max_nfev, lo=1)
+    deadline = checks.Deadline(time_limit, "tracking by steady gliding")
     model = CTOLAircraft(veh)
-    x = _level_start(veh, traj) if x0 is None else np.asarray(x0, dtype=float)
-    if x.shape != (6,) or not np.all(np.isfinite(x)):
-        raise ModelError(f"x0 must be six finite numbers {model.state_names}, got {x0!r}")
+    x = _level_start(veh, traj) if x0 is None else checks.array("x0", x0, shape=(6,))
     n = math.ceil(t_final / dt - 1e-9)
+    spent = [0]
     ts, xs, us, glides = [], [], [], []
     note, completed = "", True
     quad = np.zeros(3)  # exact integrals of u1^2, u2^2, |u|^2 (quadrature states)
@@ -146,12 +186,17 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
         gam = float(math.atan2(chord[1], chord[0]))
         try:
             glide = ctol_glide(veh, V, gam, alpha_max=alpha_max)
-        except (InfeasibleGlideError, ModelError) as exc:
+        except (InfeasibleGlideError, ModelError, ArgumentError, SolverError) as exc:
             note, completed = f"t = {tk:.3f} s: no steady glide to the next waypoint ({exc})", False
             break
-        ctrl = SteadyGlideController(veh, glide, float(k3), float(k4), float(T))
-        sol = solve_ivp(_with_quadrature(model, ctrl), (tk, tk1), np.r_[x, 0.0, 0.0, 0.0], method=method,
-                        rtol=rtol, atol=atol)
+        ctrl = SteadyGlideController(veh, glide, k3, k4, T)
+        try:
+            with np.errstate(all="ignore"):
+                sol = solve_ivp(_with_quadrature(model, ctrl, spent, max_nfev, deadline), (tk, tk1),
+                                np.r_[x, 0.0, 0.0, 0.0], method=method, rtol=rtol, atol=atol)
+        except _OutOfBudget as exc:
+            raise BudgetError(f"tracking by steady gliding stopped at t = {tk:.3f} s: {exc}; raise max_nfev, or use "
+                              "smaller pitch gains k3, k4 (a stiff, lightly damped pitch loop is expensive)") from None
         if sol.status != 0 or not np.all(np.isfinite(sol.y)):
             note, completed = f"t = {tk:.3f} s: integration failed ({sol.message})", False
             break
@@ -163,7 +208,7 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
         glides.append(glide)
         x = X[-1]
     if not ts:
-        raise GlidectlError(f"tracking could not start: {note}")
+        raise SolverError(f"tracking could not start: {note}")
     t = np.concatenate(ts)
     X = np.concatenate(xs)
     U = np.concatenate(us)
@@ -176,10 +221,16 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
     return GlideTracking(run, tuple(glides), float(dt), float(k3), float(k4), float(T))
 
 
-def _with_quadrature(model: CTOLAircraft, ctrl: SteadyGlideController) -> Any:
-    """Closed-loop right-hand side augmented with ``d/dt (int u1^2, int u2^2, int |u|^2)``."""
+def _with_quadrature(model: CTOLAircraft, ctrl: SteadyGlideController, spent: list[int], max_nfev: int,
+                     deadline: checks.Deadline) -> Any:
+    """Closed-loop right-hand side augmented with ``d/dt (int u1^2, int u2^2, int |u|^2)``, counting evaluations."""
 
     def f(t: float, z: np.ndarray) -> np.ndarray:
+        spent[0] += 1
+        if spent[0] > max_nfev:
+            raise _OutOfBudget(f"it used its budget of max_nfev = {max_nfev} right-hand-side evaluations")
+        if spent[0] % 1000 == 0:
+            deadline.check(f"t = {t:.6g} s")
         u = ctrl(t, z[:6])
         return np.r_[model.rhs(z[:6], u), u[0] ** 2, u[1] ** 2, u[0] ** 2 + u[1] ** 2]
 
@@ -254,12 +305,16 @@ def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:
 
     Raises
     ------
-    ValueError
-        If ``points`` cannot be converted to a float array.
-    IndexError
-        If the points are not pairs (array of shape ``(N, 2)``).
+    ArgumentTypeError
+        If ``points`` is not real numbers.
+    ArgumentError
+        If the points are not finite pairs (an array of shape ``(N, 2)``; ``N = 0`` gives ``[]``).
     """
-    pts = np.asarray(points, dtype=float)
+    pts = checks.array("points", points)
+    if pts.size == 0:
+        return []
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise ArgumentError(f"points must be pairs, an array of shape (N, 2); got shape {pts.shape}")
     keep = []
     for i, p in enumerate(pts):
         dominated = np.any(np.all(pts <= p, axis=1) & np.any(pts < p, axis=1))
@@ -294,6 +349,9 @@ def tracking_grid(veh: Vehicle, traj: ClimbTrajectory, dts: Sequence[float], gai
     executor : concurrent.futures.Executor, optional
         Runs the grid points in parallel (``executor.map``).
 
+    The grid has at most :data:`MAX_GRID_POINTS` runs, each bounded by the budgets of
+    :func:`track_with_steady_glides`.
+
     Returns
     -------
     ParetoStudy
@@ -301,18 +359,40 @@ def tracking_grid(veh: Vehicle, traj: ClimbTrajectory, dts: Sequence[float], gai
 
     Raises
     ------
-    ModelError
-        If ``dts`` or ``gains`` is empty, or a run's settings or vehicle are invalid (see
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``traj`` not a ClimbTrajectory, ``executor`` has no ``map``, or ``dts``,
+        ``gains`` are not real numbers.
+    ArgumentError
+        If ``dts`` or ``gains`` is empty, a ``dt`` or gain is not a positive finite number, ``gains`` is not pairs,
+        the grid has more than :data:`MAX_GRID_POINTS` runs, or a run's settings are invalid (see
         :func:`track_with_steady_glides`).
+    ModelError
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     InfeasibleGlideError
         If there is no level steady glide at the trajectory speed (the default start of every run).
-    GlidectlError
+    BudgetError
+        If a run spends its evaluation budget (see :func:`track_with_steady_glides`).
+    SolverError
         If a run fails in its first replanning interval (one such run aborts the whole grid).
     """
-    pairs = [(float(a), float(b)) for a, b in gains]
-    if not dts or not pairs:
-        raise ModelError("tracking_grid needs at least one dt and one (k3, k4) pair")
-    args = [(veh, traj, float(d), k3, k4, float(T), float(t_final)) for d, (k3, k4) in product(dts, pairs)]
+    require_ctol_vehicle(veh, "veh")
+    require_instance("traj", traj, ClimbTrajectory, " (from gc.climb_trajectory)")
+    d_arr = checks.array("dts", dts, ndim=1)
+    g_arr = checks.array("gains", gains)
+    if d_arr.size == 0 or g_arr.size == 0:
+        raise ArgumentError("tracking_grid needs at least one dt and one (k3, k4) pair")
+    if g_arr.ndim != 2 or g_arr.shape[1] != 2:
+        raise ArgumentError(f"gains must be (k3, k4) pairs, an array of shape (N, 2); got shape {g_arr.shape}")
+    if not (np.all(d_arr > 0) and np.all(g_arr > 0)):
+        raise ArgumentError("every dt (s) and gain k3 (N), k4 (N m s) must be positive")
+    if d_arr.size * g_arr.shape[0] > MAX_GRID_POINTS:
+        raise ArgumentError(f"the grid has {d_arr.size * g_arr.shape[0]} runs; at most {MAX_GRID_POINTS} are allowed")
+    T, t_final = checks.positive("T", T, unit="s"), checks.positive("t_final", t_final, unit="s")
+    if executor is not None and not callable(getattr(executor, "map", None)):
+        raise ArgumentTypeError(f"executor must have a map method (concurrent.futures.Executor), got "
+                                f"{type(executor).__name__}")
+    pairs = [(float(a), float(b)) for a, b in g_arr]
+    args = [(veh, traj, float(d), k3, k4, T, t_final) for d, (k3, k4) in product(d_arr, pairs)]
     recs = list(executor.map(_run_point, args)) if executor is not None else [_run_point(a) for a in args]
     ok = [i for i, r in enumerate(recs) if r["completed"]]
     front = [ok[j] for j in pareto_front([(recs[i]["max_error"], recs[i]["effort"]) for i in ok])] if ok else []

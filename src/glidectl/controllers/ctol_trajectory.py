@@ -18,7 +18,9 @@ from typing import Any
 import numpy as np
 from scipy.linalg import expm
 
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ModelError
+from ..models._validate import speed_arg
 from ..models.ctol import require_ctol
 from ..params import Vehicle
 
@@ -39,19 +41,25 @@ class ClimbTrajectory:
     Parameters
     ----------
     speed : float
-        Horizontal speed ``x_d'`` (m/s; normalized units of §7.1 for ``dc8_ctol``), ``> 0``.
+        Horizontal speed ``x_d'`` (m/s; normalized units of §7.1 for ``dc8_ctol``), in ``(0, 100]``.
     coeffs : tuple of float
         The 6 coefficients of ``s^5 ... s^0`` of (7.91) (the coefficient of ``s^k`` in 1/s^(5-k) relative to the
-        leading one); default :data:`CLIMB_COEFFS`. Leading coefficient nonzero, roots distinct and nonzero.
+        leading one); default :data:`CLIMB_COEFFS`. Finite, leading coefficient nonzero, roots distinct, nonzero
+        and stable (negative real parts: the climb settles).
     forcing : float
-        Constant right-hand side of (7.91) (m/s^5 times the leading coefficient); default 1.7, so the final
+        Constant right-hand side of (7.91) (m/s^5 times the leading coefficient), finite; default 1.7, so the final
         altitude is ``forcing / coeffs[-1] = 10`` m.
 
     Raises
     ------
+    ArgumentTypeError
+        If ``speed``, ``forcing`` or ``coeffs`` is not real numbers.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]``, ``coeffs`` is not 6 finite numbers with a nonzero leading one, or
+        ``forcing`` is not finite.
     ModelError
-        If ``speed`` is not a positive finite number, ``coeffs`` is not 6 numbers with a nonzero leading one, the
-        polynomial has a zero or repeated root, or the modal evaluation disagrees with the matrix exponential.
+        If the polynomial has a zero, repeated or unstable root (the climb would not settle), or the modal
+        evaluation disagrees with the matrix exponential.
     """
 
     speed: float
@@ -60,13 +68,18 @@ class ClimbTrajectory:
     _modal: tuple[np.ndarray, np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.speed) and self.speed > 0):
-            raise ModelError(f"speed must be a positive number (m/s), got {self.speed!r}")
-        if len(self.coeffs) != 6 or self.coeffs[0] == 0:
-            raise ModelError(f"coeffs must be the 6 coefficients s^5..s^0, leading one nonzero, got {self.coeffs}")
+        object.__setattr__(self, "speed", speed_arg("speed", self.speed))
+        c = checks.array("coeffs", self.coeffs, shape=(6,))
+        if c[0] == 0:
+            raise ArgumentError(f"coeffs must be the 6 coefficients s^5..s^0, leading one nonzero, got {self.coeffs}")
+        object.__setattr__(self, "coeffs", tuple(float(v) for v in c))
+        object.__setattr__(self, "forcing", checks.real("forcing", self.forcing))
         lam, W = np.linalg.eig(self._companion())
         if np.min(np.abs(lam)) == 0 or np.linalg.cond(W) > 1e8:
             raise ModelError(f"the climb polynomial {self.coeffs} has a zero or repeated root; no modal form")
+        if np.max(lam.real) >= 0:
+            raise ModelError(f"the climb polynomial {self.coeffs} has roots {np.round(lam, 6)} with real part >= 0: "
+                             "the climb would not settle (the desired trajectory must be bounded)")
         b = np.zeros(5, dtype=complex)
         b[4] = self.forcing / self.coeffs[0]
         object.__setattr__(self, "_modal", (lam, W, np.linalg.solve(W, b)))
@@ -101,10 +114,17 @@ class ClimbTrajectory:
 
     def derivatives(self, t: Any, order: int = 2) -> np.ndarray:
         """``[[x_d, y_d], [x_d', y_d'], ...]`` up to ``order`` (<= 5) at each time: shape ``(..., order + 1, 2)``
-        (m, m/s, ..., m/s^5). Before ``t = 0`` the trajectory is level flight at ``y = 0``."""
-        if not 0 <= order <= 5:
-            raise ModelError(f"order must be 0..5, got {order}")
-        tt = np.asarray(t, dtype=float)
+        (m, m/s, ..., m/s^5). Before ``t = 0`` the trajectory is level flight at ``y = 0``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``t`` is not real numbers or ``order`` not an integer.
+        ArgumentError
+            If ``t`` is not finite or ``order`` is not in 0..5.
+        """
+        order = checks.integer("order", order, lo=0, hi=5)
+        tt = checks.array("t", t)
         ts = np.atleast_1d(tt).ravel()
         lam, W, beta = self._modal
         E = np.expm1(np.outer(np.maximum(ts, 0.0), lam)) / lam
@@ -133,7 +153,8 @@ def climb_trajectory(veh: Vehicle, mach_like: float = 0.85) -> ClimbTrajectory:
     veh : Vehicle
         A ``kind = "ctol"`` vehicle (its lift coefficient ``a_L``, nondimensional, sets the speed).
     mach_like : float
-        The factor ``0.85`` of ``x_d = 0.85 t / sqrt(a_L)`` (nondimensional), ``> 0``.
+        The factor ``0.85`` of ``x_d = 0.85 t / sqrt(a_L)`` (nondimensional), ``> 0`` (the speed must stay within
+        ``(0, 100]``).
 
     Returns
     -------
@@ -142,8 +163,13 @@ def climb_trajectory(veh: Vehicle, mach_like: float = 0.85) -> ClimbTrajectory:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``mach_like`` not a real number.
+    ArgumentError
+        If ``mach_like`` is not a positive finite number, or the speed it gives exceeds 100.
     ModelError
-        If ``veh`` is not a CTOL aircraft, or ``mach_like`` is not a positive finite number.
+        If ``veh`` is not a CTOL aircraft.
     """
     require_ctol(veh)
+    mach_like = checks.positive("mach_like", mach_like)
     return ClimbTrajectory(mach_like / math.sqrt(veh.a_L))

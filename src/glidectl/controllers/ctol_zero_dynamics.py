@@ -29,9 +29,10 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
-from .._checks import positive_number
+from .. import checks
 from ..analysis.jacobian import jacobians
 from ..errors import ModelError, SolverError
+from ..models._validate import angle_arg, require_instance, speed_arg, trailing_array
 from ..models.ctol import CTOLAircraft, require_ctol
 from ..params import Vehicle
 from .ctol_trajectory import ClimbTrajectory
@@ -58,8 +59,16 @@ def require_inversion_vehicle(veh: Vehicle, need_eps: bool = True) -> None:
         Must be a CTOL aircraft (``kind = "ctol"``).
     need_eps : bool
         Also require ``epsilon != 0`` (the elevator force ``eps u2``, which (7.81) divides by).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``need_eps`` not a bool.
+    ModelError
+        If ``veh`` is not a CTOL aircraft, or ``need_eps`` and ``epsilon = 0``.
     """
     require_ctol(veh)
+    checks.boolean("need_eps", need_eps)
     if need_eps and veh.epsilon == 0:
         raise ModelError("epsilon = 0: u2 produces no force, so (7.81) cannot be solved for u2; use the approximate "
                          "linearization (ApproximateLinearizationController) for eps = 0")
@@ -78,7 +87,17 @@ def _aero_force(model: CTOLAircraft, v: Any, theta: Any) -> Any:
 
 def level_flight_state(speed: float, theta: float) -> np.ndarray:
     """Full CTOL state ``(0, 0, speed, 0, theta, 0)`` of level flight at the origin: ``speed`` in m/s, pitch
-    ``theta`` in rad (the start of the §7.3.3 climb is ``theta = theta*`` of :func:`zero_dynamics`)."""
+    ``theta`` in rad (the start of the §7.3.3 climb is ``theta = theta*`` of :func:`zero_dynamics`).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``speed`` or ``theta`` is not a real number.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]`` or ``theta`` not finite.
+    """
+    speed = speed_arg("speed", speed)
+    theta = angle_arg("theta", theta)
     return np.array([0.0, 0.0, speed, 0.0, theta, 0.0])
 
 
@@ -98,11 +117,19 @@ def feedback_linearizing_inputs(veh: Vehicle, x: Any, w: Any) -> np.ndarray:
     -------
     ndarray, shape (..., 2)
         ``(u1, u2)`` (N, N m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``x``, ``w`` are not arrays of numbers.
+    ArgumentError
+        If ``x`` does not have shape ``(..., 6)`` or ``w`` shape ``(..., 2)``.
+    ModelError
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     """
     require_inversion_vehicle(veh)
-    x, w = np.asarray(x), np.asarray(w)
-    if x.shape[-1:] != (6,) or w.shape[-1:] != (2,):
-        raise ModelError(f"x must have shape (..., 6) and w (..., 2), got {x.shape} and {w.shape}")
+    x = trailing_array("x", x, 6)
+    w = trailing_array("w", w, 2)
     F = _aero_force(CTOLAircraft(veh), x[..., 2:4], x[..., 4])
     c, s = np.cos(x[..., 4]), np.sin(x[..., 4])
     a = veh.m * w[..., 0] - F[..., 0]  # = u1 cos + eps u2 sin
@@ -120,6 +147,11 @@ def internal_acceleration(veh: Vehicle, x: Any, w: Any) -> Any:
         States (only ``xdot, ydot, theta`` enter).
     w : array_like, shape (..., 2)
         Output accelerations ``(x'', y'')`` (m/s^2).
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError, ModelError
+        As :func:`feedback_linearizing_inputs`.
     """
     return feedback_linearizing_inputs(veh, x, w)[..., 1] / veh.J
 
@@ -144,9 +176,18 @@ def outer_loop_acceleration(trajectory: ClimbTrajectory, kp: float, kd: float, t
     -------
     ndarray, shape (..., 2)
         ``w`` (m/s^2).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``trajectory`` is not a ClimbTrajectory or an argument is not numbers.
+    ArgumentError
+        If ``kp``, ``kd`` or ``t`` is not finite, or ``x`` does not have shape ``(..., 6)``.
     """
+    require_instance("trajectory", trajectory, ClimbTrajectory)
+    kp, kd = checks.real("kp", kp), checks.real("kd", kd)
     d = trajectory.derivatives(t, 2)
-    x = np.asarray(x)
+    x = trailing_array("x", x, 6)
     return d[..., 2, :] + kd * (d[..., 1, :] - x[..., 2:4]) + kp * (d[..., 0, :] - x[..., :2])
 
 
@@ -215,8 +256,14 @@ def frozen_internal_dynamics(veh: Vehicle, x: np.ndarray, w: np.ndarray, y: Any)
     Returns
     -------
     ndarray, shape (..., 2)
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError, ModelError
+        Bad vehicle or array shapes (as :func:`feedback_linearizing_inputs`).
     """
-    y = np.asarray(y)
+    y = trailing_array("y", y, 2)
+    x = trailing_array("x", x, 6)
     X = np.broadcast_to(x, (*y.shape[:-1], 6)).astype(y.dtype, copy=True)
     X[..., 4], X[..., 5] = y[..., 0], y[..., 1]
     return np.stack([y[..., 1], internal_acceleration(veh, X, w)], -1)
@@ -232,8 +279,19 @@ def saddle_directions(J: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray
     unstable_vector, stable_vector : ndarray, shape (2,)
         Eigenvectors of the larger and the smaller eigenvalue; for real eigenvalues normalized to unit length
         with a positive first (``theta``) component.
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``J`` is not a finite real 2x2 array.
+    SolverError
+        If the eigenvalue computation fails.
     """
-    ev, V = np.linalg.eig(J)
+    J = checks.array("J", J, shape=(2, 2))
+    try:
+        ev, V = np.linalg.eig(J)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigen-decomposition of the 2x2 linearization failed: {exc}") from exc
     order = np.argsort(ev.real)
     ev, V = ev[order], V[:, order]
     if np.any(np.abs(ev.imag) > 1e-12):
@@ -260,13 +318,17 @@ def zero_dynamics(veh: Vehicle, speed: float) -> ZeroDynamics:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``speed`` not a real number.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]``.
     ModelError
-        Bad vehicle or speed.
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     SolverError
-        No equilibrium on ``(-pi/2, pi/2)``.
+        No equilibrium on ``(-pi/2, pi/2)``, or the root finder fails.
     """
     require_inversion_vehicle(veh)
-    V = positive_number("speed", speed)
+    V = speed_arg("speed", speed)
     x = level_flight_state(V, 0.0)
     w = np.zeros(2)
 
@@ -275,10 +337,15 @@ def zero_dynamics(veh: Vehicle, speed: float) -> ZeroDynamics:
 
     grid = np.linspace(-0.5 * math.pi, 0.5 * math.pi, 4001)[1:-1]
     fg = f(grid)
+    if not np.all(np.isfinite(fg)):
+        raise SolverError(f"the internal dynamics at V = {V:g} is not finite on (-pi/2, pi/2)")
     idx = np.nonzero(np.sign(fg[:-1]) * np.sign(fg[1:]) <= 0)[0]
     if idx.size == 0:
         raise SolverError(f"no level-flight equilibrium of the zero dynamics at V = {V:g} on (-pi/2, pi/2)")
-    roots = [brentq(lambda s: float(f(s)), grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15) for i in idx]
+    try:
+        roots = [brentq(lambda s: float(f(s)), grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15) for i in idx]
+    except (ValueError, RuntimeError) as exc:
+        raise SolverError(f"root finding of the level-flight zero dynamics at V = {V:g} failed: {exc}") from exc
     th = float(min(roots, key=abs))
     y = np.array([th, 0.0])
     Jac, _ = jacobians(lambda Y, U: frozen_internal_dynamics(veh, x, w, Y), y, np.zeros(0))

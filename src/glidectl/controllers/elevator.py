@@ -25,8 +25,10 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq
 
+from .. import checks
 from ..analysis.jacobian import jacobians
-from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverError
+from ..models._validate import angle_arg, require_glider, require_instance, speed_arg, trailing_array
 from ..models.buoyancy_glider import ActuatorLimits, actuator_limits
 from ..models.elevator_glider import ElevatorBuoyancyGlider, effective_coefficients
 from ..params import Vehicle
@@ -143,11 +145,11 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
     veh : Vehicle
         Underwater glider with ``delta``; ``u2_max`` (rad) and ``m0_max`` (kg) are enforced when defined.
     speed : float
-        ``V_e`` (m/s), > 0.
+        ``V_e`` (m/s), in ``(0, 100]``.
     gamma : float
-        ``gamma_e`` (rad), ``0 < |gamma_e| < pi/2`` (positive climbing).
+        ``gamma_e`` (rad), ``|gamma_e| < pi/2`` (positive climbing; ``gamma_e = 0`` has no steady glide).
     alpha_max : float
-        Largest ``|alpha_e|`` accepted (rad); the root of smallest ``|alpha|`` is returned.
+        Largest ``|alpha_e|`` accepted (rad), in ``(0, pi/2)``; the root of smallest ``|alpha|`` is returned.
 
     Returns
     -------
@@ -157,29 +159,41 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or a number is not a real number.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]`` m/s, ``gamma`` is not finite with ``|gamma_e| < pi/2`` rad, or
+        ``alpha_max`` is not in ``(0, pi/2)``.
     InfeasibleGlideError
-        Bad speed or angle, no force balance with ``|alpha| <= alpha_max`` (e.g. ``gamma_e = 0``: level gliding
-        needs zero drag), ``|u2e| > u2_max`` or ``|m0e| > m0_max``, or ``m0e = 0``.
+        No force balance with ``|alpha| <= alpha_max`` (e.g. ``gamma_e = 0``: level gliding needs zero drag),
+        ``|u2e| > u2_max`` or ``|m0e| > m0_max``, or ``m0e = 0``.
     ModelError
         If ``veh`` is not an underwater glider, has no ``delta`` (or another parameter the model reads), or has
         ``K_M = 0``.
+    SolverError
+        If the root finder fails, or the equilibrium residual is not small relative to the forces at the glide.
     """
-    if not (isinstance(speed, int | float) and math.isfinite(speed) and speed > 0):
-        raise InfeasibleGlideError(f"speed must be a positive number of m/s, got {speed!r}")
-    if not (isinstance(gamma, int | float) and math.isfinite(gamma) and abs(gamma) < math.pi / 2):
-        raise InfeasibleGlideError(f"gamma_e must be a finite angle with |gamma_e| < pi/2 rad, got {gamma!r}")
+    require_glider(veh, "veh")
+    speed = speed_arg("speed V_e", speed)
+    gamma = angle_arg("gamma_e", gamma, math.pi / 2, open_ends=True)
+    alpha_max = checks.real("alpha_max", alpha_max, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
     model = ElevatorBuoyancyGlider(veh)
     if veh.K_M == 0:
         raise ModelError(f"vehicle '{veh.name}' has K_M = 0: the elevator moment K_M u2 V^2 vanishes")
     grid = np.linspace(-alpha_max, alpha_max, 4001)
     F = _angle_balance(veh, gamma, grid)
     roots = []
+    if not np.all(np.isfinite(F)):
+        raise SolverError(f"the force balance of vehicle '{veh.name}' is not finite on |alpha| <= {alpha_max:g} rad")
     for i in np.nonzero(np.sign(F[:-1]) * np.sign(F[1:]) <= 0)[0]:
         if F[i] == 0:
             roots.append(float(grid[i]))
         elif F[i + 1] != 0:
-            roots.append(brentq(lambda a: float(_angle_balance(veh, gamma, a)), grid[i], grid[i + 1], xtol=1e-15,
-                                rtol=4 * np.finfo(float).eps))
+            try:
+                roots.append(brentq(lambda a: float(_angle_balance(veh, gamma, a)), grid[i], grid[i + 1],
+                                    xtol=1e-15, rtol=4 * np.finfo(float).eps))
+            except (ValueError, RuntimeError) as exc:
+                raise SolverError(f"root finding of the elevator force balance failed: {exc}") from exc
     roots = sorted(set(roots))
     if not roots:
         kd, kl = effective_coefficients(veh, grid, -veh.K_M0 / veh.K_M - grid)
@@ -209,11 +223,19 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
     K_Le = veh.K_L0 + veh.K_L * a_e
     printed = K_De - veh.delta * u2e * speed**2 * math.sin(a_e)                            # (6.23) as printed
     m_e = float(veh.mass(3, m0e) + veh.mbar)
+    if not (m_e > 0 and kd != 0 and veh.K_q != 0):
+        raise ModelError(f"vehicle '{veh.name}' at the glide V_e = {speed:g} m/s, gamma_e = {gamma:g} rad has "
+                         f"M3 = {m_e:g} kg, K'_De = {float(kd):g} kg/m, K_q = {veh.K_q:g}: the time scale (6.27) and "
+                         "the small parameters (5.16)-(5.17) need M3 > 0, K'_De != 0 and K_q != 0")
     tau_s = m_e / (kd * speed)                                                             # (6.27)
     eps1 = (veh.K_q / veh.K_M) / tau_s                                                     # (5.16)
     eps2 = -(veh.J2 / (veh.K_q * speed**2)) / tau_s                                        # (5.17)
     x_e = np.array([speed, gamma, a_e, 0.0, m0e])
     res = float(np.max(np.abs(model.rhs(x_e, np.array([0.0, u2e])))))
+    scale = max(abs(m0e) * veh.g / m_e, speed / abs(tau_s))  # the accelerations involved
+    if not res <= 1e-8 * scale:
+        raise SolverError(f"the elevator equilibrium at V_e = {speed:g} m/s, gamma_e = {gamma:g} rad has a residual "
+                          f"{res:.3g} (relative {res / scale:.3g}): not an equilibrium to working accuracy")
     return ElevatorEquilibrium(float(speed), float(gamma), float(a_e), m0e, float(u2e), float(K_De), float(K_Le),
                                float(kd), float(kl), float(printed), m_e, float(tau_s), float(eps1), float(eps2),
                                float(veh.g), tuple(roots), res, veh, veh.provenance)
@@ -241,12 +263,23 @@ def infer_J2(veh: Vehicle, eps2: float, speed: float, gamma: float) -> float:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or a number is not a real number.
+    ArgumentError
+        If ``eps2`` is not a positive finite number, or ``speed``/``gamma`` are out of range (see
+        :func:`elevator_equilibrium`).
     ModelError
-        If ``veh`` is not an elevator glider.
+        If ``veh`` is not an elevator glider, or has ``K_q >= 0`` (no pitch damping: (5.17) needs ``K_q < 0``).
     InfeasibleGlideError
         If no steady glide exists at ``(speed, gamma)`` (see :func:`elevator_equilibrium`).
+    SolverError
+        If the equilibrium computation fails (see :func:`elevator_equilibrium`).
     """
+    eps2 = checks.positive("eps2", eps2)
     eq = elevator_equilibrium(veh, speed, gamma)
+    if not veh.K_q < 0:
+        raise ModelError(f"vehicle '{veh.name}' has K_q = {veh.K_q:g}: eps2 = -J2/(K_q V_e^2 tau_s) (5.17) needs "
+                         "pitch damping K_q < 0")
     return float(-eps2 * veh.K_q * speed**2 * eq.tau_s)
 
 
@@ -263,6 +296,17 @@ class ElevatorBuoyancyController:
     vehicle : Vehicle
     K : float
         Gain of (6.21), > 0 (nondimensional, time ``t_n = t/tau_s`` of (6.27)).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``eq`` is not an ElevatorEquilibrium, ``vehicle`` not a Vehicle or ``K`` not a real number.
+    ArgumentError
+        If ``K`` is not a positive finite number.
+    ModelError
+        If ``vehicle`` is not an underwater glider.
+    VehicleMismatchError
+        If ``eq`` was computed for another vehicle.
     """
 
     eq: ElevatorEquilibrium
@@ -270,17 +314,19 @@ class ElevatorBuoyancyController:
     K: float = 1.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.K) and self.K > 0):
-            raise GlidectlError(f"the buoyancy gain K of (6.21) must be > 0, got {self.K!r}")
+        require_instance("eq", self.eq, ElevatorEquilibrium, " (from gc.elevator_equilibrium)")
+        require_glider(self.vehicle)
+        checks.same_vehicle("eq", self.eq, self.vehicle)
+        object.__setattr__(self, "K", checks.positive("the buoyancy gain K of (6.21)", self.K))
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
         return self.u(x)
 
     def u(self, x: Any) -> np.ndarray:
         """Inputs ``(u1 [kg/s], u2 [rad])``, shape ``x.shape[:-1] + (2,)``, at states
-        ``x = (V, gamma, alpha, Omega2, m0)``."""
+        ``x = (V, gamma, alpha, Omega2, m0)`` (shape ``(..., 5)``)."""
         lim = actuator_limits(self.vehicle)
-        m0 = np.asarray(x)[..., 4]
+        m0 = trailing_array("x", x, 5)[..., 4]
         u1 = lim.pump(m0, -(self.K / self.eq.tau_s) * (m0 - self.eq.m0e))
         u2 = np.broadcast_to(lim.elevator(self.eq.u2e), np.shape(u1))
         return np.stack([u1, u2], axis=-1)
@@ -296,7 +342,7 @@ def closed_loop_eigenvalues(eq: ElevatorEquilibrium, veh: Vehicle, K: float = 1.
     Parameters
     ----------
     eq : ElevatorEquilibrium
-        The equilibrium (:func:`elevator_equilibrium`); not checked to belong to ``veh``.
+        The equilibrium (:func:`elevator_equilibrium` for ``veh``).
     veh : Vehicle
         The elevator glider (underwater glider with ``delta``).
     K : float
@@ -310,15 +356,26 @@ def closed_loop_eigenvalues(eq: ElevatorEquilibrium, veh: Vehicle, K: float = 1.
 
     Raises
     ------
+    ArgumentTypeError
+        If ``eq`` is not an ElevatorEquilibrium, ``veh`` not a Vehicle or ``K`` not a real number.
+    ArgumentError
+        If ``K`` is not a positive finite number.
+    VehicleMismatchError
+        If ``eq`` was computed for another vehicle than ``veh``.
     ModelError
         If ``veh`` is not an underwater glider or has no ``delta``.
-    GlidectlError
-        If ``K`` is not a positive finite number.
+    SolverError
+        If the Jacobian is not finite or the eigenvalue computation fails.
     """
-    model = ElevatorBuoyancyGlider(veh)
     ctrl = ElevatorBuoyancyController(eq, veh, K)
+    model = ElevatorBuoyancyGlider(veh)
     A, _ = jacobians(lambda x, u: model.rhs(x, ctrl(0.0, x)), eq.state, np.zeros(0))
-    lam = np.linalg.eigvals(A)
+    if not np.all(np.isfinite(A)):
+        raise SolverError("the Jacobian of the elevator closed loop at the equilibrium is not finite")
+    try:
+        lam = np.linalg.eigvals(A)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigenvalues of the elevator closed loop did not converge: {exc}") from exc
     return lam[np.lexsort((lam.imag, lam.real))]
 
 
@@ -375,13 +432,14 @@ def elevator_example(veh: Vehicle, speed: float, gamma: float, *, t_final: float
     gamma : float
         Target ``gamma_e`` (rad); ``-pi/4`` in Fig 6.2.
     t_final : float
-        Duration (s).
+        Duration (s), in ``(0, 10^5]``; the run is bounded by the integration budgets of
+        :func:`glidectl.sim.simulate`.
     K : float
         Gain of (6.21).
     m0_start : float
-        Buoyancy (kg) of the default initial glide.
+        Buoyancy (kg) of the default initial glide, finite and nonzero.
     x0 : array_like, optional
-        Explicit initial state ``(V, gamma, alpha, Omega2, m0)`` (m/s, rad, rad, rad/s, kg).
+        Explicit initial state ``(V, gamma, alpha, Omega2, m0)`` (m/s, rad, rad, rad/s, kg), finite, ``V > 0``.
 
     Returns
     -------
@@ -391,20 +449,32 @@ def elevator_example(veh: Vehicle, speed: float, gamma: float, *, t_final: float
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or an argument has the wrong type.
+    ArgumentError
+        If ``speed``/``gamma`` are out of range, ``K`` or ``t_final`` is not a positive finite number
+        (``t_final <= 10^5`` s), ``m0_start`` is not finite and nonzero, or ``x0`` is not 5 finite numbers with
+        ``V > 0``.
     InfeasibleGlideError
         If the target glide does not exist within the vehicle's limits (:func:`elevator_equilibrium`).
     ModelError
         If ``veh`` is not an underwater glider, lacks ``delta``, has ``K_M = 0``, or (default start) has no
         chapter-5 steady glide at ``m0_start`` (from
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
-    VehicleFileError
-        If ``m0_start`` is not a valid ``m0`` override (non-finite).
-    GlidectlError
-        If ``K`` is not a positive finite number, or ``x0`` does not have 5 entries or ``t_final`` is not positive
-        (:func:`glidectl.sim.simulate`).
+    BudgetError
+        If the integration hits its step or evaluation budget (:func:`glidectl.sim.simulate`).
     SolverError
-        If the integration fails.
+        If the equilibrium computation or the integration fails.
     """
+    t_final = checks.real("t_final", t_final, lo=0.0, hi=1e5, lo_open=True, unit="s")
+    if x0 is not None:
+        x0 = checks.array("x0", x0, shape=(5,))
+        if not x0[0] > 0:
+            raise ArgumentError(f"x0 must start at a positive speed V > 0, got V = {x0[0]:g} m/s")
+    else:
+        m0_start = checks.real("m0_start", m0_start, unit="kg")
+        if m0_start == 0:
+            raise ArgumentError("m0_start must be nonzero (a neutrally buoyant glider has no steady glide)")
     eq = elevator_equilibrium(veh, speed, gamma)
     model = ElevatorBuoyancyGlider(veh)
     ctrl = ElevatorBuoyancyController(eq, veh, K)
@@ -414,7 +484,6 @@ def elevator_example(veh: Vehicle, speed: float, gamma: float, *, t_final: float
         how = (f"steady glide of the vehicle with u2 = 0 and m0 = {m0_start:g} kg (thesis prints no initial "
                "condition)")
     else:
-        x0 = np.asarray(x0, dtype=float)
         how = "given by the caller"
     sim = simulate(model, x0, t_final, ctrl, method="LSODA", rtol=1e-9, atol=1e-11)
     m0dot = model.rhs(sim.x, sim.u)[:, 4]

@@ -16,8 +16,10 @@ import control
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from .. import checks
 from ..analysis.linear import linearize_glide
-from ..errors import GlidectlError
+from ..errors import ArgumentError, ArgumentTypeError, SolverError, VehicleMismatchError
+from ..models._validate import numeric_array, require_glider, require_instance, trailing_array
 from ..params import Vehicle
 from ..trim.glide import SteadyGlide
 
@@ -63,6 +65,18 @@ class LinearGlideController:
     vehicle : Vehicle or None
         The vehicle the gain was designed for (set by :func:`lqr_glide` and :func:`place_glide`; the plant of
         :func:`glidectl.closed_loop`).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``glide`` is not a SteadyGlide, ``plant`` not a state-space model, or a number has the wrong type.
+    ArgumentError
+        If ``method`` or ``inputs`` is unknown, ``K`` is not a finite (inputs x states) array, or ``path_offset``
+        is not finite.
+    ModelError
+        If ``vehicle`` is not an underwater glider.
+    VehicleMismatchError
+        If ``glide`` was trimmed for another vehicle than ``vehicle``.
     """
 
     K: np.ndarray
@@ -76,13 +90,30 @@ class LinearGlideController:
     path_offset: float = 0.0
     vehicle: Vehicle | None = field(default=None, repr=False, compare=False)
 
+    def __post_init__(self) -> None:
+        checks.choice("method", self.method, ("lqr", "place"))
+        checks.choice("inputs", self.inputs, ("force", "acceleration"))
+        require_instance("glide", self.glide, SteadyGlide, " (from gc.steady_glide)")
+        if not (hasattr(self.plant, "A") and hasattr(self.plant, "B") and hasattr(self.plant, "state_labels")):
+            raise ArgumentTypeError(f"plant must be a control.StateSpace (from gc.linearize_glide), got "
+                                    f"{type(self.plant).__name__}")
+        n, m = np.asarray(self.plant.B).shape
+        K = checks.array("K", self.K, shape=(m, n))
+        object.__setattr__(self, "K", K)
+        object.__setattr__(self, "path_offset", checks.real("path_offset", self.path_offset, unit="m"))
+        if self.vehicle is not None:
+            require_glider(self.vehicle)
+            checks.same_vehicle("glide", self.glide, self.vehicle)
+
     @property
     def state_names(self) -> tuple[str, ...]:
         return tuple(self.plant.state_labels)
 
     def reduced_state(self, x: Any) -> np.ndarray:
-        """Full state (x, z, ...) -> glide-path state (z', ...) with ``z' = sin(g_e) x + cos(g_e) z - offset``."""
-        x = np.asarray(x, dtype=float)
+        """Full state (x, z, ...) (shape ``(..., 11)``) -> glide-path state (z', ...) with
+        ``z' = sin(g_e) x + cos(g_e) z - offset``."""
+        x = checks.array("x", x)
+        trailing_array("x", x, len(self.state_names) + 1)
         zp = np.sin(self.glide.gamma) * x[..., 0] + np.cos(self.glide.gamma) * x[..., 1] - self.path_offset
         return np.concatenate([zp[..., None], x[..., 2:]], axis=-1)
 
@@ -99,7 +130,7 @@ class LinearGlideController:
         """Input for glide-path states ``xr = (z', theta, ...)`` of
         :class:`~glidectl.models.longitudinal.GlidePathModel` (shape ``(..., 10)``; ``z'`` in m from the path through
         the origin, so the law regulates ``z' = path_offset``)."""
-        xr = np.asarray(xr)
+        xr = trailing_array("xr", xr, len(self.state_names), self.state_names)
         zp = xr[..., :1] - self.path_offset
         return -(np.concatenate([zp, xr[..., 1:]], axis=-1) - self.equilibrium()) @ self.K.T
 
@@ -117,6 +148,27 @@ class LinearGlideController:
 
 def _bryson(names: Sequence[str], max_dev: Mapping[str, float]) -> np.ndarray:
     return np.diag([1.0 / max_dev[n] ** 2 for n in names])
+
+
+def _glide_for(veh: Any, glide: Any, inputs: Any) -> None:
+    """Checks shared by :func:`lqr_glide` and :func:`place_glide`, before anything is computed."""
+    require_glider(veh, "veh")
+    require_instance("glide", glide, SteadyGlide, " (from gc.steady_glide)")
+    checks.same_vehicle("glide", glide, veh)
+    checks.choice("inputs", inputs, ("force", "acceleration"))
+
+
+def _weight(name: str, value: Any, n: int, *, definite: bool) -> np.ndarray:
+    """A symmetric ``n x n`` weight, positive semidefinite (``definite``: positive definite)."""
+    W = checks.array(name, value, shape=(n, n))
+    if not np.allclose(W, W.T, rtol=1e-12, atol=1e-12 * max(1.0, float(np.max(np.abs(W))))):
+        raise ArgumentError(f"{name} must be symmetric")
+    ev = np.linalg.eigvalsh(0.5 * (W + W.T))
+    scale = max(1.0, float(np.max(np.abs(ev))))
+    if (definite and not ev[0] > 1e-12 * scale) or ev[0] < -1e-12 * scale:
+        raise ArgumentError(f"{name} must be positive {'definite' if definite else 'semidefinite'}; its smallest "
+                            f"eigenvalue is {ev[0]:.3g}")
+    return W
 
 
 def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acceleration"] = "force",
@@ -144,22 +196,48 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
 
     Raises
     ------
-    GlidectlError
-        If the LQR design fails (python-control's message is included; e.g. wrong ``Q``/``R`` shapes or no
-        stabilizing solution), ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``glide`` was trimmed for
-        another vehicle.
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``glide`` not a SteadyGlide, ``max_deviation`` not a mapping of names to
+        real numbers, or ``Q``/``R`` not real arrays.
+    ArgumentError
+        If ``inputs`` is not ``"force"`` or ``"acceleration"``; ``Q`` is not a finite symmetric positive
+        semidefinite 10x10 matrix or ``R`` a finite symmetric positive definite 3x3 matrix; or ``max_deviation``
+        names an unknown state or input or gives a value that is not a positive finite number.
+    VehicleMismatchError
+        If ``glide`` was trimmed for another vehicle.
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+    SolverError
+        If the LQR design fails (python-control's message is included; e.g. no stabilizing solution) or returns a
+        gain that is not finite or does not stabilize the linearization.
     """
+    _glide_for(veh, glide, inputs)
+    if max_deviation is not None and not isinstance(max_deviation, Mapping):
+        raise ArgumentTypeError(f"max_deviation must be a mapping of state/input names to deviations, got "
+                                f"{type(max_deviation).__name__}")
     sys = linearize_glide(veh, glide, inputs)
-    dev = {**DEFAULT_MAX_DEVIATION, **(max_deviation or {})}
-    Qm = _bryson(sys.state_labels, dev) if Q is None else np.asarray(Q, dtype=float)
-    Rm = _bryson(sys.input_labels, dev) if R is None else np.asarray(R, dtype=float)
+    extra = dict(max_deviation or {})
+    known = set(sys.state_labels) | set(sys.input_labels)
+    unknown = sorted(str(k) for k in extra if k not in known)
+    if unknown:
+        raise ArgumentError(f"max_deviation names {unknown}, which are not states or inputs of this design; known: "
+                            f"{sorted(known)}")
+    for k, v in extra.items():
+        extra[k] = checks.positive(f"max_deviation[{k!r}]", v)
+    dev = {**DEFAULT_MAX_DEVIATION, **extra}
+    n, m = sys.nstates, sys.ninputs
+    Qm = _bryson(sys.state_labels, dev) if Q is None else _weight("Q", Q, n, definite=False)
+    Rm = _bryson(sys.input_labels, dev) if R is None else _weight("R", R, m, definite=True)
     try:
         K, _, E = control.lqr(sys, Qm, Rm)
     except Exception as exc:  # python-control raises several types (ControlArgument, LinAlgError, ValueError)
-        raise GlidectlError(f"LQR design failed for glide gamma = {np.degrees(glide.gamma):.2f} deg: {exc}") from exc
-    return LinearGlideController(np.asarray(K), "lqr", sys, np.asarray(E), glide, inputs, Qm, Rm, vehicle=veh)
+        raise SolverError(f"LQR design failed for glide gamma = {np.degrees(glide.gamma):.2f} deg: {exc}") from exc
+    K, E = np.asarray(K, dtype=float), np.asarray(E)
+    if not (np.all(np.isfinite(K)) and np.all(np.isfinite(E)) and np.max(E.real) < 0):
+        raise SolverError(f"LQR design for glide gamma = {np.degrees(glide.gamma):.2f} deg returned a gain that does "
+                          f"not stabilize the linearization (closed-loop poles {np.round(E, 6)}); check Q (the "
+                          "unstable modes must be weighted)")
+    return LinearGlideController(K, "lqr", sys, E, glide, inputs, Qm, Rm, vehicle=veh)
 
 
 def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
@@ -173,7 +251,8 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
     glide : SteadyGlide
         From :func:`~glidectl.trim.glide.steady_glide`.
     poles : sequence of complex
-        The 10 requested closed-loop poles (1/s), closed under conjugation.
+        The 10 requested closed-loop poles (1/s), finite and closed under conjugation (a pole may be repeated at
+        most as often as there are inputs, 3).
     inputs : {"force", "acceleration"}
         Input form of the linearization (see :func:`~glidectl.analysis.linear.linearize_glide`).
 
@@ -185,29 +264,48 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
 
     Raises
     ------
-    GlidectlError
-        If the number of poles differs from the number of states, :func:`control.place` fails, the achieved poles
-        differ from the requested ones by more than 1e-6 (relative), ``inputs`` is not ``"force"`` or
-        ``"acceleration"``, or ``glide`` was trimmed for another vehicle.
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``glide`` not a SteadyGlide, or ``poles`` not numbers.
+    ArgumentError
+        If the number of poles differs from the number of states, a pole is not finite, the set is not closed under
+        conjugation or repeats a pole more often than there are inputs, or ``inputs`` is not ``"force"`` or
+        ``"acceleration"``.
+    VehicleMismatchError
+        If ``glide`` was trimmed for another vehicle.
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+    SolverError
+        If :func:`control.place` fails or the achieved poles differ from the requested ones by more than 1e-6
+        (relative).
     """
+    _glide_for(veh, glide, inputs)
+    p = numeric_array("poles", poles).astype(complex).ravel()
+    if not np.all(np.isfinite(p)):
+        raise ArgumentError(f"poles must be finite, got {poles!r}")
     sys = linearize_glide(veh, glide, inputs)
-    p = np.asarray(poles, dtype=complex)
     if p.size != sys.nstates:
-        raise GlidectlError(f"need {sys.nstates} poles for states {list(sys.state_labels)}, got {p.size}")
+        raise ArgumentError(f"need {sys.nstates} poles for states {list(sys.state_labels)}, got {p.size}")
+    scale = np.maximum(1.0, np.abs(p))
+    if np.max(np.min(np.abs(p[:, None] - np.conj(p)[None, :]) / scale[:, None], axis=1)) > 1e-9:
+        raise ArgumentError(f"poles must be closed under complex conjugation (real gains), got {np.round(p, 6)}")
+    mult = np.sum(np.abs(p[:, None] - p[None, :]) <= 1e-12 * scale[:, None], axis=1)
+    if np.max(mult) > sys.ninputs:
+        raise ArgumentError(f"a pole is repeated {int(np.max(mult))} times; with {sys.ninputs} inputs place_glide "
+                            f"can repeat a pole at most {sys.ninputs} times (spread them slightly)")
     try:
         with warnings.catch_warnings():
             # scipy's YT robustness iteration may stop before its tolerance; the placement itself is checked below
             warnings.filterwarnings("ignore", message="Convergence was not reached", category=UserWarning)
             K = np.asarray(control.place(np.asarray(sys.A), np.asarray(sys.B), p))
-    except Exception as exc:
-        raise GlidectlError(f"pole placement failed: {exc}") from exc
+    except Exception as exc:  # python-control / scipy raise several types
+        raise SolverError(f"pole placement failed: {exc}") from exc
+    if not np.all(np.isfinite(K)):
+        raise SolverError("pole placement returned a gain that is not finite")
     E = np.linalg.eigvals(np.asarray(sys.A) - np.asarray(sys.B) @ K)
     r, c = linear_sum_assignment(np.abs(E[:, None] - p[None, :]))
     err = float(np.max(np.abs(E[r] - p[c]) / np.maximum(1.0, np.abs(p[c]))))
     if err > 1e-6:
-        raise GlidectlError(f"pole placement inaccurate: closed-loop poles {np.round(E, 6)} differ from the "
+        raise SolverError(f"pole placement inaccurate: closed-loop poles {np.round(E, 6)} differ from the "
                             f"requested {np.round(p, 6)} (relative error {err:.1e}); the requested set may be "
                             "ill-conditioned for this plant")
     return LinearGlideController(K, "place", sys, E, glide, inputs, vehicle=veh)
@@ -238,12 +336,14 @@ def decoupled_gain_matrix(kp1: float, kd1: float, kp3: float, kd3: float, k4: fl
 
     Raises
     ------
-    ValueError
-        If a gain cannot be converted to a float (e.g. a non-numeric string).
-    TypeError
-        If a gain is not a real number (e.g. complex). The gains are not otherwise validated: non-positive gains
-        give an unstable ``zeta`` subsystem without an error.
+    ArgumentTypeError
+        If a gain is not a real number (a string, None, a bool, complex).
+    ArgumentError
+        If a gain is not finite. The sign is not checked (the thesis's printed gains, with the sign error, are a
+        case of interest): non-positive gains give an unstable ``zeta`` subsystem.
     """
+    kp1, kd1, kp3, kd3, k4 = (checks.real(n, v) for n, v in
+                              (("kp1", kp1), ("kd1", kd1), ("kp3", kp3), ("kd3", kd3), ("k4", k4)))
     K = np.zeros((3, 5))
     K[0, 0], K[0, 1], K[1, 2], K[1, 3], K[2, 4] = kp1, kd1, kp3, kd3, k4
     return K
@@ -262,6 +362,17 @@ class DecoupledAccelerationFeedback:
     glides : tuple of SteadyGlide
         Glide ``i`` is commanded from ``switch_times[i]`` (s) on.
     switch_times : tuple of float
+        Finite, nondecreasing switch times (s), one per glide.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``K`` or ``switch_times`` is not real numbers, or a glide is not a SteadyGlide.
+    ArgumentError
+        If ``K`` is not a finite (3, 5) array, there is no glide, or the switch times are not one finite,
+        nondecreasing time per glide.
+    VehicleMismatchError
+        If the glides were trimmed for different vehicles.
     """
 
     K: np.ndarray
@@ -269,14 +380,29 @@ class DecoupledAccelerationFeedback:
     switch_times: tuple[float, ...] = field(default=(0.0,))
 
     def __post_init__(self) -> None:
-        if len(self.glides) != len(self.switch_times) or list(self.switch_times) != sorted(self.switch_times):
-            raise GlidectlError("need one increasing switch time per glide")
-        if np.asarray(self.K).shape != (3, 5):
-            raise GlidectlError("K must have shape (3, 5): rows (w1, w3, w4), columns (r_P1, rdot_P1, r_P3, "
-                                "rdot_P3, m0)")
+        K = checks.array("K", self.K)
+        if K.shape != (3, 5):
+            raise ArgumentError("K must have shape (3, 5): rows (w1, w3, w4), columns (r_P1, rdot_P1, r_P3, "
+                                f"rdot_P3, m0); got {K.shape}")
+        if isinstance(self.glides, SteadyGlide) or not isinstance(self.glides, Sequence):
+            raise ArgumentTypeError(f"glides must be a sequence of SteadyGlide, got {type(self.glides).__name__}")
+        if not self.glides:
+            raise ArgumentError("glides must hold at least one SteadyGlide")
+        for i, g in enumerate(self.glides):
+            require_instance(f"glides[{i}]", g, SteadyGlide, " (from gc.steady_glide)")
+        if len({g.provenance for g in self.glides}) > 1:
+            raise VehicleMismatchError("the glides were trimmed for different vehicles: "
+                                       f"{sorted({g.vehicle.name + ' ' + g.provenance for g in self.glides})}")
+        ts = checks.array("switch_times", self.switch_times, ndim=1)
+        if ts.size != len(self.glides) or np.any(np.diff(ts) < 0):
+            raise ArgumentError("need one increasing switch time per glide")
+        object.__setattr__(self, "K", K.copy())
+        object.__setattr__(self, "glides", tuple(self.glides))
+        object.__setattr__(self, "switch_times", tuple(float(t) for t in ts))
 
     def zeta_e(self, t: float) -> np.ndarray:
         """Commanded (r_P1, rdot_P1, r_P3, rdot_P3, m0) at time t (s)."""
+        t = checks.real("t", t, unit="s")
         i = int(np.searchsorted(self.switch_times, t, side="right")) - 1
         g = self.glides[max(i, 0)]
         return np.array([g.r_p1, 0.0, g.r_p3, 0.0, g.m0])
@@ -291,6 +417,8 @@ class DecoupledAccelerationFeedback:
         return np.linalg.eigvals(A - B @ self.K)
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
-        x = np.asarray(x, dtype=float)
+        """Input ``w = (w1, w3, w4)`` at time ``t`` (s) for acceleration-form states ``x`` (shape ``(..., 11)``)."""
+        x = checks.array("x", x)
+        trailing_array("x", x, 11)
         zeta = x[..., 6:11]
         return -(zeta - self.zeta_e(t)) @ np.asarray(self.K).T

@@ -27,9 +27,12 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .. import checks
 from ..analysis.jacobian import jacobians
-from ..errors import GlidectlError, ModelError, SolverError
+from ..errors import ArgumentError, BudgetError, ModelError, SolverError
 from ..hydro import angle_of_attack
+from ..models._validate import require_glider, require_instance, trailing_array
+from ..models.glider3d import R_P_MAX
 from ..models.longitudinal import ACCEL_INPUTS, AccelerationControlledGlider
 from ..models.realized_torque import RealizedTorqueLoop
 from ..models.reduced import REDUCED_STATES
@@ -39,8 +42,16 @@ from ..sim import Simulation, simulate
 from ..stability.singular_perturbation import singular_perturbation
 from .torque import TorqueLaw
 
-__all__ = ["MovingMassTorque", "RealizedTorqueComparison", "compare_realized_torque", "reduced_from_accel",
-           "simulate_realized_torque"]
+__all__ = ["MAX_NFEV", "MovingMassTorque", "RealizedTorqueComparison", "compare_realized_torque",
+           "reduced_from_accel", "simulate_realized_torque"]
+
+#: Default budget of right-hand-side evaluations of :func:`simulate_realized_torque` (the designs use < 10^5).
+MAX_NFEV = 2_000_000
+_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+class _OutOfBudget(Exception):
+    """Raised inside the integrand when a budget is hit (turned into :class:`BudgetError`)."""
 
 
 def reduced_from_accel(xa: Any, veh: Vehicle | None = None) -> np.ndarray:
@@ -54,8 +65,24 @@ def reduced_from_accel(xa: Any, veh: Vehicle | None = None) -> np.ndarray:
         Given: the velocity is the *system* velocity ``(m_i v_i + P_Pi)/(m_i + mbar)`` (hull plus moving mass,
         ``P_P`` from (2.31)), which the mass' own acceleration does not change (``(m1 v1 + P_P1)' = X1`` is free of
         ``u1``) and which equals the hull velocity when the mass is at rest in the hull. Omitted: the hull velocity.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        ``(V, gamma, alpha, Omega2)``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``xa`` is not an array of numbers or ``veh`` not a Vehicle.
+    ArgumentError
+        If ``xa`` does not have a trailing dimension 11.
+    ModelError
+        If ``veh`` is not an underwater glider.
     """
-    xa = np.asarray(xa)
+    xa = trailing_array("xa", xa, 11)
+    if veh is not None:
+        require_glider(veh, "veh")
     th, Om, v1, v3 = xa[..., 2], xa[..., 3], xa[..., 4], xa[..., 5]
     if veh is not None:
         mb = veh.mbar
@@ -91,6 +118,16 @@ class MovingMassTorque:
         command with gain ``c = -K_Mu v3 / (m1 g cos(theta))`` (rad-free, ~0.03 for the sphere): the position loop
         ``r'' = omega_n^2 (c r' - r) - 2 zeta omega_n r'`` is unstable once ``c omega_n > 2 zeta``, far below the
         bandwidth the stiff pitch loop needs. The system velocity is free of that reaction.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle, ``law`` not a TorqueLaw or a number not a real number.
+    ArgumentError
+        If ``r_p3`` is not finite with ``|r_p3| <= 10`` m, ``omega_n`` or ``zeta`` is not a positive finite number,
+        or ``feedback`` is not ``"system"`` or ``"hull"``.
+    ModelError
+        If the vehicle is not an underwater glider with a moving mass ``mbar > 0``.
     """
 
     vehicle: Vehicle
@@ -102,14 +139,11 @@ class MovingMassTorque:
 
     def __post_init__(self) -> None:
         AccelerationControlledGlider(self.vehicle)  # needs an underwater glider with mbar > 0
-        for k in ("r_p3", "omega_n", "zeta"):
-            v = getattr(self, k)
-            if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v)):
-                raise GlidectlError(f"{k} must be a finite number, got {v!r}")
-        if not (self.omega_n > 0 and self.zeta > 0):
-            raise GlidectlError(f"omega_n (rad/s) and zeta must be > 0, got {self.omega_n}, {self.zeta}")
-        if self.feedback not in ("system", "hull"):
-            raise GlidectlError(f"feedback must be 'system' or 'hull', got {self.feedback!r}")
+        require_instance("law", self.law, TorqueLaw)
+        object.__setattr__(self, "r_p3", checks.real("r_p3", self.r_p3, lo=-R_P_MAX, hi=R_P_MAX, unit="m"))
+        object.__setattr__(self, "omega_n", checks.positive("omega_n", self.omega_n, unit="rad/s"))
+        object.__setattr__(self, "zeta", checks.positive("zeta", self.zeta))
+        checks.choice("feedback", self.feedback, ("system", "hull"))
 
     def reduced_state(self, xa: Any) -> np.ndarray:
         """``(V, gamma, alpha, Omega2)`` fed to the law (see ``feedback``)."""
@@ -117,21 +151,22 @@ class MovingMassTorque:
 
     def mass_torque(self, xa: Any) -> Any:
         """Gravity torque of the moving mass in (2.20), ``-mbar g (r_P1 cos(theta) + r_P3 sin(theta))`` (N m)."""
-        xa = np.asarray(xa)
+        xa = trailing_array("xa", xa, 11)
         v = self.vehicle
         th = xa[..., 2]
         return -v.mbar * v.g * (xa[..., 6] * np.cos(th) + xa[..., 8] * np.sin(th))
 
     def r_p1_command(self, xa: Any) -> Any:
         """``r_P1c`` (m): the position whose gravity torque equals the desired torque at the current state."""
-        xa = np.asarray(xa)
+        xa = trailing_array("xa", xa, 11)
         v = self.vehicle
         th = xa[..., 2]
         u = self.law.torque(self.reduced_state(xa))
         return -(u + v.mbar * v.g * self.r_p3 * np.sin(th)) / (v.mbar * v.g * np.cos(th))
 
     def __call__(self, t: float, xa: Any) -> Any:
-        xa = np.asarray(xa)
+        """Accelerations ``w = (w1, w3, w4)`` at acceleration-form states ``xa`` (shape ``(..., 11)``)."""
+        xa = trailing_array("xa", xa, 11)
         wn2, c = self.omega_n**2, 2 * self.zeta * self.omega_n
         w1 = wn2 * (self.r_p1_command(xa) - xa[..., 6]) - c * xa[..., 7]
         w3 = wn2 * (self.r_p3 - xa[..., 8]) - c * xa[..., 9]
@@ -139,8 +174,17 @@ class MovingMassTorque:
 
     def initial_state(self, x0: Any) -> np.ndarray:
         """Acceleration-form state matching a reduced state ``(V, gamma, alpha, Omega2)``: ``x = z = 0``, the mass at
-        rest (relative to the hull) at ``(r_P1c, r_P3)``, ``m0`` of the vehicle."""
-        V, gam, al, Om = (float(c) for c in np.asarray(x0, dtype=float))
+        rest (relative to the hull) at ``(r_P1c, r_P3)``, ``m0`` of the vehicle.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x0`` is not four finite numbers with ``V > 0``.
+        """
+        x0 = checks.array("x0", x0, shape=(4,))
+        if not x0[0] > 0:
+            raise ArgumentError(f"x0 must start at a positive speed V > 0, got V = {x0[0]:g} m/s")
+        V, gam, al, Om = (float(c) for c in x0)
         xa = np.array([0.0, 0.0, gam + al, Om, V * math.cos(al), V * math.sin(al), 0.0, 0.0, self.r_p3, 0.0,
                        self.vehicle.m0])
         xa[6] = float(self.r_p1_command(xa))
@@ -148,7 +192,8 @@ class MovingMassTorque:
 
 
 def simulate_realized_torque(loop: RealizedTorqueLoop, y0: Any, te: np.ndarray, *, method: str = "BDF",
-                             rtol: float = 1e-9, atol: float = 1e-11) -> Simulation:
+                             rtol: float = 1e-9, atol: float = 1e-11, max_nfev: int = MAX_NFEV,
+                             time_limit: float | None = None) -> Simulation:
     """Integrate a :class:`~glidectl.models.realized_torque.RealizedTorqueLoop` with
     :func:`scipy.integrate.solve_ivp` and the exact Jacobian (implicit methods need it: the finite-difference Jacobian
     of the stiff mass loop makes BDF/LSODA crawl).
@@ -161,12 +206,16 @@ def simulate_realized_torque(loop: RealizedTorqueLoop, y0: Any, te: np.ndarray, 
         Initial ``(theta, Omega2, v1, v3, r_P1, rdot_P1, r_P3, rdot_P3, m0)`` (rad, rad/s, m/s, m/s, m, m/s, m, m/s,
         kg), e.g. ``MovingMassTorque.initial_state(x0)[2:]``.
     te : ndarray
-        Increasing output times (s) from 0; the run ends at ``te[-1]``.
+        Nondecreasing, finite output times (s) in ``[0, te[-1]]`` with ``te[-1] > 0``; the run ends at ``te[-1]``.
     method : str
         Integrator of :func:`scipy.integrate.solve_ivp`; ``"BDF"``, ``"Radau"`` and ``"LSODA"`` get the exact
         (complex-step) Jacobian.
     rtol, atol : float
-        Relative (nondimensional) and absolute (state units) tolerances.
+        Relative (nondimensional, in ``[1e-14, 1)``) and absolute (state units, > 0) tolerances.
+    max_nfev : int
+        Budget of right-hand-side evaluations (Jacobian columns included); default :data:`MAX_NFEV`.
+    time_limit : float, optional
+        Wall-time budget (s); default none.
 
     Returns
     -------
@@ -175,16 +224,53 @@ def simulate_realized_torque(loop: RealizedTorqueLoop, y0: Any, te: np.ndarray, 
 
     Raises
     ------
+    ArgumentTypeError
+        If ``loop`` is not a RealizedTorqueLoop or an argument has the wrong type.
+    ArgumentError
+        If ``y0`` is not 9 finite numbers, ``te`` is not as described, ``method`` is unknown or a tolerance or
+        budget is out of range.
+    BudgetError
+        If the run hits ``max_nfev`` or ``time_limit``.
     SolverError
         If the integration fails or its states stop being finite.
     """
-    y0 = np.asarray(y0, dtype=float)
+    require_instance("loop", loop, RealizedTorqueLoop)
+    y0 = checks.array("y0", y0, shape=(len(loop.state_names),))
+    te = checks.array("te", te, ndim=1, min_size=1)
+    if te[0] < 0 or np.any(np.diff(te) < 0) or not te[-1] > 0:
+        raise ArgumentError("te must be nondecreasing output times from t >= 0 to a final time > 0 (s)")
+    checks.choice("method", method, _METHODS)
+    rtol = checks.real("rtol", rtol, lo=1e-14, hi=1.0, hi_open=True)
+    atol = checks.positive("atol", atol)
+    max_nfev = checks.integer("max_nfev", max_nfev, lo=1)
+    deadline = checks.Deadline(time_limit, "the moving-mass closed loop integration")
     t_final = float(te[-1])
-    jac = (lambda t, y: jacobians(lambda yy, _u: loop.rhs(yy), y, np.zeros(0))[0]) \
-        if method in ("BDF", "Radau", "LSODA") else None
-    with np.errstate(all="ignore"):
-        sol = solve_ivp(lambda t, y: loop.rhs(y), (0.0, t_final), y0, method=method, rtol=rtol, atol=atol,
-                        dense_output=True, jac=jac)
+    count = [0]
+
+    def spend(k: int, t: float) -> None:
+        count[0] += k
+        if count[0] > max_nfev:
+            raise _OutOfBudget(f"it used its budget of max_nfev = {max_nfev} right-hand-side evaluations at "
+                               f"t = {t:.6g} s")
+        deadline.check(f"t = {t:.6g} s")
+
+    def fun(t: float, y: np.ndarray) -> np.ndarray:
+        spend(1, t)
+        return loop.rhs(y)
+
+    def jac_fun(t: float, y: np.ndarray) -> np.ndarray:
+        spend(y.size, t)
+        return jacobians(lambda yy, _u: loop.rhs(yy), y, np.zeros(0))[0]
+
+    jac = jac_fun if method in ("BDF", "Radau", "LSODA") else None
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(fun, (0.0, t_final), y0, method=method, rtol=rtol, atol=atol, dense_output=True,
+                            jac=jac)
+    except _OutOfBudget as exc:
+        raise BudgetError(f"moving-mass closed loop: {exc}; raise max_nfev or shorten the run") from None
+    except (ZeroDivisionError, OverflowError, FloatingPointError, np.linalg.LinAlgError) as exc:
+        raise SolverError(f"moving-mass closed loop: integration failed: {type(exc).__name__}: {exc}") from exc
     if not sol.success or not np.all(np.isfinite(sol.y)):
         raise SolverError(f"moving-mass closed loop: integration failed at t = {sol.t[-1]:.4g} s: {sol.message}")
     X = np.atleast_2d(sol.sol(te).T)
@@ -251,7 +337,8 @@ class RealizedTorqueComparison:
 
 def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: float, *, r_p3: float = 0.0,
                             omega_n: float = 2000.0, zeta: float = 1.0, feedback: str = "system", t_eval: Any = None,
-                            method: str = "BDF", rtol: float = 1e-9, atol: float = 1e-11) -> RealizedTorqueComparison:
+                            method: str = "BDF", rtol: float = 1e-9, atol: float = 1e-11, max_nfev: int = MAX_NFEV,
+                            time_limit: float | None = None) -> RealizedTorqueComparison:
     """Simulate (6.1)-(6.5) with a pure torque and with the moving mass realizing it, and compare.
 
     Parameters
@@ -269,12 +356,17 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
     r_p3, omega_n, zeta, feedback
         See :class:`MovingMassTorque` (m, rad/s, -, "system" or "hull").
     t_eval : array_like, optional
-        Output times (s); default 2001 evenly spaced points plus 400 log-spaced ones in the first 1 % of the run,
-        which resolve the fast initial transient of the mass (the maxima below are taken over these samples).
+        Output times (s) in ``[0, t_final]``, sorted; default 2001 evenly spaced points plus 400 log-spaced ones in
+        the first 1 % of the run, which resolve the fast initial transient of the mass (the maxima below are taken
+        over these samples).
     method : str
         Integrator of the realized loop (:func:`simulate_realized_torque`; the pure loop uses LSODA).
     rtol, atol
         Tolerances of both runs.
+    max_nfev : int
+        Budget of right-hand-side evaluations of the realized loop (:func:`simulate_realized_torque`).
+    time_limit : float, optional
+        Wall-time budget (s) of each of the two runs.
 
     Returns
     -------
@@ -285,30 +377,42 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``law`` not a TorqueLaw, or an argument has the wrong type.
+    ArgumentError
+        If ``x0`` is not four finite numbers with ``V > 0``, ``t_final`` is not a positive finite number, ``t_eval``
+        is not sorted within ``[0, t_final]``, or ``r_p3``, ``omega_n``, ``zeta``, ``feedback``, ``method``, a
+        tolerance or a budget is invalid.
     ModelError
         If the vehicle has no moving mass (``mbar = 0``), is not an underwater glider, has ``m0 = 0``, or the
         closed loop of ``law`` has no singularly perturbed chapter-5 glide.
-    GlidectlError
-        If ``x0`` is not four finite numbers with ``V > 0``, ``t_final`` is not a positive number, or ``r_p3``,
-        ``omega_n``, ``zeta`` or ``feedback`` is invalid (:class:`MovingMassTorque`).
+    BudgetError
+        If a run hits its evaluation, step or time budget.
     SolverError
         If either integration fails (for ``feedback="hull"`` the message suggests ``"system"``).
     """
+    require_glider(veh, "veh")
+    require_instance("law", law, TorqueLaw)
     if veh.mbar <= 0:
         raise ModelError(f"vehicle '{veh.name}' has mbar = {veh.mbar:g} kg: realizing the torque needs a moving "
                          "mass (override mbar > 0 and reduce m1, m3 by the same amount to keep M_i = m_i + mbar)")
-    x0 = np.asarray(x0, dtype=float)
-    if x0.shape != (4,) or not np.all(np.isfinite(x0)) or x0[0] <= 0:
-        raise GlidectlError(f"x0 must be a finite (V > 0, gamma, alpha, Omega2), got {x0!r}")
+    x0 = checks.array("x0", x0, shape=(4,))
+    if not x0[0] > 0:
+        raise ArgumentError(f"x0 must start at a positive speed V > 0, got V = {x0[0]:g} m/s")
     ctrl = MovingMassTorque(veh, law, r_p3, omega_n, zeta, feedback)
-    if not (np.isfinite(t_final) and t_final > 0):
-        raise GlidectlError(f"t_final must be a positive number of seconds, got {t_final!r}")
-    te = np.unique(np.r_[np.linspace(0.0, t_final, 2001), np.geomspace(1e-7 * t_final, 1e-2 * t_final, 400)]) \
-        if t_eval is None else np.asarray(t_eval, dtype=float)
-    pure = simulate(TorqueControlledGlider(veh), x0, t_final, law, t_eval=te, rtol=rtol, atol=atol)
+    t_final = checks.positive("t_final", t_final, unit="s")
+    if t_eval is None:
+        te = np.unique(np.r_[np.linspace(0.0, t_final, 2001), np.geomspace(1e-7 * t_final, 1e-2 * t_final, 400)])
+    else:
+        te = checks.array("t_eval", t_eval, ndim=1, min_size=1)
+        if te[0] < 0 or te[-1] > t_final or np.any(np.diff(te) < 0):
+            raise ArgumentError(f"t_eval must be sorted output times in [0, t_final] = [0, {t_final:g}] s")
+    pure = simulate(TorqueControlledGlider(veh), x0, t_final, law, t_eval=te, rtol=rtol, atol=atol,
+                    time_limit=time_limit)
     loop = RealizedTorqueLoop(ctrl)
     try:
-        real = simulate_realized_torque(loop, ctrl.initial_state(x0)[2:], te, method=method, rtol=rtol, atol=atol)
+        real = simulate_realized_torque(loop, ctrl.initial_state(x0)[2:], te, method=method, rtol=rtol, atol=atol,
+                                        max_nfev=max_nfev, time_limit=time_limit)
     except SolverError as exc:
         hint = (" With feedback='hull' the mass loop is unstable above omega_n ~ 2 zeta / c (see MovingMassTorque); "
                 "use feedback='system'." if feedback == "hull" else "")

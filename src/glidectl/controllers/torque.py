@@ -47,8 +47,9 @@ from typing import Any
 
 import numpy as np
 
-from .._checks import positive_number
-from ..errors import GlidectlError, InfeasibleGlideError, ModelError, SolverError
+from .. import checks
+from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverError
+from ..models._validate import angle_arg, require_glider, require_instance, speed_arg, trailing_array
 from ..models.closed_loop import ClosedLoop
 from ..models.reduced import ReducedLongitudinalGlider
 from ..models.torque_glider import TorqueControlledGlider
@@ -85,6 +86,13 @@ class TorqueLaw:
 
     ``law(t, x)`` returns shape ``x.shape[:-1] + (1,)`` for a state ``x = (V, gamma, alpha, Omega2)`` (batch-safe),
     so it plugs into :func:`glidectl.sim.simulate` with :class:`TorqueControlledGlider`.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a gain is not a real number.
+    ArgumentError
+        If a gain is not finite.
     """
 
     K_M0u: float
@@ -92,14 +100,13 @@ class TorqueLaw:
     K_qu: float
 
     def __post_init__(self) -> None:
-        for k in ("K_M0u", "K_Mu", "K_qu"):
-            v = getattr(self, k)
-            if not (isinstance(v, (int, float, np.floating, np.integer)) and math.isfinite(v)):
-                raise GlidectlError(f"torque gain {k} must be a finite number, got {v!r}")
+        for k, unit in (("K_M0u", "kg"), ("K_Mu", "kg/rad"), ("K_qu", "kg s/rad")):
+            object.__setattr__(self, k, checks.real(f"torque gain {k}", getattr(self, k), unit=unit))
 
     def torque(self, x: Any) -> Any:
-        """Control torque (N m), shape ``x.shape[:-1]``, at state ``x = (V, gamma, alpha, Omega2)``."""
-        x = np.asarray(x)
+        """Control torque (N m), shape ``x.shape[:-1]``, at state ``x = (V, gamma, alpha, Omega2)`` (shape
+        ``(..., 4)``)."""
+        x = trailing_array("x", x, 4, ("V", "gamma", "alpha", "Omega2"))
         V, al, Om = x[..., 0], x[..., 2], x[..., 3]
         return (self.K_M0u + self.K_Mu * al + self.K_qu * Om) * V * V
 
@@ -111,7 +118,16 @@ class TorqueLaw:
         return self.u(x)
 
     def closed_loop_vehicle(self, veh: Vehicle) -> Vehicle:
-        """The open-loop vehicle with ``K_M0 + K_M0u``, ``K_M + K_Mu``, ``K_q + K_qu``: the closed loop of (6.5)."""
+        """The open-loop vehicle with ``K_M0 + K_M0u``, ``K_M + K_Mu``, ``K_q + K_qu``: the closed loop of (6.5).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``veh`` is not a Vehicle.
+        ModelError
+            If it is not an underwater glider.
+        """
+        require_glider(veh, "veh")
         return veh.with_overrides(K_M0=veh.K_M0 + self.K_M0u, K_M=veh.K_M + self.K_Mu, K_q=veh.K_q + self.K_qu)
 
     def closed_loop(self, veh: Vehicle, equilibrium: Any = None) -> ClosedLoop:
@@ -149,18 +165,21 @@ def closed_loop_formulas(veh: Vehicle, law: TorqueLaw, *, printed: bool = False)
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``law`` not a TorqueLaw, or ``printed`` not a bool.
     ModelError
-        If the closed-loop vehicle has no singularly perturbed chapter-5 glide (not an underwater glider, ``m0 =
-        0``, closed-loop ``K_M' = 0``, ``K_q' >= 0`` or ``K_M' >= 0``; from
+        If ``veh`` is not an underwater glider, has unequal added masses (``m1 != m3``, the formulas assume
+        (5.10)), or the closed-loop vehicle has no singularly perturbed chapter-5 glide (``m0 = 0``, closed-loop
+        ``K_M' = 0``, ``K_q' >= 0`` or ``K_M' >= 0``; from
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
-    AttributeError
-        If ``veh`` is not an underwater glider and so has no ``K_M0``/``K_M``/``K_q`` (read before the kind is
-        checked).
-
-    Notes
-    -----
-    Equal added masses are assumed (``alpha_e = -K_M0'/K_M'``, (5.10)) but not checked.
     """
+    require_glider(veh, "veh")
+    require_instance("law", law, TorqueLaw)
+    checks.boolean("printed", printed)
+    if ReducedLongitudinalGlider(veh).delta_m != 0:
+        raise ModelError(f"vehicle '{veh.name}' has unequal added masses (Delta m = "
+                         f"{ReducedLongitudinalGlider(veh).delta_m:g} kg): the formulas after (6.5) assume "
+                         "m1 = m3 (alpha_e = -K_M0'/K_M', (5.10))")
     KM, Kq, KM0 = veh.K_M + law.K_Mu, veh.K_q + law.K_qu, veh.K_M0 + law.K_M0u
     sp = singular_perturbation(law.closed_loop_vehicle(veh))
     _, m1 = sp.model.masses
@@ -190,22 +209,34 @@ def alpha_for_target(veh: Vehicle, *, speed: float | None = None, gamma: float |
     gamma : float, optional
         Target ``gamma_e`` (rad); exactly one of ``speed``, ``gamma``.
 
+    Returns
+    -------
+    float
+        ``alpha_e`` (rad), ``|alpha_e| < pi/4``.
+
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or a target is not a real number.
+    ArgumentError
+        If both or neither target is given, ``speed`` is not in ``(0, 100]`` m/s, or ``gamma`` is not finite.
+    ModelError
+        If ``veh`` is not an underwater glider accepted by the chapter-5 model (``m0 != 0``).
     InfeasibleGlideError
         If no such angle of attack exists (speed above the fastest glide of this ``m0``, ``gamma`` outside the
         permissible set or of the wrong sign for the sign of ``m0``).
-    GlidectlError
-        If both or neither target is given, or a target is not a finite number.
     """
+    require_glider(veh, "veh")
     if (speed is None) == (gamma is None):
-        raise GlidectlError("give exactly one target: speed= (m/s) or gamma= (rad)")
+        raise ArgumentError("give exactly one target: speed= (m/s) or gamma= (rad)")
+    if speed is not None:
+        speed = speed_arg("target speed", speed)
+    else:
+        gamma = angle_arg("target gamma", gamma)
     ReducedLongitudinalGlider(veh)
     m0, g = veh.m0, veh.g
     KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
     if speed is not None:
-        if not (isinstance(speed, (int, float, np.floating)) and math.isfinite(speed) and speed > 0):
-            raise GlidectlError(f"target speed must be a positive number of m/s, got {speed!r}")
         c = abs(m0) * g / speed**2
         roots = np.roots([KD * KD, 0.0, 2 * KD0 * KD + KL * KL, 2 * KL0 * KL, KD0 * KD0 + KL0 * KL0 - c * c])
         ok = [float(r.real) for r in roots if abs(r.imag) < 1e-9 * max(1.0, abs(r))
@@ -220,8 +251,7 @@ def alpha_for_target(veh: Vehicle, *, speed: float | None = None, gamma: float |
                 f"sqrt(K_De^2 + K_Le^2) = |m0| g / V_e^2 = {c:.4g} kg/m at some |alpha_e| < 45 deg with lift of the "
                 f"sign of m0; reachable speeds are V_e < {vmax:.4g} m/s (change the target or m0 by buoyancy control)")
         return min(ok, key=abs)
-    if not (isinstance(gamma, (int, float, np.floating)) and math.isfinite(gamma)):
-        raise GlidectlError(f"target gamma must be a finite number of rad, got {gamma!r}")
+    assert gamma is not None
     lo, hi = permissible_gamma(veh)
     down = m0 > 0
     text = (f"vehicle '{veh.name}' with m0 = {m0:g} kg glides {'down' if down else 'up'}: steady glides need "
@@ -274,16 +304,24 @@ class TorqueGainFamily:
     provenance: str = ""
 
     def gains(self, s: Any) -> tuple[Any, Any, Any]:
-        """``(K_M0u, K_Mu, K_qu)`` (kg, kg/rad, kg s/rad) at scale ``s`` (array-capable)."""
+        """``(K_M0u, K_Mu, K_qu)`` (kg, kg/rad, kg s/rad) at scale ``s`` (array-capable, positive finite)."""
+        s = checks.array("s", s)
+        if not np.all(s > 0):
+            raise ArgumentError(f"gain scale s must be positive, got {s!r}")
         veh, a = self.vehicle, self.alpha
         KM, Kq = s * s * self.KM_ref, s * self.Kq_ref
         KM0 = -(KM * a + ReducedLongitudinalGlider(veh).delta_m * math.sin(a) * math.cos(a))
         return KM0 - veh.K_M0, KM - veh.K_M, Kq - veh.K_q
 
     def law(self, s: float) -> TorqueLaw:
-        """The :class:`TorqueLaw` at scale ``s > 0``."""
-        if not (math.isfinite(s) and s > 0):
-            raise GlidectlError(f"gain scale must be a positive number, got {s!r}")
+        """The :class:`TorqueLaw` at scale ``s > 0``.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``s`` is not a positive finite number.
+        """
+        s = checks.positive("gain scale s", s)
         return TorqueLaw(*(float(g) for g in self.gains(s)))
 
 
@@ -308,11 +346,20 @@ def torque_gain_family(veh: Vehicle, alpha_e: float, *, eps_ratio: float | None 
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, or ``alpha_e`` or ``eps_ratio`` is not a real number.
+    ArgumentError
+        If ``alpha_e`` is not finite with ``|alpha_e| < pi/4`` (§5.4), or ``eps_ratio`` is given and is not a
+        positive finite number.
     ModelError
         If ``veh`` is not an underwater glider or has ``m0 = 0``; the target glide at ``alpha_e`` is not singularly
-        perturbed (e.g. ``K_De <= 0``); ``eps_ratio`` is omitted and the open loop has no singularly perturbed
-        glide; or ``eps_ratio`` is given and is not a positive finite number.
+        perturbed (e.g. ``K_De <= 0``); or ``eps_ratio`` is omitted and the open loop has no singularly perturbed
+        glide.
     """
+    require_glider(veh, "veh")
+    alpha_e = angle_arg("alpha_e", alpha_e, math.pi / 4, open_ends=True)
+    if eps_ratio is not None:
+        eps_ratio = checks.positive("eps_ratio", eps_ratio)
     ReducedLongitudinalGlider(veh)
     dm = ReducedLongitudinalGlider(veh).delta_m
     KM_t = veh.K_M if veh.K_M < 0 else -1.0
@@ -329,7 +376,6 @@ def torque_gain_family(veh: Vehicle, alpha_e: float, *, eps_ratio: float | None 
                              "eps_ratio= (eps1/eps2) explicitly") from None
         return TorqueGainFamily(veh, float(alpha_e), V_e, veh.K_q, veh.K_M * (V_e / sp_ol.speed) ** 2,
                                 sp_ol.eps1 / sp_ol.eps2, veh.provenance)
-    eps_ratio = positive_number("eps_ratio", eps_ratio)
     Kq_ref = veh.K_q if veh.K_q < 0 else -J2 / (V_e**2 * sp_t.tau_s)  # else eps2 = 1 at s = 1 (5.17)
     return TorqueGainFamily(veh, float(alpha_e), V_e, Kq_ref, -Kq_ref**2 * V_e**2 / (eps_ratio * J2), eps_ratio,
                             veh.provenance)
@@ -460,10 +506,33 @@ def peak_torque(law: TorqueLaw, cert: CompositeCertificate) -> float:
     law : TorqueLaw
     cert : CompositeCertificate
         Certificate of ``law.closed_loop_vehicle(veh)`` (supplies ``V_e``, ``alpha_e``, ``K_q'/K_M'`` and the box).
+
+    Returns
+    -------
+    float
+        The peak torque (N m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``law`` is not a TorqueLaw or ``cert`` not a CompositeCertificate.
     """
+    require_instance("law", law, TorqueLaw)
+    require_instance("cert", cert, CompositeCertificate, " (from gc.composite_lyapunov)")
     sp = cert.sp
     return float(_peak(law.K_M0u, law.K_Mu, law.K_qu, sp.omega_scale, sp.speed, sp.alpha, cert.domain.Vbar,
                        cert.domain.alphabar, _omegabar_reach(cert)))
+
+
+def _interval(name: str, value: Any) -> tuple[float, float]:
+    """A domain bound ``(lo, hi)`` with ``lo < 0 < hi`` (infinite ends allowed)."""
+    if isinstance(value, str | bytes) or not isinstance(value, tuple | list | np.ndarray) or len(value) != 2:
+        raise ArgumentError(f"{name} must be a pair (lo, hi) of nondimensional bounds, got {value!r}")
+    lo = checks.real(f"{name}[0]", value[0], allow_inf=True)
+    hi = checks.real(f"{name}[1]", value[1], allow_inf=True)
+    if not lo < 0 < hi:
+        raise ArgumentError(f"{name} = ({lo:g}, {hi:g}) must contain the equilibrium 0 strictly inside (lo < 0 < hi)")
+    return lo, hi
 
 
 def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: float | None = None,
@@ -497,7 +566,7 @@ def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: fl
     margin : float
         Relative margin above the boundary scale (so ``mu <= mu_d / (1 + margin)``), ``0 < margin < 1``.
     s_max : float
-        Largest gain scale searched (relative to the boundary scale).
+        Largest gain scale searched (relative to the boundary scale), in ``(1, 1e12]``.
 
     Returns
     -------
@@ -505,17 +574,29 @@ def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: fl
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, or a number or bound is not a real number.
+    ArgumentError
+        Both or neither target; a target out of range (:func:`alpha_for_target`); a domain bound that is not a
+        pair ``(lo, hi)`` of real numbers with ``lo < 0 < hi``; ``torque_max`` not positive; ``margin`` not in
+        ``(0, 1)``; ``s_max`` not in ``(1, 1e12]``.
+    ModelError
+        If ``veh`` is not an underwater glider accepted by the chapter-5 model, or the composite Lyapunov function
+        does not apply (e.g. unequal added masses).
     InfeasibleGlideError
         Unreachable target, or no gain of the family within ``torque_max`` certifies the domain (the message
         gives the request, the best ``mu/mu_d`` within the bound and the torque needed).
-    GlidectlError
-        Bad arguments (both/neither target, non-positive bounds, bad domain).
+    SolverError
+        If the certification boundary cannot be bracketed within the documented scale range ``[1e-12, 1e12]``
+        (the search is bounded: at most ~140 bracketing steps and 200 bisection steps).
     """
-    torque_max = positive_number("torque_max", torque_max, allow_inf=True)
-    margin = positive_number("margin", margin)
-    if margin >= 1:
-        raise GlidectlError(f"margin must be in (0, 1), got {margin}")
-    s_max = positive_number("s_max", s_max)
+    require_glider(veh, "veh")
+    torque_max = checks.positive("torque_max", torque_max, allow_inf=True, unit="N m")
+    margin = checks.real("margin", margin, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    s_max = checks.real("s_max", s_max, lo=1.0, hi=1e12, lo_open=True)
+    Vbar, alphabar, gammabar, Omegabar = (_interval(n, b) for n, b in
+                                          (("Vbar", Vbar), ("alphabar", alphabar), ("gammabar", gammabar),
+                                           ("Omegabar", Omegabar)))
     a_e = alpha_for_target(veh, speed=speed, gamma=gamma)
     target, tval = ("speed", float(speed)) if speed is not None else ("gamma", float(gamma))  # type: ignore[arg-type]
     fam = torque_gain_family(veh, a_e, eps_ratio=eps_ratio)

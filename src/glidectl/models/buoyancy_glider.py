@@ -22,8 +22,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
 from ..params import Vehicle
+from ._validate import numeric_array, require_glider, trailing_array
 from .reduced import ReducedLongitudinalGlider
 
 __all__ = [
@@ -55,11 +56,22 @@ class ActuatorLimits:
         Buoyancy range ``|m0| <= m0_max`` (kg).
     u2_max : float
         Elevator saturation ``|u2| <= u2_max`` (rad, control angle of attack of §6.3).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a limit is not a real number.
+    ArgumentError
+        If a limit is not positive (``inf``: no limit).
     """
 
     u4_max: float = math.inf
     m0_max: float = math.inf
     u2_max: float = math.inf
+
+    def __post_init__(self) -> None:
+        for k, unit in (("u4_max", "kg/s"), ("m0_max", "kg"), ("u2_max", "rad")):
+            object.__setattr__(self, k, checks.positive(k, getattr(self, k), allow_inf=True, unit=unit))
 
     def pump(self, m0: Any, u1: Any) -> Any:
         """Rate ``dm0/dt`` (kg/s) the pump delivers for the command ``u1`` (kg/s) at buoyancy ``m0`` (kg).
@@ -67,7 +79,7 @@ class ActuatorLimits:
         ``clip(u1, -u4_max, u4_max)``, and 0 where ``m0`` is at (or beyond) a range bound and the command
         pushes outward.
         """
-        m0 = np.real(np.asarray(m0))
+        m0 = np.real(numeric_array("m0", m0))
         rate = _saturate(u1, self.u4_max)
         re = np.real(rate)
         blocked = ((m0 >= self.m0_max) & (re > 0)) | ((m0 <= -self.m0_max) & (re < 0))
@@ -75,20 +87,29 @@ class ActuatorLimits:
 
     def elevator(self, u2: Any) -> Any:
         """Saturated elevator input ``clip(u2, -u2_max, u2_max)`` (rad)."""
+        numeric_array("u2", u2)
         return _saturate(u2, self.u2_max)
 
 
 def _saturate(u: Any, bound: float) -> Any:
     """``clip(u, -bound, bound)`` that carries a complex step: the input passes unchanged (derivative 1) inside the
     bound, the bound (derivative 0) outside."""
-    u = np.asarray(u)
+    u = numeric_array("u", u)
     re = np.real(u)
     return np.where(np.abs(re) <= bound, u, np.sign(re) * bound)
 
 
 def actuator_limits(veh: Vehicle) -> ActuatorLimits:
-    """The vehicle's ``u4_max`` (kg/s), ``m0_max`` (kg) and ``u2_max`` (rad); ``inf`` for those it does not set."""
-    p = veh.params
+    """The vehicle's ``u4_max`` (kg/s), ``m0_max`` (kg) and ``u2_max`` (rad); ``inf`` for those it does not set.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
+    ModelError
+        If it is not an underwater glider.
+    """
+    p = require_glider(veh).params
     return ActuatorLimits(float(p.get("u4_max", math.inf)), float(p.get("m0_max", math.inf)),
                           float(p.get("u2_max", math.inf)))
 
@@ -118,10 +139,24 @@ def loaded_rates(veh: Vehicle, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarr
         ``(V, gamma, alpha, Omega2, m0)`` in m/s, rad, rad, rad/s, kg (may be complex: complex-step derivatives).
     f3, M2 : array_like, broadcastable to ``x[..., 0]``
         Extra body-3 force (N) and pitch moment (N m).
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+        ``(V', gamma', alpha', Omega2')`` (m/s^2, rad/s, rad/s, rad/s^2).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, or an argument is not an array of numbers.
+    ArgumentError
+        If ``x`` does not have a trailing dimension 5.
+    ModelError
+        If ``veh`` is not an underwater glider accepted by the chapter-5 model.
     """
-    x = np.asarray(x)
-    if x.shape[-1] != 5:
-        raise ModelError(f"state must have 5 components {BUOYANCY_STATES}, got shape {x.shape}")
+    require_glider(veh)
+    x = trailing_array("x", x, 5, BUOYANCY_STATES)
+    f3, M2 = numeric_array("f3", f3), numeric_array("M2", M2)
     model = _reduced_at(veh, veh.m0)
     m0 = x[..., 4]
     r = np.asarray(model.rhs(x[..., :4], m0=m0))
@@ -146,6 +181,13 @@ class BuoyancyGlider:
     ----------
     vehicle : Vehicle
         Underwater glider; ``u4_max`` (kg/s) and ``m0_max`` (kg) are used when defined.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
+    ModelError
+        If it is not an underwater glider accepted by the chapter-5 model.
     """
 
     vehicle: Vehicle
@@ -153,16 +195,22 @@ class BuoyancyGlider:
     input_names: tuple[str, ...] = ("u1",)
 
     def __post_init__(self) -> None:
-        if self.vehicle.kind != "underwater_glider":
-            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
+        _reduced_at(require_glider(self.vehicle), self.vehicle.m0)  # the chapter-5 model must accept it
 
     @property
     def limits(self) -> ActuatorLimits:
         return actuator_limits(self.vehicle)
 
     def rhs(self, x: Any, u: Any) -> np.ndarray:
-        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s)."""
-        x = np.asarray(x)
-        u1 = np.asarray(u)[..., 0]
+        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s, shape
+        (..., 1)).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
+        """
+        x = trailing_array("x", x, 5, self.state_names)
+        u1 = trailing_array("u", u, 1, self.input_names)[..., 0]
         r = loaded_rates(self.vehicle, x)
         return np.concatenate([r, self.limits.pump(x[..., 4], u1)[..., None]], axis=-1)

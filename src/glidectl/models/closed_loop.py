@@ -16,8 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError
 from ..params import Vehicle
+from ._validate import numeric_array, trailing_array
 
 __all__ = ["ClosedLoop"]
 
@@ -56,6 +58,13 @@ class ClosedLoop:
         Plant, vehicle and law, for tables and plots.
     provenance : str
         The vehicle's parameter hash (as every glidectl model and result).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``plant`` is not a glidectl model, ``law`` is not callable or ``description`` is not a string.
+    ArgumentError
+        If ``equilibrium`` is not ``n`` finite numbers.
     """
 
     plant: Any
@@ -67,15 +76,20 @@ class ClosedLoop:
     def __post_init__(self) -> None:
         for attr in ("rhs", "state_names", "input_names"):
             if not hasattr(self.plant, attr):
-                raise ModelError(f"plant {type(self.plant).__name__} is not a glidectl model: it has no '{attr}' "
-                                 "(need rhs(x, u), state_names, input_names)")
+                raise ArgumentTypeError(f"plant {type(self.plant).__name__} is not a glidectl model: it has no "
+                                        f"'{attr}' (need rhs(x, u), state_names, input_names)")
+        if not callable(self.plant.rhs):
+            raise ArgumentTypeError(f"plant {type(self.plant).__name__} is not a glidectl model: rhs is not callable")
         if not callable(self.law):
-            raise ModelError(f"law must be a callable u = law(x), got {type(self.law).__name__}")
+            raise ArgumentTypeError(f"law must be a callable u = law(x), got {type(self.law).__name__}")
+        if not isinstance(self.description, str):
+            raise ArgumentTypeError(f"description must be a string, got {type(self.description).__name__}")
         if self.equilibrium is not None:
-            xe = np.array(self.equilibrium, dtype=float)
-            if xe.shape != (self.n_states,) or not np.all(np.isfinite(xe)):
-                raise ModelError(f"equilibrium must be {self.n_states} finite numbers for states "
-                                 f"{tuple(self.plant.state_names)}, got {self.equilibrium!r}")
+            try:
+                xe = checks.array("equilibrium", self.equilibrium, shape=(self.n_states,)).copy()
+            except ArgumentError as exc:
+                raise ArgumentError(f"equilibrium must be {self.n_states} finite numbers for states "
+                                    f"{tuple(self.plant.state_names)}, got {self.equilibrium!r} ({exc})") from None
             xe.setflags(write=False)
             object.__setattr__(self, "equilibrium", xe)
 
@@ -104,10 +118,23 @@ class ClosedLoop:
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:
         """Closed-loop ``x'`` for states ``x`` of shape ``(..., n)`` (``u`` is ignored: the loop is input-free).
 
-        ``x`` may be complex (complex-step Jacobians) when the plant and the law are.
+        ``x`` may be complex (complex-step Jacobians) when the plant and the law are. Exceptions raised by the law
+        reach the caller unchanged.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of numbers, or the law returns something else.
+        ArgumentError
+            If ``x`` does not have the trailing dimension ``n``, or the law's output not the plant's ``m``.
         """
-        x = np.asarray(x)
-        if x.shape[-1:] != (self.n_states,):
-            raise ModelError(f"state must have a trailing dimension {self.n_states} {self.state_names}, got shape "
-                             f"{x.shape}")
-        return np.asarray(self.plant.rhs(x, self.law(x)))
+        x = trailing_array("state", x, self.n_states, self.state_names)
+        u = self.law(x)
+        m = len(self.plant.input_names)
+        if m:
+            ua = numeric_array("the law's output u = law(x)", u)
+            if ua.shape[-1:] != (m,):
+                raise ArgumentError(f"the law returned shape {ua.shape} for states of shape {x.shape}; it must return "
+                                    f"(..., {m}), one value per input {tuple(self.plant.input_names)}")
+            u = ua
+        return np.asarray(self.plant.rhs(x, u))

@@ -27,8 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
 from ..params import Vehicle
+from ._validate import angle_arg, require_ctol_vehicle, speed_arg, trailing_array
 
 __all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "ExtendedCTOL",
            "drag_coefficient", "lift_coefficient", "require_ctol"]
@@ -39,18 +40,48 @@ REDUCED_STATES = ("Vbar", "gammabar", "thetabar", "Omega2bar")
 
 
 def require_ctol(veh: Vehicle) -> None:
-    """Raise :class:`ModelError` unless ``veh`` is a CTOL aircraft (``kind = "ctol"``)."""
-    if veh.kind != "ctol":
-        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not a CTOL aircraft (kind = \"ctol\")")
+    """Raise unless ``veh`` is a CTOL aircraft (``kind = "ctol"``).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The vehicle to check.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a :class:`~glidectl.Vehicle` (e.g. a preset name).
+    ModelError
+        If it is a vehicle of another kind.
+    """
+    require_ctol_vehicle(veh)
 
 
 def lift_coefficient(veh: Vehicle, alpha: Any) -> Any:
-    """``K_Li(alpha) = a_L (1 + c alpha)`` (7.1), times ``rho A_W / 2`` (kg/m; 1 when normalized)."""
+    """``K_Li(alpha) = a_L (1 + c alpha)`` (7.1), times ``rho A_W / 2`` (kg/m; 1 when normalized).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
+    ModelError
+        If it is not a CTOL aircraft.
+    """
+    require_ctol(veh)
     return veh.rho_AW_half * veh.a_L * (1 + veh.c * alpha)
 
 
 def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
-    """``K_Dr(alpha) = a_D (1 + b (1 + c alpha)^2)`` (7.2), times ``rho A_W / 2`` (kg/m)."""
+    """``K_Dr(alpha) = a_D (1 + b (1 + c alpha)^2)`` (7.2), times ``rho A_W / 2`` (kg/m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
+    ModelError
+        If it is not a CTOL aircraft.
+    """
+    require_ctol(veh)
     return veh.rho_AW_half * veh.a_D * (1 + veh.b * (1 + veh.c * alpha) ** 2)
 
 
@@ -73,6 +104,8 @@ class CTOLAircraft:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
     ModelError
         If the vehicle is not a CTOL aircraft (:func:`require_ctol`).
     """
@@ -85,8 +118,15 @@ class CTOLAircraft:
         require_ctol(self.vehicle)
 
     def rhs(self, x: Any, u: Any) -> Any:
-        """(7.5)-(7.7)."""
-        x, u = np.asarray(x), np.asarray(u)
+        """(7.5)-(7.7) for states ``x`` of shape ``(..., 6)`` and inputs ``u`` of shape ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
+        """
+        x = trailing_array("x", x, 6, self.state_names)
+        u = trailing_array("u", u, 2, self.input_names)
         veh = self.vehicle
         xd, yd, th, Om = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
         u1, u2 = u[..., 0], u[..., 1]
@@ -105,8 +145,9 @@ class CTOLAircraft:
 
     @staticmethod
     def speed_gamma_alpha(x: Any) -> tuple[Any, Any, Any]:
-        """``(V, gamma, alpha)`` of full states (m/s, rad, rad; angles wrapped to (-pi, pi])."""
-        x = np.asarray(x, dtype=float)
+        """``(V, gamma, alpha)`` of full states ``(..., 6)`` (m/s, rad, rad; angles wrapped to (-pi, pi])."""
+        x = checks.array("x", x)
+        trailing_array("x", x, 6, CTOL_STATES)
         V = np.hypot(x[..., 2], x[..., 3])
         gam = np.arctan2(x[..., 3], x[..., 2])
         a = np.angle(np.exp(1j * (x[..., 4] - gam)))
@@ -129,9 +170,9 @@ class CTOLReduced:
     speed : float
         Steady-glide speed ``V_e > 0`` (m/s).
     gamma : float
-        Steady-glide flight-path angle ``gamma_e`` (rad, positive climbing). Not validated.
+        Steady-glide flight-path angle ``gamma_e`` (rad, positive climbing), ``|gamma_e| <= pi``.
     theta : float
-        Steady-glide pitch angle ``theta_e = gamma_e + alpha_e`` (rad). Not validated.
+        Steady-glide pitch angle ``theta_e = gamma_e + alpha_e`` (rad), finite.
     T : float
         Reference time of (7.11) (s), ``T > 0``; default 1.
     state_names : tuple of str
@@ -141,8 +182,13 @@ class CTOLReduced:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle or a number is not a real number.
+    ArgumentError
+        If ``speed`` is not in ``(0, 100]`` (normalized units), ``T`` is not a positive finite number, or an angle
+        is not finite (``|gamma| <= pi``).
     ModelError
-        If the vehicle is not a CTOL aircraft, or ``speed`` or ``T`` is not a positive finite number.
+        If the vehicle is not a CTOL aircraft.
     """
 
     vehicle: Vehicle
@@ -155,14 +201,22 @@ class CTOLReduced:
 
     def __post_init__(self) -> None:
         require_ctol(self.vehicle)
-        if not (np.isfinite(self.speed) and self.speed > 0):
-            raise ModelError(f"the steady-glide speed V_e must be positive (m/s), got {self.speed!r}")
-        if not (np.isfinite(self.T) and self.T > 0):
-            raise ModelError(f"the reference time T must be positive (s), got {self.T!r}")
+        object.__setattr__(self, "speed", speed_arg("steady-glide speed V_e (speed)", self.speed))
+        object.__setattr__(self, "gamma", angle_arg("steady-glide gamma_e (gamma)", self.gamma, np.pi))
+        object.__setattr__(self, "theta", angle_arg("steady-glide theta_e (theta)", self.theta))
+        object.__setattr__(self, "T", checks.positive("reference time T", self.T, unit="s"))
 
     def rhs(self, s: Any, u: Any) -> Any:
-        """(7.12)-(7.15) with ``alpha = thetabar + theta_e - (gammabar + gamma_e)``."""
-        s, u = np.asarray(s), np.asarray(u)
+        """(7.12)-(7.15) with ``alpha = thetabar + theta_e - (gammabar + gamma_e)``; ``s`` of shape ``(..., 4)``,
+        ``u`` of shape ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``s`` or ``u`` is not an array of numbers with that trailing dimension.
+        """
+        s = trailing_array("s", s, 4, self.state_names)
+        u = trailing_array("u", u, 2, self.input_names)
         veh = self.vehicle
         Vb, gb, tb, Ob = s[..., 0], s[..., 1], s[..., 2], s[..., 3]
         u1, u2 = u[..., 0], u[..., 1]
@@ -177,8 +231,9 @@ class CTOLReduced:
         return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / veh.J), axis=-1)
 
     def from_full(self, x: Any) -> np.ndarray:
-        """Reduced state of full states ``(x, y, xdot, ydot, theta, Omega2)`` (the map (7.8)-(7.11))."""
-        x = np.asarray(x, dtype=float)
+        """Reduced state of full states ``(x, y, xdot, ydot, theta, Omega2)`` (the map (7.8)-(7.11)), shape
+        ``(..., 6) -> (..., 4)``."""
+        x = checks.array("x", x)
         V, gam, _ = CTOLAircraft.speed_gamma_alpha(x)
         return np.stack([V / self.speed - 1, np.angle(np.exp(1j * (gam - self.gamma))),
                          np.angle(np.exp(1j * (x[..., 4] - self.theta))), self.T * x[..., 5]], -1)
@@ -194,20 +249,38 @@ class ExtendedCTOL:
     Parameters
     ----------
     vehicle : Vehicle
-        A ``kind = "ctol"`` vehicle. Not checked on construction: a non-CTOL vehicle raises :class:`ModelError` at
-        the first :meth:`rhs` call (from :class:`CTOLAircraft`).
+        A ``kind = "ctol"`` vehicle.
     state_names : tuple of str
         Names of the 8 states (m, m, m/s, m/s, rad, rad/s, N, N/s).
     input_names : tuple of str
         Names of the 2 inputs ``(u1ddot, u2)`` (N/s^2, N m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
+    ModelError
+        If the vehicle is not a CTOL aircraft (:func:`require_ctol`).
     """
 
     vehicle: Vehicle
     state_names: tuple[str, ...] = (*CTOL_STATES, "u1", "u1dot")
     input_names: tuple[str, ...] = ("u1ddot", "u2")
 
+    def __post_init__(self) -> None:
+        require_ctol(self.vehicle)
+
     def rhs(self, X: Any, U: Any) -> Any:
-        X, U = np.asarray(X), np.asarray(U)
+        """Derivative of the 8 states ``X`` (shape ``(..., 8)``) under the inputs ``U = (u1ddot, u2)`` (shape
+        ``(..., 2)``).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``X`` or ``U`` is not an array of numbers with that trailing dimension.
+        """
+        X = trailing_array("X", X, 8, self.state_names)
+        U = trailing_array("U", U, 2, self.input_names)
         u = np.stack(np.broadcast_arrays(X[..., 6], U[..., 1]), -1)
         xp = CTOLAircraft(self.vehicle).rhs(X[..., :6], u)
         return np.concatenate([xp, X[..., 7:8], U[..., 0:1]], -1)

@@ -20,12 +20,54 @@ from typing import Any
 
 import numpy as np
 
+from .. import checks
 from ..analysis.jacobian import jacobians
+from ..errors import ArgumentError, ModelError, SolverError
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
+from ._validate import require_ctol_vehicle, require_instance, trailing_array
 from .ctol import REDUCED_STATES, CTOLReduced
 
-__all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "steady_glide_inputs"]
+__all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "check_steady_glide_law", "steady_glide_inputs"]
+
+
+def check_steady_glide_law(veh: Any, glide: Any, k3: Any, k4: Any, T: Any) -> tuple[float, float, float]:
+    """Check the data of the steady-glide law (7.16)-(7.20) and return ``(k3, k4, T)`` as floats.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Must be a CTOL aircraft with ``epsilon > 0`` (the law divides by it).
+    glide : CTOLGlide
+        Must come from :func:`glidectl.ctol_glide` for ``veh``.
+    k3, k4, T : float
+        Pitch gains (N, N m s) and reference time (s): positive finite numbers.
+
+    Returns
+    -------
+    tuple of float
+        ``(k3, k4, T)``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``glide`` not a CTOLGlide, or a gain not a real number.
+    ArgumentError
+        If ``k3``, ``k4`` or ``T`` is not a positive finite number (``k3, k4 > 0`` stabilize the pitch).
+    ModelError
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0`` (no elevator force: the law divides by eps).
+    VehicleMismatchError
+        If ``glide`` was computed for another vehicle.
+    """
+    require_ctol_vehicle(veh)
+    if not veh.epsilon > 0:
+        raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law (7.17)-(7.20) "
+                         "divides by eps (the elevator force coupling), so it needs epsilon > 0")
+    require_instance("glide", glide, CTOLGlide, " (from gc.ctol_glide)")
+    checks.same_vehicle("glide", glide, veh)
+    return (checks.positive("k3 (pitch stiffness gain of (7.20))", k3, unit="N"),
+            checks.positive("k4 (pitch damping gain of (7.20))", k4, unit="N m s"),
+            checks.positive("T (reference time of (7.11))", T, unit="s"))
 
 
 def steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, theta: Any,
@@ -51,8 +93,18 @@ def steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T:
     -------
     ndarray, shape (..., 2)
         Thrust ``u1`` (N) and elevator moment ``u2`` (N m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
+    ModelError
+        If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     """
+    require_ctol_vehicle(veh)
     eps = veh.epsilon
+    if not eps > 0:
+        raise ModelError(f"vehicle '{veh.name}' has epsilon = {eps:g}: the steady-glide law divides by eps")
     k1, k2 = glide.k1, glide.k2
     u1 = -k1 * np.sin(theta) - k2 * np.cos(theta)
     u2 = (k1 * np.cos(theta) - k2 * np.sin(theta)) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
@@ -83,10 +135,16 @@ class ClosedLoopCTOL:
     input_names : tuple of str
         Empty: the loop is closed.
 
-    Notes
-    -----
-    Nothing is validated on construction; :meth:`rhs` builds :class:`~glidectl.models.ctol.CTOLReduced` and so
-    raises :class:`ModelError` for a non-CTOL vehicle or a non-positive ``glide.speed`` or ``T``.
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle, ``glide`` not a CTOLGlide, or a gain not a real number.
+    ArgumentError
+        If ``k3``, ``k4`` or ``T`` is not a positive finite number.
+    ModelError
+        If the vehicle is not a CTOL aircraft or has ``epsilon = 0``.
+    VehicleMismatchError
+        If ``glide`` was computed for another vehicle.
     """
 
     vehicle: Vehicle
@@ -97,27 +155,59 @@ class ClosedLoopCTOL:
     state_names: tuple[str, ...] = REDUCED_STATES
     input_names: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        k3, k4, T = check_steady_glide_law(self.vehicle, self.glide, self.k3, self.k4, self.T)
+        object.__setattr__(self, "k3", k3)
+        object.__setattr__(self, "k4", k4)
+        object.__setattr__(self, "T", T)
+
     @property
     def reduced(self) -> CTOLReduced:
         return CTOLReduced(self.vehicle, self.glide.speed, self.glide.gamma, self.glide.theta, self.T)
 
     def rhs(self, s: Any, u: Any = None) -> Any:
-        s = np.asarray(s)
+        """Closed-loop derivative of the reduced states ``s`` (shape ``(..., 4)``; ``u`` is ignored).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``s`` is not an array of numbers with a trailing dimension 4.
+        """
+        s = trailing_array("s", s, 4, self.state_names)
         th = s[..., 2] + self.glide.theta
         uu = steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, s[..., 3] / self.T)
         return self.reduced.rhs(s, uu)
 
     def jacobian(self) -> np.ndarray:
-        """Exact (complex-step) Jacobian at the origin."""
-        return jacobians(lambda s, u: self.rhs(s), np.zeros(4), np.zeros(0))[0]
+        """Exact (complex-step) Jacobian at the origin.
+
+        Raises
+        ------
+        SolverError
+            If it is not finite (the glide is outside the range where the model's arithmetic holds).
+        """
+        J = jacobians(lambda s, u: self.rhs(s), np.zeros(4), np.zeros(0))[0]
+        if not np.all(np.isfinite(J)):
+            raise SolverError(f"the closed-loop Jacobian at the glide V_e = {self.glide.speed:g}, gamma_e = "
+                              f"{self.glide.gamma:g} is not finite")
+        return J
 
     def roa_model(self, box: tuple[Any, Any] | None = None) -> ClosedLoopCTOLAlpha:
         """This closed loop in ``(Vbar, gammabar, alphabar, Omega2bar)``, ``alphabar = thetabar - gammabar``, for
         region-of-attraction certification (:func:`glidectl.certify_roa`); ``box`` is the region of interest
-        (default ``|Vbar| <= 0.5``, ``|gammabar| <= 0.5``, ``|alphabar| <= 0.3``, ``|Omega2bar| <= 1``)."""
+        (default ``|Vbar| <= 0.5``, ``|gammabar| <= 0.5``, ``|alphabar| <= 0.3``, ``|Omega2bar| <= 1``).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``box`` is not ``(lo, hi)``, two finite 4-vectors with ``lo < hi``.
+        """
         if box is None:
             box = (np.array([-0.5, -0.5, -0.3, -1.0]), np.array([0.5, 0.5, 0.3, 1.0]))
-        return ClosedLoopCTOLAlpha(self, (np.asarray(box[0], dtype=float), np.asarray(box[1], dtype=float)))
+        b = checks.array("box", box, shape=(2, 4))
+        if not np.all(b[0] < b[1]):
+            raise ArgumentError(f"box must be (lo, hi) with lo < hi in every state, got {box!r}")
+        return ClosedLoopCTOLAlpha(self, (b[0].copy(), b[1].copy()))
 
 
 @dataclass(frozen=True)
@@ -155,7 +245,7 @@ class ClosedLoopCTOLAlpha:
 
     def to_theta(self, x: Any) -> np.ndarray:
         """``(Vbar, gammabar, alphabar, Omega2bar) -> (Vbar, gammabar, thetabar, Omega2bar)``."""
-        x = np.asarray(x)
+        x = trailing_array("x", x, 4, self.state_names)
         return np.stack([x[..., 0], x[..., 1], x[..., 2] + x[..., 1], x[..., 3]], axis=-1)
 
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:

@@ -47,9 +47,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
 from ..params import Vehicle
-from .buoyancy_glider import BUOYANCY_STATES, ActuatorLimits, actuator_limits, loaded_rates
+from ._validate import numeric_array, require_glider, trailing_array
+from .buoyancy_glider import BUOYANCY_STATES, ActuatorLimits, BuoyancyGlider, actuator_limits, loaded_rates
 
 __all__ = ["ElevatorBuoyancyGlider", "effective_coefficients", "elevator_loads"]
 
@@ -70,7 +70,16 @@ def elevator_loads(veh: Vehicle, V2: Any, u2: Any) -> tuple[Any, Any]:
     -------
     f3 : body-3 force (N, positive down), ``-delta u2 V^2``
     M_el : pitching moment (N m, positive nose up), ``K_M u2 V^2`` (6.19)
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``V2``, ``u2`` are not numbers.
+    ModelError
+        If ``veh`` is not an underwater glider or has no ``delta``.
     """
+    require_glider(veh)
+    V2, u2 = numeric_array("V2", V2), numeric_array("u2", u2)
     return -veh.delta * u2 * V2, veh.K_M * u2 * V2
 
 
@@ -79,7 +88,16 @@ def effective_coefficients(veh: Vehicle, alpha: Any, u2: Any) -> tuple[Any, Any]
 
     ``K'_D = K_D0 + K_D alpha^2 + delta u2 sin(alpha)``, ``K'_L = K_L0 + K_L alpha + delta u2 cos(alpha)``, so that
     the hydrodynamic plus elevator force is ``-K'_D V^2`` along the velocity and ``K'_L V^2`` along the lift.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or ``alpha``, ``u2`` are not numbers.
+    ModelError
+        If ``veh`` is not an underwater glider or has no ``delta``.
     """
+    require_glider(veh)
+    alpha, u2 = numeric_array("alpha", alpha), numeric_array("u2", u2)
     d = veh.delta
     return (veh.K_D0 + veh.K_D * alpha**2 + d * u2 * np.sin(alpha),
             veh.K_L0 + veh.K_L * alpha + d * u2 * np.cos(alpha))
@@ -99,6 +117,13 @@ class ElevatorBuoyancyGlider:
     ----------
     vehicle : Vehicle
         Needs ``delta``; ``u2_max`` (rad), ``u4_max`` (kg/s), ``m0_max`` (kg) are used when defined.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
+    ModelError
+        If it is not an underwater glider accepted by the chapter-5 model, or has no ``delta``.
     """
 
     vehicle: Vehicle
@@ -106,8 +131,7 @@ class ElevatorBuoyancyGlider:
     input_names: tuple[str, ...] = ("u1", "u2")
 
     def __post_init__(self) -> None:
-        if self.vehicle.kind != "underwater_glider":
-            raise ModelError(f"vehicle '{self.vehicle.name}' is a {self.vehicle.kind}, not an underwater glider")
+        BuoyancyGlider(require_glider(self.vehicle))  # the same validity conditions
         self.vehicle.delta  # noqa: B018 - raises ModelError naming the file when the coupling factor is missing
 
     @property
@@ -115,9 +139,16 @@ class ElevatorBuoyancyGlider:
         return actuator_limits(self.vehicle)
 
     def rhs(self, x: Any, u: Any) -> np.ndarray:
-        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)), ``u = (u1 [kg/s], u2 [rad])``."""
-        x = np.asarray(x)
-        u = np.asarray(u)
+        """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)), ``u = (u1 [kg/s], u2 [rad])`` (shape
+        (..., 2)).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
+        """
+        x = trailing_array("x", x, 5, self.state_names)
+        u = trailing_array("u", u, 2, self.input_names)
         lim = self.limits
         u2 = lim.elevator(u[..., 1])
         V = x[..., 0]

@@ -29,14 +29,17 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ModelError
 from ..hydro import loads_3d
 from ..params import Vehicle
+from ._validate import numeric_array, require_glider, trailing_array
 
 __all__ = [
     "FIXED_STATES",
     "FORCE3D_INPUTS",
     "FORCE3D_STATES",
+    "R_P_MAX",
     "FixedMassGlider3D",
     "Glider3D",
     "R_to_ypr",
@@ -52,11 +55,30 @@ FORCE3D_INPUTS = ("u1", "u2", "u3", "u4")
 FIXED_STATES = ("x", "y", "z", "q0", "q1", "q2", "q3", "v1", "v2", "v3", "Omega1", "Omega2", "Omega3")
 _BAUMGARTE = 1.0  # 1/s, pulls |q| back to 1 (no effect on the manifold |q| = 1)
 _REQUIRED_3D = ("J1", "J3", "K_beta", "K_MR", "K_MY")
+#: Largest distance (m) of the fixed moving mass from the centre of buoyancy accepted by :class:`FixedMassGlider3D`
+#: (a plausibility limit: gliders are a few metres long).
+R_P_MAX = 10.0
+_COND_MAX = 1e12  # largest condition number of the generalized mass matrix of (8.23)
+
+
+def _finite(name: str, value: Any, n: int) -> np.ndarray:
+    """A (batch of) finite vector(s) of length ``n``, real or complex."""
+    a = trailing_array(name, value, n)
+    if not np.all(np.isfinite(a)):
+        raise ArgumentError(f"{name} must be finite (no NaN or inf), got {value!r}")
+    return a
 
 
 def hat(x: Any) -> np.ndarray:
-    """The ``^`` map of §2.2.1: ``hat(x) @ y = x x y`` (batched over leading dimensions)."""
-    x = np.asarray(x)
+    """The ``^`` map of §2.2.1: ``hat(x) @ y = x x y`` (batched over leading dimensions, ``x`` of shape
+    ``(..., 3)``).
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``x`` is not an array of numbers with a trailing dimension 3.
+    """
+    x = trailing_array("x", x, 3)
     z = np.zeros_like(x[..., 0])
     return np.stack([np.stack([z, -x[..., 2], x[..., 1]], -1),
                      np.stack([x[..., 2], z, -x[..., 0]], -1),
@@ -79,16 +101,41 @@ def quat_to_R(q: Any) -> np.ndarray:
 
     Raises
     ------
-    IndexError
-        If the last axis of ``q`` has fewer than 4 entries (extra entries are not checked).
+    ArgumentTypeError
+        If ``q`` is not an array of numbers.
+    ArgumentError
+        If the last axis of ``q`` does not have 4 entries, ``q`` is not finite, or a quaternion is zero (its
+        rotation is undefined).
     """
-    q = np.asarray(q)
+    q = _finite("q", q, 4)
+    if not np.all(np.abs(np.real(np.sum(q * q, axis=-1))) > 1e-300):
+        raise ArgumentError("quaternion q must be nonzero (a zero quaternion has no rotation matrix)")
+    return _rot(q)
+
+
+def _rot(q: Any) -> np.ndarray:
+    """:func:`quat_to_R` without the argument checks (right-hand sides: the integrator watches finiteness)."""
     q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
     w, a, b, c = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     return np.stack([
         np.stack([1 - 2 * (b * b + c * c), 2 * (a * b - w * c), 2 * (a * c + w * b)], -1),
         np.stack([2 * (a * b + w * c), 1 - 2 * (a * a + c * c), 2 * (b * c - w * a)], -1),
         np.stack([2 * (a * c - w * b), 2 * (b * c + w * a), 1 - 2 * (a * a + b * b)], -1)], -2)
+
+
+def _angles(*angles: Any) -> tuple[np.ndarray, ...]:
+    names = ("psi", "theta", "phi")
+    out = []
+    for name, a in zip(names, angles, strict=True):
+        a = numeric_array(name, a)
+        if not np.all(np.isfinite(a)):
+            raise ArgumentError(f"{name} must be finite (rad), got {a!r}")
+        out.append(a)
+    try:
+        np.broadcast_shapes(*(a.shape for a in out))
+    except ValueError as exc:
+        raise ArgumentError(f"psi, theta, phi must broadcast together: {exc}") from exc
+    return tuple(out)
 
 
 def ypr_to_R(psi: Any, theta: Any, phi: Any) -> np.ndarray:
@@ -107,9 +154,12 @@ def ypr_to_R(psi: Any, theta: Any, phi: Any) -> np.ndarray:
 
     Raises
     ------
-    ValueError
-        If the three angle arrays cannot be broadcast to a common shape.
+    ArgumentTypeError
+        If an angle is not a number or array of numbers.
+    ArgumentError
+        If an angle is not finite or the three cannot be broadcast to a common shape.
     """
+    psi, theta, phi = _angles(psi, theta, phi)
     cps, sps, cth, sth, cph, sph = (np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi),
                                     np.sin(phi))
     return np.stack([
@@ -135,9 +185,12 @@ def ypr_to_quat(psi: float, theta: float, phi: float) -> np.ndarray:
 
     Raises
     ------
-    ValueError
-        If the three angle arrays cannot be broadcast to a common shape.
+    ArgumentTypeError
+        If an angle is not a number or array of numbers.
+    ArgumentError
+        If an angle is not finite or the three cannot be broadcast to a common shape.
     """
+    psi, theta, phi = _angles(psi, theta, phi)
     cy, sy, cp, sp, cr, sr = (np.cos(psi / 2), np.sin(psi / 2), np.cos(theta / 2), np.sin(theta / 2),
                               np.cos(phi / 2), np.sin(phi / 2))
     return np.array([cr * cp * cy + sr * sp * sy, sr * cp * cy - cr * sp * sy, cr * sp * cy + sr * cp * sy,
@@ -160,10 +213,19 @@ def R_to_ypr(R: Any) -> np.ndarray:
 
     Raises
     ------
-    IndexError
-        If the last two axes of ``R`` are smaller than 3 x 3.
+    ArgumentTypeError
+        If ``R`` is not an array of real numbers.
+    ArgumentError
+        If the last two axes of ``R`` are not 3 x 3, ``R`` is not finite, or it is not a rotation matrix
+        (``|R^T R - I| > 1e-6`` or ``det R < 0``).
     """
-    R = np.asarray(R)
+    R = checks.array("R", R)
+    if R.ndim < 2 or R.shape[-2:] != (3, 3):
+        raise ArgumentError(f"R must have shape (..., 3, 3), got {R.shape}")
+    err = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3))
+    if np.any(err > 1e-6) or np.any(np.linalg.det(R) < 0):
+        raise ArgumentError(f"R is not a rotation matrix (max |R^T R - I| = {float(np.max(err)):.3g}); yaw, pitch "
+                            "and roll exist only for rotations")
     return np.stack([np.arctan2(R[..., 1, 0], R[..., 0, 0]), -np.arcsin(np.clip(R[..., 2, 0], -1, 1)),
                      np.arctan2(R[..., 2, 1], R[..., 2, 2])], -1)
 
@@ -183,8 +245,7 @@ def _cross(a: Any, b: Any) -> Any:
 
 
 def _check_3d(veh: Vehicle) -> None:
-    if veh.kind != "underwater_glider":
-        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not an underwater glider")
+    require_glider(veh)
     missing = [k for k in _REQUIRED_3D if k not in veh.params]
     if veh.mass_model == "fixed" and "m2" not in veh.params:
         missing.append("m2")
@@ -214,6 +275,8 @@ class Glider3D:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
     ModelError
         If the vehicle is not an underwater glider, lacks a 3D parameter, or has ``mbar = 0``.
     """
@@ -230,8 +293,16 @@ class Glider3D:
 
     def rhs(self, x: Any, u: Any) -> Any:
         """(2.1)-(2.8): ``b' = R v``, ``R' = R Omega^``, ``r_P' = P_P/mbar - v - Omega x r_P``,
-        ``v' = M^-1 Fbar``, ``Omega' = J^-1 Tbar``, ``P_P' = ubar``, ``m0' = u4``."""
-        x, u = np.asarray(x), np.asarray(u)
+        ``v' = M^-1 Fbar``, ``Omega' = J^-1 Tbar``, ``P_P' = ubar``, ``m0' = u4``; ``x`` of shape ``(..., 20)``,
+        ``u`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
+        """
+        x = trailing_array("x", x, 20, self.state_names)
+        u = trailing_array("u", u, 4, self.input_names)
         shape = np.broadcast_shapes(x.shape[:-1], u.shape[:-1])
         x, u = np.broadcast_to(x, shape + x.shape[-1:]), np.broadcast_to(u, shape + u.shape[-1:])
         veh = self.vehicle
@@ -239,7 +310,7 @@ class Glider3D:
         q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
         rP, PP, m0 = x[..., 13:16], x[..., 16:19], x[..., 19]
         ub, u4 = u[..., 0:3], u[..., 3]
-        R = quat_to_R(q)
+        R = _rot(q)
         zeta = R[..., 2, :]  # R^T k = third row of R
         Mv = _masses(veh, m0) * v
         F, T, _, _, _ = loads_3d(veh, v, Om)
@@ -267,9 +338,10 @@ class FixedMassGlider3D:
         An underwater glider with the 3D parameters ``J1, J3, K_beta, K_MR, K_MY`` (and ``m2`` for the fixed mass
         model).
     r_p : tuple of float
-        Fixed moving-mass position ``(r_P1, r_P2, r_P3)`` in body axes (m).
+        Fixed moving-mass position ``(r_P1, r_P2, r_P3)`` in body axes (m), ``|r_p| <=`` :data:`R_P_MAX` (10 m).
     m0 : float
-        Constant net buoyancy (kg, positive heavy).
+        Constant net buoyancy (kg, positive heavy); for the ``added`` mass model the solid mass
+        ``m_s = m + m0 - mbar`` must stay positive.
     state_names : tuple of str
         Names of the 13 states ``(x, y, z, q0..q3, v1..v3, Omega1..Omega3)`` (m, nondimensional, m/s, rad/s);
         default :data:`FIXED_STATES`.
@@ -278,9 +350,14 @@ class FixedMassGlider3D:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle, ``r_p`` is not three real numbers or ``m0`` not a real number.
+    ArgumentError
+        If ``r_p`` or ``m0`` is not finite, or ``|r_p| > R_P_MAX``.
     ModelError
-        If the vehicle is not an underwater glider or lacks a 3D parameter, ``r_p`` is not three finite numbers,
-        ``m0`` is not finite, or ``m0`` makes a body mass ``m_i`` non-positive.
+        If the vehicle is not an underwater glider or lacks a 3D parameter, ``m0`` makes the solid mass
+        ``m + m0 - mbar`` or a body mass ``m_i`` non-positive, or the generalized mass matrix of (8.23) is singular
+        to working precision (condition number above 1e12).
     """
 
     vehicle: Vehicle
@@ -293,18 +370,30 @@ class FixedMassGlider3D:
     def __post_init__(self) -> None:
         _check_3d(self.vehicle)
         veh = self.vehicle
-        r = np.asarray(self.r_p, dtype=float)
-        if r.shape != (3,) or not np.all(np.isfinite(r)) or not np.isfinite(self.m0):
-            raise ModelError(f"r_p must be three finite numbers (m) and m0 finite (kg), got {self.r_p}, {self.m0}")
+        r = checks.array("r_p (moving-mass position, m)", self.r_p, shape=(3,))
+        m0 = checks.real("m0 (net buoyancy)", self.m0, unit="kg")
+        if float(np.linalg.norm(r)) > R_P_MAX:
+            raise ArgumentError(f"r_p = {tuple(r)} m puts the moving mass {np.linalg.norm(r):.4g} m from the centre "
+                                f"of buoyancy; at most R_P_MAX = {R_P_MAX:g} m is plausible")
+        object.__setattr__(self, "r_p", (float(r[0]), float(r[1]), float(r[2])))
+        object.__setattr__(self, "m0", m0)
         mbar = veh.mbar
-        masses = [float(veh.mass(i, self.m0)) for i in (1, 2, 3)]
+        if veh.mass_model == "added" and not veh.m + m0 - mbar > 0:
+            raise ModelError(f"m0 = {m0:g} kg makes the solid mass m + m0 - mbar = {veh.m + m0 - mbar:g} kg of "
+                             f"vehicle '{veh.name}' non-positive (m = {veh.m:g} kg, mbar = {mbar:g} kg); the ballast "
+                             "cannot be that light")
+        masses = [float(veh.mass(i, m0)) for i in (1, 2, 3)]
         if min(masses) <= 0:
-            raise ModelError(f"m0 = {self.m0} kg makes a body mass non-positive on vehicle '{veh.name}' "
+            raise ModelError(f"m0 = {m0} kg makes a body mass non-positive on vehicle '{veh.name}' "
                              f"(m_1, m_2, m_3 = {masses} kg); the ballast cannot be that light")
         M = np.diag(masses)
         J = np.diag([veh.J1, veh.J2, veh.J3])
         rh = hat(r)
         big = np.block([[M + mbar * np.eye(3), -mbar * rh], [mbar * rh, J - mbar * rh @ rh]])
+        cond = float(np.linalg.cond(big))
+        if not cond < _COND_MAX:
+            raise ModelError(f"the generalized mass matrix of (8.23) is singular to working precision (condition "
+                             f"number {cond:.3g}) for r_p = {self.r_p} m, m0 = {m0:g} kg on vehicle '{veh.name}'")
         object.__setattr__(self, "_Minv", np.linalg.inv(big))
 
     @property
@@ -313,7 +402,15 @@ class FixedMassGlider3D:
         return self._Minv.copy()
 
     def forces(self, v: Any, Om: Any, zeta: Any) -> tuple[Any, Any]:
-        """``(Fbar', Tbar')`` of (8.24)-(8.25)."""
+        """``(Fbar', Tbar')`` of (8.24)-(8.25) for ``v``, ``Om``, ``zeta`` of shape ``(..., 3)``.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If an argument is not an array of numbers with a trailing dimension 3.
+        """
+        v, Om = trailing_array("v", v, 3), trailing_array("Om", Om, 3)
+        zeta = trailing_array("zeta", zeta, 3)
         veh = self.vehicle
         g, mbar = veh.g, veh.mbar
         rP = np.asarray(self.r_p, dtype=float)
@@ -334,8 +431,15 @@ class FixedMassGlider3D:
         return a[..., :3], a[..., 3:]
 
     def rhs(self, x: Any, u: Any = None) -> Any:
-        x = np.asarray(x)
+        """Derivative of the 13 states ``x`` (shape ``(..., 13)``; ``u`` is ignored, the model has no inputs).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` is not an array of numbers with a trailing dimension 13.
+        """
+        x = trailing_array("x", x, 13, self.state_names)
         q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
-        R = quat_to_R(q)
+        R = _rot(q)
         vd, Od = self.accelerations(v, Om, R[..., 2, :])
         return np.concatenate([np.einsum("...ij,...j->...i", R, v), _qdot(q, Om), vd, Od], -1)

@@ -19,6 +19,7 @@ import numpy as np
 from ..errors import ModelError
 from ..hydro import longitudinal_loads
 from ..params import Vehicle
+from ._validate import angle_arg, require_glider, require_instance, trailing_array
 
 __all__ = [
     "ACCEL_INPUTS",
@@ -66,6 +67,8 @@ class LongitudinalGlider:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
     ModelError
         If the vehicle is not an underwater glider or has ``mbar <= 0``.
     """
@@ -75,9 +78,7 @@ class LongitudinalGlider:
     input_names: tuple[str, ...] = FORCE_INPUTS
 
     def __post_init__(self) -> None:
-        v = self.vehicle
-        if v.kind != "underwater_glider":
-            raise ModelError(f"vehicle '{v.name}' is a {v.kind}, not an underwater glider")
+        v = require_glider(self.vehicle)
         if v.mbar <= 0:
             raise ModelError(
                 f"vehicle '{v.name}' has mbar = {v.mbar:g} kg: the longitudinal model (2.15)-(2.25) needs an "
@@ -90,8 +91,9 @@ class LongitudinalGlider:
         ``X1 = -m3 v3 Om - P_P3 Om - m0 g sin(theta) + L sin(alpha) - D cos(alpha)``,
         ``X3 = m1 v1 Om + P_P1 Om + m0 g cos(theta) - L cos(alpha) - D sin(alpha)`` and
         ``Y = (m3 - m1) v1 v3 - mbar g (r_P1 cos(theta) + r_P3 sin(theta)) + M_DL2 - Om (r_P1 P_P1 + r_P3 P_P3)``.
-        Also returns the masses and hydrodynamic quantities used, for reuse.
+        Also returns the masses and hydrodynamic quantities used, for reuse. ``x`` has shape ``(..., 11)``.
         """
+        x = trailing_array("x", x, 11, FORCE_STATES)
         veh = self.vehicle
         g, mbar = veh.g, veh.mbar
         th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
@@ -116,9 +118,14 @@ class LongitudinalGlider:
         Returns
         -------
         ndarray, shape (..., 11)
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
         """
-        x = np.asarray(x)
-        u = np.asarray(u)
+        x = trailing_array("x", x, 11, self.state_names)
+        u = trailing_array("u", u, 3, self.input_names)
         veh = self.vehicle
         X1, X3, Y, aux = self.generalized_forces(x)
         th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
@@ -184,7 +191,7 @@ class AccelerationControlledGlider:
 
     def to_force_state(self, xa: Any) -> Any:
         """Map ``(.., rdot_P1, .., rdot_P3, m0)`` to ``(.., r_P3, P_P1, P_P3, m0)`` by inverting (2.31)."""
-        xa = np.asarray(xa)
+        xa = trailing_array("xa", xa, 11, ACCEL_STATES)
         mbar = self.vehicle.mbar
         Om, v1, v3 = xa[..., 3], xa[..., 4], xa[..., 5]
         rP1, rdP1, rP3, rdP3, m0 = xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9], xa[..., 10]
@@ -194,7 +201,7 @@ class AccelerationControlledGlider:
 
     def from_force_state(self, xf: Any) -> Any:
         """Map a force-form state to the acceleration-form state with (2.31)."""
-        xf = np.asarray(xf)
+        xf = trailing_array("xf", xf, 11, FORCE_STATES)
         mbar = self.vehicle.mbar
         Om, v1, v3 = xf[..., 3], xf[..., 4], xf[..., 5]
         rP1, rP3, PP1, PP3, m0 = xf[..., 6], xf[..., 7], xf[..., 8], xf[..., 9], xf[..., 10]
@@ -203,7 +210,7 @@ class AccelerationControlledGlider:
 
     def transform(self, xa: Any) -> tuple[Any, Any]:
         """``Z`` (m/s^2, shape (..., 2)) and ``F`` (1/kg, shape (..., 2, 2)) of (2.32), sign of Z corrected."""
-        xa = np.asarray(xa)
+        xa = trailing_array("xa", xa, 11, ACCEL_STATES)
         veh = self.vehicle
         X1, X3, Y, aux = self.force_model.generalized_forces(self.to_force_state(xa))
         Om, rP1, rdP1, rP3, rdP3 = xa[..., 3], xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9]
@@ -217,8 +224,8 @@ class AccelerationControlledGlider:
         return Z, F
 
     def force_input(self, xa: Any, w: Any) -> Any:
-        """Force input ``(u1, u3, u4)`` of (2.33)-(2.34) realizing acceleration input ``w``."""
-        w = np.asarray(w)
+        """Force input ``(u1, u3, u4)`` of (2.33)-(2.34) realizing acceleration input ``w`` (shape ``(..., 3)``)."""
+        w = trailing_array("w", w, 3, ACCEL_INPUTS)
         Z, F = self.transform(xa)
         rhs = w[..., :2] - Z
         det = F[..., 0, 0] * F[..., 1, 1] - F[..., 0, 1] * F[..., 1, 0]
@@ -227,9 +234,16 @@ class AccelerationControlledGlider:
         return _stack(u1, u3, w[..., 2])
 
     def rhs(self, xa: Any, w: Any) -> Any:
-        """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side."""
-        xa = np.asarray(xa)
-        w = np.asarray(w)
+        """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``xa`` (shape ``(..., 11)``) or ``w`` (shape ``(..., 3)``) is not an array of numbers with that
+            trailing dimension.
+        """
+        xa = trailing_array("xa", xa, 11, self.state_names)
+        w = trailing_array("w", w, 3, self.input_names)
         xf = self.to_force_state(xa)
         fdot = self.force_model.rhs(xf, self.force_input(xa, w))
         return _stack(*(fdot[..., i] for i in range(6)), xa[..., 7], w[..., 0], xa[..., 9], w[..., 1], w[..., 2])
@@ -249,11 +263,22 @@ class GlidePathModel:
         The longitudinal model whose ``(x, z)`` are replaced; its vehicle and inputs are used unchanged.
     gamma : float
         Flight-path angle ``gamma_e`` of the desired straight path (rad; negative descending, as
-        :attr:`~glidectl.trim.glide.SteadyGlide.gamma`). Not validated.
+        :attr:`~glidectl.trim.glide.SteadyGlide.gamma`), ``|gamma_e| <= pi/2``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``base`` is not one of the two longitudinal models or ``gamma`` is not a real number.
+    ArgumentError
+        If ``gamma`` is not finite or ``|gamma| > pi/2``.
     """
 
     base: LongitudinalGlider | AccelerationControlledGlider
     gamma: float
+
+    def __post_init__(self) -> None:
+        require_instance("base", self.base, (LongitudinalGlider, AccelerationControlledGlider))
+        object.__setattr__(self, "gamma", angle_arg("gamma (path angle)", self.gamma, np.pi / 2))
 
     @property
     def state_names(self) -> tuple[str, ...]:
@@ -268,8 +293,15 @@ class GlidePathModel:
         return self.base.vehicle
 
     def rhs(self, xr: Any, u: Any) -> Any:
-        """Derivative of ``(z', theta, ...)``: (2.30) and the base model's equations without (2.15)-(2.16)."""
-        xr = np.asarray(xr)
+        """Derivative of ``(z', theta, ...)`` (shape ``(..., 10)``): (2.30) and the base model's equations without
+        (2.15)-(2.16).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``xr`` or ``u`` is not an array of numbers with the right trailing dimension.
+        """
+        xr = trailing_array("xr", xr, 10, self.state_names)
         full = np.concatenate([np.zeros_like(xr[..., :2]), xr[..., 1:]], axis=-1)
         d = self.base.rhs(full, u)
         zp = np.sin(self.gamma) * d[..., 0] + np.cos(self.gamma) * d[..., 1]

@@ -17,14 +17,15 @@ and its result builds the models (``reduced_model()``, ``full_model()``, ``slow_
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ModelError
 from ..params import Vehicle
+from ._validate import angle_arg, require_instance, trailing_array
 from .reduced import ReducedLongitudinalGlider
 
 __all__ = ["NondimensionalModel", "NondimensionalScaling", "SlowModel"]
@@ -68,9 +69,12 @@ class NondimensionalScaling:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle or a number is not a real number.
+    ArgumentError
+        If a number is not finite, or ``speed``, ``tau_s``, ``eps1`` or ``eps2`` is not positive.
     ModelError
-        If the vehicle is not accepted by :class:`ReducedLongitudinalGlider`, or a number is not finite, or
-        ``speed``, ``tau_s``, ``eps1`` or ``eps2`` is not positive.
+        If the vehicle is not accepted by :class:`ReducedLongitudinalGlider`, or has ``K_M = 0`` (no rate scale).
     """
 
     vehicle: Vehicle = field(repr=False)
@@ -83,13 +87,13 @@ class NondimensionalScaling:
 
     def __post_init__(self) -> None:
         ReducedLongitudinalGlider(self.vehicle)  # same validity conditions
-        for k in ("speed", "gamma", "alpha", "tau_s", "eps1", "eps2"):
+        units = {"speed": "m/s", "gamma": "rad", "alpha": "rad", "tau_s": "s", "eps1": "", "eps2": ""}
+        for k, unit in units.items():
             v = getattr(self, k)
-            if not (isinstance(v, (int, float, np.floating)) and math.isfinite(v)):
-                raise ModelError(f"{k} must be a finite number, got {v!r}")
-        for k in ("speed", "tau_s", "eps1", "eps2"):
-            if not getattr(self, k) > 0:
-                raise ModelError(f"{k} must be > 0 for the singular-perturbation scalings, got {getattr(self, k)!r}")
+            v = checks.real(k, v, unit=unit) if k in ("gamma", "alpha") else checks.positive(k, v, unit=unit)
+            object.__setattr__(self, k, v)
+        if self.vehicle.K_M == 0:
+            raise ModelError(f"vehicle '{self.vehicle.name}' has K_M = 0: no rate scale K_q/K_M (5.15)")
 
     # ---------------------------------------------------------------- small parameters (5.26)-(5.27)
     @property
@@ -125,20 +129,22 @@ class NondimensionalScaling:
         return np.array([self.speed, self.gamma, self.alpha, 0.0])
 
     def to_nondimensional(self, x: Any) -> np.ndarray:
-        """``(V, gamma, alpha, Omega2) -> (Vbar, gammabar, alphabar, Omegabar2)``, (5.12)-(5.15)."""
-        x = np.asarray(x)
+        """``(V, gamma, alpha, Omega2) -> (Vbar, gammabar, alphabar, Omegabar2)``, (5.12)-(5.15); shape
+        ``(..., 4)``."""
+        x = trailing_array("x", x, 4)
         return np.stack([(x[..., 0] - self.speed) / self.speed, x[..., 1] - self.gamma, x[..., 2] - self.alpha,
                          self.omega_scale * x[..., 3]], axis=-1)
 
     def to_dimensional(self, z: Any) -> np.ndarray:
-        """Inverse of :meth:`to_nondimensional`."""
-        z = np.asarray(z)
+        """Inverse of :meth:`to_nondimensional`; shape ``(..., 4)``."""
+        z = trailing_array("z", z, 4)
         return np.stack([self.speed * (1 + z[..., 0]), z[..., 1] + self.gamma, z[..., 2] + self.alpha,
                          z[..., 3] / self.omega_scale], axis=-1)
 
     # ---------------------------------------------------------------- compact form (5.28)-(5.29)
     def _rates(self, p: Any, q: Any) -> tuple[Any, Any, Any, Any]:
-        z = np.concatenate([np.asarray(p), np.asarray(q)], axis=-1)
+        p, q = trailing_array("p", p, 2), trailing_array("q", q, 2)
+        z = np.concatenate(np.broadcast_arrays(p, q), axis=-1)
         d = self.glider.rhs(self.to_dimensional(z))
         return d[..., 0], d[..., 1], d[..., 2], d[..., 3]
 
@@ -165,15 +171,15 @@ class NondimensionalScaling:
         return np.diag([self.r1, self.r2])
 
     def full_rhs_nondimensional(self, z: Any) -> np.ndarray:
-        """``dz/dt_n`` for ``z = (p, q)``: ``(f, A g / mu)``."""
-        z = np.asarray(z)
+        """``dz/dt_n`` for ``z = (p, q)`` (shape ``(..., 4)``): ``(f, A g / mu)``."""
+        z = trailing_array("z", z, 4)
         p, q = z[..., :2], z[..., 2:]
         gg = self.g(p, q)
         return np.concatenate([self.f(p, q), gg * np.array([self.r1, self.r2]) / self.mu], axis=-1)
 
     def reduced_rhs(self, p: Any) -> np.ndarray:
-        """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``."""
-        p = np.asarray(p)
+        """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``, ``p`` of shape ``(..., 2)``."""
+        p = trailing_array("p", p, 2)
         return self.f(p, np.zeros_like(p))
 
     def boundary_layer_rhs(self, p: Any, q: Any) -> np.ndarray:
@@ -199,8 +205,8 @@ class NondimensionalModel:
     scaling : NondimensionalScaling
         Steady glide (m/s, rad), slow time scale ``tau_s`` (s) and small parameters of the glider.
     kind : {"reduced", "full"}
-        ``"reduced"``: states ``(Vbar, gammabar)`` (5.33); any other value: the full model (5.28)-(5.29), states
-        ``(Vbar, gammabar, alphabar, Omegabar2)``. Not validated.
+        ``"reduced"``: states ``(Vbar, gammabar)`` (5.33); ``"full"``: the full model (5.28)-(5.29), states
+        ``(Vbar, gammabar, alphabar, Omegabar2)``.
     state_names : tuple of str
         Names of the nondimensional states (must match ``kind``); all are dimensionless.
     box : tuple of ndarray
@@ -222,6 +228,14 @@ class NondimensionalModel:
         The vehicle's parameter hash.
     equilibrium : ndarray
         Zeros (the steady glide in nondimensional states).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``scaling`` is not a :class:`NondimensionalScaling`.
+    ArgumentError
+        If ``kind`` is not ``"reduced"`` or ``"full"``, ``state_names`` does not have its 2 or 4 names, or ``box``
+        is not ``(lo, hi)`` with ``lo < hi``.
     """
 
     scaling: NondimensionalScaling = field(repr=False)
@@ -232,6 +246,16 @@ class NondimensionalModel:
     positive_state: int = 0
     time_unit: str = "t_n"
     input_names: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        require_instance("scaling", self.scaling, NondimensionalScaling)
+        checks.choice("kind", self.kind, ("reduced", "full"))
+        n = 2 if self.kind == "reduced" else 4
+        if len(self.state_names) != n:
+            raise ArgumentError(f"a {self.kind} model has {n} states, got state_names {tuple(self.state_names)}")
+        b = checks.array("box", self.box, shape=(2, n))
+        if not np.all(b[0] < b[1]):
+            raise ArgumentError(f"box must be (lo, hi) with lo < hi in every state, got {self.box!r}")
 
     @property
     def name(self) -> str:
@@ -247,7 +271,14 @@ class NondimensionalModel:
         return np.zeros(len(self.state_names))
 
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:
-        """``dx/dt_n`` (``u`` is ignored: the model has no inputs)."""
+        """``dx/dt_n`` for ``x`` of shape ``(..., 2)`` (reduced) or ``(..., 4)`` (full); ``u`` is ignored (the model
+        has no inputs).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` is not an array of numbers with that trailing dimension.
+        """
         if self.kind == "reduced":
             return self.scaling.reduced_rhs(x)
         return self.scaling.full_rhs_nondimensional(x)
@@ -274,8 +305,12 @@ class SlowModel:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle or ``alpha`` is not a real number.
+    ArgumentError
+        If ``alpha`` is not finite.
     ModelError
-        If the vehicle is not accepted by :class:`ReducedLongitudinalGlider` or ``alpha`` is not a finite number.
+        If the vehicle is not accepted by :class:`ReducedLongitudinalGlider`.
     """
 
     vehicle: Vehicle
@@ -285,13 +320,18 @@ class SlowModel:
 
     def __post_init__(self) -> None:
         ReducedLongitudinalGlider(self.vehicle)  # same validity conditions
-        if not (isinstance(self.alpha, (int, float, np.floating)) and math.isfinite(self.alpha)):
-            raise ModelError(f"alpha must be a finite number of radians, got {self.alpha!r}")
+        object.__setattr__(self, "alpha", angle_arg("alpha", self.alpha))
 
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:
         """``(V', gamma')`` (m/s^2, rad/s) at ``(V, gamma)`` (m/s, rad), ``x`` of shape ``(..., 2)`` (``u`` is
-        ignored: the model has no inputs)."""
-        x = np.asarray(x)
+        ignored: the model has no inputs).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` is not an array of numbers with a trailing dimension 2.
+        """
+        x = trailing_array("x", x, 2, self.state_names)
         full = np.stack([x[..., 0], x[..., 1], np.full_like(x[..., 0], self.alpha),
                          np.zeros_like(x[..., 0])], axis=-1)
         return ReducedLongitudinalGlider(self.vehicle).rhs(full)[..., :2]

@@ -38,9 +38,10 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._checks import positive_number
-from ..errors import InfeasibleGlideError, ModelError
+from .. import checks
+from ..errors import InfeasibleGlideError, ModelError, SolverError
 from ..params import Vehicle
+from ._validate import angle_arg, numeric_array, require_instance, trailing_array
 
 __all__ = [
     "C_STEADY",
@@ -77,7 +78,9 @@ class PhugoidModel:
 
     Raises
     ------
-    ModelError
+    ArgumentTypeError
+        A parameter is not a real number, or ``vehicle`` is not a Vehicle.
+    ArgumentError
         A parameter is not a positive finite number.
     """
 
@@ -92,7 +95,9 @@ class PhugoidModel:
     def __post_init__(self) -> None:
         for name, what in (("mass", "m1 + mbar in kg"), ("m0", "net buoyancy in kg; m0 > 0 means heavy"),
                            ("K", "lift coefficient K_L0 + K_L alpha in kg/m"), ("g", "gravity in m/s^2")):
-            object.__setattr__(self, name, positive_number(f"phugoid model: {name} ({what})", getattr(self, name)))
+            object.__setattr__(self, name, checks.positive(f"phugoid model: {name} ({what})", getattr(self, name)))
+        if self.vehicle is not None:
+            checks.vehicle("vehicle", self.vehicle)
 
     @classmethod
     def from_vehicle(cls, veh: Vehicle, alpha: float, m0: float | None = None) -> PhugoidModel:
@@ -115,14 +120,20 @@ class PhugoidModel:
 
         Raises
         ------
+        ArgumentTypeError
+            ``veh`` is not a Vehicle, or ``alpha`` or ``m0`` is not a real number.
+        ArgumentError
+            ``alpha`` is not finite (``|alpha| <= pi/2``), or ``m0`` is not a positive finite number.
         ModelError
             Not an underwater glider, ``m1 != m3`` (assumption 3), no ``m0`` available, or ``K <= 0``.
         """
+        checks.vehicle("veh", veh)
         if veh.kind != "underwater_glider":
             raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}; the phugoid model of §4.1 is built from an "
                              "underwater glider (for an aircraft use PhugoidModel(mass=m, m0=m, K=...) directly)")
-        if not (isinstance(alpha, int | float) and math.isfinite(alpha)):
-            raise ModelError(f"angle of attack alpha must be a finite number of radians, got {alpha!r}")
+        alpha = angle_arg("angle of attack alpha", alpha, math.pi / 2)
+        if m0 is not None:
+            m0 = checks.positive("m0 (net buoyancy, heavy)", m0, unit="kg")
         if m0 is None:
             if not veh.has("m0"):
                 raise ModelError(f"vehicle '{veh.name}' has no nominal m0: pass m0=... (kg) to "
@@ -155,8 +166,13 @@ class PhugoidModel:
         -------
         ndarray, shape (..., 4)
             ``(xdot, zdot, xddot, zddot)`` in (m/s, m/s, m/s^2, m/s^2).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` is not an array of numbers with a trailing dimension 4.
         """
-        x = np.asarray(x)
+        x = trailing_array("x", x, 4, self.state_names)
         xd, zd = x[..., 2], x[..., 3]
         V = np.sqrt(xd * xd + zd * zd)
         return np.stack(np.broadcast_arrays(
@@ -193,7 +209,7 @@ class PhugoidModel:
         x : array_like, shape (..., 4)
             State ``(x, z, xdot, zdot)`` (m, m, m/s, m/s).
         """
-        x = np.asarray(x)
+        x = trailing_array("x", x, 4, self.state_names)
         return 0.5 * self.mass * (x[..., 2] ** 2 + x[..., 3] ** 2) - self.m0 * self.g * x[..., 1]
 
     def lanchester_C(self, x: Any) -> Any:
@@ -206,7 +222,7 @@ class PhugoidModel:
         x : array_like, shape (..., 4)
             State ``(x, z, xdot, zdot)`` (m, m, m/s, m/s).
         """
-        x = np.asarray(x)
+        x = trailing_array("x", x, 4, self.state_names)
         xe = self.xdot_e
         v2 = (x[..., 2] ** 2 + x[..., 3] ** 2) / xe**2
         return x[..., 2] / xe - v2 * np.sqrt(v2) / 3.0
@@ -221,7 +237,7 @@ class PhugoidModel:
         xdot, zdot : array_like
             Velocity components (m/s); broadcast together.
         """
-        xdot, zdot = np.asarray(xdot), np.asarray(zdot)
+        xdot, zdot = numeric_array("xdot", xdot), numeric_array("zdot", zdot)
         v2 = xdot * xdot + zdot * zdot
         return self.K * v2 * np.sqrt(v2) / (3.0 * self.mass) - self.m0 * self.g * xdot / self.mass
 
@@ -252,9 +268,11 @@ class PhugoidClass(StrEnum):
 
 
 def _check_C(C: Any) -> float:
-    if isinstance(C, bool) or not isinstance(C, int | float | np.integer | np.floating) or not math.isfinite(C):
-        raise InfeasibleGlideError(f"Lanchester's C must be a finite number, got {C!r}")
-    return float(C)
+    return checks.real("Lanchester's C", C)
+
+
+def _check_model(model: Any) -> PhugoidModel:
+    return require_instance("model", model, PhugoidModel, " (gc.PhugoidModel(...) or PhugoidModel.from_vehicle)")
 
 
 def classify_C(C: float, tol: float = 1e-9) -> PhugoidClass:
@@ -275,12 +293,15 @@ def classify_C(C: float, tol: float = 1e-9) -> PhugoidClass:
 
     Raises
     ------
+    ArgumentTypeError
+        ``C`` or ``tol`` is not a real number.
+    ArgumentError
+        ``C`` is not finite, or ``tol`` is not in ``[0, 1/3)``.
     InfeasibleGlideError
-        ``C > 2/3 + tol`` (no state has it) or C not finite; ``tol`` negative or not below 1/3.
+        ``C > 2/3 + tol`` (no state has it).
     """
     C = _check_C(C)
-    if not (0 <= tol < C_STEADY / 2):
-        raise InfeasibleGlideError(f"tolerance must be in [0, 1/3), got {tol!r}")
+    tol = checks.real("tol", tol, lo=0.0, hi=C_STEADY / 2, hi_open=True)
     if C > C_STEADY + tol:
         raise InfeasibleGlideError(f"C = {C:.6g} > 2/3: no phugoid state has it (C <= 2/3, with equality only at "
                                    "steady level flight)")
@@ -344,20 +365,23 @@ def initial_state_for_C(model: PhugoidModel, C: float, *, x0: float = 0.0, z0: f
 
     Raises
     ------
+    ArgumentTypeError
+        ``model`` is not a PhugoidModel, or ``C``, ``x0``, ``z0``, ``tol`` not real numbers.
+    ArgumentError
+        ``C``, ``x0`` or ``z0`` is not finite, ``tol`` is not in ``[0, 1/3)``, or ``branch`` is unknown.
     InfeasibleGlideError
-        ``C > 2/3`` (no trajectory has it), C not finite, or an unknown branch.
+        ``C > 2/3`` (no trajectory has it).
     """
+    _check_model(model)
     C = _check_C(C)
+    x0, z0 = checks.real("x0", x0, unit="m"), checks.real("z0", z0, unit="m")
+    tol = checks.real("tol", tol, lo=0.0, hi=C_STEADY / 2, hi_open=True)
+    checks.choice("branch", branch, ("fast", "slow"))
     if C > C_STEADY + tol:
         raise InfeasibleGlideError(f"no phugoid trajectory has C = {C:.6g}: C <= 2/3 for every state (C = 2/3 is "
                                    "steady level flight); request C <= 2/3")
-    if branch == "fast":
-        s = _fast_root(C)
-    elif branch == "slow":
-        s = _slow_root(C)
-    else:
-        raise InfeasibleGlideError(f"branch must be 'fast' or 'slow', got {branch!r}")
-    return np.array([float(x0), float(z0), s * model.xdot_e, 0.0])
+    s = _fast_root(C) if branch == "fast" else _slow_root(C)
+    return np.array([x0, z0, s * model.xdot_e, 0.0])
 
 
 def orbit_period(model: PhugoidModel, C: float, tol: float = 1e-12) -> float:
@@ -386,12 +410,22 @@ def orbit_period(model: PhugoidModel, C: float, tol: float = 1e-12) -> float:
 
     Raises
     ------
+    ArgumentTypeError
+        ``model`` is not a PhugoidModel, or ``C`` or ``tol`` not a real number.
+    ArgumentError
+        ``C`` is not finite, or ``tol`` is not in ``[0, 1/3)``.
     InfeasibleGlideError
-        ``C > 2/3 + tol`` or not finite.
+        ``C > 2/3 + tol``.
+    SolverError
+        The quadrature does not reach its tolerance (it always does for finite ``C``; a safeguard).
     """
-    from scipy.integrate import quad
+    import warnings
 
+    from scipy.integrate import IntegrationWarning, quad
+
+    _check_model(model)
     C = _check_C(C)
+    tol = checks.real("tol", tol, lo=0.0, hi=C_STEADY / 2, hi_open=True)
     if C > C_STEADY + tol:
         raise InfeasibleGlideError(f"no phugoid orbit has C = {C:.6g} > 2/3")
     C = min(C, C_STEADY)
@@ -408,6 +442,13 @@ def orbit_period(model: PhugoidModel, C: float, tol: float = 1e-12) -> float:
             q2 = v * v + v_lo * v + v_lo * v_lo + 3.0  # (v^3 + 3v + 3C) / (v - v_lo)
             return 3.0 * v / math.sqrt(q1 * q2)
 
-    val, _ = quad(lambda phi: g(v_lo + 0.5 * (v_hi - v_lo) * (1.0 - math.cos(phi))), 0.0, math.pi,
-                  epsabs=1e-13, epsrel=1e-12, limit=200)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", IntegrationWarning)
+        try:
+            val, _ = quad(lambda phi: g(v_lo + 0.5 * (v_hi - v_lo) * (1.0 - math.cos(phi))), 0.0, math.pi,
+                          epsabs=1e-13, epsrel=1e-12, limit=200)
+        except (IntegrationWarning, ValueError, ZeroDivisionError, OverflowError) as exc:
+            raise SolverError(f"the period integral of the phugoid orbit C = {C:.6g} did not converge: {exc}") from exc
+    if not math.isfinite(val):
+        raise SolverError(f"the period integral of the phugoid orbit C = {C:.6g} is not finite")
     return 2.0 * model.time_scale * val

@@ -74,7 +74,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ModelError
+from ._validate import require_instance
 from .phugoid import PhugoidModel
 
 __all__ = [
@@ -123,10 +125,14 @@ def _stack(*cols: Any) -> Any:
 
 
 def _state(x: Any) -> np.ndarray:
-    x = np.asarray(x, dtype=float)
+    x = checks.array("phugoid state x", x)
     if x.shape[-1:] != (4,):
-        raise ModelError(f"phugoid state must have last dimension 4 (x, z, xdot, zdot), got shape {x.shape}")
+        raise ArgumentError(f"phugoid state must have last dimension 4 (x, z, xdot, zdot), got shape {x.shape}")
     return x
+
+
+def _model(model: Any) -> PhugoidModel:
+    return require_instance("model", model, PhugoidModel)
 
 
 # ------------------------------------------------------------------------------------ (a) canonical 2-D form
@@ -147,6 +153,7 @@ def canonical_field(model: PhugoidModel, xdot: Any, zdot: Any) -> tuple[np.ndarr
     (ndarray, ndarray)
         ``(d xdot/dt, d zdot/dt)`` in m/s^2.
     """
+    _model(model)
     w = _stack(np.asarray(xdot, dtype=float), np.asarray(zdot, dtype=float))
     dH = _grad(lambda v: model.H_canonical(v[..., 0], v[..., 1]), w)
     return dH[..., 1], -dH[..., 0]
@@ -154,6 +161,7 @@ def canonical_field(model: PhugoidModel, xdot: Any, zdot: Any) -> tuple[np.ndarr
 
 def canonical_vector_field(model: PhugoidModel, x: Any) -> np.ndarray:
     """The field of (4.7)-(4.8) on the full state, positions reconstructed by (4.1)-(4.2), shape (..., 4)."""
+    _model(model)
     x = _state(x)
     a, b = canonical_field(model, x[..., 2], x[..., 3])
     return _stack(x[..., 2], x[..., 3], a, b)
@@ -185,6 +193,7 @@ def omega_B(model: PhugoidModel, x: Any, *, printed: bool = False) -> np.ndarray
     -------
     ndarray, shape (..., 4, 4)
     """
+    _model(model)
     x = _state(x)
     V = np.sqrt(x[..., 2] ** 2 + x[..., 3] ** 2)
     dx, dz, dxd, dzd = np.eye(4)
@@ -216,6 +225,7 @@ def symplectic_field(model: PhugoidModel, x: Any, *, printed: bool = False) -> n
     ndarray, shape (..., 4)
         ``(xdot, zdot, xddot, zddot)`` in (m/s, m/s, m/s^2, m/s^2).
     """
+    _model(model)
     x = _state(x)
     dH = _grad(model.energy, x)
     om = omega_B(model, x, printed=printed)
@@ -238,8 +248,17 @@ def charged_particle_omega(mass: float, charge: float, B: Any) -> np.ndarray:
     -------
     ndarray, shape (..., 6, 6)
         ``[[-q B^, m I], [-m I, 0]]`` with ``B^`` the skew matrix of B, as printed in (4.13).
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``mass`` is not a positive finite number, ``charge`` not a finite number, or ``B`` not finite of shape
+        ``(..., 3)``.
     """
-    B = np.asarray(B, dtype=float)
+    mass, charge = checks.positive("mass", mass, unit="kg"), checks.real("charge", charge, unit="C")
+    B = checks.array("B", B)
+    if B.shape[-1:] != (3,):
+        raise ArgumentError(f"B must have shape (..., 3), got {B.shape}")
     bx, by, bz = B[..., 0], B[..., 1], B[..., 2]
     out = np.zeros((*B.shape[:-1], 6, 6))
     out[..., 0, 1], out[..., 0, 2], out[..., 1, 2] = -charge * bz, charge * by, -charge * bx
@@ -270,8 +289,18 @@ def charged_particle_field(state: Any, mass: float, charge: float, B: Callable[[
     Returns
     -------
     ndarray, shape (..., 6)
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``state`` is not finite of shape ``(..., 6)``, ``B`` is not callable, or ``mass``, ``charge``, ``g`` are
+        not valid numbers (see :func:`charged_particle_omega`).
     """
-    s = np.asarray(state, dtype=float)
+    s = checks.array("state", state)
+    if s.shape[-1:] != (6,):
+        raise ArgumentError(f"state must have shape (..., 6), got {s.shape}")
+    checks.function("B", B)
+    g = checks.real("g", g, unit="m/s^2")
     dH = _grad(lambda w: 0.5 * mass * (w[..., 3] ** 2 + w[..., 4] ** 2 + w[..., 5] ** 2) - mass * g * w[..., 2], s)
     om = charged_particle_omega(mass, charge, B(s))
     return np.linalg.solve(np.swapaxes(om, -1, -2), dH[..., None])[..., 0]
@@ -293,6 +322,7 @@ def vector_potential(model: PhugoidModel, q: Any) -> Any:
     ModelError
         Some ``z < 0``.
     """
+    _model(model)
     q = np.asarray(q)
     z = q[..., 1]
     if np.any(np.real(z) < 0):
@@ -314,6 +344,7 @@ def lagrangian(model: PhugoidModel, q: Any, qdot: Any) -> Any:
     qdot : array_like, shape (..., 2)
         ``(xdot, zdot)`` (m/s).
     """
+    _model(model)
     q, qdot = np.asarray(q), np.asarray(qdot)
     A = vector_potential(model, q)
     return (0.5 * model.mass * np.sum(qdot * qdot, axis=-1) + model.K * np.sum(A * qdot, axis=-1)
@@ -339,6 +370,7 @@ def euler_lagrange_field(model: PhugoidModel, x: Any) -> np.ndarray:
     -------
     ndarray, shape (..., 4)
     """
+    _model(model)
     x = _state(x)
     q, qd = x[..., :2], x[..., 2:]
     J = _jac(lambda w: vector_potential(model, w), q)
@@ -357,6 +389,7 @@ def zero_energy_shift(model: PhugoidModel, x: Any) -> np.ndarray:
     model : PhugoidModel
     x : array_like, shape (..., 4)
     """
+    _model(model)
     x = _state(x).copy()
     x[..., 1] += model.energy(x) / (model.m0 * model.g)
     return x
@@ -372,6 +405,7 @@ def to_canonical(model: PhugoidModel, x: Any) -> Any:
     x : array_like, shape (..., 4)
         State with ``z >= 0``; may be complex.
     """
+    _model(model)
     x = np.asarray(x)
     A = vector_potential(model, x[..., :2])
     return np.concatenate([x[..., :2], model.mass * x[..., 2:] + model.K * A], axis=-1)
@@ -379,6 +413,7 @@ def to_canonical(model: PhugoidModel, x: Any) -> Any:
 
 def from_canonical(model: PhugoidModel, y: Any) -> Any:
     """Inverse of :func:`to_canonical`, ``qdot = (p - K A(q)) / m`` (4.45); ``y = (q, p)``, shape (..., 4)."""
+    _model(model)
     y = np.asarray(y)
     A = vector_potential(model, y[..., :2])
     return np.concatenate([y[..., :2], (y[..., 2:] - model.K * A) / model.mass], axis=-1)
@@ -386,6 +421,7 @@ def from_canonical(model: PhugoidModel, y: Any) -> Any:
 
 def legendre_hamiltonian(model: PhugoidModel, y: Any) -> Any:
     """Canonical Hamiltonian (4.44), ``H(q, p) = |p - K A(q)|^2 / (2 m) - m0 g z`` (J); ``y = (x, z, p1, p2)``."""
+    _model(model)
     y = np.asarray(y)
     r = y[..., 2:] - model.K * vector_potential(model, y[..., :2])
     return np.sum(r * r, axis=-1) / (2.0 * model.mass) - model.m0 * model.g * y[..., 1]
@@ -407,6 +443,7 @@ def legendre_field(model: PhugoidModel, y: Any) -> np.ndarray:
     ndarray, shape (..., 4)
         ``(xdot, zdot, p1dot, p2dot)``.
     """
+    _model(model)
     y = np.asarray(y, dtype=float)
     dH = _grad(lambda w: legendre_hamiltonian(model, w), y)
     return np.concatenate([dH[..., 2:], -dH[..., :2]], axis=-1)
@@ -418,10 +455,12 @@ def pdot_as_printed(model: PhugoidModel, y: Any, line: int = 1) -> np.ndarray:
     ``line=1``: ``-(1/m) J_A^T (p - K A) + (0, m0 g)``; ``line=2``:
     ``(0, -sqrt(2 m0 g z)/sqrt(m) (p1 - K A1) + m0 g)``. Both are wrong (kg m/s^2).
     """
+    _model(model)
     y = np.asarray(y, dtype=float)
     q, p = y[..., :2], y[..., 2:]
     r = p - model.K * vector_potential(model, q)
     mg = _stack(np.zeros(y.shape[:-1]), np.full(y.shape[:-1], model.m0 * model.g))
+    checks.choice("line", line, (1, 2))
     if line == 1:
         J = _jac(lambda w: vector_potential(model, w), q)
         return -np.einsum("...ji,...j->...i", J, r) / model.mass + mg
@@ -429,7 +468,7 @@ def pdot_as_printed(model: PhugoidModel, y: Any, line: int = 1) -> np.ndarray:
         z = q[..., 1]
         second = -np.sqrt(2.0 * model.m0 * model.g * z) / math.sqrt(model.mass) * r[..., 0]
         return mg + _stack(np.zeros_like(second), second)
-    raise ModelError(f"(4.46) has two lines, got line={line!r}")
+    raise AssertionError("unreachable")  # pragma: no cover
 
 
 def legendre_vector_field(model: PhugoidModel, x: Any) -> np.ndarray:
@@ -448,6 +487,7 @@ def legendre_vector_field(model: PhugoidModel, x: Any) -> np.ndarray:
     -------
     ndarray, shape (..., 4)
     """
+    _model(model)
     x = _state(x)
     y = to_canonical(model, x)
     Y = legendre_field(model, y)
@@ -478,9 +518,14 @@ class PendulumAnalogue:
     gravity: float
     mass: float
 
+    def __post_init__(self) -> None:
+        for k, unit in (("length", "m"), ("gravity", "m/s^2"), ("mass", "kg")):
+            object.__setattr__(self, k, checks.positive(k, getattr(self, k), unit=unit))
+
     @classmethod
     def from_model(cls, model: PhugoidModel) -> PendulumAnalogue:
         """The pendulum of §4.3.4 for a phugoid model: ``l = m/K``, ``g_p = m0 g/m``, bob mass ``m``."""
+        _model(model)
         return cls(model.mass / model.K, model.m0 * model.g / model.mass, model.mass)
 
     def state(self, theta: Any, theta_dot: Any) -> np.ndarray:

@@ -14,7 +14,10 @@ from typing import Any
 
 import numpy as np
 
+from .. import checks
+from ..errors import ArgumentTypeError
 from ..params import Vehicle
+from ._validate import trailing_array
 from .longitudinal import ACCEL_STATES, AccelerationControlledGlider
 
 __all__ = ["RealizedTorqueLoop"]
@@ -45,22 +48,43 @@ class RealizedTorqueLoop:
     ----------
     vehicle : Vehicle
         The controller's vehicle.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``controller`` is not callable or has no ``vehicle`` Vehicle.
+    ModelError
+        If that vehicle is not a glider with a moving mass (:class:`AccelerationControlledGlider`).
     """
 
     controller: Callable[[float, Any], Any]
     state_names: tuple[str, ...] = ACCEL_STATES[2:]
     input_names: tuple[str, ...] = ()
 
+    def __post_init__(self) -> None:
+        checks.function("controller", self.controller)
+        veh = getattr(self.controller, "vehicle", None)
+        if veh is None:
+            raise ArgumentTypeError(f"controller {type(self.controller).__name__} has no 'vehicle' attribute (use "
+                                    "glidectl.controllers.moving_mass.MovingMassTorque)")
+        AccelerationControlledGlider(veh)
+
     @property
     def vehicle(self) -> Vehicle:
         return self.controller.vehicle  # type: ignore[attr-defined]
 
     def full_state(self, y: Any) -> np.ndarray:
-        """Pad ``(theta, ...)`` with ``x = z = 0`` to the 11-state acceleration form."""
-        y = np.asarray(y)
+        """Pad ``(theta, ...)`` (shape ``(..., 9)``) with ``x = z = 0`` to the 11-state acceleration form."""
+        y = trailing_array("y", y, 9, self.state_names)
         return np.concatenate([np.zeros((*y.shape[:-1], 2), dtype=y.dtype), y], axis=-1)
 
     def rhs(self, y: Any, u: Any = None) -> np.ndarray:
-        """Closed-loop derivative of the 9 states, ``y`` of shape ``(..., 9)`` (``u`` ignored)."""
+        """Closed-loop derivative of the 9 states, ``y`` of shape ``(..., 9)`` (``u`` ignored).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``y`` is not an array of numbers with a trailing dimension 9.
+        """
         xa = self.full_state(y)
         return AccelerationControlledGlider(self.vehicle).rhs(xa, self.controller(0.0, xa))[..., 2:]

@@ -24,6 +24,7 @@ import numpy as np
 from ..errors import ModelError
 from ..hydro import loads_at
 from ..params import Vehicle
+from ._validate import numeric_array, require_glider, trailing_array
 
 __all__ = ["REDUCED_STATES", "REDUCED_UNITS", "ReducedLongitudinalGlider"]
 
@@ -41,6 +42,14 @@ class ReducedLongitudinalGlider:
         Underwater glider; uses ``m1, m3`` (or the added-mass model), ``mbar``, ``J2``, ``m0``, ``g`` and the
         hydrodynamic coefficients. The effective translational masses are ``M_i = m_i + mbar`` (the moving mass
         rides with the hull); for the chapter-5 sphere ``mbar = 0`` and ``M_i = m_i = 28 kg``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
+    ModelError
+        If it is not an underwater glider, has no ``m0`` or ``m0 = 0``, or its translational masses ``M_i`` at
+        ``m0`` are not positive.
     """
 
     vehicle: Vehicle
@@ -48,12 +57,14 @@ class ReducedLongitudinalGlider:
     input_names: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
-        v = self.vehicle
-        if v.kind != "underwater_glider":
-            raise ModelError(f"vehicle '{v.name}' is a {v.kind}, not an underwater glider")
+        v = require_glider(self.vehicle)
         if v.m0 == 0:
             raise ModelError(f"vehicle '{v.name}' has m0 = 0: chapter 5 needs a constant nonzero buoyancy mass "
                              "(assumption 2 of §5.1); set m0 in the file or as an override")
+        masses = self.masses
+        if not min(masses) > 0:
+            raise ModelError(f"vehicle '{v.name}' has translational masses M1, M3 = {masses} kg at m0 = {v.m0:g} kg: "
+                             "they must be positive (the ballast cannot be that light)")
 
     @property
     def masses(self) -> tuple[float, float]:
@@ -72,15 +83,15 @@ class ReducedLongitudinalGlider:
 
         ``m0`` (kg, scalar or broadcastable to ``x[..., 0]``, may be complex) replaces the vehicle's buoyancy mass
         in the weight and, for the ``added`` mass model, in the masses (used by the buoyancy-controlled models of
-        chapter 6, where ``m0`` is a state); default the vehicle's ``m0``.
+        chapter 6, where ``m0`` is a state); default the vehicle's ``m0``. ``x`` has shape ``(..., 4)``.
         """
-        x = np.asarray(x)
+        x = trailing_array("x", x, 4, REDUCED_STATES)
         veh = self.vehicle
         if m0 is None:
             M1, M3 = self.masses
             m0 = veh.m0
         else:
-            m0 = np.asarray(m0)
+            m0 = numeric_array("m0", m0)
             M1, M3 = veh.mass(1, m0) + veh.mbar, veh.mass(3, m0) + veh.mbar
         V, gam, al, Om = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
         sa, ca = np.sin(al), np.cos(al)
@@ -102,8 +113,13 @@ class ReducedLongitudinalGlider:
         u : ignored (the model has no inputs; accepted for :func:`glidectl.sim.simulate`)
         m0 : array_like, optional
             Buoyancy mass (kg) per state, see :meth:`body_rates`; default the vehicle's.
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` is not an array of numbers with a trailing dimension 4.
         """
-        x = np.asarray(x)
+        x = trailing_array("x", x, 4, self.state_names)
         V, al, Om = x[..., 0], x[..., 2], x[..., 3]
         v1d, v3d, Omd = self.body_rates(x, m0)
         sa, ca = np.sin(al), np.cos(al)
@@ -131,7 +147,8 @@ class ReducedLongitudinalGlider:
             a -= step
             if abs(step) < 1e-15:
                 break
-        if not (abs(v.K_M0 + v.K_M * a + dm * np.sin(a) * np.cos(a)) < 1e-12 and abs(a) < np.pi / 4):
+        scale = abs(v.K_M0) + abs(v.K_M * a) + abs(dm * np.sin(a) * np.cos(a))  # the moments balanced (kg)
+        if not (abs(v.K_M0 + v.K_M * a + dm * np.sin(a) * np.cos(a)) <= 1e-12 * scale and abs(a) < np.pi / 4):
             raise ModelError(f"no equilibrium angle of attack from (5.90) for vehicle '{v.name}' (Delta m = {dm:g} "
                              "kg): Newton's method did not converge to |alpha_e| < pi/4")
         return float(a)

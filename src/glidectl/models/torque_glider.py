@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GlidectlError
 from ..params import Vehicle
+from ._validate import trailing_array
 from .reduced import REDUCED_STATES, ReducedLongitudinalGlider
 
 __all__ = ["TORQUE_INPUTS", "TorqueControlledGlider"]
@@ -33,6 +33,13 @@ class TorqueControlledGlider:
     ----------
     vehicle : Vehicle
         Underwater glider accepted by :class:`ReducedLongitudinalGlider` (``m0 != 0``).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``vehicle`` is not a Vehicle.
+    ModelError
+        If :class:`ReducedLongitudinalGlider` refuses it.
     """
 
     vehicle: Vehicle
@@ -56,11 +63,14 @@ class TorqueControlledGlider:
             State (m/s, rad, rad, rad/s).
         u : array_like, shape (..., 1)
             Control torque (N m).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
         """
-        x = np.asarray(x)
-        u = np.asarray(u)
+        x = trailing_array("x", x, 4, self.state_names)
+        u = trailing_array("torque input u (N m)", u, 1, self.input_names)
         d = self.open_loop.rhs(x)
-        if u.shape[-1:] != (1,):
-            raise GlidectlError(f"torque input must have a trailing dimension 1 (N m), got shape {u.shape}")
         zero = np.zeros((*np.broadcast_shapes(x.shape[:-1], u.shape[:-1]), 3))
         return d + np.concatenate([zero, u[..., :1] / self.vehicle.J2], axis=-1)

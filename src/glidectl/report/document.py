@@ -23,6 +23,7 @@ from typing import Any
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
 
+from ..errors import ArgumentError, ArgumentTypeError, OutputError
 from ..params import Vehicle
 
 __all__ = ["BHATTA_2006", "Number", "Report"]
@@ -144,8 +145,9 @@ class Report:
 
     Raises
     ------
-    TypeError
-        If ``title`` is not a string or ``vehicle`` is not a :class:`~glidectl.Vehicle` (or a sequence of them).
+    ArgumentTypeError
+        If ``title`` or ``reference`` is not a string or ``vehicle`` is not a :class:`~glidectl.Vehicle` (or a
+        sequence of them); also a :class:`TypeError`.
 
     Examples
     --------
@@ -157,12 +159,16 @@ class Report:
     def __init__(self, title: str, vehicle: Vehicle | Sequence[Vehicle] | None = None,
                  reference: str | None = None) -> None:
         if not isinstance(title, str):
-            raise TypeError(f"Report title must be a string, got {title!r}")
+            raise ArgumentTypeError(f"Report title must be a string, got {title!r}")
+        ok = vehicle is None or isinstance(vehicle, Vehicle) or (
+            isinstance(vehicle, Sequence) and not isinstance(vehicle, str)
+            and all(isinstance(v, Vehicle) for v in vehicle))
+        if not ok:
+            hint = f" (load it first: gc.load_vehicle({vehicle!r}))" if isinstance(vehicle, str) else ""
+            raise ArgumentTypeError(f"Report vehicle must be a glidectl Vehicle or a sequence of them{hint}")
         vehicles = [] if vehicle is None else [vehicle] if isinstance(vehicle, Vehicle) else list(vehicle)
-        if not all(isinstance(v, Vehicle) for v in vehicles):
-            raise TypeError("Report vehicle must be a glidectl Vehicle or a sequence of them")
         if reference is not None and not isinstance(reference, str):
-            raise TypeError(f"Report reference must be a string, got {reference!r}")
+            raise ArgumentTypeError(f"Report reference must be a string, got {reference!r}")
         self.title = title
         self.reference = reference
         self.vehicles: list[Vehicle] = vehicles
@@ -205,12 +211,21 @@ class Report:
 
         Raises
         ------
-        ValueError
-            If an entry called ``name`` already exists.
+        ArgumentTypeError
+            If ``name``, ``unit``, ``source`` or ``note`` is not a string.
+        ArgumentError
+            If an entry called ``name`` already exists, or ``tolerance`` is not a positive finite number.
         """
+        for key, val in (("name", name), ("unit", unit), ("source", source), ("note", note)):
+            if not isinstance(val, str):
+                raise ArgumentTypeError(f"number {key} must be a string, got {type(val).__name__} {val!r}")
+        if tolerance is not None:
+            from ..checks import positive
+
+            tolerance = positive("tolerance", tolerance)
         n = Number(name, value, unit, source, published=published, tolerance=tolerance, note=note, verdict=verdict)
         if any(m.name == n.name for m in self.numbers):
-            raise ValueError(f"duplicate number {n.name}")
+            raise ArgumentError(f"duplicate number {n.name}")
         self.numbers.append(n)
         return n
 
@@ -228,11 +243,19 @@ class Report:
 
         Raises
         ------
-        ValueError
-            If a figure called ``stem`` already exists.
+        ArgumentTypeError
+            If ``stem`` or ``caption`` is not a string, or ``fig`` is not a matplotlib figure.
+        ArgumentError
+            If a figure called ``stem`` already exists, or ``stem`` is not a plain file stem.
         """
+        if not isinstance(stem, str) or not isinstance(caption, str):
+            raise ArgumentTypeError(f"figure stem and caption must be strings, got {stem!r}, {caption!r}")
+        if not isinstance(fig, Figure):
+            raise ArgumentTypeError(f"figure '{stem}' must be a matplotlib Figure, got {type(fig).__name__}")
+        if not stem or "/" in stem or "\\" in stem or stem in (".", ".."):
+            raise ArgumentError(f"figure stem must be a plain file name without folders, got {stem!r}")
         if any(f[0] == stem for f in self.figures):
-            raise ValueError(f"duplicate figure {stem}")
+            raise ArgumentError(f"duplicate figure {stem}")
         self.figures.append((stem, fig, caption))
 
     def text(self, heading: str, body: str) -> None:
@@ -244,7 +267,15 @@ class Report:
             Section heading.
         body : str
             Section text; blank lines separate paragraphs.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``heading`` or ``body`` is not a string.
         """
+        if not isinstance(heading, str) or not isinstance(body, str):
+            raise ArgumentTypeError(f"text heading and body must be strings, got {type(heading).__name__} and "
+                                    f"{type(body).__name__}")
         self.sections.append((heading, body))
 
     def table(self, caption: str, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
@@ -261,15 +292,22 @@ class Report:
 
         Raises
         ------
-        ValueError
+        ArgumentTypeError
+            If ``caption`` is not a string, or ``header`` or a row is not a sequence.
+        ArgumentError
             If a row's length differs from the header's.
         """
+        if not isinstance(caption, str):
+            raise ArgumentTypeError(f"table caption must be a string, got {caption!r}")
+        if isinstance(header, str) or not isinstance(header, Sequence) or any(
+                isinstance(r, str) or not isinstance(r, Sequence) for r in rows):
+            raise ArgumentTypeError(f"table '{caption}': header and rows must be sequences (lists) of cells")
         header = [str(h) for h in header]
         cells = [[str(c) for c in r] for r in rows]
         bad = [i for i, r in enumerate(cells) if len(r) != len(header)]
         if bad:
-            raise ValueError(f"table '{caption}': row {bad[0]} has {len(cells[bad[0]])} cells, header has "
-                             f"{len(header)}")
+            raise ArgumentError(f"table '{caption}': row {bad[0]} has {len(cells[bad[0]])} cells, header has "
+                                f"{len(header)}")
         self.tables.append((caption, header, cells))
 
     @property
@@ -368,10 +406,23 @@ class Report:
 
         Raises
         ------
-        OSError
-            If ``outdir`` cannot be created or written.
+        OutputError
+            If ``outdir`` cannot be created or written (also an :class:`OSError`).
+        ArgumentTypeError
+            If ``outdir`` is not a path.
         """
+        if not isinstance(outdir, str | Path):
+            raise ArgumentTypeError(f"outdir must be a folder path (str or Path), got {type(outdir).__name__}")
         out = Path(outdir)
+        try:
+            return self._write(out)
+        except OutputError:
+            raise
+        except OSError as exc:
+            raise OutputError(f"cannot write the report to '{out}': {exc.strerror or exc}; choose another "
+                              "folder") from exc
+
+    def _write(self, out: Path) -> Path:
         out.mkdir(parents=True, exist_ok=True)
         (out / "numbers.json").write_text(json.dumps([n.as_json() for n in self.numbers], indent=2))
         for stem, fig, _ in self.figures:

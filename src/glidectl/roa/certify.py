@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -39,15 +40,32 @@ import numpy as np
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.stats import qmc
 
+from .. import checks
 from ..analysis.jacobian import hessian, jacobians
 from ..batch import integrate_batch
-from ..errors import GlidectlError, SolverError
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
 from .sos import GramCheck, LinPoly, SOSProgram
 from .systems import PolySystem, recast
 
-__all__ = ["LevelResult", "ROACertificate", "ROAVerification", "certify_roa", "dVdt", "lyapunov_matrix",
-           "lyapunov_quadratic", "max_level"]
+__all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "ROAVerification", "SOSSize",
+           "certify_roa", "dVdt", "estimate_sos_size", "lyapunov_matrix", "lyapunov_quadratic", "max_level"]
+
+#: Default largest degree of ``V`` that :func:`certify_roa` accepts (its ``max_degree``): degree 8 in 2 variables
+#: takes ~20 s, degree 6 in 3 variables ~10 min, degree 4 in 5 variables hours.
+MAX_DEGREE = 8
+
+#: Default ``memory_limit`` of :func:`certify_roa` and :func:`max_level`: this fraction of the physical memory.
+MEMORY_FRACTION = 0.5
+
+#: Bytes of memory per entry of the dense interior-point blocks of the Gram matrices (sum over Gram matrices of
+#: ``(k (k + 1) / 2)^2``), measured on Clarabel runs of this module (75-95 bytes; rounded up), and the fixed part.
+_BYTES_PER_KKT_ENTRY = 100.0
+_BYTES_FIXED = 20e6
+_BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per Gram entry
+
+#: SDP-capable solvers cvxpy may have installed.
+_SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
 
 
 # --------------------------------------------------------------------------------------------- helpers
@@ -75,7 +93,7 @@ def _degrees(degV: int, degF: int, extra: int = 0) -> _Degrees:
 def _auto_extra(ps: PolySystem, extra: int | None) -> int:
     """Extra multiplier degree: 2 for up to 3 polynomial variables (cheap, removes the dependence on ``N``), else 0
     (larger systems would not fit the SDP solver)."""
-    return (2 if ps.nz <= 3 else 0) if extra is None else int(extra)
+    return (2 if ps.nz <= 3 else 0) if extra is None else checks.integer("extra", extra, lo=0)
 
 
 def _linearization(ps: PolySystem) -> np.ndarray:
@@ -105,16 +123,43 @@ def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
 
     Raises
     ------
-    GlidectlError
-        If ``A`` has an eigenvalue with nonnegative real part (no region of attraction to certify).
+    ModelError
+        If ``A`` has an eigenvalue with real part >= ``-1e-9 max|lambda|`` (unstable, or marginally stable such as a
+        centre: no exponentially stable equilibrium, no region of attraction to certify), or ``ps`` cannot be
+        recast.
+    ArgumentTypeError
+        If ``ps`` is neither a PolySystem nor a model.
+    SolverError
+        If the Lyapunov equation cannot be solved to a positive definite ``P``.
     """
+    ps = recast(ps)
     A = _linearization(ps)
+    _require_exponential_stability(ps, A)
+    try:
+        P = solve_continuous_lyapunov(A.T, -np.eye(ps.n))
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolverError(f"the Lyapunov equation A'P + PA = -I of '{ps.name}' failed: {exc}") from exc
+    P = 0.5 * (P + P.T)
+    if not np.all(np.isfinite(P)) or np.linalg.eigvalsh(P)[0] <= 0:
+        raise SolverError(f"the Lyapunov equation A'P + PA = -I of '{ps.name}' gave a P that is not positive "
+                          "definite (ill-conditioned linearization)")
+    return P
+
+
+def _require_exponential_stability(ps: PolySystem, A: np.ndarray) -> np.ndarray:
+    """The eigenvalues of ``A``; :class:`ModelError` unless every real part is below ``-1e-9 max|lambda|``."""
+    if not np.all(np.isfinite(A)):
+        raise ModelError(f"the linearization of '{ps.name}' at its equilibrium is not finite")
     lam = np.linalg.eigvals(A)
-    if np.max(lam.real) >= 0:
-        raise GlidectlError(f"the equilibrium of '{ps.name}' is not exponentially stable (eigenvalues {lam}): no "
-                            "region of attraction to certify")
-    P = solve_continuous_lyapunov(A.T, -np.eye(ps.n))
-    return 0.5 * (P + P.T)
+    scale = float(np.max(np.abs(lam), initial=0.0))
+    worst = float(np.max(lam.real))
+    if scale == 0.0 or worst >= -1e-9 * scale:
+        kind = ("marginally stable (eigenvalues on the imaginary axis, e.g. a centre)" if abs(worst) <= 1e-9 * scale
+                else "unstable")
+        raise ModelError(f"the equilibrium of '{ps.name}' is not exponentially stable: its linearization is {kind}, "
+                         f"eigenvalues {np.round(lam, 6).tolist()}. A region of attraction is certified only for an "
+                         "exponentially stable equilibrium (every eigenvalue with negative real part)")
+    return lam
 
 
 def lyapunov_quadratic(ps: PolySystem) -> Poly:
@@ -134,9 +179,14 @@ def lyapunov_quadratic(ps: PolySystem) -> Poly:
 
     Raises
     ------
-    GlidectlError
+    ModelError
         If the equilibrium is not exponentially stable (from :func:`lyapunov_matrix`).
+    ArgumentTypeError
+        If ``ps`` is neither a PolySystem nor a model.
+    SolverError
+        If the Lyapunov equation fails.
     """
+    ps = recast(ps)
     P = lyapunov_matrix(ps)
     Z = Poly.variables(ps.nz)
     lin = [Z[sl[0]] for sl in ps.slots]
@@ -185,12 +235,191 @@ def dVdt(V: Poly, lift: Any, rhs: Any, X: Any) -> np.ndarray:
 
     Raises
     ------
-    ValueError
-        If ``X`` is not numeric or the shapes of ``X``, ``rhs(X)`` and ``lift`` do not agree.
+    ArgumentTypeError
+        If ``V`` is not a Poly, ``lift`` or ``rhs`` is not callable, or ``X`` is not numeric.
+    ArgumentError
+        If ``X`` is not a finite (N, n) array, or the shapes of ``X``, ``rhs(X)`` and ``lift`` do not agree.
     """
-    X = np.asarray(X, dtype=float)
+    if not isinstance(V, Poly):
+        raise ArgumentTypeError(f"V must be a glidectl.roa.Poly, got {type(V).__name__}")
+    checks.function("lift", lift)
+    checks.function("rhs", rhs)
+    X = checks.array("X", X, ndim=2)
+    D = np.asarray(rhs(X))
+    if D.shape != X.shape:
+        raise ArgumentError(f"rhs returned shape {D.shape} for states of shape {X.shape}")
     h = 1e-30
-    return np.imag(V(lift(X + 1j * h * np.asarray(rhs(X))))) / h
+    return np.imag(V(lift(X + 1j * h * D))) / h
+
+
+# --------------------------------------------------------------------------------------------- program sizes
+def _n_monomials(nvars: int, max_degree: int, min_degree: int = 0, n_capped: int = 0) -> int:
+    """``len(monomials(nvars, max_degree, min_degree, caps))`` for ``n_capped`` variables capped at exponent 1, in
+    closed form (nothing is enumerated, so huge degrees cost nothing)."""
+    free = nvars - n_capped
+
+    def exact(k: int, m: int) -> int:          # monomials of degree exactly m in k variables
+        if m < 0:
+            return 0
+        return math.comb(k + m - 1, m) if k > 0 else int(m == 0)
+
+    return sum(math.comb(n_capped, j) * exact(free, d - j)
+               for d in range(max(min_degree, 0), max_degree + 1) for j in range(min(n_capped, d) + 1))
+
+
+@dataclass(frozen=True)
+class SOSSize:
+    """Size of the largest SOS program :func:`certify_roa` builds for one degree of ``V`` (its V step), estimated
+    before anything is built (:func:`estimate_sos_size`).
+
+    Attributes
+    ----------
+    degree : int
+        Degree of ``V``.
+    n_vars : int
+        Polynomial variables ``z``.
+    gram : tuple of (str, int)
+        Name and size ``k`` of every Gram matrix (``k x k``, positive semidefinite).
+    n_gram_entries : int
+        Unknowns in the Gram matrices, ``sum k (k + 1) / 2``.
+    n_free : int
+        Free coefficients (``V``, ``lambda`` and the equality multipliers).
+    n_constraints : int
+        Coefficient-matching equalities (an upper bound: every monomial up to each constraint's degree).
+    bytes : float
+        Estimated peak memory of building and solving it (bytes): about 100 bytes per entry of the dense
+        interior-point blocks, ``sum (k (k + 1) / 2)^2``, measured with Clarabel (within a factor 2), plus the
+        builder's polynomials and a fixed 20 MB.
+    """
+
+    degree: int
+    n_vars: int
+    gram: tuple[tuple[str, int], ...]
+    n_gram_entries: int
+    n_free: int
+    n_constraints: int
+    bytes: float
+
+    @property
+    def largest_gram(self) -> int:
+        """Size of the largest Gram matrix."""
+        return max((k for _, k in self.gram), default=0)
+
+    def summary(self) -> str:
+        """One line: degree, variables, largest Gram matrix, unknowns, constraints and memory."""
+        return (f"degree {self.degree} in {self.n_vars} variables: {len(self.gram)} Gram matrices (largest "
+                f"{self.largest_gram} x {self.largest_gram}), {self.n_gram_entries + self.n_free} unknowns, "
+                f"<= {self.n_constraints} equalities, ~{_fmt_bytes(self.bytes)}")
+
+
+def _fmt_bytes(b: float) -> str:
+    for unit, k in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6)):
+        if b >= k:
+            return f"{b / k:.3g} {unit}"
+    return f"{b / 1e3:.3g} kB"
+
+
+def _size(ps: PolySystem, degree: int, extra: int) -> SOSSize:
+    """The V-step program of :func:`_build` at ``degree`` (plus ``lambda`` of the level problem), counted."""
+    nz, nc = ps.nz, len(ps.s_caps)
+    dg = _degrees(degree, ps.degree, extra)
+    gram = [("decrease", _n_monomials(nz, dg.D // 2, 1, nc))]
+    gram += [(f"tau{k}", _n_monomials(nz, (dg.D - g.degree) // 2)) for k, g in enumerate(ps.cuts + ps.valid)]
+    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam)
+    free += sum(_n_monomials(nz, dg.D - h.degree) for h in ps.equalities)
+    eqs = math.comb(nz + dg.D, dg.D)
+    for k, g in enumerate(ps.cuts):
+        dk = _even_up(max(degree, g.degree))
+        gram += [(f"containment{k}", _n_monomials(nz, dk // 2, 0, nc)),
+                 (f"sigma{k}", _n_monomials(nz, (dk - g.degree) // 2))]
+        free += sum(_n_monomials(nz, dk - h.degree) for h in ps.equalities)
+        eqs += math.comb(nz + dk, dk)
+    gram.append(("positivity", _n_monomials(nz, degree // 2, 1, nc)))
+    free += sum(_n_monomials(nz, degree - h.degree) for h in ps.equalities)
+    eqs += math.comb(nz + degree, degree)
+    kkt = sum((k * (k + 1) // 2) ** 2 for _, k in gram)
+    entries = sum(k * (k + 1) // 2 for _, k in gram)
+    nbytes = _BYTES_FIXED + _BYTES_PER_KKT_ENTRY * kkt + _BYTES_PER_GRAM_ENTRY * sum(k * k for _, k in gram)
+    return SOSSize(degree, nz, tuple(gram), entries, free, eqs, float(nbytes))
+
+
+def _default_memory_limit() -> float:
+    """:data:`MEMORY_FRACTION` of the physical memory (and of the address-space limit, if one is set); 4 GB when the
+    system does not say."""
+    total = None
+    try:
+        total = float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        pass
+    try:
+        import resource
+
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        if soft not in (resource.RLIM_INFINITY, -1) and soft > 0:
+            total = float(soft) if total is None else min(total, float(soft))
+    except (ImportError, ValueError, OSError):
+        pass
+    return MEMORY_FRACTION * total if total else 4e9
+
+
+def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, speed_floor: float = 0.1) -> SOSSize:
+    """Size and memory of the largest SOS program :func:`certify_roa` would build for a ``V`` of ``degree``, computed
+    from monomial counts before anything is built (milliseconds, whatever the degree).
+
+    Parameters
+    ----------
+    system : PolySystem or glidectl model
+        As for :func:`certify_roa` (a model is recast first, :func:`~glidectl.roa.systems.recast`).
+    degree : int
+        Even degree of ``V``, >= 2.
+    extra : int, optional
+        Extra multiplier degree (steps of 2), as in :func:`certify_roa`.
+    speed_floor : float
+        ``delta`` of the denominator cut for recast models.
+
+    Returns
+    -------
+    SOSSize
+        The Gram matrix sizes, the number of unknowns and coefficient constraints, and the estimated bytes.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``degree`` or ``extra`` is not an integer, or ``system`` is neither a PolySystem nor a model.
+    ArgumentError
+        If ``degree`` is odd or below 2, or ``extra`` is negative.
+    ModelError
+        If ``system`` cannot be recast exactly.
+    """
+    degree = _check_degree(degree)
+    ps = recast(system, speed_floor=speed_floor)
+    return _size(ps, degree, _auto_extra(ps, extra))
+
+
+def _check_degree(degree: Any, name: str = "degree") -> int:
+    d = checks.integer(name, degree, lo=2)
+    if d % 2:
+        raise ArgumentError(f"{name} must be an even integer >= 2 (V is a sum of even-degree terms), got {d}")
+    return d
+
+
+def _check_memory(ps: PolySystem, degree: int, extra: int, max_degree: int, memory_limit: float,
+                  what: str) -> SOSSize:
+    """:class:`BudgetError`, saying which degree would fit, unless the program of ``degree`` is within the limits."""
+    size = _size(ps, degree, extra)
+    if degree <= max_degree and size.bytes <= memory_limit:
+        return size
+    fits = []
+    for d in range(2, max_degree + 1, 2):       # sizes grow with the degree: stop at the first that does not fit
+        if _size(ps, d, extra).bytes > memory_limit:
+            break
+        fits.append(d)
+    best = (f"the largest degree within the limits is {fits[-1]} ({_size(ps, fits[-1], extra).summary()})" if fits
+            else "no degree fits: raise memory_limit")
+    why = (f"degree {degree} is above max_degree = {max_degree}" if degree > max_degree
+           else f"it would need ~{_fmt_bytes(size.bytes)}, above memory_limit = {_fmt_bytes(memory_limit)}")
+    raise BudgetError(f"{what} refused before building anything: {why} ({size.summary()}); {best}. Raise "
+                      "max_degree / memory_limit to try anyway (SDP time grows even faster than memory)")
 
 
 # --------------------------------------------------------------------------------------------- level problem
@@ -304,7 +533,7 @@ def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: st
 
 
 def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLARABEL",
-              extra: int | None = None) -> LevelResult:
+              extra: int | None = None, max_degree: int = MAX_DEGREE, memory_limit: float | None = None) -> LevelResult:
     """Largest ``rho`` of the level problem for a fixed ``V`` (one SDP, no bisection).
 
     Parameters
@@ -318,6 +547,8 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
         Extra degree (in steps of 2) of the multipliers above the smallest that balances the degrees; default 2
         for up to 3 polynomial variables, else 0 (with the smallest multipliers the level depends on the scaling
         of ``N = (z.z)^m``; richer multipliers remove that dependence).
+    max_degree, memory_limit :
+        Budgets checked before anything is built, as in :func:`certify_roa`.
 
     Returns
     -------
@@ -326,18 +557,50 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
 
     Raises
     ------
+    ArgumentTypeError
+        If ``V`` is not a Poly, or an option has the wrong type.
+    ArgumentError
+        If ``V`` is not in the system's ``nz`` variables or ``V(0) != 0``, ``rho_cap`` is not a positive finite
+        number, or ``solver`` is not an installed SDP solver.
+    BudgetError
+        If the degree of ``V`` exceeds ``max_degree`` or the program would exceed ``memory_limit``.
     SolverError
         If the SDP solver fails or returns a status other than optimal.
     ModelError
         If ``system`` is a model that cannot be recast exactly (:func:`~glidectl.roa.systems.recast`).
-    GlidectlError
-        If the recast options are invalid.
     """
     ps = recast(system)
+    _check_V(V, ps, "V")
+    rho_cap = checks.positive("rho_cap", rho_cap)
+    _check_solver(solver)
+    ex = _auto_extra(ps, extra)
+    max_degree = checks.integer("max_degree", max_degree, lo=2)
+    limit = _default_memory_limit() if memory_limit is None else checks.positive("memory_limit", memory_limit)
+    _check_memory(ps, _even_up(max(V.degree, 2)), ex, max_degree, limit, "max_level")
     k = _scaling(ps)
     pss = _rescale(ps, k)
-    ex = _auto_extra(ps, extra)
     return _level(pss, _scaled(pss), _to_scaled(V, k), rho_cap=rho_cap, solver=solver, center=0.0, extra=ex)
+
+
+def _check_solver(solver: Any) -> str:
+    available = [s for s in cp.installed_solvers() if s in _SDP_SOLVERS]
+    if not isinstance(solver, str):
+        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__} {solver!r}")
+    return checks.choice("solver", solver, available)
+
+
+def _check_V(V: Any, ps: PolySystem, name: str) -> Poly:
+    if not isinstance(V, Poly):
+        raise ArgumentTypeError(f"{name} must be a glidectl.roa.Poly in the system's {ps.nz} polynomial variables "
+                                f"{ps.z_names}, got {type(V).__name__}")
+    if V.nvars != ps.nz:
+        raise ArgumentError(f"{name} has {V.nvars} variables; the system '{ps.name}' has {ps.nz}: {ps.z_names}")
+    c0 = V.terms.get((0,) * V.nvars, 0.0)
+    if V.is_zero or abs(c0) > 1e-12 * V.max_abs_coefficient():
+        raise ArgumentError(f"{name} must vanish at the equilibrium (V(0) = 0) and not be zero, got V(0) = {c0:g}")
+    if not all(math.isfinite(c) for c in V.terms.values()):
+        raise ArgumentError(f"{name} has non-finite coefficients")
+    return V
 
 
 # --------------------------------------------------------------------------------------------- certificate
@@ -437,6 +700,12 @@ class ROACertificate:
         A-posteriori checks; ``certified`` is ``verification.passed``.
     solve_time : float
         Total SDP solver time (s); ``wall_time`` includes building and verification.
+    provenance : str
+        The system's provenance (its vehicle's parameter hash for recast glidectl models).
+    stopped_by : str
+        What ended the V-lambda alternation at the final degree: ``"iterations"`` (all ran), ``"no improvement"``
+        (two V steps without a larger sampled volume), ``"solver failure"`` (a V step or level problem failed; the
+        best V so far is kept) or ``"time_limit"`` (``on_budget="stop"``).
     """
 
     system: PolySystem = field(repr=False)
@@ -449,32 +718,103 @@ class ROACertificate:
     solve_time: float
     wall_time: float
     provenance: str = ""
+    stopped_by: str = ""
 
     @property
     def certified(self) -> bool:
         """True only if every a-posteriori check passed."""
         return self.verification.passed
 
+    def _states(self, X: Any, finite: bool) -> np.ndarray:
+        n = self.system.n
+        X = checks.array("X", X, finite=finite)
+        X = np.atleast_2d(X)
+        if X.ndim != 2 or X.shape[-1] != n:
+            raise ArgumentError(f"X must hold states of dimension {n} ({', '.join(self.system.state_names)}), "
+                                f"shape (N, {n}) or ({n},); got shape {np.shape(X)}")
+        return X
+
     def value(self, X: Any) -> np.ndarray:
-        """``V(lift(x))`` at states ``X`` (N, n)."""
-        return _V_of(self.V, self.system, np.atleast_2d(np.asarray(X, dtype=float)))
+        """``V(lift(x))`` at states ``X``.
+
+        Parameters
+        ----------
+        X : array_like, shape (N, n) or (n,)
+            States in the system's coordinates (finite).
+
+        Returns
+        -------
+        ndarray, shape (N,)
+            The Lyapunov function there.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``X`` is not numeric.
+        ArgumentError
+            If ``X`` has the wrong shape or is not finite.
+        """
+        return _V_of(self.V, self.system, self._states(X, finite=True))
 
     def contains(self, X: Any, n_path: int = 33) -> np.ndarray:
-        """Membership of the certified set for states ``X`` (N, n) in the system's coordinates.
+        """Membership of the certified set for states ``X`` in the system's coordinates.
 
         A point belongs when it and the straight segment from the equilibrium to it satisfy ``V <= rho`` and the
-        cuts (so it lies in the connected component of the equilibrium; ``n_path`` points on the segment).
+        cuts (so it lies in the connected component of the equilibrium; ``n_path`` points on the segment, the
+        point itself included).
+
+        Parameters
+        ----------
+        X : array_like, shape (N, n) or (n,)
+            States; a state with NaN or inf is reported outside.
+        n_path : int
+            Points checked on each segment, >= 1.
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+            Membership.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``X`` is not numeric or ``n_path`` is not an integer.
+        ArgumentError
+            If ``X`` has the wrong shape or ``n_path < 1``.
         """
-        X = np.atleast_2d(np.asarray(X, dtype=float))
-        if X.shape[-1] != self.system.n:
-            raise GlidectlError(f"contains: states of dimension {self.system.n} expected "
-                                f"({', '.join(self.system.state_names)}), got {X.shape[-1]}")
+        X = self._states(X, finite=False)
+        n_path = checks.integer("n_path", n_path, lo=1)
         return _contains(self.system, self.V, self.rho, X, n_path)
 
     def volume(self, box: tuple[Any, Any] | None = None, n: int = 2**16, seed: int = 0) -> float:
-        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC."""
-        lo, hi = (np.asarray(b, dtype=float) for b in (box or self.system.box))
-        X = lo + (hi - lo) * qmc.Sobol(len(lo), seed=seed).random(n)
+        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC.
+
+        Parameters
+        ----------
+        box : (array_like, array_like), optional
+            ``(lo, hi)``, each of shape (n,), finite, ``lo < hi``; default the system's box.
+        n : int
+            Sobol points (>= 1; a power of 2 keeps the sequence balanced).
+        seed : int
+            Seed of the scrambled Sobol sequence (>= 0).
+
+        Returns
+        -------
+        float
+            The estimated volume (product of the state units).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument has the wrong type.
+        ArgumentError
+            If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, or ``n`` or ``seed`` is out of
+            range.
+        """
+        lo, hi = _check_box(box if box is not None else self.system.box, self.system.n)
+        n = checks.integer("n", n, lo=1, hi=2**24)
+        seed = checks.integer("seed", seed, lo=0)
+        X = lo + (hi - lo) * _sobol(len(lo), seed, n)
         return float(np.prod(hi - lo) * np.mean(self.contains(X)))
 
     def plot(self, ax: Any = None, dims: Any = (0, 1), fixed: Any = None, n: int = 201,
@@ -501,11 +841,34 @@ class ROACertificate:
         -------
         matplotlib.axes.Axes
             See :func:`glidectl.plotting.plot_roa_certificate`.
+
+        Raises
+        ------
+        GlidectlError
+            For ``dims`` or ``fixed`` that do not fit the system (see :func:`glidectl.plotting.plot_roa_certificate`).
         """
         from ..plotting import plot_roa_certificate, style
 
         with style():
             return plot_roa_certificate(self, ax, dims=dims, fixed=fixed, n=n, samples=samples)
+
+
+def _check_box(box: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
+    if not isinstance(box, tuple | list) or len(box) != 2:
+        raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({n},), got {type(box).__name__}")
+    lo, hi = checks.array("box lo", box[0], shape=(n,)), checks.array("box hi", box[1], shape=(n,))
+    if np.any(lo >= hi):
+        raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
+    return lo, hi
+
+
+def _sobol(d: int, seed: int, n: int) -> np.ndarray:
+    """``n`` scrambled Sobol points in ``[0, 1)^d`` (the balance warning for ``n`` not a power of 2 is silenced)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return qmc.Sobol(d, seed=seed).random(n)
 
 
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
@@ -542,8 +905,10 @@ def _default_horizon(ps: PolySystem) -> float:
 def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarray:
     """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium."""
     lo, hi = ps.box
-    X = lo + (hi - lo) * qmc.Sobol(ps.n, seed=seed + 5).random(n)
+    X = lo + (hi - lo) * _sobol(ps.n, seed + 5, n)
     X = X[ps.in_cuts(X)]
+    if X.shape[0] == 0:
+        return X
     res = integrate_batch(ps.rhs, X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
                           bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
     return X[res.converged_to(ps.equilibrium, 1e-3)]
@@ -552,57 +917,114 @@ def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarr
 def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
                 initial: Poly | None = None, speed_floor: float = 0.1, extra: int | None = None,
                 n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
-                solver: str = "CLARABEL", seed: int = 0, center: float = 0.05) -> ROACertificate:
+                solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
+                time_limit: float | None = None, memory_limit: float | None = None,
+                on_budget: str = "raise") -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
     ----------
     system : PolySystem or glidectl model
         A polynomial system (e.g. :func:`glidectl.benchmarks.van_der_pol`) or a model at an equilibrium with the
-        attributes :func:`~glidectl.roa.systems.recast` needs (``sp.reduced_model()``, ``sp.full_model()``).
+        attributes :func:`~glidectl.roa.systems.recast` needs (``sp.reduced_model()``, ``sp.full_model()``). Its
+        equilibrium must be exponentially stable.
     degree : int
-        Final (even) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
+        Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
     iterations : int
-        Alternations (V step + level problem) per degree; the best ``V`` (largest sampled volume) is kept.
+        Alternations (V step + level problem) per degree, >= 1; the best ``V`` (largest sampled volume) is kept.
     backoff : float
-        Certified level ``(1 - backoff) rho*``; tripled (up to 3 times, at most 0.25) when the Gram margins at that
-        level do not exceed the coefficient residuals (recorded in ``history``).
+        Certified level ``(1 - backoff) rho*``, ``backoff`` in ``[0, 1)``; tripled (up to 3 times, at most 0.25;
+        from 0.01 when it is 0) when the Gram margins at that level do not exceed the coefficient residuals
+        (recorded in ``history``).
     eps : float
-        ``V - eps |z|^2`` must be SOS in the V step (strict positivity).
+        ``V - eps |z|^2`` must be SOS in the V step (strict positivity), ``eps > 0``.
     initial : Poly, optional
-        Starting ``V`` (default :func:`lyapunov_quadratic`).
+        Starting ``V`` in the system's polynomial variables, ``V(0) = 0`` (default :func:`lyapunov_quadratic`).
     speed_floor : float
-        ``delta`` of the denominator cut for recast models.
+        ``delta`` of the denominator cut for recast models, in ``(0, 1)``.
     extra : int, optional
-        Extra multiplier degree (steps of 2); default 2 for up to 3 polynomial variables, else 0.
+        Extra multiplier degree (steps of 2, >= 0); default 2 for up to 3 polynomial variables, else 0.
     n_truth : int
-        Box points simulated once; the V step minimizes ``mean(max(V - 1, 0))`` over those that converge
+        Box points simulated once (>= 1); the V step minimizes ``mean(max(V - 1, 0))`` over those that converge
         (the simulated region of attraction guides the search, the certificate never depends on it).
     n_verify, n_simulate, horizon :
-        Sampling of the certified set on the true model, number of simulations (from the outermost samples) and
-        their length (default 25 slowest time constants).
+        Sampling of the certified set on the true model (>= 1), number of simulations from the outermost samples
+        (>= 0) and their length (> 0; default 25 slowest time constants).
+    solver : str
+        An installed SDP solver of cvxpy (default ``"CLARABEL"``).
+    seed : int
+        Seed of the sampling (>= 0).
     center : float
-        The multiplier of the V step comes from the level problem re-solved at ``(1 - center) rho*``.
+        The multiplier of the V step comes from the level problem re-solved at ``(1 - center) rho*``, ``center`` in
+        ``[0, 1)``.
+    max_degree : int
+        Largest ``degree`` accepted (default :data:`MAX_DEGREE` = 8): SDP time grows steeply with the degree.
+    time_limit : float, optional
+        Wall-time budget (s), checked between SDPs (an SDP under way is not interrupted); default none.
+    memory_limit : float, optional
+        Bytes the largest program may need (:func:`estimate_sos_size`, checked before anything is built); default
+        :data:`MEMORY_FRACTION` (half) of the physical memory, or of the address-space limit if one is set.
+    on_budget : {"raise", "stop"}
+        What hitting ``time_limit`` does: raise :class:`~glidectl.BudgetError` (default), or end the alternation and
+        certify the best ``V`` found so far (the final certification SDPs and checks still run), with
+        ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
 
     Returns
     -------
     ROACertificate
+        With ``stopped_by`` saying what ended the alternation at the final degree.
 
     Raises
     ------
+    ArgumentTypeError
+        If ``system`` is neither a PolySystem nor a model, or an argument has the wrong type (``degree=4.0``
+        included: degrees are integers).
+    ArgumentError
+        If an argument is out of range: an odd or too small ``degree``, ``backoff`` or ``center`` outside
+        ``[0, 1)``, an unknown solver, a bad ``initial``.
+    ModelError
+        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), or the
+        model cannot be recast exactly.
+    BudgetError
+        If ``degree > max_degree`` or the program would need more than ``memory_limit`` (the message gives the
+        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``).
     SolverError
         If the first level problem fails (no certificate at all) or no simulated box point converges.
-    GlidectlError
-        For an odd or too small degree or an unstable equilibrium.
     """
     t_wall = time.perf_counter()
-    if int(degree) != degree or degree < 2 or degree % 2:
-        raise GlidectlError(f"degree must be an even integer >= 2, got {degree}")
+    degree = _check_degree(degree)
+    max_degree = checks.integer("max_degree", max_degree, lo=2)
+    iterations = checks.integer("iterations", iterations, lo=1)
+    backoff = checks.real("backoff", backoff, lo=0.0, hi=1.0, hi_open=True)
+    eps = checks.positive("eps", eps)
+    speed_floor = checks.real("speed_floor", speed_floor, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    n_truth = checks.integer("n_truth", n_truth, lo=1, hi=2**22)
+    n_verify = checks.integer("n_verify", n_verify, lo=1, hi=2**24)
+    n_simulate = checks.integer("n_simulate", n_simulate, lo=0, hi=2**20)
+    horizon = None if horizon is None else checks.positive("horizon", horizon)
+    _check_solver(solver)
+    seed = checks.integer("seed", seed, lo=0)
+    center = checks.real("center", center, lo=0.0, hi=1.0, hi_open=True)
+    limit = _default_memory_limit() if memory_limit is None else checks.positive("memory_limit", memory_limit)
+    deadline = checks.Deadline(time_limit, "certify_roa")
+    checks.choice("on_budget", on_budget, ("raise", "stop"))
     ps = system if isinstance(system, PolySystem) else recast(system, speed_floor=speed_floor)
+    if initial is not None:
+        _check_V(initial, ps, "initial")
+    ex = _auto_extra(ps, extra)
+    _require_exponential_stability(ps, _linearization(ps))
+    _check_memory(ps, degree, ex, max_degree, limit, f"certify_roa(degree={degree})")
+
+    def out_of_time(where: str) -> bool:
+        if deadline.limit is None or deadline.elapsed <= deadline.limit:
+            return False
+        if on_budget == "raise":
+            deadline.check(f"{where}; pass on_budget='stop' to certify the best V found so far")
+        return True
+
     k = _scaling(ps)
     pss = _rescale(ps, k)
     F = _scaled(pss)
-    ex = _auto_extra(ps, extra)
     hz = horizon or _default_horizon(ps)
     V = _to_scaled(initial if initial is not None else lyapunov_quadratic(ps), k)
     history: list[dict[str, Any]] = []
@@ -611,7 +1033,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     t_solve += lvl.solve_time
     V, lam = V / lvl.rho, lvl.lam
     lo, hi = ps.box
-    Xv = lo + (hi - lo) * qmc.Sobol(ps.n, seed=2).random(2**13)
+    Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
 
     def vol(Vc: Poly) -> float:
         return float(np.prod(hi - lo) * np.mean(_contains(pss, Vc, 1.0, Xv)))
@@ -624,22 +1046,31 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     if Zt.shape[0] == 0:
         raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
                           "nothing to steer the V step towards (check the box and the horizon)")
-    for degV in range(2, int(degree) + 1, 2):
+    stopped_by = "iterations"
+    for degV in range(2, degree + 1, 2):
         if degV < _even_up(V.degree):
             continue
         M = monomial_matrix(Zt, monomials(ps.nz, degV, 1))
         worse = 0
+        stopped_by = "iterations"
         for _ in range(iterations):
+            if out_of_time(f"degree {degV}, before a V step"):
+                stopped_by = "time_limit"
+                break
             try:
                 prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex)
                 prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
                 t_solve += prog.solve_time
                 Vn = out["V"].poly()
+                if out_of_time(f"degree {degV}, after a V step"):
+                    stopped_by = "time_limit"
+                    break
                 lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex)
                 t_solve += lv.solve_time
             except SolverError as exc:
                 history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
                                 "volume": math.nan, "sdp_time": 0.0})
+                stopped_by = "solver failure"
                 break
             V, lam = Vn / lv.rho, lv.lam
             cur_vol = vol(V)
@@ -650,8 +1081,15 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             else:
                 worse += 1
                 if worse >= 2:
+                    stopped_by = "no improvement"
                     break
+        if stopped_by == "time_limit":
+            history.append({"degree": degV, "step": f"time limit of {deadline.limit:g} s: alternation stopped",
+                            "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+            break
     V = best[1]
+    if stopped_by != "time_limit":
+        out_of_time("before the final certification")
     # final certificate at a backed-off level, re-solved at that level, then verified
     fin = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
     t_solve += fin.solve_time
@@ -668,8 +1106,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             break
         history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
                         f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": prog.solve_time})
-        bo = min(3 * bo, 0.25)
+        bo = min(3 * bo, 0.25) if bo > 0 else 0.01
     Vz = _from_scaled(V, k)
     ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
     return ROACertificate(ps, Vz, rho_c, fin.rho, Vz.degree, tuple(history), ver, t_solve,
-                          time.perf_counter() - t_wall, ps.provenance)
+                          time.perf_counter() - t_wall, ps.provenance, stopped_by)

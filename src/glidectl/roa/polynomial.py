@@ -11,12 +11,18 @@ Nothing here is specific to gliders; :mod:`glidectl.roa.sos` builds SOS programs
 from __future__ import annotations
 
 import itertools
+import math
+import numbers
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
-from ..errors import GlidectlError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError
+
+#: Largest monomial basis :func:`monomials` enumerates (a bigger one would not fit any SDP anyway).
+MAX_BASIS = 10_000_000
 
 __all__ = ["Poly", "monomial_matrix", "monomials"]
 
@@ -32,19 +38,48 @@ class Poly:
         Coefficients; zero coefficients are dropped.
     nvars : int
         Number of variables.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``terms`` is not a mapping, ``nvars`` is not an integer, or a coefficient or exponent is not a number.
+    ArgumentError
+        If an exponent tuple does not have ``nvars`` non-negative entries, or a coefficient is not finite.
     """
 
     __slots__ = ("nvars", "terms")
 
     def __init__(self, terms: Mapping[Exp, float], nvars: int) -> None:
+        if isinstance(nvars, bool) or not isinstance(nvars, numbers.Integral) or nvars < 0:
+            raise ArgumentTypeError(f"nvars must be a non-negative integer, got {nvars!r}")
+        if not isinstance(terms, Mapping):
+            raise ArgumentTypeError("terms must be a mapping exponent tuple -> coefficient, got "
+                                    f"{type(terms).__name__}")
         self.nvars = int(nvars)
         clean: dict[Exp, float] = {}
-        for e, c in terms.items():
-            if len(e) != self.nvars:
-                raise GlidectlError(f"exponent {e} has {len(e)} entries, the polynomial has {nvars} variables")
-            if c != 0.0:
-                clean[tuple(int(k) for k in e)] = float(c)
+        try:
+            for e, c in terms.items():
+                if len(e) != self.nvars:
+                    raise ArgumentError(f"exponent {e} has {len(e)} entries, the polynomial has {nvars} variables")
+                if c != 0.0:
+                    clean[tuple(int(k) for k in e)] = float(c)
+        except (TypeError, ValueError) as exc:
+            if isinstance(exc, ArgumentError):
+                raise
+            raise ArgumentTypeError(f"a polynomial's terms map tuples of integers to real numbers: {exc}") from exc
+        if clean and self.nvars and min(min(e) for e in clean) < 0:
+            raise ArgumentError("exponents must be non-negative integers")
+        if not all(math.isfinite(c) for c in clean.values()):
+            raise ArgumentError("polynomial coefficients must be finite")
         self.terms = clean
+
+    @classmethod
+    def _make(cls, terms: dict[Exp, float], nvars: int) -> Poly:
+        """A polynomial from terms that are already well formed (the arithmetic below); drops zeros only."""
+        p = cls.__new__(cls)
+        p.nvars = nvars
+        p.terms = {e: c for e, c in terms.items() if c != 0.0}
+        return p
 
     # ------------------------------------------------------------------ constructors
     @classmethod
@@ -65,21 +100,21 @@ class Poly:
     def _coerce(self, other: Any) -> Poly:
         if isinstance(other, Poly):
             if other.nvars != self.nvars:
-                raise GlidectlError(f"polynomials in {self.nvars} and {other.nvars} variables cannot be combined")
+                raise ArgumentError(f"polynomials in {self.nvars} and {other.nvars} variables cannot be combined")
             return other
-        return Poly.const(float(other), self.nvars)
+        return Poly.const(checks.real("polynomial operand", other), self.nvars)
 
     def __add__(self, other: Any) -> Poly:
         o = self._coerce(other)
         t = dict(self.terms)
         for e, c in o.terms.items():
             t[e] = t.get(e, 0.0) + c
-        return Poly(t, self.nvars)
+        return Poly._make(t, self.nvars)
 
     __radd__ = __add__
 
     def __neg__(self) -> Poly:
-        return Poly({e: -c for e, c in self.terms.items()}, self.nvars)
+        return Poly._make({e: -c for e, c in self.terms.items()}, self.nvars)
 
     def __sub__(self, other: Any) -> Poly:
         return self + (-self._coerce(other))
@@ -89,24 +124,26 @@ class Poly:
 
     def __mul__(self, other: Any) -> Poly:
         if not isinstance(other, Poly):
-            s = float(other)
-            return Poly({e: s * c for e, c in self.terms.items()}, self.nvars)
+            s = checks.real("polynomial factor", other)
+            return Poly._make({e: s * c for e, c in self.terms.items()}, self.nvars)
         o = self._coerce(other)
         t: dict[Exp, float] = {}
         for e1, c1 in self.terms.items():
             for e2, c2 in o.terms.items():
                 e = tuple(a + b for a, b in zip(e1, e2, strict=True))
                 t[e] = t.get(e, 0.0) + c1 * c2
-        return Poly(t, self.nvars)
+        return Poly._make(t, self.nvars)
 
     __rmul__ = __mul__
 
     def __truediv__(self, s: float) -> Poly:
-        return self * (1.0 / float(s))
+        d = checks.real("polynomial divisor", s)
+        if d == 0.0:
+            raise ArgumentError("a polynomial cannot be divided by zero")
+        return self * (1.0 / d)
 
     def __pow__(self, k: int) -> Poly:
-        if int(k) != k or k < 0:
-            raise GlidectlError(f"polynomial powers must be non-negative integers, got {k}")
+        k = checks.integer("polynomial power", k, lo=0)
         out = Poly.const(1.0, self.nvars)
         for _ in range(int(k)):
             out = out * self
@@ -133,9 +170,11 @@ class Poly:
     def __call__(self, Z: Any) -> Any:
         """Evaluate at ``Z`` of shape ``(..., nvars)`` (real or complex)."""
         Z = np.asarray(Z)
-        if Z.shape[-1] != self.nvars:
-            raise GlidectlError(f"polynomial in {self.nvars} variables evaluated at points of dimension "
-                                f"{Z.shape[-1]}")
+        if Z.dtype.kind not in "biufc":
+            raise ArgumentTypeError(f"a polynomial is evaluated at numbers, got an array of dtype {Z.dtype}")
+        if Z.ndim == 0 or Z.shape[-1] != self.nvars:
+            raise ArgumentError(f"polynomial in {self.nvars} variables evaluated at points of shape {Z.shape} (the "
+                                f"last axis must have length {self.nvars})")
         exps, coef = self.arrays()
         if exps.shape[0] == 0:
             return np.zeros(Z.shape[:-1], dtype=Z.dtype if np.iscomplexobj(Z) else float)
@@ -154,16 +193,19 @@ class Poly:
 
     def diff(self, i: int) -> Poly:
         """``d/dz_i``."""
+        i = checks.integer("i", i, lo=0, hi=self.nvars - 1)
         t: dict[Exp, float] = {}
         for e, c in self.terms.items():
             if e[i] > 0:
                 e2 = list(e)
                 e2[i] -= 1
                 t[tuple(e2)] = t.get(tuple(e2), 0.0) + c * e[i]
-        return Poly(t, self.nvars)
+        return Poly._make(t, self.nvars)
 
     def lie(self, F: Sequence[Poly]) -> Poly:
         """Lie derivative ``grad(self) . F`` along the polynomial vector field ``F``."""
+        if len(F) != self.nvars:
+            raise ArgumentError(f"the vector field has {len(F)} components; the polynomial has {self.nvars} variables")
         out = Poly({}, self.nvars)
         for i, Fi in enumerate(F):
             d = self.diff(i)
@@ -173,9 +215,11 @@ class Poly:
 
     def substitute(self, polys: Sequence[Poly]) -> Poly:
         """``self(p_1(y), ..., p_n(y))`` for polynomials ``p_i`` in a common set of variables."""
-        if len(polys) != self.nvars:
-            raise GlidectlError(f"substitute needs {self.nvars} polynomials, got {len(polys)}")
-        m = polys[0].nvars
+        if len(polys) != self.nvars or not all(isinstance(p, Poly) for p in polys):
+            raise ArgumentError(f"substitute needs {self.nvars} polynomials, got {len(polys)} objects")
+        m = polys[0].nvars if polys else 0
+        if any(p.nvars != m for p in polys):
+            raise ArgumentError("substitute needs polynomials in a common set of variables")
         out = Poly({}, m)
         cache: dict[tuple[int, int], Poly] = {}
         for e, c in self.terms.items():
@@ -204,7 +248,36 @@ def monomials(nvars: int, max_degree: int, min_degree: int = 0,
 
     ``max_exponent`` caps single variables (e.g. ``{1: 1}`` keeps ``s`` of an angle pair ``(s, c)`` linear, a basis
     of polynomials modulo ``s^2 + c^2 - 2c``).
+
+    Parameters
+    ----------
+    nvars : int
+        Number of variables, >= 0.
+    max_degree, min_degree : int
+        Range of total degrees, ``max_degree >= 0``.
+    max_exponent : mapping int -> int, optional
+        Caps of single variables.
+
+    Returns
+    -------
+    list of tuple of int
+        The exponents.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a degree or ``nvars`` is not an integer.
+    ArgumentError
+        If a degree or ``nvars`` is negative.
+    BudgetError
+        If the basis could exceed :data:`MAX_BASIS` monomials.
     """
+    nvars = checks.integer("nvars", nvars, lo=0)
+    max_degree = checks.integer("max_degree", max_degree, lo=0)
+    min_degree = checks.integer("min_degree", min_degree)
+    if math.comb(nvars + max_degree, max_degree) > MAX_BASIS:
+        raise BudgetError(f"a monomial basis of degree {max_degree} in {nvars} variables has up to "
+                          f"{math.comb(nvars + max_degree, max_degree):.3g} elements, above MAX_BASIS = {MAX_BASIS}")
     cap = dict(max_exponent or {})
     out: list[Exp] = []
     for d in range(min_degree, max_degree + 1):
@@ -219,7 +292,29 @@ def monomials(nvars: int, max_degree: int, min_degree: int = 0,
 
 def monomial_matrix(Z: Any, basis: Sequence[Exp]) -> np.ndarray:
     """``M[k, j] = z_k^{basis_j}`` for points ``Z`` (N, nvars): the design matrix of a polynomial fit, or the linear
-    map from coefficients on ``basis`` to values at ``Z``."""
-    Z = np.asarray(Z, dtype=float)
-    E = np.asarray(list(basis), dtype=int).reshape(len(basis), Z.shape[-1])
+    map from coefficients on ``basis`` to values at ``Z``.
+
+    Parameters
+    ----------
+    Z : array_like, shape (N, nvars)
+        Points.
+    basis : sequence of exponent tuples
+        Monomials, each of length ``nvars``.
+
+    Returns
+    -------
+    ndarray, shape (N, len(basis))
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``Z`` is not a real array.
+    ArgumentError
+        If ``Z`` is not 2-D or the exponents do not have ``nvars`` entries.
+    """
+    Z = checks.array("Z", Z, ndim=2, finite=False)
+    try:
+        E = np.asarray(list(basis), dtype=int).reshape(len(basis), Z.shape[-1])
+    except (TypeError, ValueError) as exc:
+        raise ArgumentError(f"basis must hold exponent tuples of length {Z.shape[-1]}: {exc}") from exc
     return np.prod(Z[:, None, :] ** E[None, :, :], axis=2)

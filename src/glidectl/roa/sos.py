@@ -26,7 +26,7 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sps
 
-from ..errors import SolverError
+from ..errors import BudgetError, SolverError
 from .polynomial import Exp, Poly
 
 __all__ = ["GramCheck", "LinPoly", "SOSProgram", "Unknown"]
@@ -111,13 +111,15 @@ class LinPoly:
 
     def value(self) -> Poly:
         """The polynomial at the solved unknowns."""
-        out = self.const
+        t = dict(self.const.terms)          # accumulated in place: one pass over the columns' terms
         for u, cols in self.parts.items():
             v = u.value().ravel(order="F")
             for c, x in zip(cols, v, strict=True):
                 if x != 0.0 and not c.is_zero:
-                    out = out + c * float(x)
-        return out
+                    xf = float(x)
+                    for e, ce in c.terms.items():
+                        t[e] = t.get(e, 0.0) + ce * xf
+        return Poly(t, self.nvars)
 
 
 @dataclass(frozen=True)
@@ -239,15 +241,40 @@ class SOSProgram:
         self.constraints.append(lhs + b == 0)
 
     def solve(self, objective: Any, *, solver: str = "CLARABEL", **kw: Any) -> float:
-        """Solve ``maximize/minimize objective`` (a cvxpy objective); raises :class:`SolverError` on failure."""
+        """Solve ``maximize/minimize objective`` (a cvxpy objective).
+
+        Parameters
+        ----------
+        objective : cvxpy objective
+            ``cp.Maximize(...)`` or ``cp.Minimize(...)`` of the program's variables.
+        solver : str
+            A cvxpy SDP solver.
+        **kw
+            Passed to :meth:`cvxpy.Problem.solve`.
+
+        Returns
+        -------
+        float
+            The optimal value.
+
+        Raises
+        ------
+        SolverError
+            If the solver fails, raises a numerical error, or returns a status other than optimal.
+        BudgetError
+            If the solver runs out of memory.
+        """
         prob = cp.Problem(objective, self.constraints)
         t0 = time.perf_counter()
         try:
             with warnings.catch_warnings():   # "solution may be inaccurate": the status is checked below
                 warnings.simplefilter("ignore", UserWarning)
                 val = prob.solve(solver=solver, **kw)
-        except cp.error.SolverError as exc:
-            raise SolverError(f"SDP solver {solver} failed: {exc}") from exc
+        except MemoryError as exc:
+            raise BudgetError(f"SDP solver {solver} ran out of memory on a program with {len(self.unknowns)} "
+                              "unknown blocks: lower the degree (see glidectl.estimate_sos_size)") from exc
+        except (cp.error.SolverError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+            raise SolverError(f"SDP solver {solver} failed: {type(exc).__name__}: {exc}") from exc
         self.solve_time = time.perf_counter() - t0
         self.status = prob.status
         if prob.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or val is None or not np.isfinite(val):

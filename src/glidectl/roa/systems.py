@@ -30,7 +30,8 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import GlidectlError, ModelError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from .polynomial import Poly, monomial_matrix, monomials
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
@@ -125,24 +126,68 @@ class PolySystem:
 
 def polynomial_system(name: str, state_names: tuple[str, ...], F: list[Poly], *,
                       box: tuple[Any, Any], time_unit: str = "s", provenance: str = "") -> PolySystem:
-    """A polynomial system ``dx/dt = F(x)`` with its equilibrium at ``x = 0`` (no lift, no cuts)."""
+    """A polynomial system ``dx/dt = F(x)`` with its equilibrium at ``x = 0`` (no lift, no cuts).
+
+    Parameters
+    ----------
+    name : str
+        Name of the system.
+    state_names : sequence of str
+        Names of the ``n`` states.
+    F : sequence of Poly
+        ``n`` polynomials in ``n`` variables, ``F(0) = 0``.
+    box : (array_like, array_like)
+        Region of interest ``(lo, hi)``, each of shape ``(n,)``, finite, ``lo < hi``.
+    time_unit, provenance : str
+        Time unit of the system and where it comes from.
+
+    Returns
+    -------
+    PolySystem
+        The system (``lift`` is the identity).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``name``, a state name, ``time_unit`` or ``provenance`` is not a string, or ``F`` does not hold Polys.
+    ArgumentError
+        If the numbers of states and polynomials differ, the origin is not an equilibrium, or ``box`` is invalid.
+    """
+    for nm, val in (("name", name), ("time_unit", time_unit), ("provenance", provenance)):
+        if not isinstance(val, str):
+            raise ArgumentTypeError(f"{nm} must be a string, got {type(val).__name__} {val!r}")
+    if isinstance(state_names, str) or not all(isinstance(x, str) for x in state_names):
+        raise ArgumentTypeError(f"state_names must be a sequence of strings, got {state_names!r}")
     n = len(state_names)
+    if n == 0:
+        raise ArgumentError("a polynomial system needs at least one state")
+    if not all(isinstance(f, Poly) for f in F):
+        raise ArgumentTypeError("F must be a sequence of glidectl.roa.Poly")
     if len(F) != n or any(f.nvars != n for f in F):
-        raise GlidectlError(f"a polynomial system with {n} states needs {n} polynomials in {n} variables")
+        raise ArgumentError(f"a polynomial system with {n} states needs {n} polynomials in {n} variables")
     F0 = np.array([f(np.zeros(n)) for f in F])
     if np.max(np.abs(F0)) > 1e-12:
-        raise GlidectlError(f"the origin is not an equilibrium of '{name}': F(0) = {F0}")
+        raise ArgumentError(f"the origin is not an equilibrium of '{name}': F(0) = {F0}")
     Ft = tuple(F)
 
     def rhs(X: np.ndarray) -> np.ndarray:
         X = np.asarray(X)
         return np.stack([f(X) for f in Ft], axis=-1)
 
-    lo, hi = (np.asarray(b, dtype=float) for b in box)
+    lo, hi = _box(box, n)
     return PolySystem(name=name, state_names=tuple(state_names), z_names=tuple(state_names), F=Ft,
                       den=Poly.const(1.0, n), equalities=(), cuts=(), lift=lambda X: np.asarray(X), rhs=rhs,
                       equilibrium=np.zeros(n), box=(lo, hi), time_unit=time_unit, provenance=provenance,
                       slots=tuple((i,) for i in range(n)))
+
+
+def _box(box: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
+    if not isinstance(box, tuple | list) or len(box) != 2:
+        raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({n},), got {box!r}")
+    lo, hi = checks.array("box lo", box[0], shape=(n,)), checks.array("box hi", box[1], shape=(n,))
+    if np.any(lo >= hi):
+        raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
+    return lo, hi
 
 
 def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: int = 0) -> PolySystem:
@@ -156,9 +201,9 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         (indices), ``positive_state`` (index ``j`` of a state with a ``1/(1 + x_j)`` factor), ``name``,
         ``time_unit`` and ``provenance``.
     speed_floor : float
-        ``delta`` of the cut ``1 + x_j - delta >= 0``.
+        ``delta`` of the cut ``1 + x_j - delta >= 0``, in ``(0, 1)``.
     max_degree : int
-        Largest degree tried for ``F``.
+        Largest degree tried for ``F`` (1 to 12).
     seed : int
         Seed of the random fitting and test points.
 
@@ -171,29 +216,44 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
 
     Raises
     ------
+    ArgumentTypeError
+        If ``model`` lacks ``state_names``, ``equilibrium``, ``rhs`` or ``box`` (for example a model with inputs,
+        such as ``LongitudinalGlider``: close the loop and use a model built for certification, e.g.
+        ``sp.reduced_model()``), or an option has the wrong type.
+    ArgumentError
+        If ``speed_floor`` is not in ``(0, 1)``, ``max_degree`` or ``seed`` is out of range, or the model's box or
+        state indices are invalid.
     ModelError
         If the model is not polynomial in the lift up to ``max_degree`` (relative residual above ``1e-9``).
         Also if the equilibrium is not the origin or a state is listed both as a pure and as a mixed angle.
-    GlidectlError
-        If ``speed_floor`` is not in ``(0, 1)``.
-    AttributeError
-        If the model lacks ``state_names``, ``equilibrium``, ``rhs`` or ``box``.
     """
     if isinstance(model, PolySystem):
         return model
+    missing = [a for a in ("state_names", "equilibrium", "rhs", "box") if not hasattr(model, a)]
+    if missing or not callable(getattr(model, "rhs", None)):
+        raise ArgumentTypeError(f"expected a PolySystem or a model built for certification (state_names, equilibrium "
+                                f"at 0, batch rhs(X), box), got {type(model).__name__} without "
+                                f"{', '.join(missing) or 'a callable rhs'} (e.g. use sp.reduced_model() or "
+                                "ClosedLoopCTOL.roa_model())")
+    speed_floor = checks.real("speed_floor", speed_floor, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    max_degree = checks.integer("max_degree", max_degree, lo=1, hi=12)
+    seed = checks.integer("seed", seed, lo=0)
     names = tuple(model.state_names)
     n = len(names)
-    eq = np.asarray(model.equilibrium, dtype=float)
-    if eq.shape != (n,) or np.max(np.abs(eq)) != 0.0:
+    if n == 0 or not all(isinstance(x, str) for x in names):
+        raise ArgumentError(f"the model's state_names must be a non-empty sequence of strings, got {names!r}")
+    eq = checks.array("model.equilibrium", model.equilibrium, shape=(n,))
+    if np.max(np.abs(eq)) != 0.0:
         raise ModelError(f"recast needs the model in coordinates with the equilibrium at 0; got {eq}")
-    angles = tuple(int(i) for i in getattr(model, "angle_states", ()))
-    mixed = tuple(int(i) for i in getattr(model, "mixed_angle_states", ()))
+    angles = tuple(checks.integer("angle state", i, lo=0, hi=n - 1) for i in getattr(model, "angle_states", ()))
+    mixed = tuple(checks.integer("mixed angle state", i, lo=0, hi=n - 1)
+                  for i in getattr(model, "mixed_angle_states", ()))
     if set(mixed) & set(angles):
         raise ModelError(f"states {set(mixed) & set(angles)} are listed both as pure and as mixed angles")
     pos = getattr(model, "positive_state", None)
-    lo, hi = (np.asarray(b, dtype=float) for b in model.box)
-    if not (0 < speed_floor < 1):
-        raise GlidectlError(f"speed_floor must lie in (0, 1), got {speed_floor}")
+    if pos is not None:
+        pos = checks.integer("positive_state", pos, lo=0, hi=n - 1)
+    lo, hi = _box(model.box, n)
     z_names: list[str] = []
     slot: list[tuple[int, ...]] = []
     for i, nm in enumerate(names):
@@ -304,7 +364,7 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
     system : PolySystem or glidectl model
         Recast first with :func:`recast` (default options) if it is not a :class:`PolySystem`.
     order : int
-        Total degree at which the series and the products are truncated, ``>= 1``.
+        Total degree at which the series and the products are truncated, in ``[1, 12]``.
 
     Returns
     -------
@@ -314,14 +374,15 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
 
     Raises
     ------
-    GlidectlError
-        If ``order < 1``.
+    ArgumentTypeError
+        If ``order`` is not an integer, or ``system`` is neither a PolySystem nor a model.
+    ArgumentError
+        If ``order`` is not in ``[1, 12]``.
     ModelError
         If ``system`` is a model that cannot be recast exactly.
     """
+    order = checks.integer("order", order, lo=1, hi=12)
     ps = recast(system)
-    if order < 1:
-        raise GlidectlError(f"Taylor order must be >= 1, got {order}")
     n = ps.n
     X = Poly.variables(n)
     subs: list[Poly] = []

@@ -27,17 +27,33 @@ Corrections to the text, each derived here and checked by :meth:`CompositeCertif
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from ..errors import GlidectlError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..params import Vehicle
 from .singular_perturbation import SingularPerturbation, singular_perturbation
 
-__all__ = ["CompositeCertificate", "CompositeVerification", "Domain", "composite_lyapunov"]
+__all__ = ["VERIFY_MIN_WIDTH", "CompositeCertificate", "CompositeVerification", "Domain", "composite_lyapunov"]
+
+#: narrowest domain half-width :meth:`CompositeCertificate.verify` accepts (rounding of the dimensional round trip)
+VERIFY_MIN_WIDTH = 1e-6
+
+
+def _pair(name: str, value: Any, *, allow_inf: bool = False) -> tuple[float, float]:
+    """A range ``(lo, hi)`` of two real numbers (infinite ends only with ``allow_inf``)."""
+    if isinstance(value, str | bytes) or not isinstance(value, Sequence | np.ndarray):
+        raise ArgumentTypeError(f"{name} must be a pair (lo, hi) of real numbers, got {type(value).__name__} "
+                                f"{value!r}")
+    if len(value) != 2:
+        raise ArgumentError(f"{name} must be a pair (lo, hi), got {len(value)} entries {tuple(value)!r}")
+    return (checks.real(f"{name}[0]", value[0], allow_inf=allow_inf),
+            checks.real(f"{name}[1]", value[1], allow_inf=allow_inf))
 
 
 @dataclass(frozen=True)
@@ -57,9 +73,11 @@ class Domain:
 
     Raises
     ------
-    GlidectlError
-        If a range does not contain 0 in its interior, is NaN or (except ``Omegabar``) infinite, ``Vbar_min <= -1``,
-        ``|gammabar| > pi`` or ``|alphabar| > 2 pi``.
+    ArgumentTypeError
+        If a range is not a pair of real numbers (a single number, a string, ``None`` inside).
+    ArgumentError
+        If a range does not have exactly two entries or does not contain 0 in its interior, is NaN or (except
+        ``Omegabar``) infinite, ``Vbar_min <= -1``, ``|gammabar| > pi`` or ``|alphabar| > 2 pi``.
     """
 
     Vbar: tuple[float, float] = (-0.4, 0.4)
@@ -69,22 +87,46 @@ class Domain:
 
     def __post_init__(self) -> None:
         for name in ("Vbar", "gammabar", "alphabar", "Omegabar"):
-            lo, hi = getattr(self, name)
-            finite = name == "Omegabar" or (math.isfinite(lo) and math.isfinite(hi))
-            if not (finite and not math.isnan(lo) and not math.isnan(hi) and lo < 0 < hi):
-                raise GlidectlError(f"domain bound {name} = ({lo}, {hi}) must satisfy lo < 0 < hi (finite except "
+            lo, hi = _pair(name, getattr(self, name), allow_inf=name == "Omegabar")
+            if not lo < 0 < hi:
+                raise ArgumentError(f"domain bound {name} = ({lo}, {hi}) must satisfy lo < 0 < hi (finite except "
                                     "for Omegabar, which may be unbounded): a neighbourhood of the steady glide")
+            object.__setattr__(self, name, (lo, hi))
         if self.Vbar[0] <= -1:
-            raise GlidectlError(f"Vbar_min = {self.Vbar[0]} must be > -1 (V > 0), §5.1")
+            raise ArgumentError(f"Vbar_min = {self.Vbar[0]} must be > -1 (V > 0), §5.1")
         if max(-self.gammabar[0], self.gammabar[1]) > math.pi:
-            raise GlidectlError("|gammabar| must not exceed pi (the bounds of §5.1.2 assume -pi <= gammabar < pi)")
+            raise ArgumentError("|gammabar| must not exceed pi (the bounds of §5.1.2 assume -pi <= gammabar < pi)")
         if max(-self.alphabar[0], self.alphabar[1]) > 2 * math.pi:
-            raise GlidectlError("|alphabar| must not exceed 2 pi (§5.1)")
+            raise ArgumentError("|alphabar| must not exceed 2 pi (§5.1)")
 
     def sample(self, n: int, rng: np.random.Generator, omega_extent: float = 1.0) -> np.ndarray:
         """``n`` uniform samples ``(Vbar, gammabar, alphabar, Omegabar2)``; a tenth of them on the faces.
 
-        An unbounded ``Omegabar`` side is sampled up to ``omega_extent``."""
+        Parameters
+        ----------
+        n : int
+            Number of samples, ``>= 0``.
+        rng : numpy.random.Generator
+            Source of the samples.
+        omega_extent : float
+            An unbounded ``Omegabar`` side is sampled up to this value (> 0).
+
+        Returns
+        -------
+        ndarray, shape (n, 4)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` is not an integer, ``rng`` not a Generator or ``omega_extent`` not a real number.
+        ArgumentError
+            If ``n < 0`` or ``omega_extent`` is not positive and finite.
+        """
+        n = checks.integer("n", n, lo=0)
+        if not isinstance(rng, np.random.Generator):
+            raise ArgumentTypeError(f"rng must be a numpy.random.Generator (np.random.default_rng(seed)), got "
+                                    f"{type(rng).__name__}")
+        omega_extent = checks.positive("omega_extent", omega_extent)
         lo = np.array([self.Vbar[0], self.gammabar[0], self.alphabar[0], max(self.Omegabar[0], -omega_extent)])
         hi = np.array([self.Vbar[1], self.gammabar[1], self.alphabar[1], min(self.Omegabar[1], omega_extent)])
         z = lo + (hi - lo) * rng.random((n, 4))
@@ -242,55 +284,213 @@ class CompositeCertificate:
         return self.gamma2p + self.gamma2pp
 
     def mu_d_of(self, d: Any) -> Any:
-        """``mu_d(d)`` of (5.54) for ``0 < d < 1``."""
-        d = np.asarray(d, dtype=float)
+        """``mu_d(d)`` of (5.54) for ``0 < d < 1``.
+
+        Parameters
+        ----------
+        d : float or array_like
+            Weight(s) of (5.53), each in the open interval (0, 1).
+
+        Returns
+        -------
+        float or ndarray
+            ``mu_d(d)`` (nondimensional), the shape of ``d``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``d`` is not real numbers.
+        ArgumentError
+            If a weight is not finite or not in (0, 1).
+        """
+        d = checks.array("d", d)
+        if np.any(d <= 0) or np.any(d >= 1):
+            raise ArgumentError(f"d must lie in the open interval (0, 1), got {d!r}")
         return _mu_d(d, self.a1, self.a2, self.beta1, self.beta2, self.gamma1, self.gamma2)
 
     # --------------------------------------------------------------------------------------------- functions
     def cw_entries(self, Vbar: Any) -> tuple[Any, Any, Any]:
-        """``(c1, c2, c3)`` of ``C_W`` at ``Vbar``."""
-        return _cw(self.cw, self.sp.r1, self.sp.r2, (1 + np.asarray(Vbar)) ** 2)
+        """``(c1, c2, c3)`` of ``C_W`` at ``Vbar``.
+
+        Parameters
+        ----------
+        Vbar : float or array_like
+            ``Vbar > -1`` (nondimensional), real or complex (complex step), finite.
+
+        Returns
+        -------
+        tuple of three arrays
+            The entries, broadcast to the shape of ``Vbar``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``Vbar`` is not numbers.
+        ArgumentError
+            If it is not finite, or a real value is ``<= -1`` (``V = 0``: ``C_W`` is singular).
+        """
+        V = _points("Vbar", Vbar, None)
+        if np.any(np.real(V) <= -1):
+            raise ArgumentError("Vbar must be > -1 (V > 0) for C_W")
+        return _cw(self.cw, self.sp.r1, self.sp.r2, (1 + V) ** 2)
 
     @staticmethod
     def Phi(p: Any) -> Any:
-        """Reduced-subsystem Lyapunov function (5.35)."""
-        p = np.asarray(p)
-        V, g = p[..., 0], p[..., 1]
-        return 2.0 / 3.0 - (1 + V) * np.cos(g) + (1 + V) ** 3 / 3.0
+        """Reduced-subsystem Lyapunov function (5.35) at ``p = (Vbar, gammabar)`` (trailing dimension 2).
+
+        Evaluated in the cancellation-free form ``Vbar^2 (1 + Vbar/3) + 2 (1 + Vbar) sin^2(gammabar/2)``
+        (algebraically equal to ``2/3 - (1 + Vbar) cos(gammabar) + (1 + Vbar)^3 / 3``), so tiny domains keep their
+        meaning.
+
+        Parameters
+        ----------
+        p : array_like, shape (..., 2)
+            Real or complex, finite.
+
+        Returns
+        -------
+        ndarray, shape (...)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``p`` is not numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        p = _points("p", p, 2)
+        return _phi(p[..., 0], p[..., 1])
 
     def W(self, p: Any, q: Any) -> Any:
-        """Boundary-layer Lyapunov function (5.31)."""
-        p, q = np.asarray(p), np.asarray(q)
-        c1, c2, c3 = self.cw_entries(p[..., 0])
+        """Boundary-layer Lyapunov function (5.31).
+
+        Parameters
+        ----------
+        p, q : array_like, shape (..., 2)
+            ``(Vbar, gammabar)`` (``Vbar > -1``) and ``(alphabar, Omegabar2)``, real or complex, finite.
+
+        Returns
+        -------
+        ndarray, shape (...)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``p`` or ``q`` is not numbers.
+        ArgumentError
+            If a trailing dimension is not 2, a value is not finite or ``Vbar <= -1``.
+        """
+        p, q = _points("p", p, 2), _points("q", q, 2)
+        if np.any(np.real(p[..., 0]) <= -1):
+            raise ArgumentError("Vbar must be > -1 (V > 0)")
+        return self._W(p, q)
+
+    def _W(self, p: np.ndarray, q: np.ndarray) -> Any:
+        c1, c2, c3 = _cw(self.cw, self.sp.r1, self.sp.r2, (1 + p[..., 0]) ** 2)
         a, O = q[..., 0], q[..., 1]
         return 0.5 * (c1 * a * a + 2 * c3 * a * O + c2 * O * O)
 
     def nu(self, z: Any, d: float | None = None) -> Any:
-        """Composite Lyapunov function (5.53)/(5.83) at ``z = (Vbar, gammabar, alphabar, Omegabar2)``."""
-        z = np.asarray(z)
-        d = self.d if d is None else d
-        return (1 - d) * self.Phi(z[..., :2]) + d * self.W(z[..., :2], z[..., 2:])
+        """Composite Lyapunov function (5.53)/(5.83) at ``z = (Vbar, gammabar, alphabar, Omegabar2)``.
+
+        Parameters
+        ----------
+        z : array_like, shape (..., 4)
+            Real or complex (complex step), finite, ``Vbar > -1``.
+        d : float, optional
+            Weight in (0, 1); default the certificate's :attr:`d`.
+
+        Returns
+        -------
+        ndarray, shape (...)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``z`` is not numbers or ``d`` not a real number.
+        ArgumentError
+            If the trailing dimension is not 4, a value is not finite, ``Vbar <= -1`` or ``d`` is not in (0, 1).
+        """
+        z = _points("z", z, 4)
+        d = self.d if d is None else checks.real("d", d, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+        if np.any(np.real(z[..., 0]) <= -1):
+            raise ArgumentError("Vbar must be > -1 (V > 0)")
+        return (1 - d) * _phi(z[..., 0], z[..., 1]) + d * self._W(z[..., :2], z[..., 2:])
 
     @staticmethod
     def psi(p: Any) -> Any:
-        """(5.50)."""
-        p = np.asarray(p)
+        """(5.50) at ``p = (Vbar, gammabar)``.
+
+        Parameters
+        ----------
+        p : array_like, shape (..., 2)
+            Real, finite.
+
+        Returns
+        -------
+        ndarray, shape (...)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``p`` is not numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        p = _points("p", p, 2)
         V, g = p[..., 0], p[..., 1]
         return np.sqrt((V * V + 2 * V) ** 2 + 4 * (1 + V) ** 2 * np.sin(g / 2) ** 2)
 
     @staticmethod
     def sigma(z: Any) -> Any:
-        """(5.32) at ``z = (Vbar, ., alphabar, Omegabar2)``."""
-        z = np.asarray(z)
+        """(5.32) at ``z = (Vbar, ., alphabar, Omegabar2)``.
+
+        Parameters
+        ----------
+        z : array_like, shape (..., 4)
+            Real, finite.
+
+        Returns
+        -------
+        ndarray, shape (...)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``z`` is not numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        z = _points("z", z, 4)
         return (1 + z[..., 0]) * np.hypot(z[..., 2], z[..., 3])
 
     def in_estimate(self, z: Any) -> Any:
-        """Membership of ``L*`` (5.85): inside the box and ``nu <= v0 w0 / (v0 + w0)``."""
-        z = np.asarray(z)
+        """Membership of ``L*`` (5.85): inside the box and ``nu <= v0 w0 / (v0 + w0)``.
+
+        Parameters
+        ----------
+        z : array_like, shape (..., 4)
+            Points ``(Vbar, gammabar, alphabar, Omegabar2)``, real and finite (any, inside the box or not).
+
+        Returns
+        -------
+        ndarray of bool, shape (...)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``z`` is not real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        z = _points("z", z, 4, real=True)
         box = np.ones(z.shape[:-1], dtype=bool)
         for i, (lo, hi) in enumerate(_bounds(self.domain)):
             box &= (z[..., i] >= lo) & (z[..., i] <= hi)
-        return box & (self.nu(z) <= self.level)
+        inside = np.zeros(z.shape[:-1], dtype=bool)
+        if np.any(box):  # nu is evaluated in the box only (where Vbar > -1)
+            inside[box] = self.nu(z[box]) <= self.level
+        return inside
 
     def plot(self, ax: Any = None, *, n: int = 201) -> Any:
         """Draw ``L*`` (5.85) in the ``(Vbar, gammabar)`` plane at ``alphabar = Omegabar2 = 0``, with the level set
@@ -301,16 +501,24 @@ class CompositeCertificate:
         ax : matplotlib.axes.Axes, optional
             Axes to draw into; default a new figure.
         n : int
-            Grid points per axis.
+            Grid points per axis, in ``[2, 2000]``.
 
         Returns
         -------
         matplotlib.axes.Axes
             The title says whether ``L*`` is certified (``mu < mu_d``); see
             :func:`glidectl.plotting.plot_composite_certificate`.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` is not an integer.
+        ArgumentError
+            If ``n`` is outside ``[2, 2000]``.
         """
         from ..plotting import plot_composite_certificate, style
 
+        n = checks.integer("n", n, lo=2, hi=2000)
         with style():
             return plot_composite_certificate(self, ax, n=n)
 
@@ -318,8 +526,8 @@ class CompositeCertificate:
         """(dW/dVbar, dW/dalphabar, dW/dOmegabar2) by complex step (exact)."""
         h = 1e-30
         V = p[..., 0]
-        dV = np.imag(self.W(np.stack([V + 1j * h, p[..., 1]], axis=-1), q)) / h
-        c1, c2, c3 = self.cw_entries(V)
+        dV = np.imag(self._W(np.stack([V + 1j * h, p[..., 1]], axis=-1), q)) / h
+        c1, c2, c3 = _cw(self.cw, self.sp.r1, self.sp.r2, (1 + V) ** 2)
         a, O = q[..., 0], q[..., 1]
         return dV, c1 * a + c3 * O, c3 * a + c2 * O
 
@@ -329,8 +537,36 @@ class CompositeCertificate:
         §5.1-§5.3.
 
         Left sides are evaluated with the model's own vector fields (:meth:`SingularPerturbation.f`, ``g``), not
-        with the thesis's algebra, so a wrong derivation shows up as a margin below 1.
+        with the thesis's algebra, so a wrong derivation shows up as a margin below 1. Samples where a right side
+        is below ``1e-14`` times its largest sampled value (both sides vanish there) are skipped.
+
+        Parameters
+        ----------
+        n : int
+            Number of samples, in ``[10, 10_000_000]`` (a tenth of them on the faces).
+        seed : int
+            Seed of the samples, ``>= 0``.
+
+        Returns
+        -------
+        CompositeVerification
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` or ``seed`` is not an integer.
+        ArgumentError
+            If ``n`` or ``seed`` is out of range, or a half-width of the domain is below :data:`VERIFY_MIN_WIDTH`
+            (the sampled left sides would be dominated by rounding).
         """
+        n = checks.integer("n", n, lo=10, hi=10_000_000)
+        seed = checks.integer("seed", seed, lo=0)
+        width = min(min(-lo, hi) for lo, hi in _bounds(self.domain))
+        if width < VERIFY_MIN_WIDTH:
+            raise ArgumentError(f"the domain is too small to verify by sampling: its narrowest half-width {width:.3g} "
+                                f"is below {VERIFY_MIN_WIDTH:g}, and the model's vector fields (evaluated in "
+                                "dimensional variables about the steady glide) lose about eps / width of relative "
+                                "precision, more than the 1e-9 the margins are judged with")
         sp = self.sp
         rng = np.random.default_rng(seed)
         z = self.domain.sample(n, rng, omega_extent=self.omega_extent)
@@ -349,7 +585,8 @@ class CompositeCertificate:
         tiny = 1e-300
 
         def worst(lhs: np.ndarray, rhs: np.ndarray, mask: np.ndarray | None = None) -> float:
-            ok = rhs > 1e-14 if mask is None else mask & (rhs > 1e-14)
+            floor = 1e-14 * max(float(np.max(rhs)), tiny)  # relative: tiny domains keep their samples
+            ok = rhs > floor if mask is None else mask & (rhs > floor)
             return float(np.max(lhs[ok] / rhs[ok])) if np.any(ok) else 0.0
 
         r: dict[str, float] = {}
@@ -381,7 +618,7 @@ class CompositeCertificate:
         r["{W <= w0} inside B_q (sampled on the faces)"] = 0.0
         # on the faces of B_p, Phi >= v0; on the faces of B_q, W >= w0 (so the sublevel sets lie inside)
         lo, hi = np.array([b[0] for b in _bounds(self.domain)]), np.array([b[1] for b in _bounds(self.domain)])
-        on = np.isclose(z, lo) | np.isclose(z, hi)
+        on = (z == lo) | (z == hi)  # Domain.sample puts the face samples exactly on the faces
         fp = on[:, 0] | on[:, 1]
         fq = on[:, 2] | on[:, 3]
         if np.any(fp):
@@ -395,6 +632,31 @@ class CompositeCertificate:
             r["Thm2: dnu/dt_n <= 0 on B_p x B_q"] = float(np.max(dnu / (P2 + Q2 + tiny))) + 1.0 \
                 if np.max(dnu) > 0 else 0.0
         return CompositeVerification({k: _margin(v) for k, v in r.items()}, n, seed)
+
+
+def _points(name: str, value: Any, k: int | None, *, real: bool = False) -> np.ndarray:
+    """A finite numeric array (real, or complex for complex-step use unless ``real``) with trailing dimension ``k``
+    (any shape when ``k`` is None)."""
+    if value is None or isinstance(value, str | bytes):
+        raise ArgumentTypeError(f"{name} must be an array of numbers, got {type(value).__name__} {value!r}")
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as exc:  # ragged nesting
+        raise ArgumentTypeError(f"{name} must be an array of numbers: {exc}") from exc
+    if a.dtype.kind not in ("iuf" if real else "iufc"):
+        raise ArgumentTypeError(f"{name} must be an array of {'real ' if real else ''}numbers, got dtype {a.dtype}")
+    if a.dtype.kind in "iu":
+        a = a.astype(float)
+    if k is not None and (a.ndim == 0 or a.shape[-1] != k):
+        raise ArgumentError(f"{name} must have a trailing dimension {k}, got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ArgumentError(f"{name} must be finite (no NaN or inf)")
+    return a
+
+
+def _phi(V: Any, g: Any) -> Any:
+    """Phi (5.35) without cancellation: ``V^2 (1 + V/3) + 2 (1 + V) sin^2(g/2)``."""
+    return V * V * (1 + V / 3) + 2 * (1 + V) * np.sin(g / 2) ** 2
 
 
 def _bounds(dom: Domain) -> list[tuple[float, float]]:
@@ -412,16 +674,17 @@ def _mu_d(d: Any, a1: float, a2: float, b1: float, b2: float, g1: float, g2: flo
 
 
 def _phi_min_on_faces(dom: Domain) -> float:
-    """Smallest Phi on the boundary of B_p (closed form; Phi is even and increasing in |gammabar|)."""
+    """Smallest Phi on the boundary of B_p (closed form; Phi is even and increasing in |gammabar|), evaluated
+    without cancellation (tiny domains keep their meaning)."""
     Vlo, Vhi = dom.Vbar
     gm = min(-dom.gammabar[0], dom.gammabar[1])
 
     def phi(V: float, g: float) -> float:
-        return 2 / 3 - (1 + V) * math.cos(g) + (1 + V) ** 3 / 3
+        return float(_phi(V, g))
 
     cands = [phi(Vlo, 0.0), phi(Vhi, 0.0), phi(Vlo, gm), phi(Vhi, gm)]
-    if math.cos(gm) > 0:  # stationary point in Vbar on the gammabar = gm face
-        Vs = math.sqrt(math.cos(gm)) - 1
+    if math.cos(gm) > 0:  # stationary point in Vbar on the gammabar = gm face: (1 + V)^2 = cos(gm)
+        Vs = math.expm1(0.5 * math.log1p(-2 * math.sin(gm / 2) ** 2))  # sqrt(cos gm) - 1 without cancellation
         if Vlo < Vs < Vhi:
             cands.append(phi(Vs, gm))
     return min(cands)
@@ -453,22 +716,27 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, or a range is not a pair of real numbers (e.g. ``Vbar=0.4``).
+    ArgumentError
+        If ``cw`` is not ``"corrected"`` or ``"thesis"``, a range is invalid (:class:`Domain`: not two entries,
+        not ``lo < 0 < hi``, NaN...), or the domain is so small that its levels ``v0``, ``w0`` underflow (the
+        certificate would lose its meaning).
     ModelError
         If the vehicle has no singularly perturbed chapter-5 glide (from
-        :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
-    GlidectlError
-        If the added masses are unequal (``m1 + mbar != m3 + mbar``; see
-        :func:`~glidectl.stability.unequal_mass.unequal_mass_check`), ``cw`` is not ``"corrected"`` or
-        ``"thesis"``, or the domain is invalid (:class:`Domain`).
+        :func:`~glidectl.stability.singular_perturbation.singular_perturbation`), or the added masses are unequal
+        (``m1 + mbar != m3 + mbar``; see :func:`~glidectl.stability.unequal_mass.unequal_mass_check`).
+    SolverError
+        If a computed constant is not finite or ``C_W`` is not positive definite (an internal inconsistency).
     """
+    checks.vehicle("veh", veh, "underwater_glider")
+    checks.choice("cw", cw, ("corrected", "thesis"))
+    dom = Domain(Vbar, gammabar, alphabar, Omegabar)
     sp = singular_perturbation(veh)
     M1, M3 = sp.model.masses
     if M1 != M3:
-        raise GlidectlError(f"composite_lyapunov implements §5.2-§5.3 for equal added masses; vehicle '{veh.name}' "
-                            f"has m1 + mbar = {M1:g} kg, m3 + mbar = {M3:g} kg (see unequal_mass_check for (5.110))")
-    if cw not in ("corrected", "thesis"):
-        raise GlidectlError(f"cw must be 'corrected' or 'thesis', got {cw!r}")
-    dom = Domain(tuple(Vbar), tuple(gammabar), tuple(alphabar), tuple(Omegabar))
+        raise ModelError(f"composite_lyapunov implements §5.2-§5.3 for equal added masses; vehicle '{veh.name}' "
+                         f"has m1 + mbar = {M1:g} kg, m3 + mbar = {M3:g} kg (see unequal_mass_check for (5.110))")
     Vlo, Vhi = dom.Vbar
     Vabs = max(-Vlo, Vhi)
     gmax = max(-dom.gammabar[0], dom.gammabar[1])
@@ -484,7 +752,7 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
     c1, c2, c3 = _cw(cw, r1, r2, (1 + Vg) ** 2)
     tr, det = c1 + c2, c1 * c2 - c3**2
     if np.any(det <= 0) or np.any(c1 <= 0):  # pragma: no cover - both C_W choices are positive definite
-        raise GlidectlError(f"C_W ({cw}) is not positive definite on the Vbar range {dom.Vbar}")
+        raise SolverError(f"C_W ({cw}) is not positive definite on the Vbar range {dom.Vbar}")
     disc = np.sqrt((c1 - c2) ** 2 + 4 * c3**2)
     lmin, lmax = (tr - disc) / 2, (tr + disc) / 2
 
@@ -560,12 +828,27 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
         return np.minimum(min(-alo, ahi) ** 2 / (2 * ia), min(-Olo, Ohi) ** 2 / (2 * iO))
 
     w0 = min(float(np.min(wlim(Vg))), refine(wlim, 1.0))
+    level = v0 * w0 / (v0 + w0) if v0 > 0 and w0 > 0 else 0.0
+    tiny = float(np.finfo(float).tiny)  # below it numbers are subnormal: precision is already lost
+    if not (math.isfinite(v0) and v0 >= tiny and math.isfinite(w0) and w0 >= tiny and level >= tiny):
+        raise ArgumentError(f"the domain is too small to certify anything in floating point: the levels v0 = {v0:.3g} "
+                            f"(Phi on the faces of B_p), w0 = {w0:.3g} (W inside B_q) and L* = {level:.3g} must be "
+                            "positive normal numbers; widen "
+                            f"Vbar = {dom.Vbar}, gammabar = {dom.gammabar}, alphabar = {dom.alphabar}, Omegabar = "
+                            f"{dom.Omegabar}")
     d = v0 / (v0 + w0)
     a2p = max(a2, 0.0)
     mu_d = float(_mu_d(d, a1, a2p, beta1, beta2, gamma1, gamma2))
-    level = v0 * w0 / (v0 + w0)
     res = minimize_scalar(lambda x: -float(_mu_d(x, a1, a2p, beta1, beta2, gamma1, gamma2)),
                           bounds=(1e-9, 1 - 1e-9), method="bounded", options={"xatol": 1e-12})
+    consts = {"k1": k1, "k2": k2, "k3": k3, "k4": k4, "a2": a2, "beta1": beta1, "beta2": beta2, "gamma2": gamma2,
+              "F1": F1, "mu_star": mu_star, "d": d, "mu_d": mu_d, "level": level, "mu_d_best": -float(res.fun)}
+    bad = {k: v for k, v in consts.items() if not math.isfinite(v)}
+    if bad or not (0 < d < 1 and mu_d >= 0 and level > 0 and min(k1, k2, k3, k4) > 0):
+        raise SolverError(f"composite_lyapunov for vehicle '{veh.name}' produced constants that lost their meaning "
+                          f"(non-finite {sorted(bad)}; d = {d:.3g}, mu_d = {mu_d:.3g}, level = {level:.3g}, k1..k4 = "
+                          f"{k1:.3g}, {k2:.3g}, {k3:.3g}, {k4:.3g}); the domain or vehicle is outside what this "
+                          "analysis can represent")
     return CompositeCertificate(sp, dom, cw, k1, k2, k3, k4, a1, b1, a2, b2, e, beta1, gamma1, beta2p, gamma2p,
                                 beta2pp, gamma2pp, F1, mu_star, v0, w0, d, mu_d, level, float(res.x),
                                 float(-res.fun), veh, veh.provenance)

@@ -81,8 +81,8 @@ from typing import Any
 import numpy as np
 from scipy.optimize import minimize, minimize_scalar
 
-from .._checks import positive_number
-from ..errors import ModelError
+from .. import checks
+from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
 from ..models.ctol_closed_loop import ClosedLoopCTOL
 from ..params import Vehicle
@@ -93,6 +93,15 @@ __all__ = ["CTOLLyapunovCertificate", "CTOLVerification", "Theorem5Constants", "
 TOL = 1e-9  # relative tolerance of a ratio test (a tight bound evaluated in floating point)
 CONSTANTS = ("c11", "c12", "lambda1", "beta1", "gamma1", "c21", "c22", "lambda2", "beta2", "gamma2")
 _SHELLS = (1e-1, 1e-2, 1e-3, 1e-4)  # radii (times r) of the thin shells sampled near the origin
+MAX_SAMPLES = 5_000_000  # largest n of the construction and of verify (each set adds shells: memory ~ 2 kB x n)
+
+
+def _pts(name: str, value: Any, k: int) -> np.ndarray:
+    """A finite real array with trailing dimension ``k``."""
+    a = checks.array(name, value)
+    if a.ndim == 0 or a.shape[-1] != k:
+        raise ArgumentError(f"{name} must have a trailing dimension {k}, got shape {a.shape}")
+    return a
 
 
 @dataclass(frozen=True)
@@ -261,42 +270,103 @@ class CTOLLyapunovCertificate:
         return self.valid.certified and self.lam > 0
 
     def rhs(self, x: Any) -> np.ndarray:
-        """Closed-loop ``x' = (f1 + g1, f2 + g2)`` (7.28) at ``x = (Vbar, gammabar, thetabar, Omega2bar)`` (1/s)."""
-        return np.asarray(self.closed_loop.rhs(np.asarray(x, dtype=float)))
+        """Closed-loop ``x' = (f1 + g1, f2 + g2)`` (7.28) at ``x = (Vbar, gammabar, thetabar, Omega2bar)`` (1/s),
+        ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        return np.asarray(self.closed_loop.rhs(_pts("x", x, 4)))
 
     def f1(self, x1: Any) -> np.ndarray:
-        """Translational subsystem (7.29)-(7.30): the closed loop's first two rows at ``x2 = 0`` (1/s)."""
-        x1 = np.asarray(x1, dtype=float)
+        """Translational subsystem (7.29)-(7.30): the closed loop's first two rows at ``x2 = 0`` (1/s), ``x1`` of
+        shape ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x1`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x1 = _pts("x1", x1, 2)
         return self.rhs(np.concatenate([x1, np.zeros_like(x1)], axis=-1))[..., :2]
 
     def g1(self, x: Any) -> np.ndarray:
-        """Coupling (7.31)-(7.32): ``rhs_1(x) - f1(x1)`` (1/s)."""
-        x = np.asarray(x, dtype=float)
+        """Coupling (7.31)-(7.32): ``rhs_1(x) - f1(x1)`` (1/s), ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        x = _pts("x", x, 4)
         return self.rhs(x)[..., :2] - self.f1(x[..., :2])
 
     def f2(self, x2: Any) -> np.ndarray:
-        """Rotational subsystem (7.33)-(7.34): the closed loop's last two rows at ``x1 = 0`` (1/s)."""
-        x2 = np.asarray(x2, dtype=float)
+        """Rotational subsystem (7.33)-(7.34): the closed loop's last two rows at ``x1 = 0`` (1/s), ``x2`` of shape
+        ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x2`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x2 = _pts("x2", x2, 2)
         return self.rhs(np.concatenate([np.zeros_like(x2), x2], axis=-1))[..., 2:]
 
     def g2(self, x: Any) -> np.ndarray:
-        """``rhs_2(x) - f2(x2)``, identically zero (7.35) (1/s)."""
-        x = np.asarray(x, dtype=float)
+        """``rhs_2(x) - f2(x2)``, identically zero (7.35) (1/s), ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        x = _pts("x", x, 4)
         return self.rhs(x)[..., 2:] - self.f2(x[..., 2:])
 
     # ------------------------------------------------------------------------------------------------- functions
     @staticmethod
     def Q1(x1: Any) -> Any:
         """(7.69) ``(1 + Vbar)^3/3 - (1 + Vbar) cos gammabar + 2/3``, evaluated in the cancellation-free form
-        ``Vbar^2 (1 + Vbar/3) + 2 (1 + Vbar) sin^2(gammabar/2)`` (identical algebraically)."""
-        x1 = np.asarray(x1)
+        ``Vbar^2 (1 + Vbar/3) + 2 (1 + Vbar) sin^2(gammabar/2)`` (identical algebraically); ``x1`` of shape
+        ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x1`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x1 = _pts("x1", x1, 2)
         V, g = x1[..., 0], x1[..., 1]
         return V * V * (1 + V / 3) + 2 * (1 + V) * np.sin(g / 2) ** 2
 
     @staticmethod
     def grad_Q1(x1: Any) -> np.ndarray:
-        """``dQ1/dx1 = ((1 + Vbar)^2 - cos gammabar, (1 + Vbar) sin gammabar)`` (7.73)."""
-        x1 = np.asarray(x1)
+        """``dQ1/dx1 = ((1 + Vbar)^2 - cos gammabar, (1 + Vbar) sin gammabar)`` (7.73); ``x1`` of shape
+        ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x1`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x1 = _pts("x1", x1, 2)
         V, g = x1[..., 0], x1[..., 1]
         return np.stack([V * (2 + V) + 2 * np.sin(g / 2) ** 2, (1 + V) * np.sin(g)], axis=-1)
 
@@ -307,35 +377,86 @@ class CTOLLyapunovCertificate:
         return (self.k3 + self.k_pp) * self.T**2 / (veh.epsilon * veh.J)
 
     def Q2(self, x2: Any) -> Any:
-        """(7.48) ``(k3 + k'') (2 T^2/eps) sin^2(thetabar/2) + Omega2bar^2/2 + k' thetabar Omega2bar`` (``/J``)."""
-        x2 = np.asarray(x2)
+        """(7.48) ``(k3 + k'') (2 T^2/eps) sin^2(thetabar/2) + Omega2bar^2/2 + k' thetabar Omega2bar`` (``/J``);
+        ``x2`` of shape ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x2`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x2 = _pts("x2", x2, 2)
         th, Om = x2[..., 0], x2[..., 1]
         return 2 * self._kappa * np.sin(th / 2) ** 2 + 0.5 * Om * Om + self.k_prime * th * Om
 
     def grad_Q2(self, x2: Any) -> np.ndarray:
-        """``dQ2/dx2 = ((k3 + k'') T^2/eps sin thetabar + k' Omega2bar, Omega2bar + k' thetabar)`` (7.64)."""
-        x2 = np.asarray(x2)
+        """``dQ2/dx2 = ((k3 + k'') T^2/eps sin thetabar + k' Omega2bar, Omega2bar + k' thetabar)`` (7.64); ``x2``
+        of shape ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x2`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x2 = _pts("x2", x2, 2)
         th, Om = x2[..., 0], x2[..., 1]
         return np.stack([self._kappa * np.sin(th) + self.k_prime * Om, Om + self.k_prime * th], axis=-1)
 
     def Q(self, x: Any) -> Any:
-        """Composite ``Q = d1 Q1 + d2 Q2`` (7.79)."""
-        x = np.asarray(x)
+        """Composite ``Q = d1 Q1 + d2 Q2`` (7.79); ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        x = _pts("x", x, 4)
         return self.d1 * self.Q1(x[..., :2]) + self.d2 * self.Q2(x[..., 2:])
 
     def grad(self, x: Any) -> np.ndarray:
-        """``dQ/dx`` (4-vector per state)."""
-        x = np.asarray(x)
+        """``dQ/dx`` (4-vector per state); ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        x = _pts("x", x, 4)
         return np.concatenate([self.d1 * self.grad_Q1(x[..., :2]), self.d2 * self.grad_Q2(x[..., 2:])], axis=-1)
 
     def Qdot(self, x: Any) -> Any:
-        """``dQ/dt`` along the true closed loop (1/s)."""
-        x = np.asarray(x, dtype=float)
+        """``dQ/dt`` along the true closed loop (1/s); ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        x = _pts("x", x, 4)
         return np.sum(self.grad(x) * self.rhs(x), axis=-1)
 
     def Q1dot_closed_form(self, x1: Any) -> Any:
-        """``dQ1/dt`` along ``f1`` in closed form (module note 1; the Appendix's expression with ``V_e/m``)."""
-        x1 = np.asarray(x1, dtype=float)
+        """``dQ1/dt`` along ``f1`` in closed form (module note 1; the Appendix's expression with ``V_e/m``); ``x1``
+        of shape ``(..., 2)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x1`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 2 or it is not finite.
+        """
+        x1 = _pts("x1", x1, 2)
         veh, gl = self.vehicle, self.glide
         V, g = x1[..., 0], x1[..., 1]
         a = gl.alpha - g
@@ -346,8 +467,16 @@ class CTOLLyapunovCertificate:
                                       + dKD * s2 * (s2 - np.cos(g)) - dKL * s2 * np.sin(g))
 
     def in_region(self, x: Any) -> Any:
-        """Membership of the certified invariant set ``{||x|| <= r, Q(x) <= level}``."""
-        x = np.asarray(x, dtype=float)
+        """Membership of the certified invariant set ``{||x|| <= r, Q(x) <= level}``; ``x`` of shape ``(..., 4)``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` is not an array of real numbers.
+        ArgumentError
+            If its trailing dimension is not 4 or it is not finite.
+        """
+        x = _pts("x", x, 4)
         return (np.linalg.norm(x, axis=-1) <= self.r) & (self.Q(x) <= self.level)
 
     # ------------------------------------------------------------------------------------------------- ratios
@@ -392,7 +521,16 @@ class CTOLLyapunovCertificate:
         Returns
         -------
         CTOLVerification
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` or ``seed`` is not an integer.
+        ArgumentError
+            If ``n`` is outside ``[100, 5_000_000]`` or ``seed < 0``.
         """
+        n = checks.integer("n", n, lo=100, hi=MAX_SAMPLES)
+        seed = checks.integer("seed", seed, lo=0)
         t0 = time.perf_counter()
         rng = np.random.default_rng(seed)
         x1s = _disk_samples(n, 2, self.r, rng)   # subsystem i: x_i in the disk |x_i| <= r
@@ -598,29 +736,48 @@ def ctol_lyapunov(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``glide`` is not a :class:`~glidectl.trim.ctol.CTOLGlide`, a number is not a
+        real number or ``n``/``seed`` not an integer.
+    ArgumentError
+        Non-positive or non-finite gains or ``T``; ``k'`` or ``r`` outside (0, 1); ``margin`` outside [0, 0.5);
+        ``n`` outside ``[100, 5_000_000]`` or ``seed < 0``; ``k3 + k'' <= 0`` (``Q2`` (7.48) not positive
+        definite); gains so large that the constants overflow.
+    VehicleMismatchError
+        If ``glide`` was trimmed for another vehicle.
     ModelError
-        Not a CTOL vehicle or glide; non-positive or non-finite gains, ``T``; ``k'`` or ``r`` outside (0, 1);
-        ``k3 + k'' <= 0`` (``Q2`` (7.48) not positive definite); bad ``margin`` or ``n``.
+        Not a CTOL vehicle, or ``epsilon <= 0``.
+    SolverError
+        If a constant of the certificate is not finite (it lost its meaning).
     """
-    require_ctol(veh)
+    checks.vehicle("veh", veh, "ctol")
     if not isinstance(glide, CTOLGlide):
-        raise ModelError(f"glide must be a CTOLGlide from ctol_glide(), got {type(glide).__name__}")
+        raise ArgumentTypeError(f"glide must be a CTOLGlide from gc.ctol_glide(veh, speed, gamma), got "
+                                f"{type(glide).__name__}")
+    checks.same_vehicle("glide", glide, veh)
+    require_ctol(veh)
     if veh.epsilon <= 0:
         raise ModelError("the steady-glide controller (7.19)-(7.20) divides by eps: it needs epsilon > 0")
-    k3, k4, T = positive_number("k3", k3), positive_number("k4", k4), positive_number("T", T)
-    kp, r = positive_number("k_prime", k_prime), positive_number("r", r)
-    if not kp < 1:
-        raise ModelError(f"k' (k_prime) must lie in (0, 1) for Q2 (7.48) to be positive definite, got {kp!r}")
-    if not r < 1:
-        raise ModelError(f"the domain radius r must lie in (0, 1) (Appendix D assumes r < 1), got {r!r}")
-    if not (isinstance(margin, int | float) and 0 <= margin < 0.5):
-        raise ModelError(f"margin must be a relative back-off in [0, 0.5), got {margin!r}")
-    if not (isinstance(n, int | np.integer) and not isinstance(n, bool) and n >= 100):
-        raise ModelError(f"n must be an integer >= 100, got {n!r}")
+    k3, k4 = checks.positive("k3", k3, unit="N"), checks.positive("k4", k4, unit="N m s")
+    T = checks.positive("T", T, unit="s")
+    kp = checks.real("k_prime", k_prime, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    r = checks.real("r", r, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    margin = checks.real("margin", margin, lo=0.0, hi=0.5, hi_open=True)
+    n = checks.integer("n", n, lo=100, hi=MAX_SAMPLES)
+    seed = checks.integer("seed", seed, lo=0)
     k_pp = glide.k1 * math.sin(glide.theta) + glide.k2 * math.cos(glide.theta)
     if k3 + k_pp <= 0:
-        raise ModelError(f"k3 + k'' = {k3 + k_pp:g} <= 0 (k'' = {k_pp:g}): Q2 (7.48) is not positive definite; "
-                         f"choose k3 > {-k_pp:g} (§7.2.3 asks for k3 > |k''|)")
+        raise ArgumentError(f"k3 + k'' = {k3 + k_pp:g} <= 0 (k'' = {k_pp:g}): Q2 (7.48) is not positive definite; "
+                            f"choose k3 > {-k_pp:g} (§7.2.3 asks for k3 > |k''|)")
+    try:
+        return _build(veh, glide, k3, k4, T, kp, r, k_pp, margin, n, seed)
+    except (OverflowError, ZeroDivisionError) as exc:
+        raise ArgumentError(f"the Theorem-5 constants overflow for k3 = {k3:g}, k4 = {k4:g}, T = {T:g} "
+                            f"({type(exc).__name__}: {exc}); use gains and T of moderate size") from exc
+
+
+def _build(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, kp: float, r: float, k_pp: float,
+           margin: float, n: int, seed: int) -> CTOLLyapunovCertificate:
     printed0, lam1_printed = _printed(veh, glide, k3, k4, T, kp, r, k_pp)
     lam1_formula = glide.speed / veh.m * lam1_printed
 
@@ -658,6 +815,12 @@ def ctol_lyapunov(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float
     corrections.append(f"gamma12: not printed (7.77); sampled sup of |g1|/|x2| {sampled.gamma12:.6g}, "
                        f"using {gamma12:.6g} (margin {margin:g})")
     valid_c = Theorem5Constants(**valid)
+    values = {**{f"printed {k}": v for k, v in printed.as_dict().items()},
+              **{f"sampled {k}": v for k, v in sampled.as_dict().items()}}
+    bad = sorted(k for k, v in values.items() if not math.isfinite(v))
+    if bad:
+        raise SolverError(f"Theorem 5 constants are not finite for k3 = {k3:g}, k4 = {k4:g}, T = {T:g} ({bad}): they "
+                          "overflow or the closed loop is not finite on the ball; use gains of moderate size")
     d1, d2, lam = _composite(valid_c)
     if lam > 0:
         level = min(d1 * valid_c.c11, d2 * valid_c.c21) * r * r

@@ -20,13 +20,17 @@ from typing import Any
 
 import numpy as np
 
+from .. import checks
 from ..analysis.jacobian import jacobians
-from ..errors import ModelError
+from ..errors import ModelError, SolverError
 from ..models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
 from ..models.reduced import ReducedLongitudinalGlider
 from ..params import Vehicle
 
-__all__ = ["SingularPerturbation", "singular_perturbation"]
+__all__ = ["SPEED_RANGE", "SingularPerturbation", "singular_perturbation"]
+
+#: plausible steady-glide speeds V_e (m/s) of the chapter-5 analysis
+SPEED_RANGE = (1e-6, 100.0)
 
 
 @dataclass(frozen=True)
@@ -101,17 +105,43 @@ class SingularPerturbation:
         return self.scaling.equilibrium
 
     def to_nondimensional(self, x: Any) -> np.ndarray:
-        """``(V, gamma, alpha, Omega2) -> (Vbar, gammabar, alphabar, Omegabar2)``, (5.12)-(5.15)."""
+        """``(V, gamma, alpha, Omega2) -> (Vbar, gammabar, alphabar, Omegabar2)``, (5.12)-(5.15); ``x`` of trailing
+        dimension 4.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If an argument does not have the trailing dimension named above.
+        """
         return self.scaling.to_nondimensional(x)
 
     def to_dimensional(self, z: Any) -> np.ndarray:
-        """Inverse of :meth:`to_nondimensional`."""
+        """Inverse of :meth:`to_nondimensional`; ``z`` of trailing dimension 4.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If an argument does not have the trailing dimension named above.
+        """
         return self.scaling.to_dimensional(z)
 
     # ---------------------------------------------------------------- compact form (5.28)-(5.29)
     def f(self, p: Any, q: Any) -> np.ndarray:
         """Slow vector field ``dp/dt_n = f(p, q)`` of (5.28), ``p = (Vbar, gammabar)``
-        (:meth:`NondimensionalScaling.f <glidectl.models.nondimensional.NondimensionalScaling.f>`)."""
+        (:meth:`NondimensionalScaling.f <glidectl.models.nondimensional.NondimensionalScaling.f>`); ``p`` and ``q``
+        of trailing dimension 2.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If an argument does not have the trailing dimension named above.
+        """
         return self.scaling.f(p, q)
 
     def g(self, p: Any, q: Any, eps: bool = True) -> np.ndarray:
@@ -119,24 +149,56 @@ class SingularPerturbation:
 
         ``g1 = eps1 dalphabar/dt_n = Omegabar2 - eps1 f2`` and ``g2 = eps2 dOmegabar2/dt_n``; with ``eps=False``
         the ``eps1 f2`` term is dropped (:meth:`NondimensionalScaling.g
-        <glidectl.models.nondimensional.NondimensionalScaling.g>`).
+        <glidectl.models.nondimensional.NondimensionalScaling.g>`). ``p`` and ``q`` of trailing dimension 2.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``p`` or ``q`` is not an array of numbers, or ``eps`` is not a bool.
+        ArgumentError
+            If ``p`` or ``q`` does not have the trailing dimension 2.
         """
-        return self.scaling.g(p, q, eps)
+        return self.scaling.g(p, q, checks.boolean("eps", eps))
 
     def A(self) -> np.ndarray:
         """``diag(r1, r2)`` of (5.29)."""
         return np.diag([self.r1, self.r2])
 
     def full_rhs_nondimensional(self, z: Any) -> np.ndarray:
-        """``dz/dt_n`` for ``z = (p, q)``: ``(f, A g / mu)``."""
+        """``dz/dt_n`` for ``z = (p, q)``: ``(f, A g / mu)``; ``z`` of trailing dimension 4.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If an argument does not have the trailing dimension named above.
+        """
         return self.scaling.full_rhs_nondimensional(z)
 
     def reduced_rhs(self, p: Any) -> np.ndarray:
-        """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``."""
+        """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``; ``p`` of trailing dimension 2.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If an argument does not have the trailing dimension named above.
+        """
         return self.scaling.reduced_rhs(p)
 
     def boundary_layer_rhs(self, p: Any, q: Any) -> np.ndarray:
-        """Boundary-layer subsystem (5.30): ``dq/dtau = A g(p, q, 0)``, ``tau = t_n / mu``."""
+        """Boundary-layer subsystem (5.30): ``dq/dtau = A g(p, q, 0)``, ``tau = t_n / mu``; ``p`` and ``q`` of
+        trailing dimension 2.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If an argument does not have the trailing dimension named above.
+        """
         return self.scaling.boundary_layer_rhs(p, q)
 
     def reduced_dimensional_rhs(self, x: Any) -> np.ndarray:
@@ -184,11 +246,28 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle (e.g. a preset name: load it first).
     ModelError
         If the vehicle has no steady glide in this model or is not singularly perturbed (``eps_i <= 0``): not an
         underwater glider, ``m0 = 0``, ``K_M = 0``, no equilibrium angle of attack from (5.90), ``K_De <= 0``,
-        ``K_q >= 0`` or ``K_M >= 0``.
+        ``K_q >= 0`` or ``K_M >= 0``; or its numbers overflow or underflow (a time scale or small parameter that is
+        not a finite positive number, a glide speed outside :data:`SPEED_RANGE`, a linearization that underflows to
+        zero).
+    SolverError
+        If an eigenvalue computation fails.
     """
+    checks.vehicle("veh", veh, "underwater_glider")
+    try:
+        with np.errstate(over="raise", invalid="raise", divide="raise"):
+            return _singular_perturbation(veh)
+    except (OverflowError, ZeroDivisionError, FloatingPointError) as exc:
+        raise ModelError(f"vehicle '{veh.name}': the chapter-5 numbers overflow or divide by zero "
+                         f"({type(exc).__name__}: {exc}); its parameters are outside the range this analysis can "
+                         "represent") from exc
+
+
+def _singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     model = ReducedLongitudinalGlider(veh)
     _, M3 = model.masses
     a_e = model.trim_alpha()
@@ -210,6 +289,16 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     if not (eps1 > 0 and eps2 > 0):
         raise ModelError(f"vehicle '{veh.name}' gives eps1 = {eps1:.4g}, eps2 = {eps2:.4g}: the singular "
                          "perturbation form (5.16)-(5.17) needs K_q < 0 and K_M < 0 (pitch damping and stiffness)")
+    numbers = {"V_e": V_e, "tau_s": tau_s, "eps1": eps1, "eps2": eps2, "K_De": K_De}
+    bad = {k: v for k, v in numbers.items() if not (math.isfinite(v) and v > 0)}
+    if bad:
+        raise ModelError(f"vehicle '{veh.name}': {bad} must be finite and positive (the parameters overflow or "
+                         "underflow in (5.8)-(5.18))")
+    if not SPEED_RANGE[0] <= V_e <= SPEED_RANGE[1]:
+        raise ModelError(f"vehicle '{veh.name}' glides at V_e = {V_e:.3g} m/s (5.8), outside the plausible range "
+                         f"[{SPEED_RANGE[0]:g}, {SPEED_RANGE[1]:g}] m/s of this analysis (forces of that size "
+                         f"underflow or overflow in the exact derivatives); check m0 = {m0:g} kg and the drag and "
+                         "lift coefficients")
     mu = max(eps1, eps2)
     sp = SingularPerturbation(model, V_e, gamma_e, a_e, K_De, K_Le, tau_s, eps1, eps2, mu, mu / eps1, mu / eps2,
                               np.empty(0), np.empty(0), np.empty(0), veh, veh.provenance)
@@ -217,10 +306,26 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     Ar, _ = jacobians(lambda p, u: sp.reduced_rhs(p), z0, np.zeros(0))
     Ab, _ = jacobians(lambda q, u: sp.g(np.zeros_like(q), q, eps=False) / np.array([eps1, eps2]), z0, np.zeros(0))
     Af, _ = jacobians(lambda z, u: sp.full_rhs_nondimensional(z), np.zeros(4), np.zeros(0))
-    residual = np.max(np.abs(model.rhs(sp.equilibrium)))
-    if residual > 1e-9 * max(1.0, V_e):
-        raise ModelError(f"equilibrium residual {residual:.2e} for vehicle '{veh.name}' (internal error)")
-    srt = lambda lam: lam[np.lexsort((lam.imag, lam.real))]  # noqa: E731
+    # residual relative to the size of the terms of each equation (forces / mass, moments / inertia), not absolute
+    M1, _ = model.masses
+    acc = (abs(m0) * veh.g + (K_De + abs(K_Le)) * V_e**2) / min(M1, M3)
+    mom = (abs(veh.K_M0) + abs(veh.K_M) * max(abs(a_e), 1.0) + abs(M3 - M1)) * V_e**2 / veh.J2  # K_M != 0 here
+    scale = np.array([acc, acc / V_e, acc / V_e, mom])
+    residual = float(np.max(np.abs(np.asarray(model.rhs(sp.equilibrium), dtype=float)) / scale))
+    if not residual <= 1e-9:
+        raise ModelError(f"equilibrium residual {residual:.2e} (relative to the forces and moments) for vehicle "
+                         f"'{veh.name}': the steady glide (5.8)-(5.10) is not an equilibrium of the model to working "
+                         "precision")
+    def eig(M: np.ndarray, what: str) -> np.ndarray:
+        if not np.any(M):
+            raise ModelError(f"the {what} linearization of vehicle '{veh.name}' is identically zero: its exact "
+                             "derivatives underflow (the forces are too small for double precision)")
+        try:
+            lam = np.linalg.eigvals(M)
+        except np.linalg.LinAlgError as exc:
+            raise SolverError(f"eigenvalues of the {what} linearization of vehicle '{veh.name}' did not converge: "
+                              f"{exc}") from exc
+        return lam[np.lexsort((lam.imag, lam.real))]
+
     return SingularPerturbation(model, V_e, gamma_e, a_e, K_De, K_Le, tau_s, eps1, eps2, mu, mu / eps1, mu / eps2,
-                                srt(np.linalg.eigvals(Ar)), srt(np.linalg.eigvals(Ab)), srt(np.linalg.eigvals(Af)),
-                                veh, veh.provenance)
+                                eig(Ar, "reduced"), eig(Ab, "boundary-layer"), eig(Af, "full"), veh, veh.provenance)

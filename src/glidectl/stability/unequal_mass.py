@@ -13,9 +13,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import GlidectlError
+from .. import checks
+from ..errors import ArgumentError
 from ..params import Vehicle
-from .composite import CompositeCertificate
+from .composite import CompositeCertificate, Domain
 from .singular_perturbation import singular_perturbation
 
 __all__ = ["UnequalMassCheck", "allowable_delta_m_ratio", "unequal_mass_check"]
@@ -27,23 +28,31 @@ def allowable_delta_m_ratio(kappa: float, Vbar_min: np.ndarray | float) -> np.nd
     Parameters
     ----------
     kappa : float
-        ``|m0 g| / (K_De V_e^2)`` (nondimensional), ``> 0``.
-    Vbar_min : float or ndarray
-        Lower end of the ``Vbar`` range of the domain (nondimensional, ``-1 < Vbar_min < 0``); broadcast.
+        ``|m0 g| / (K_De V_e^2)`` (nondimensional), finite and ``> 0``.
+    Vbar_min : float or array_like
+        Lower end(s) of the ``Vbar`` range of the domain (nondimensional, ``-1 < Vbar_min <= 0``; 0 is the limit of
+        a vanishing domain); broadcast.
 
     Returns
     -------
     float or numpy.ndarray
-        ``(1 + Vbar_min)^2 / (2 kappa)`` (nondimensional), the bound on ``|m3 - m1| / m1``; same shape as
-        ``Vbar_min``.
+        ``(1 + Vbar_min)^2 / (2 kappa)`` (nondimensional), the bound on ``|m3 - m1| / m1``; a float for a scalar
+        ``Vbar_min``, else an array of its shape.
 
     Raises
     ------
-    TypeError
-        If ``kappa`` or ``Vbar_min`` is not numeric. The arguments are not otherwise validated: ``kappa = 0`` gives
-        ``inf`` (with a numpy ``RuntimeWarning``) rather than an error.
+    ArgumentTypeError
+        If ``kappa`` or ``Vbar_min`` is not real numbers.
+    ArgumentError
+        If ``kappa`` is not positive and finite, or a ``Vbar_min`` is not finite or not in (-1, 0].
     """
-    return (1 + np.asarray(Vbar_min)) ** 2 / (2 * kappa)
+    kappa = checks.positive("kappa", kappa)
+    scalar = not isinstance(Vbar_min, list | tuple | np.ndarray) or np.ndim(Vbar_min) == 0
+    V = np.asarray(checks.real("Vbar_min", Vbar_min), dtype=float) if scalar else checks.array("Vbar_min", Vbar_min)
+    if np.any(V <= -1) or np.any(V > 0):
+        raise ArgumentError(f"Vbar_min must lie in (-1, 0], got {Vbar_min!r}")
+    out = (1 + V) ** 2 / (2 * kappa)
+    return float(out) if scalar else out
 
 
 @dataclass(frozen=True)
@@ -115,30 +124,36 @@ def unequal_mass_check(veh: Vehicle, Vbar: tuple[float, float] = (-0.4, 0.4),
     Vbar : (float, float)
         Range of ``Vbar = (V - V_e)/V_e`` (nondimensional), ``-1 < lo < 0 < hi``.
     gammabar : (float, float)
-        Range of ``gammabar = gamma - gamma_e`` (rad).
+        Range of ``gammabar = gamma - gamma_e`` (rad), ``lo < 0 < hi``, ``|gammabar| <= pi``.
     n : int
-        Number of uniform samples of ``p = (Vbar, gammabar)`` in the box.
+        Number of uniform samples of ``p = (Vbar, gammabar)`` in the box, in ``[1, 10_000_000]``.
     seed : int
-        Seed of the samples.
+        Seed of the samples, ``>= 0``.
 
     Returns
     -------
     UnequalMassCheck
         ``Delta m`` (kg), ``kappa`` and the left side of (5.110) (nondimensional), the sampled margin of the bound
-        (5.109) and the largest sampled ``dPhi/dt_n / psi^2`` (nondimensional).
+        (5.109) and the largest sampled ``dPhi/dt_n / psi^2`` (nondimensional). ``R = dPhi/dt_n + psi^2`` within
+        rounding of the terms it is computed from (``1e-12`` relative) counts as 0; any larger positive ``R``
+        fails (5.109) when ``Delta m = 0`` (the bound is then ``R <= 0``).
 
     Raises
     ------
-    GlidectlError
-        If ``Vbar`` does not satisfy ``-1 < lo < 0 < hi``.
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, a range is not a pair of real numbers, or ``n``/``seed`` is not an integer.
+    ArgumentError
+        If ``Vbar`` does not satisfy ``-1 < lo < 0 < hi``, ``gammabar`` not ``lo < 0 < hi`` within ``[-pi, pi]``,
+        or ``n``/``seed`` is out of range.
     ModelError
         If the vehicle has no singularly perturbed chapter-5 glide (from
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
-    ValueError
-        If ``n`` is not positive (no samples).
     """
-    if not (-1 < Vbar[0] < 0 < Vbar[1]):
-        raise GlidectlError(f"Vbar range {Vbar} must satisfy -1 < lo < 0 < hi")
+    checks.vehicle("veh", veh, "underwater_glider")
+    dom = Domain(Vbar=Vbar, gammabar=gammabar)
+    Vbar, gammabar = dom.Vbar, dom.gammabar
+    n = checks.integer("n", n, lo=1, hi=10_000_000)
+    seed = checks.integer("seed", seed, lo=0)
     sp = singular_perturbation(veh)
     M1, M3 = sp.model.masses
     dm = M3 - M1
@@ -150,8 +165,17 @@ def unequal_mass_check(veh: Vehicle, Vbar: tuple[float, float] = (-0.4, 0.4),
     f = sp.reduced_rhs(p)
     V, g = p[:, 0], p[:, 1]
     dPhi = (-np.cos(g) + (1 + V) ** 2) * f[:, 0] + (1 + V) * np.sin(g) * f[:, 1]
-    ok = psi2 > 1e-14
+    ok = psi2 > 1e-14 * max(float(np.max(psi2)), np.finfo(float).tiny)  # both sides vanish at p = 0
+    if not np.any(ok):
+        raise ArgumentError(f"no sample of Vbar = {Vbar}, gammabar = {gammabar} is away from the steady glide "
+                            "(psi = 0 on all of them); widen the ranges or take more samples")
     R = dPhi[ok] + psi2[ok]
-    ratio = float(np.max(R / (lhs * psi2[ok]))) if lhs > 0 else float(np.max(np.abs(R)))
-    margin = math.inf if ratio <= 0 else 1.0 / ratio
+    # rounding of R = dPhi + psi^2: relative to the terms it is computed from (each f_i times its gradient entry)
+    terms = (np.abs(-np.cos(g) + (1 + V) ** 2) * np.abs(f[:, 0]) + np.abs((1 + V) * np.sin(g) * f[:, 1]))[ok]
+    R = np.where(np.abs(R) <= 1e-12 * (terms + psi2[ok]), 0.0, R)
+    if lhs > 0:
+        ratio = float(np.max(R / (lhs * psi2[ok])))
+        margin = math.inf if ratio <= 0 else 1.0 / ratio
+    else:  # Delta m = 0: (5.109) reads R <= 0
+        margin = math.inf if float(np.max(R)) <= 0 else 0.0
     return UnequalMassCheck(dm, kappa, lhs, margin, float(np.max(dPhi[ok] / psi2[ok])), n, veh, veh.provenance)

@@ -17,30 +17,88 @@ in :attr:`CTOLGlide.alpha_roots`.
 Why the controller's forces drop out: (7.18)-(7.19) make ``u1 (cos theta, sin theta) + eps u2 (sin theta,
 -cos theta) = (-k2, -k1)`` in inertial axes: a constant force, so ``k1`` acts as extra weight and ``k2`` as a
 constant horizontal force; only ``w22`` of (7.20) depends on the pitch error.
+
+Plausibility limit: the speed must lie in ``(0, SPEED_MAX_REF * V_ref]`` with ``V_ref = sqrt(m g / (rho A_W / 2))``
+the speed at which the aerodynamic force scale equals the weight (``V_ref = 1`` in the normalized units of
+``dc8_ctol``, so the limit is 100 there); far beyond it the forces are meaningless and ``V^2`` overflows. The glide
+is accepted only if the residual of (7.21)-(7.23) is below ``RESIDUAL_TOL`` (1e-9) relative to the largest force in
+those equations.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import InfeasibleGlideError, ModelError
+from .. import checks
+from ..errors import ArgumentError, InfeasibleGlideError, SolverError
 from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
 from ..params import Vehicle
 
-__all__ = ["CTOLGlide", "angle_equation", "ctol_glide"]
+__all__ = ["ALPHA_MAX", "RESIDUAL_TOL", "SPEED_MAX_REF", "CTOLGlide", "angle_equation", "ctol_glide"]
 
-ALPHA_MAX = 0.35  # rad: largest |alpha_e| accepted as physical (linear lift model)
+#: Largest |alpha_e| (rad) accepted as physical by default (linear lift model).
+ALPHA_MAX = 0.35
+#: Plausibility limit on the speed, in units of ``V_ref = sqrt(m g / (rho A_W / 2))``.
+SPEED_MAX_REF = 100.0
+#: Largest residual of (7.21)-(7.23) relative to the largest force in them.
+RESIDUAL_TOL = 1e-9
+
+
+def _speed_gamma(veh: Vehicle, speed: Any, gamma: Any) -> tuple[float, float]:
+    """Checked ``(speed, gamma)``: speed in (0, SPEED_MAX_REF V_ref], gamma in [-pi, pi]."""
+    v_max = SPEED_MAX_REF * math.sqrt(veh.m * veh.g / veh.rho_AW_half)
+    unit = "m/s (normalized units for a normalized vehicle)"
+    speed = checks.real("speed (V_e)", speed, lo=0.0, lo_open=True, hi=v_max, unit=unit)
+    gamma = checks.real("gamma (gamma_e, flight-path angle)", gamma, lo=-math.pi, hi=math.pi, unit="rad")
+    if speed * speed < sys.float_info.min:
+        raise ArgumentError(f"speed (V_e) = {speed:g} is so small that V_e^2 underflows and the aerodynamic forces "
+                            "vanish; ask for a speed of at least 1e-150")
+    return speed, gamma
+
+
+def _F(veh: Vehicle, speed: float, gamma: float, a: Any) -> Any:
+    return (veh.m * veh.g * np.cos(gamma + a)
+            - (drag_coefficient(veh, a) * np.sin(a) + lift_coefficient(veh, a) * np.cos(a)) * speed**2)
 
 
 def angle_equation(veh: Vehicle, speed: float, gamma: float, alpha: np.ndarray | float) -> np.ndarray | float:
-    """``F(alpha)`` of (7.25) in the general units of :mod:`glidectl.models.ctol` (N)."""
-    a = np.asarray(alpha, dtype=float)
-    return (veh.m * veh.g * np.cos(gamma + a)
-            - (drag_coefficient(veh, a) * np.sin(a) + lift_coefficient(veh, a) * np.cos(a)) * speed**2)
+    """``F(alpha)`` of (7.25) in the general units of :mod:`glidectl.models.ctol` (N).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        A ``kind = "ctol"`` vehicle.
+    speed : float
+        ``V_e`` (m/s; normalized units for ``dc8_ctol``), in ``(0, SPEED_MAX_REF * V_ref]``.
+    gamma : float
+        ``gamma_e`` (rad), in ``[-pi, pi]``.
+    alpha : float or array_like
+        Angles of attack (rad), finite.
+
+    Returns
+    -------
+    ndarray
+        ``F(alpha)`` (N), shaped like ``alpha``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        ``veh`` is not a Vehicle, ``speed`` or ``gamma`` not a real number, ``alpha`` not real numbers.
+    ArgumentError
+        A value is not finite or outside its range.
+    ModelError
+        ``veh`` is not a CTOL aircraft.
+    """
+    require_ctol(veh)
+    speed, gamma = _speed_gamma(veh, speed, gamma)
+    a = checks.array("alpha (angle of attack, rad)", alpha)
+    return _F(veh, speed, gamma, a)
 
 
 @dataclass(frozen=True)
@@ -93,19 +151,37 @@ class CTOLGlide:
         return self.speed * np.array([math.cos(self.gamma), math.sin(self.gamma)])
 
     def full_state(self, position: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
-        """State ``(x, y, xdot, ydot, theta, Omega2)`` of the CTOL model on this glide."""
-        return np.r_[position, self.velocity, self.theta, 0.0]
+        """State ``(x, y, xdot, ydot, theta, Omega2)`` of the CTOL model on this glide.
+
+        Parameters
+        ----------
+        position : array_like, shape (2,)
+            Inertial position ``(x, y)`` (m), finite.
+
+        Returns
+        -------
+        ndarray, shape (6,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``position`` is not an array of real numbers.
+        ArgumentError
+            If it is not two finite numbers.
+        """
+        pos = checks.array("position (x, y)", position, shape=(2,))
+        return np.r_[pos, self.velocity, self.theta, 0.0]
 
 
 def _roots(veh: Vehicle, speed: float, gamma: float, n: int = 4001) -> list[float]:
     a = np.linspace(-math.pi, math.pi, n)
-    f = angle_equation(veh, speed, gamma, a)
+    f = _F(veh, speed, gamma, a)
     out = []
     for i in range(n - 1):
         if f[i] == 0:
             out.append(float(a[i]))
         elif f[i] * f[i + 1] < 0:
-            out.append(float(brentq(lambda x: float(angle_equation(veh, speed, gamma, x)), a[i], a[i + 1],
+            out.append(float(brentq(lambda x: float(_F(veh, speed, gamma, x)), a[i], a[i + 1],
                                     xtol=1e-15, rtol=1e-15)))
     return out
 
@@ -137,11 +213,12 @@ def ctol_glide(veh: Vehicle, speed: float, gamma: float, *, alpha_max: float = A
     veh : Vehicle
         A ``kind = "ctol"`` vehicle (``dc8_ctol``: normalized units of §7.1).
     speed : float
-        ``V_e > 0``.
+        ``V_e`` (m/s; normalized units for ``dc8_ctol``), in ``(0, SPEED_MAX_REF * V_ref]`` with ``V_ref = sqrt(m g /
+        (rho A_W / 2))`` (a plausibility limit: 100 in normalized units).
     gamma : float
-        ``gamma_e`` in (-pi, pi] (rad).
+        ``gamma_e`` in [-pi, pi] (rad).
     alpha_max : float
-        Largest ``|alpha_e|`` accepted as physical (rad).
+        Largest ``|alpha_e|`` accepted as physical (rad), in ``(0, pi]``.
 
     Returns
     -------
@@ -149,21 +226,27 @@ def ctol_glide(veh: Vehicle, speed: float, gamma: float, *, alpha_max: float = A
 
     Raises
     ------
+    ArgumentTypeError
+        ``veh`` is not a Vehicle, or ``speed``, ``gamma`` or ``alpha_max`` is not a real number (``str``, ``None``,
+        ``bool``, arrays).
+    ArgumentError
+        A value is not finite or outside its range above (e.g. ``speed = 1e200``).
     ModelError
-        Not a CTOL vehicle, non-positive or non-finite speed, non-finite gamma.
+        ``veh`` is not a CTOL vehicle.
     InfeasibleGlideError
         No root of (7.25) with ``|alpha_e| <= alpha_max`` (the message lists the roots that exist).
+    SolverError
+        The root finder failed or the residual of (7.21)-(7.23) is not small relative to the forces.
     """
     require_ctol(veh)
+    speed, gamma = _speed_gamma(veh, speed, gamma)
+    alpha_max = checks.real("alpha_max", alpha_max, lo=0.0, lo_open=True, hi=math.pi, unit="rad")
     try:
-        speed, gamma = float(speed), float(gamma)
-    except (TypeError, ValueError) as exc:
-        raise ModelError(f"speed and gamma must be numbers, got {speed!r}, {gamma!r}") from exc
-    if not (math.isfinite(speed) and speed > 0):
-        raise ModelError(f"speed must be a positive number (m/s), got {speed!r}")
-    if not math.isfinite(gamma):
-        raise ModelError(f"gamma must be finite (rad), got {gamma!r}")
-    roots = _roots(veh, speed, gamma)
+        with np.errstate(over="raise", invalid="raise"):
+            roots = _roots(veh, speed, gamma)
+    except (OverflowError, FloatingPointError, ZeroDivisionError, RuntimeError) as exc:
+        raise SolverError(f"solving the angle equation (7.25) for V = {speed:g}, gamma = {gamma:g} rad failed: "
+                          f"{exc}") from exc
     phys = [a for a in roots if abs(a) <= alpha_max]
     if not phys:
         raise InfeasibleGlideError(
@@ -174,4 +257,10 @@ def ctol_glide(veh: Vehicle, speed: float, gamma: float, *, alpha_max: float = A
     alpha = min(phys, key=abs)
     k1, k2 = gains(veh, speed, gamma, alpha)
     res = float(np.max(np.abs(residuals(veh, speed, gamma, alpha, k1, k2))))
+    W = veh.m * veh.g
+    scale = max(W, abs(drag_coefficient(veh, alpha)) * speed**2, abs(lift_coefficient(veh, alpha)) * speed**2,
+                abs(k1 + W), abs(k1), abs(k2))
+    if not (math.isfinite(res) and res <= RESIDUAL_TOL * scale):
+        raise SolverError(f"the steady glide at V = {speed:g}, gamma = {gamma:g} rad has residual {res:.3e} N, "
+                          f"{res / scale:.2e} of the largest force {scale:.3g} N (tolerance {RESIDUAL_TOL:g})")
     return CTOLGlide(speed, gamma, alpha, k1, k2, tuple(roots), res, veh, veh.provenance)

@@ -17,26 +17,41 @@ roots the one of smaller ``|alpha|`` is taken (the other lies on the back side o
 ``r_P`` perpendicular to gravity, ``r_P1 cos(theta) + r_P3 sin(theta) = ((m3 - m1) v1 v3 + M_DL2)/(mbar g)``,
 leaving the bottom-heaviness ``r_bh = r_P . R^T k = -r_P1 sin(theta) + r_P3 cos(theta)`` free.
 (2.27)-(2.28) as printed are the inverse map; (2.28) returns theta, not gamma (docs/thesis-errata.md).
+
+Argument limits (plausibility): speeds in ``(0, SPEED_MAX]`` = (0, 100] m/s, moving-mass offsets ``|r_p3|, |r_bh| <=
+R_P_MAX`` = 10 m; a speed so small that the forces underflow is refused. The trim is accepted only when the residual
+of every equation is below ``RESIDUAL_TOL`` (1e-9) relative to the largest term of that equation.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
-from ..errors import InfeasibleGlideError, ModelError, SolverError
+from .. import checks
+from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverError
+from ..models.glider3d import R_P_MAX
 from ..models.longitudinal import LongitudinalGlider
 from ..params import Vehicle
 
-__all__ = ["SteadyGlide", "alpha_for_gamma", "permissible_gamma", "steady_glide"]
+__all__ = ["RESIDUAL_TOL", "SPEED_MAX", "SteadyGlide", "alpha_for_gamma", "permissible_gamma", "steady_glide"]
+
+#: Largest glide speed accepted (m/s): a plausibility limit for underwater gliders.
+SPEED_MAX = 100.0
+#: Largest residual of a trim equation relative to the largest term of that equation.
+RESIDUAL_TOL = 1e-9
 
 
-def _check_glider(veh: Vehicle) -> None:
+def _check_glider(veh: Any) -> Vehicle:
+    checks.vehicle("veh", veh)
     if veh.kind != "underwater_glider":
         raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}; steady glides here are for underwater gliders "
                          "(use ctol_glide for the CTOL aircraft)")
+    return veh
 
 
 def _shallowest(veh: Vehicle) -> tuple[float, float, float, float]:
@@ -68,6 +83,8 @@ def permissible_gamma(veh: Vehicle) -> tuple[float, float]:
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
     ModelError
         If ``veh`` is not an underwater glider.
     InfeasibleGlideError
@@ -130,12 +147,48 @@ class SteadyGlide:
         return self.mbar * self.v3
 
     def force_state(self, x: float = 0.0, z: float = 0.0) -> np.ndarray:
-        """Equilibrium state of :class:`~glidectl.models.longitudinal.LongitudinalGlider`."""
+        """Equilibrium state of :class:`~glidectl.models.longitudinal.LongitudinalGlider`.
+
+        Parameters
+        ----------
+        x, z : float
+            Inertial position (m), finite.
+
+        Returns
+        -------
+        ndarray, shape (11,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` or ``z`` is not a real number.
+        ArgumentError
+            If it is not finite.
+        """
+        x, z = checks.real("x", x, unit="m"), checks.real("z", z, unit="m")
         return np.array([x, z, self.theta, 0.0, self.v1, self.v3, self.r_p1, self.r_p3,
                          self.mbar * self.v1, self.mbar * self.v3, self.m0])
 
     def accel_state(self, x: float = 0.0, z: float = 0.0) -> np.ndarray:
-        """Equilibrium state of :class:`~glidectl.models.longitudinal.AccelerationControlledGlider`."""
+        """Equilibrium state of :class:`~glidectl.models.longitudinal.AccelerationControlledGlider`.
+
+        Parameters
+        ----------
+        x, z : float
+            Inertial position (m), finite.
+
+        Returns
+        -------
+        ndarray, shape (11,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``x`` or ``z`` is not a real number.
+        ArgumentError
+            If it is not finite.
+        """
+        x, z = checks.real("x", x, unit="m"), checks.real("z", z, unit="m")
         return np.array([x, z, self.theta, 0.0, self.v1, self.v3, self.r_p1, 0.0, self.r_p3, 0.0, self.m0])
 
     def as_dict(self) -> dict[str, float | str]:
@@ -168,16 +221,30 @@ def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
 
     Raises
     ------
+    ArgumentTypeError
+        ``veh`` is not a Vehicle or ``gamma`` not a real number.
+    ArgumentError
+        ``gamma`` is not finite.
+    ModelError
+        ``veh`` is not an underwater glider.
     InfeasibleGlideError
-        ``gamma`` outside the permissible set (no real root with lift of the right sign); see
-        :func:`permissible_gamma`.
+        ``gamma`` outside the permissible set (no real root with lift of the right sign), or ``|gamma| >= pi/2``;
+        see :func:`permissible_gamma`.
     """
+    _check_glider(veh)
+    gamma = checks.real("gamma (flight-path angle)", gamma, unit="rad")
+    if not abs(gamma) < math.pi / 2:
+        raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: a steady glide needs "
+                                   "|gamma| < 90 deg")
     t = abs(math.tan(gamma))
     KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
     s = 1.0 if gamma < 0 else -1.0  # sign of the lift coefficient K_L(alpha) (= sign of m0)
     # K_D a^2 - s t K_L a + (K_D0 - s t K_L0) = 0
     a2, a1, a0 = KD, -s * t * KL, KD0 - s * t * KL0
     if a2 == 0:
+        if a1 == 0:  # K_D = 0 and gamma = 0: no lift is needed and none can balance the drag
+            raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
+                                       f"'{veh.name}': outside the permissible set (2.26)")
         roots = [-a0 / a1]
     else:
         disc = a1 * a1 - 4 * a2 * a0
@@ -204,45 +271,65 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
     veh : Vehicle
         Underwater glider with ``mbar > 0``.
     speed : float
-        Glide speed V_e (m/s), > 0.
+        Glide speed V_e (m/s), in ``(0, SPEED_MAX]`` = (0, 100] m/s.
     gamma : float
         Flight-path angle (rad), in the permissible set (2.26): ``gamma < lo`` or ``gamma > hi`` of
         :func:`permissible_gamma`, and ``|gamma| < pi/2``.
     r_p3 : float, optional
-        Vertical moving-mass position (m); selects one member of the one-parameter family of mass positions.
+        Vertical moving-mass position (m), ``|r_p3| <= R_P_MAX`` (10 m); selects one member of the one-parameter
+        family of mass positions.
     r_bh : float, optional
-        Bottom-heaviness ``r_P . R^T k`` (m); the alternative parameterization. Give exactly one of the two.
+        Bottom-heaviness ``r_P . R^T k`` (m), ``|r_bh| <= R_P_MAX``; the alternative parameterization. Give exactly
+        one of the two.
 
     Returns
     -------
     SteadyGlide
-        With the trim residual checked (< 1e-9 relative, else :class:`~glidectl.errors.SolverError`).
+        With the trim residual checked: every equation's residual is below :data:`RESIDUAL_TOL` (1e-9) relative to
+        the largest term of that equation, else :class:`~glidectl.errors.SolverError`.
 
     Raises
     ------
+    ArgumentTypeError
+        ``veh`` is not a Vehicle, or ``speed``, ``gamma``, ``r_p3`` or ``r_bh`` is not a real number (``str``,
+        ``None``, ``bool``, arrays...).
+    ArgumentError
+        Not exactly one of ``r_p3`` and ``r_bh`` given; a non-finite value; ``speed`` outside ``(0, 100]`` m/s or so
+        small that the hydrodynamic forces underflow; ``|r_p3|`` or ``|r_bh|`` above 10 m.
+    ModelError
+        ``veh`` is not an underwater glider or has no moving mass (``mbar = 0``).
     InfeasibleGlideError
-        gamma outside the permissible set (the message states the set), non-positive speed, or a mass position
-        that cannot realize the moment balance (r_p3 given at |theta| = 90 deg).
+        gamma outside the permissible set (the message states the set), or a mass position that cannot realize
+        the moment balance (r_p3 given at |theta| = 90 deg, or a moment balance that needs the moving mass more
+        than R_P_MAX = 10 m from the centre, as near-vertical glides do).
+    SolverError
+        The relative residual check fails (please report the vehicle file).
     """
     _check_glider(veh)
     LongitudinalGlider(veh)  # validates mbar > 0
     if (r_p3 is None) == (r_bh is None):
-        raise InfeasibleGlideError("give exactly one of r_p3= (m) or r_bh= (m) to pick the moving-mass position "
-                                   "from the one-parameter family of equilibria")
-    if not (math.isfinite(speed) and speed > 0):
-        raise InfeasibleGlideError(f"glide speed must be a positive number of m/s, got {speed!r}")
+        raise ArgumentError("give exactly one of r_p3= (m) or r_bh= (m) to pick the moving-mass position "
+                            "from the one-parameter family of equilibria")
+    V = checks.real("speed (glide speed)", speed, lo=0.0, lo_open=True, hi=SPEED_MAX, unit="m/s")
+    gamma = checks.real("gamma (flight-path angle)", gamma, unit="rad")
+    if r_p3 is not None:
+        r_p3 = checks.real("r_p3 (vertical moving-mass position)", r_p3, lo=-R_P_MAX, hi=R_P_MAX, unit="m")
+    if r_bh is not None:
+        r_bh = checks.real("r_bh (bottom-heaviness)", r_bh, lo=-R_P_MAX, hi=R_P_MAX, unit="m")
     lo, hi = permissible_gamma(veh)
     set_text = (f"permissible flight-path angles for '{veh.name}' (2.26): gamma < {math.degrees(lo):.4f} deg "
                 f"(down) or gamma > {math.degrees(hi):.4f} deg (up), |gamma| < 90 deg")
-    if not (math.isfinite(gamma) and abs(gamma) < math.pi / 2 and (gamma < lo or gamma > hi)):
+    if not (abs(gamma) < math.pi / 2 and (gamma < lo or gamma > hi)):
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}")
     try:
         alpha = alpha_for_gamma(veh, gamma)
-    except ValueError:
+    except InfeasibleGlideError:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}") from None
     g, mbar = veh.g, veh.mbar
-    V = float(speed)
     m0 = (veh.K_L0 + veh.K_L * alpha) * V * V / (g * math.cos(gamma))
+    if not abs(m0) >= sys.float_info.min:
+        raise ArgumentError(f"speed = {V:g} m/s is so small that the hydrodynamic forces and the net buoyancy m0 "
+                            f"= {m0:g} kg underflow; ask for a speed of at least 1e-150 m/s")
     theta = gamma + alpha
     v1, v3 = V * math.cos(alpha), V * math.sin(alpha)
     m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
@@ -250,24 +337,36 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
     a_perp = moment / (mbar * g)  # r_P1 cos(theta) + r_P3 sin(theta)
     st, ct = math.sin(theta), math.cos(theta)
     if r_bh is not None:
-        rbh = float(r_bh)
+        rbh = r_bh
         rp1 = a_perp * ct - rbh * st
         rp3 = a_perp * st + rbh * ct
     else:
         if abs(ct) < 1e-9:
             raise InfeasibleGlideError("pitch angle is 90 deg: r_p3 cannot select the mass position; give r_bh")
-        rp3 = float(r_p3)
+        rp3 = float(r_p3)  # type: ignore[arg-type]
         rp1 = (a_perp - rp3 * st) / ct
         rbh = -rp1 * st + rp3 * ct
     if not all(math.isfinite(q) for q in (rp1, rp3, rbh, m0)):
-        raise InfeasibleGlideError(f"non-finite equilibrium for speed={speed}, gamma={gamma}")
+        raise InfeasibleGlideError(f"non-finite equilibrium for speed={V}, gamma={gamma}")
+    if math.hypot(rp1, rp3) > R_P_MAX:
+        given = f"r_p3 = {rp3:g} m" if r_bh is None else f"r_bh = {rbh:g} m"
+        raise InfeasibleGlideError(
+            f"the moment balance of the glide at gamma = {math.degrees(gamma):.4f} deg with {given} needs the moving "
+            f"mass at r_P = ({rp1:.4g}, {rp3:.4g}) m, {math.hypot(rp1, rp3):.4g} m from the centre of buoyancy: "
+            f"beyond the plausibility limit R_P_MAX = {R_P_MAX:g} m; choose a shallower glide or another "
+            "r_p3 / r_bh")
     xe = np.array([0.0, 0.0, theta, 0.0, v1, v3, rp1, rp3, mbar * v1, mbar * v3, m0])
     f = LongitudinalGlider(veh).rhs(xe, np.zeros(3))
     residual = float(np.max(np.abs(f[2:])))
-    scale = max(1.0, abs(m0) * g / min(m1, m3), veh.mbar * g * math.hypot(rp1, rp3) / veh.J2)
-    if not residual <= 1e-9 * scale:
-        raise SolverError(f"steady-glide residual {residual:.3e} exceeds 1e-9 (scale {scale:.3g}); "
-                          "please report this vehicle file")
+    L, D = (veh.K_L0 + veh.K_L * alpha) * V * V, (veh.K_D0 + veh.K_D * alpha * alpha) * V * V
+    force = max(abs(m0) * g, abs(L), abs(D))  # largest term of (2.18)-(2.19)
+    torque = max(abs((m3 - m1) * v1 * v3), abs(moment - (m3 - m1) * v1 * v3), mbar * g * math.hypot(rp1, rp3))
+    scaled = [(f[3], torque / veh.J2), (f[4], force / m1), (f[5], force / m3), (f[6], V), (f[7], V),
+              (f[2], 0.0), (f[8], 0.0), (f[9], 0.0), (f[10], 0.0)]
+    rel = max(float(abs(r) / sc) if sc > 0 else (0.0 if r == 0 else math.inf) for r, sc in scaled)
+    if not rel <= RESIDUAL_TOL:
+        raise SolverError(f"steady-glide residual {residual:.3e} is {rel:.2e} of the largest term of its equation "
+                          f"(tolerance {RESIDUAL_TOL:g}); please report this vehicle file")
     return SteadyGlide(speed=V, gamma=float(gamma), alpha=alpha, theta=theta, m0=m0, r_p1=rp1, r_p3=rp3,
                        r_bh=rbh, v1=v1, v3=v3, residual=residual, vehicle=veh,
                        provenance=veh.provenance, mbar=mbar)

@@ -7,6 +7,16 @@ A steady motion has constant ``v``, ``Omega`` and ``zeta = R^T k = (-sin theta, 
 Jacobian, :func:`scipy.optimize.root`). Starting values come from the straight glide of the longitudinal
 projection (``r_P2 = 0``, found by bracketing the moment balance over the angle of attack) followed by continuation
 in ``r_P2`` to the requested value, or from a previous solution (warm start).
+
+Acceptance: a Newton iterate counts as a steady motion only if the residual of the force and of the moment
+equations (8.24)-(8.25) is below :data:`RESIDUAL_TOL` relative to the largest term of that equation (net weight,
+hydrodynamic force, inertial coupling; gravity moment of the moving mass, hydrodynamic moment, ...). An absolute
+tolerance would accept a near-standstill that is no equilibrium when the forces are tiny (``m0 = 1e-300``).
+
+Budgets: :func:`helix_trim` runs at most ``1 + starts * continuation_steps + n_random`` Newton solves (the starts are
+the roots of the longitudinal moment balance, at most a few), with ``continuation_steps <=``
+:data:`MAX_CONTINUATION_STEPS` and ``n_random <=`` :data:`MAX_RANDOM_STARTS`; each Newton solve is MINPACK ``hybr``
+with its default limit of ``200 (n + 1) = 1400`` residual evaluations.
 """
 
 from __future__ import annotations
@@ -18,12 +28,17 @@ from typing import Any
 import numpy as np
 from scipy.optimize import brentq, root
 
+from .. import checks
 from ..analysis.jacobian import jacobians
-from ..errors import InfeasibleGlideError, ModelError
-from ..models.glider3d import FixedMassGlider3D, ypr_to_quat
+from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, SolverError
+from ..hydro import loads_3d
+from ..models.glider3d import R_P_MAX, FixedMassGlider3D, ypr_to_quat
 from ..params import Vehicle
 
 __all__ = [
+    "MAX_CONTINUATION_STEPS",
+    "MAX_RANDOM_STARTS",
+    "RESIDUAL_TOL",
     "Helix",
     "classify_motion",
     "helix_eigenvalues",
@@ -34,12 +49,70 @@ __all__ = [
     "zeta_of",
 ]
 
-_RES_TOL = 1e-10
+#: Largest residual of the force or moment equations relative to their largest term, for a converged trim.
+RESIDUAL_TOL = 1e-10
+#: Budget: largest ``continuation_steps`` of :func:`helix_trim`.
+MAX_CONTINUATION_STEPS = 1000
+#: Budget: largest ``n_random`` of :func:`helix_trim`.
+MAX_RANDOM_STARTS = 1000
+
+
+def _numeric(name: str, value: Any) -> np.ndarray:
+    """An array of real or complex numbers (any shape); ArgumentTypeError otherwise."""
+    if value is None or isinstance(value, str | bytes):
+        raise ArgumentTypeError(f"{name} must be a number or an array of numbers, got {type(value).__name__} "
+                                f"{value!r}")
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentTypeError(f"{name} must be a number or an array of numbers: {exc}") from exc
+    if a.dtype.kind not in "iufc":
+        raise ArgumentTypeError(f"{name} must hold numbers, got {type(value).__name__} of dtype {a.dtype}")
+    return a
+
+
+def _trailing(name: str, value: Any, n: int) -> np.ndarray:
+    a = _numeric(name, value)
+    if a.ndim == 0 or a.shape[-1] != n:
+        raise ArgumentError(f"{name} must have a trailing dimension {n}, got shape {a.shape}")
+    return a
+
+
+def _model(model: Any) -> FixedMassGlider3D:
+    if not isinstance(model, FixedMassGlider3D):
+        raise ArgumentTypeError(f"model must be a FixedMassGlider3D (the glider with its moving mass fixed), got "
+                                f"{type(model).__name__}")
+    return model
 
 
 def zeta_of(theta: Any, phi: Any) -> Any:
-    """Body-frame gravity direction ``R^T k`` (8.27)."""
-    return np.stack([-np.sin(theta), np.cos(theta) * np.sin(phi), np.cos(theta) * np.cos(phi)], -1)
+    """Body-frame gravity direction ``R^T k`` (8.27).
+
+    Parameters
+    ----------
+    theta, phi : array_like
+        Pitch and roll (rad), real or complex, broadcast together.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        ``(-sin theta, cos theta sin phi, cos theta cos phi)``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``theta`` or ``phi`` is not a number or an array of numbers.
+    ArgumentError
+        If their shapes do not broadcast.
+    """
+    theta, phi = _numeric("theta", theta), _numeric("phi", phi)
+    try:
+        np.broadcast_shapes(theta.shape, phi.shape)
+    except ValueError as exc:
+        raise ArgumentError(f"theta and phi must broadcast together, got shapes {theta.shape} and "
+                            f"{phi.shape}") from exc
+    return np.stack(np.broadcast_arrays(-np.sin(theta), np.cos(theta) * np.sin(phi), np.cos(theta) * np.cos(phi)),
+                    -1)
 
 
 def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
@@ -54,7 +127,7 @@ def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
         Body-frame angular velocity (rad/s).
     tol : float
         ``|Omega| <= tol`` (rad/s) is a straight line, ``|v| <= tol`` (m/s) a pure rotation, and ``|sin xi| <= tol``
-        (dimensionless, relative) a screw motion (``v`` parallel to ``Omega``).
+        (dimensionless, relative) a screw motion (``v`` parallel to ``Omega``); finite, ``>= 0``.
 
     Returns
     -------
@@ -65,12 +138,14 @@ def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
 
     Raises
     ------
-    ModelError
-        If ``v`` or ``Omega`` is not three finite numbers.
+    ArgumentTypeError
+        If ``v`` or ``Omega`` is not an array of real numbers, or ``tol`` not a real number.
+    ArgumentError
+        If ``v`` or ``Omega`` is not three finite numbers, or ``tol`` is negative or not finite.
     """
-    v, Om = np.asarray(v, float), np.asarray(Omega, float)
-    if v.shape != (3,) or Om.shape != (3,) or not (np.all(np.isfinite(v)) and np.all(np.isfinite(Om))):
-        raise ModelError(f"v and Omega must be three finite numbers each, got {v!r}, {Om!r}")
+    v = checks.array("v (body velocity, m/s)", v, shape=(3,))
+    Om = checks.array("Omega (body angular velocity, rad/s)", Omega, shape=(3,))
+    tol = checks.nonnegative("tol", tol)
     V, W = float(np.linalg.norm(v)), float(np.linalg.norm(Om))
     if W <= tol:
         return {"kind": "straight line", "curvature": 0.0, "torsion": 0.0, "xi": float("nan")}
@@ -84,8 +159,29 @@ def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
 
 def reduced_rhs(model: FixedMassGlider3D, s: Any) -> Any:
     """Reduced dynamics with position and yaw dropped: ``s = (v, Omega, theta, phi)`` (8 states), ``(theta, phi)``
-    from (8.28)."""
-    s = np.asarray(s)
+    from (8.28).
+
+    Parameters
+    ----------
+    model : FixedMassGlider3D
+        The glider at fixed ``r_P`` (m) and ``m0`` (kg).
+    s : array_like, shape (..., 8)
+        Reduced states ``(v (m/s), Omega (rad/s), theta, phi (rad))``, real or complex.
+
+    Returns
+    -------
+    ndarray, shape (..., 8)
+        Their time derivative.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``model`` is not a FixedMassGlider3D or ``s`` not an array of numbers.
+    ArgumentError
+        If ``s`` does not have a trailing dimension 8.
+    """
+    _model(model)
+    s = _trailing("s", s, 8)
     v, Om, th, ph = s[..., 0:3], s[..., 3:6], s[..., 6], s[..., 7]
     vd, Od = model.accelerations(v, Om, zeta_of(th, ph))
     O1, O2, O3 = Om[..., 0], Om[..., 1], Om[..., 2]
@@ -120,6 +216,8 @@ class Helix:
         Bottom-heaviness ``r_P . zeta`` (m).
     residual : float
         max ``|(v', Omega')|`` at the solution (m/s^2 and rad/s^2 mixed).
+    relative_residual : float
+        Residual of the force and moment equations relative to their largest term (below :data:`RESIDUAL_TOL`).
     eigenvalues : ndarray of complex
         Of the 8-state reduced linearization (position and yaw dropped), sorted by real part (1/s).
     stable : bool
@@ -144,6 +242,7 @@ class Helix:
     vehicle: Vehicle = field(repr=False, compare=False)
     provenance: str = ""
     model: FixedMassGlider3D | None = field(default=None, repr=False, compare=False)
+    relative_residual: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("v", "Omega", "eigenvalues"):
@@ -216,8 +315,29 @@ class Helix:
         return bool(np.max(self.eigenvalues.real) < 0)
 
     def initial_state(self, psi: float = 0.0, position: Any = (0.0, 0.0, 0.0)) -> np.ndarray:
-        """13-state ``(x, y, z, q, v, Omega)`` of :class:`FixedMassGlider3D` on this motion."""
-        return np.r_[np.asarray(position, float), ypr_to_quat(psi, self.theta, self.phi), self.v, self.Omega]
+        """13-state ``(x, y, z, q, v, Omega)`` of :class:`FixedMassGlider3D` on this motion.
+
+        Parameters
+        ----------
+        psi : float
+            Initial yaw (rad), finite.
+        position : array_like, shape (3,)
+            Initial position (m), finite.
+
+        Returns
+        -------
+        ndarray, shape (13,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``psi`` is not a real number or ``position`` not an array of real numbers.
+        ArgumentError
+            If they are not finite or ``position`` is not three numbers.
+        """
+        psi = checks.real("psi", psi, unit="rad")
+        pos = checks.array("position", position, shape=(3,))
+        return np.r_[pos, ypr_to_quat(psi, self.theta, self.phi), self.v, self.Omega]
 
     def as_dict(self) -> dict[str, float]:
         return {"r_P1": self.r_p[0], "r_P2": self.r_p[1], "r_P3": self.r_p[2], "m0": self.m0, "speed": self.speed,
@@ -242,12 +362,51 @@ def helix_equations(model: FixedMassGlider3D, y: Any) -> Any:
     -------
     ndarray, shape (..., 6)
         ``(v1', v2', v3')`` (m/s^2) and ``(Omega1', Omega2', Omega3')`` (rad/s^2); zero at a steady helix or glide.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``model`` is not a FixedMassGlider3D or ``y`` not an array of numbers.
+    ArgumentError
+        If ``y`` does not have a trailing dimension 6.
     """
-    y = np.asarray(y)
+    _model(model)
+    y = _trailing("y", y, 6)
     v, w, th, ph = y[..., 0:3], y[..., 3], y[..., 4], y[..., 5]
     z = zeta_of(th, ph)
     vd, Od = model.accelerations(v, w[..., None] * z, z)
     return np.concatenate([vd, Od], -1)
+
+
+def _relative_residual(model: FixedMassGlider3D, y: np.ndarray) -> float:
+    """Residual of the force and moment equations (8.24)-(8.25) at ``y``, relative to their largest term.
+
+    ``max(|Fbar'| / F_scale, |Tbar'| / T_scale)`` where ``F_scale`` is the largest of ``|m0| g``, the hydrodynamic
+    force and the inertial coupling ``|(M v + mbar w) x Omega|``, and ``T_scale`` the largest of the moment terms
+    (gyroscopic, ``v x M v``, moving-mass coupling, gravity moment ``mbar g r_P x zeta``, hydrodynamic moment).
+    """
+    veh = model.vehicle
+    y = np.asarray(y, float)
+    v, w, th, ph = y[0:3], y[3], y[4], y[5]
+    z = zeta_of(th, ph)
+    Om = w * z
+    with np.errstate(all="ignore"):
+        Fp, Tp = model.forces(v, Om, z)
+        F, T, _, _, _ = loads_3d(veh, v, Om)
+        rP = np.asarray(model.r_p, float)
+        M = np.array([veh.mass(i, model.m0) for i in (1, 2, 3)], float)
+        J = np.array([veh.J1, veh.J2, veh.J3], float)
+        mbar, g = veh.mbar, veh.g
+        wv = v + np.cross(Om, rP)
+        nrm = np.linalg.norm
+        f_scale = max(abs(model.m0) * g, nrm(F), nrm(np.cross(M * v + mbar * wv, Om)))
+        t_scale = max(nrm(T), nrm(np.cross(J * Om + mbar * np.cross(rP, wv), Om)), nrm(np.cross(v, M * v)),
+                      mbar * nrm(np.cross(v, np.cross(Om, rP))), mbar * g * nrm(np.cross(rP, z)))
+        parts = []
+        for r, sc in ((nrm(Fp), f_scale), (nrm(Tp), t_scale)):
+            parts.append(float(r / sc) if sc > 0 else (0.0 if r == 0 else math.inf))
+    rel = max(parts)
+    return rel if math.isfinite(rel) else math.inf
 
 
 def helix_newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, float, bool]:
@@ -268,9 +427,19 @@ def helix_newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, 
     residual : float
         ``max |helix_equations(model, y)|`` (m/s^2, rad/s^2); ``inf`` for a non-finite iterate.
     ok : bool
-        Converged to a forward-gliding upright-pitch motion: ``residual < 1e-10``, ``v1 > 0`` and
+        Converged to a forward-gliding upright-pitch motion: the residual relative to the largest term of the force
+        and moment equations (see the module notes) below :data:`RESIDUAL_TOL`, ``v1 > 0`` and
         ``|theta| < pi/2``.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``model`` is not a FixedMassGlider3D or ``y0`` not an array of real numbers.
+    ArgumentError
+        If ``y0`` is not six finite numbers.
     """
+    _model(model)
+    y0 = checks.array("y0 (v1, v2, v3, psidot, theta, phi)", y0, shape=(6,))
 
     def fun(y: np.ndarray) -> np.ndarray:
         return np.asarray(helix_equations(model, y), float)
@@ -281,12 +450,13 @@ def helix_newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, 
     with np.errstate(all="ignore"):
         try:
             sol = root(fun, y0, jac=jac, method="hybr", options={"xtol": 1e-13})
-        except (ValueError, FloatingPointError):
+        except (ValueError, FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError):
             return y0, float("inf"), False
-    y = sol.x
-    res = float(np.max(np.abs(fun(y)))) if np.all(np.isfinite(y)) else float("inf")
-    ok = bool(np.isfinite(res) and res < _RES_TOL and y[0] > 0 and abs(y[4]) < math.pi / 2)
-    return y, res, ok
+        y = sol.x
+        res = float(np.max(np.abs(fun(y)))) if np.all(np.isfinite(y)) else float("inf")
+    if not (math.isfinite(res) and y[0] > 0 and abs(y[4]) < math.pi / 2):
+        return y, res, False
+    return y, res, bool(_relative_residual(model, y) < RESIDUAL_TOL)
 
 
 def _straight_guesses(veh: Vehicle, r_p: np.ndarray, m0: float) -> list[np.ndarray]:
@@ -342,11 +512,28 @@ def helix_eigenvalues(model: FixedMassGlider3D, y: np.ndarray) -> np.ndarray:
     -------
     ndarray, shape (8,)
         Sorted by real part, then imaginary part (exact complex-step Jacobian).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``model`` is not a FixedMassGlider3D or ``y`` not an array of real numbers.
+    ArgumentError
+        If ``y`` is not six finite numbers.
+    SolverError
+        If the Jacobian is not finite there or its eigenvalues cannot be computed.
     """
+    _model(model)
+    y = checks.array("y (v1, v2, v3, psidot, theta, phi)", y, shape=(6,))
     v, w, th, ph = y[0:3], y[3], y[4], y[5]
     s = np.r_[v, w * zeta_of(th, ph), th, ph]
-    A, _ = jacobians(lambda ss, u: reduced_rhs(model, ss), s, np.zeros(0))
-    lam = np.linalg.eigvals(A)
+    with np.errstate(all="ignore"):
+        A, _ = jacobians(lambda ss, u: reduced_rhs(model, ss), s, np.zeros(0))
+    if not np.all(np.isfinite(A)):
+        raise SolverError(f"the reduced Jacobian at y = {tuple(y)} is not finite (overflow): no eigenvalues")
+    try:
+        lam = np.linalg.eigvals(A)
+    except np.linalg.LinAlgError as exc:
+        raise SolverError(f"eigenvalues of the reduced Jacobian at y = {tuple(y)} did not converge: {exc}") from exc
     return lam[np.lexsort((lam.imag, lam.real))]
 
 
@@ -355,23 +542,29 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
     """Steady helix (or straight glide) of ``veh`` with the moving mass at ``r_p`` (m) and buoyancy ``m0`` (kg).
 
     Solves ``(v', Omega') = 0`` of (8.23)-(8.25) with ``Omega = psidot zeta`` (8.31) for
-    ``(v1, v2, v3, psidot, theta, phi)``; the residual is checked (``< 1e-10``).
+    ``(v1, v2, v3, psidot, theta, phi)``; the solution is accepted only if the residual of the force and moment
+    equations is below :data:`RESIDUAL_TOL` (1e-10) relative to their largest term.
 
     Parameters
     ----------
     veh : Vehicle
         3D underwater glider (e.g. ``slocum_ch8``).
     r_p : (3,) array, optional
-        Moving-mass position in body axes (m); defaults to the vehicle file's ``r_P1, r_P2, r_P3``.
+        Moving-mass position in body axes (m), ``|r_p| <= R_P_MAX`` (10 m, plausibility limit); defaults to the
+        vehicle file's ``r_P1, r_P2, r_P3``.
     m0 : float, optional
-        Net buoyancy (kg, positive heavy: descent); defaults to the file's ``m0``. ``m0 = 0`` has no glide.
+        Net buoyancy (kg, positive heavy: descent), finite; defaults to the file's ``m0``. ``m0 = 0`` has no glide.
+        For the ``added`` mass model the solid mass ``m + m0 - mbar`` must stay positive.
     guess : Helix or array (v1, v2, v3, psidot, theta, phi), optional
         Warm start (continuation). Without it (or if it fails) the longitudinal straight glide is continued in
         ``r_P2`` over ``continuation_steps`` steps; if that fails, ``n_random`` random starting points are tried.
+        Only a starting point: a Helix of another vehicle is accepted, the result is checked anyway.
     continuation_steps : int
-        Number of ``r_P2`` continuation steps (>= 1).
+        Number of ``r_P2`` continuation steps, 1 to :data:`MAX_CONTINUATION_STEPS` (1000).
     n_random : int
-        Random restarts as the last resort (>= 0); ``seed`` seeds them.
+        Random restarts as the last resort, 0 to :data:`MAX_RANDOM_STARTS` (1000).
+    seed : int
+        Seed (>= 0) of the random restarts.
 
     Returns
     -------
@@ -380,42 +573,55 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
 
     Raises
     ------
+    ArgumentTypeError
+        ``veh`` is not a Vehicle; ``r_p``, ``guess`` not arrays of real numbers; ``m0`` not a real number (``str``,
+        ``None``, ``bool``); ``continuation_steps``, ``n_random`` or ``seed`` not an integer.
+    ArgumentError
+        ``r_p`` not three finite numbers or farther than 10 m from the centre; ``m0`` not finite; ``guess`` not six
+        finite numbers; an option outside its range.
     ModelError
-        ``r_p`` not three finite numbers, ``m0`` not finite or making a mass non-positive, bad solver options.
+        ``veh`` is not an underwater glider or lacks the 3D parameters; ``m0`` makes the solid mass ``m + m0 -
+        mbar`` or a body mass non-positive; the generalized mass matrix is singular to working precision.
     InfeasibleGlideError
         ``m0 = 0``, or no steady motion found (the message says what was tried).
+    SolverError
+        The linearization at the solution is not finite or its eigenvalues cannot be computed.
     """
+    checks.vehicle("veh", veh)
+    if veh.kind != "underwater_glider":
+        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not an underwater glider: helices are steady "
+                         "motions of the 3D glider")
     if r_p is None:
         r_p = (veh.r_P1, veh.r_P2, veh.r_P3)
     if m0 is None:
         m0 = veh.m0
-    try:
-        r = np.asarray(r_p, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ModelError(f"r_p must be three finite numbers in m, got {r_p!r}") from exc
-    if r.shape != (3,) or not np.all(np.isfinite(r)):
-        raise ModelError(f"r_p must be three finite numbers in m, got {r_p!r}")
-    try:
-        m0 = float(m0)
-    except (TypeError, ValueError) as exc:
-        raise ModelError(f"m0 must be a finite number in kg, got {m0!r}") from exc
-    if not math.isfinite(m0):
-        raise ModelError(f"m0 must be a finite number in kg, got {m0!r}")
+    r = checks.array("r_p (moving-mass position, m)", r_p, shape=(3,))
+    if not float(np.linalg.norm(r)) <= R_P_MAX:
+        raise ArgumentError(f"r_p = {tuple(float(x) for x in r)} m puts the moving mass "
+                            f"{float(np.linalg.norm(r)):.4g} m from the centre of buoyancy; at most R_P_MAX = "
+                            f"{R_P_MAX:g} m is plausible")
+    m0 = checks.real("m0 (net buoyancy)", m0, unit="kg")
+    continuation_steps = checks.integer("continuation_steps", continuation_steps, lo=1, hi=MAX_CONTINUATION_STEPS)
+    n_random = checks.integer("n_random", n_random, lo=0, hi=MAX_RANDOM_STARTS)
+    seed = checks.integer("seed", seed, lo=0)
+    if guess is not None and not isinstance(guess, Helix):
+        guess = checks.array("guess (v1, v2, v3, psidot, theta, phi)", guess, shape=(6,))
     if m0 == 0:
         raise InfeasibleGlideError("m0 = 0: a neutrally buoyant glider has no steady glide (no net weight to balance "
                                    "drag); use m0 != 0")
-    if int(continuation_steps) != continuation_steps or continuation_steps < 1:
-        raise ModelError(f"continuation_steps must be an integer >= 1, got {continuation_steps!r}")
-    if int(n_random) != n_random or n_random < 0:
-        raise ModelError(f"n_random must be an integer >= 0, got {n_random!r}")
-    model = FixedMassGlider3D(veh, (float(r[0]), float(r[1]), float(r[2])), m0)
+    if veh.mass_model == "added" and not veh.m + m0 - veh.mbar > 0:
+        raise ModelError(f"m0 = {m0:g} kg leaves vehicle '{veh.name}' a solid mass m + m0 - mbar = "
+                         f"{veh.m + m0 - veh.mbar:g} kg <= 0 (m = {veh.m:g} kg, mbar = {veh.mbar:g} kg): no such "
+                         "vehicle; the ballast cannot be that light")
+    try:
+        model = FixedMassGlider3D(veh, (float(r[0]), float(r[1]), float(r[2])), m0)
+    except np.linalg.LinAlgError as exc:
+        raise ModelError(f"the generalized mass matrix of (8.23) is singular for r_p = {tuple(map(float, r))} m, "
+                         f"m0 = {m0:g} kg on vehicle '{veh.name}'") from exc
     tried: list[str] = []
     y = None
     if guess is not None:
-        y0 = guess.unknowns if isinstance(guess, Helix) else np.asarray(guess, float)
-        if y0.shape != (6,) or not np.all(np.isfinite(y0)):
-            raise ModelError(f"guess must be a Helix or six finite numbers (v1, v2, v3, psidot, theta, phi), got "
-                             f"{guess!r}")
+        y0 = guess.unknowns if isinstance(guess, Helix) else guess
         y1, res, ok = helix_newton(model, y0)
         tried.append("warm start")
         if ok:
@@ -448,13 +654,17 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
                 break
     if y is None:
         raise InfeasibleGlideError(
-            f"no steady helix or glide found for r_P = {tuple(np.round(r, 5))} m, m0 = {m0:g} kg on vehicle "
-            f"'{veh.name}' (tried: {'; '.join(tried)}). Try a warm start from a nearby solution "
+            f"no steady helix or glide found for r_P = {tuple(round(float(x), 5) for x in r)} m, m0 = {m0:g} kg on "
+            f"vehicle '{veh.name}' (tried: {'; '.join(tried)}). Try a warm start from a nearby solution "
             "(glidectl.helix_sweep continues along a parameter) or more random starts")
+    rel = _relative_residual(model, y)
+    if abs(y[3]) < 1e-13:  # a straight glide: snap the rounding-level yaw rate to zero if the trim still holds
+        ys = y.copy()
+        ys[3] = 0.0
+        rel_s = _relative_residual(model, ys)
+        if rel_s < RESIDUAL_TOL:
+            y, rel = ys, rel_s
     res = float(np.max(np.abs(helix_equations(model, y))))
-    if abs(y[3]) < 1e-13:
-        y = y.copy()
-        y[3] = 0.0
     z = zeta_of(y[4], y[5])
     return Helix((float(r[0]), float(r[1]), float(r[2])), m0, y[0:3].copy(), y[3] * z, float(y[4]), float(y[5]),
-                 float(y[3]), res, helix_eigenvalues(model, y), veh, veh.provenance, model)
+                 float(y[3]), res, helix_eigenvalues(model, y), veh, veh.provenance, model, rel)

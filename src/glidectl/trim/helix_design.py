@@ -8,6 +8,12 @@ from the last solution); the residual is the relative error in the two targets, 
 ``max(0, max Re(lambda) + margin)`` and a small pull towards the starting point (the problem has two more unknowns
 than targets). Several starting points are tried; the result is polished on the targets alone and accepted only if
 the targets are met to ``tol``, the helix is stable and the controls are inside the bounds.
+
+Budget: at most ``n_starts <=`` :data:`MAX_STARTS` starting points, each with at most 60 + 100 least-squares
+residual evaluations (plus their finite-difference Jacobians), each a warm-started :func:`helix_trim`; an optional
+``time_limit`` (s) stops the search with :class:`~glidectl.BudgetError`. Plausibility limits: ``radius`` and
+``|pitch|`` at most :data:`LENGTH_MAX` (10 km), ``speed`` in (0, 100] m/s, moving-mass bounds inside ``R_P_MAX``
+(10 m).
 """
 
 from __future__ import annotations
@@ -19,15 +25,22 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares
 
-from ..errors import GlidectlError, InfeasibleGlideError, ModelError
+from .. import checks
+from ..errors import ArgumentError, GlidectlError, InfeasibleGlideError, ModelError, SolverError
+from ..models.glider3d import R_P_MAX, FixedMassGlider3D
 from ..params import Vehicle
+from .glide import SPEED_MAX
 from .helix import Helix, helix_trim
 
-__all__ = ["DEFAULT_M0_BOUNDS", "DEFAULT_R_P_BOUNDS", "HelixDesign", "design_helix"]
+__all__ = ["DEFAULT_M0_BOUNDS", "DEFAULT_R_P_BOUNDS", "LENGTH_MAX", "MAX_STARTS", "HelixDesign", "design_helix"]
 
 #: default moving-mass travel (m) per body axis and buoyancy range (kg); ours (the thesis gives none)
 DEFAULT_R_P_BOUNDS = ((-0.05, 0.05), (-0.05, 0.05), (0.0, 0.08))
 DEFAULT_M0_BOUNDS = (-0.5, 0.5)
+#: Plausibility limit on the requested radius and |pitch| (m).
+LENGTH_MAX = 1e4
+#: Budget: largest number of starting points of the multistart search.
+MAX_STARTS = 64
 _SCALE = np.array([0.01, 0.01, 0.01, 0.1])  # m, m, m, kg
 
 
@@ -58,7 +71,8 @@ class HelixDesign:
 def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, speed: float | None = None,
                  r_p_bounds: tuple[tuple[float, float], ...] = DEFAULT_R_P_BOUNDS,
                  m0_bounds: tuple[float, float] = DEFAULT_M0_BOUNDS, stability_margin: float = 1e-3,
-                 tol: float = 1e-6, seed: int = 0, n_starts: int = 8) -> HelixDesign:
+                 tol: float = 1e-6, seed: int = 0, n_starts: int = 8,
+                 time_limit: float | None = None) -> HelixDesign:
     """Find ``(r_P, m0)`` within bounds giving a stable helix of ``radius`` (m) and ``pitch`` (m, drop per turn,
     positive downwards) or ``speed`` (m/s).
 
@@ -67,24 +81,28 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
     veh : Vehicle
         Underwater glider with the 3D parameters of :class:`~glidectl.models.glider3d.FixedMassGlider3D`.
     radius : float
-        Requested helix radius (m), ``> 0``.
+        Requested helix radius (m), in ``(0, LENGTH_MAX]`` (10 km).
     pitch : float, optional
-        Requested drop per turn (m, positive downwards: a descending helix, ``m0 > 0``), nonzero. Give exactly one
-        of ``pitch`` and ``speed``.
+        Requested drop per turn (m, positive downwards: a descending helix, ``m0 > 0``), nonzero, ``|pitch| <=
+        LENGTH_MAX``. Give exactly one of ``pitch`` and ``speed``.
     speed : float, optional
-        Requested speed ``|v|`` (m/s), ``> 0``.
+        Requested speed ``|v|`` (m/s), in ``(0, 100]``.
     r_p_bounds : tuple of three (float, float)
-        ``(lo, hi)`` travel of the moving mass along body axes 1, 2, 3 (m); default :data:`DEFAULT_R_P_BOUNDS`.
+        ``(lo, hi)`` travel of the moving mass along body axes 1, 2, 3 (m), ``lo < hi``, every corner of the box
+        within ``R_P_MAX`` (10 m) of the centre; default :data:`DEFAULT_R_P_BOUNDS`.
     m0_bounds : (float, float)
-        ``(lo, hi)`` range of the net buoyancy (kg); default :data:`DEFAULT_M0_BOUNDS`.
+        ``(lo, hi)`` range of the net buoyancy (kg), ``lo < hi``, keeping every body mass (and for the ``added``
+        mass model the solid mass ``m + m0 - mbar``) positive; default :data:`DEFAULT_M0_BOUNDS`.
     stability_margin : float
-        Required ``-max Re(lambda)`` of the helix's reduced linearization (1/s).
+        Required ``-max Re(lambda)`` of the helix's reduced linearization (1/s), finite, ``>= 0``.
     tol : float
-        Relative tolerance on the targets (nondimensional).
+        Relative tolerance on the targets (nondimensional), in ``(0, 0.1]``.
     seed : int
-        Seed of the random starting points (used only when ``n_starts`` exceeds the 12 structured starts).
+        Seed (>= 0) of the random starting points (used only when ``n_starts`` exceeds the 12 structured starts).
     n_starts : int
-        Number of starting points tried.
+        Number of starting points tried, 1 to :data:`MAX_STARTS` (64).
+    time_limit : float, optional
+        Wall-time budget (s) of the whole search; ``None``: no limit beyond ``n_starts``.
 
     Returns
     -------
@@ -94,26 +112,59 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
 
     Raises
     ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, a number is not a real number (``str``, ``None``, ``bool``), the bounds are not
+        arrays of real numbers, or ``seed`` / ``n_starts`` is not an integer.
+    ArgumentError
+        If not exactly one of ``pitch`` and ``speed`` is given, a value is not finite or outside its range above,
+        or the bounds are not three ``(lo, hi)`` pairs for ``r_P`` and one for ``m0`` with ``lo < hi`` inside the
+        plausibility limits.
     ModelError
-        If not exactly one of ``pitch`` and ``speed`` is given, ``radius`` is not a positive finite number, the
-        pitch or speed is zero, non-finite or (speed) negative, or the bounds are not three ``(lo, hi)`` pairs for
-        ``r_P`` and one for ``m0`` with ``lo < hi``.
+        If ``veh`` is not an underwater glider, lacks the 3D parameters, or ``m0_bounds`` reach a buoyancy that
+        leaves a non-positive mass.
     InfeasibleGlideError
         If no stable helix meeting the targets to ``tol`` (relative) was found within the bounds; the message gives
-        the best attempt. Also when the ``m0`` bounds exclude the sign a pitch needs, and (since trim failures
-        are absorbed) when ``veh`` is not a suitable underwater glider.
+        the best attempt. Also when the ``m0`` bounds exclude the sign a pitch needs.
+    BudgetError
+        If ``time_limit`` ran out.
     """
+    checks.vehicle("veh", veh)
+    if veh.kind != "underwater_glider":
+        raise ModelError(f"vehicle '{veh.name}' is a {veh.kind}, not an underwater glider: helices are steady "
+                         "motions of the 3D glider")
     if (pitch is None) == (speed is None):
-        raise ModelError("give radius and exactly one of pitch= (m per turn) or speed= (m/s)")
-    if not (math.isfinite(radius) and radius > 0):
-        raise ModelError(f"radius must be a positive number of metres, got {radius!r}")
-    key, val = ("pitch", float(pitch)) if pitch is not None else ("speed", float(speed))  # type: ignore[arg-type]
-    if not math.isfinite(val) or val == 0 or (key == "speed" and val < 0):
-        raise ModelError(f"{key} must be finite and nonzero (speed > 0), got {val!r}")
-    lo = np.array([b[0] for b in r_p_bounds] + [m0_bounds[0]], float)
-    hi = np.array([b[1] for b in r_p_bounds] + [m0_bounds[1]], float)
-    if lo.shape != (4,) or np.any(lo >= hi):
-        raise ModelError("bounds must be three (lo, hi) pairs for r_P (m) and one for m0 (kg) with lo < hi")
+        raise ArgumentError("give radius and exactly one of pitch= (m per turn) or speed= (m/s)")
+    radius = checks.real("radius", radius, lo=0.0, lo_open=True, hi=LENGTH_MAX, unit="m")
+    if pitch is not None:
+        key, val = "pitch", checks.real("pitch (drop per turn)", pitch, lo=-LENGTH_MAX, hi=LENGTH_MAX, unit="m")
+        if val == 0:
+            raise ArgumentError("pitch must be nonzero (a helix with zero pitch is a level circle, which needs "
+                                "m0 = 0: no steady glide)")
+    else:
+        key, val = "speed", checks.real("speed", speed, lo=0.0, lo_open=True, hi=SPEED_MAX, unit="m/s")
+    rb = checks.array("r_p_bounds (three (lo, hi) pairs, m)", r_p_bounds, shape=(3, 2))
+    mb = checks.array("m0_bounds ((lo, hi), kg)", m0_bounds, shape=(2,))
+    lo = np.r_[rb[:, 0], mb[0]]
+    hi = np.r_[rb[:, 1], mb[1]]
+    if np.any(lo >= hi):
+        raise ArgumentError(f"bounds must have lo < hi for each of r_P1, r_P2, r_P3 (m) and m0 (kg), got "
+                            f"r_p_bounds = {rb.tolist()}, m0_bounds = {mb.tolist()}")
+    corner = float(np.linalg.norm(np.maximum(np.abs(rb[:, 0]), np.abs(rb[:, 1]))))
+    if corner > R_P_MAX:
+        raise ArgumentError(f"r_p_bounds reach {corner:.4g} m from the centre of buoyancy; at most R_P_MAX = "
+                            f"{R_P_MAX:g} m is plausible")
+    stability_margin = checks.nonnegative("stability_margin", stability_margin, unit="1/s")
+    tol = checks.real("tol", tol, lo=0.0, lo_open=True, hi=0.1)
+    seed = checks.integer("seed", seed, lo=0)
+    n_starts = checks.integer("n_starts", n_starts, lo=1, hi=MAX_STARTS)
+    deadline = checks.Deadline(time_limit, "design_helix")
+    low_m0 = float(lo[3])
+    if veh.mass_model == "added" and not veh.m + low_m0 - veh.mbar > 0:
+        raise ModelError(f"m0_bounds reach m0 = {low_m0:g} kg, which leaves vehicle '{veh.name}' a solid mass "
+                         f"m + m0 - mbar = {veh.m + low_m0 - veh.mbar:g} kg <= 0; raise the lower bound")
+    FixedMassGlider3D(veh, (0.0, 0.0, 0.0), low_m0)  # ModelError: no 3D parameters, or a body mass <= 0 at lo
+    r_p_bounds = tuple((float(a), float(b)) for a, b in rb)  # type: ignore[assignment]
+    m0_bounds = (float(mb[0]), float(mb[1]))
     sign = 1.0 if (key == "speed" or val > 0) else -1.0  # descending helices need m0 > 0
     if key == "pitch" and not (lo[3] < 0 < hi[3] or (sign > 0 and hi[3] > 0) or (sign < 0 and lo[3] < 0)):
         raise InfeasibleGlideError(f"a pitch of {val:g} m needs m0 of sign {sign:+.0f}, outside {m0_bounds}")
@@ -121,10 +172,11 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
     state: dict[str, Any] = {"last": None, "n": 0}
 
     def trim(c: np.ndarray) -> Helix | None:
+        deadline.check(f"after {state['n']} helix trims")
         state["n"] += 1
         try:
             h = helix_trim(veh, c[:3], float(c[3]), guess=state["last"], n_random=0, continuation_steps=6)
-        except (InfeasibleGlideError, GlidectlError):
+        except (InfeasibleGlideError, SolverError):
             return None
         state["last"] = h
         return h
@@ -165,7 +217,9 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
             # polish on the targets (and stability) alone
             sol = least_squares(residual, sol.x, args=(sol.x, 0.0), bounds=(lo, hi), x_scale=_SCALE, xtol=1e-14,
                                 ftol=1e-14, gtol=1e-14, max_nfev=100)
-        except (ValueError, np.linalg.LinAlgError):
+        except GlidectlError:
+            raise
+        except (ValueError, np.linalg.LinAlgError):  # scipy refusing a start
             continue
         h = trim(sol.x)
         if h is None:
