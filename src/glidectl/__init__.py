@@ -103,7 +103,7 @@ from .models.phugoid import C_STEADY, PhugoidClass, PhugoidModel, classify_C, in
 from .models.realized_torque import RealizedTorqueLoop
 from .models.reduced import ReducedLongitudinalGlider
 from .models.torque_glider import TorqueControlledGlider
-from .params import Vehicle, list_presets, load_vehicle
+from .params import Actuator, Vehicle, list_presets, load_vehicle
 from .roa import (
     PolySystem,
     ROACertificate,
@@ -133,7 +133,7 @@ __version__ = "0.1.0"
 #: public names grouped by task (docs/api.md lists the same groups)
 API_GROUPS: dict[str, tuple[str, ...]] = {
     "vehicles": (
-        "list_presets", "load_vehicle", "Vehicle",
+        "Actuator", "list_presets", "load_vehicle", "Vehicle",
     ),
     "models": (
         "AccelerationControlledGlider", "benchmarks", "BuoyancyGlider", "C_STEADY", "classify_C", "ClosedLoop",
@@ -185,6 +185,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
 }
 
 __all__ = [
+    "Actuator",
     "C_STEADY",
     "AccelerationControlledGlider",
     "ApproximateLinearizationController",

@@ -14,6 +14,19 @@ Two ways to give the body-frame mass matrix ``M = diag(m1, m2, m3)`` of §2.2.2 
   ``m_s = m_h + m_b = m + m0 - mbar`` (docs/conventions.md, chapter 8 convention), ``M = m_s I + diag(m_f)``
   depends on the buoyancy ``m0``. This is the convention of Table 8.1 and of §6.3 (``m = m1 - m0 = m3 - m0``).
 
+Actuators
+---------
+An optional ``[actuators]`` table gives the range and rate of what the vehicle can move in flight::
+
+    [actuators]
+    m0   = { min = -0.25, max = 0.25, rate = 0.01, unit = "kg", source = "..." }     # buoyancy pump
+    r_P1 = { min = -0.025, max = 0.025, rate = 0.005, unit = "m", source = "..." }  # moving mass along the hull
+    r_P3 = { fixed = 0.035, unit = "m", source = "..." }                             # not actuated
+
+Keys are those of :data:`ACTUATOR_SPECS`; rates are in unit/s; a missing ``rate`` means no rate limit. Every
+function that picks or commands an actuator setting respects these limits. The earlier parameters ``u2_max``,
+``u4_max`` and ``m0_max`` moved into this table (``elevator``, ``m0`` rate, ``m0`` range).
+
 Plausibility limits
 -------------------
 A vehicle file is read only if it is a regular file of at most :data:`MAX_FILE_BYTES` (1 MiB) of UTF-8 TOML. Every
@@ -41,8 +54,8 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 
-__all__ = ["MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "VALUE_MAX", "ParamSpec", "Vehicle", "list_presets",
-           "load_vehicle"]
+__all__ = ["ACTUATOR_SPECS", "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "VALUE_MAX", "Actuator",
+           "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
 
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
 MAX_FILE_BYTES = 1 << 20
@@ -112,11 +125,10 @@ _UG: dict[str, ParamSpec] = {
     "K_Omega2_1": ParamSpec("kg*m^2*s^2/rad^2", "chapter 8 quadratic roll damping", "any"),
     "K_Omega2_2": ParamSpec("kg*m^2*s^2/rad^2", "chapter 8 quadratic pitch damping", "any"),
     "K_Omega2_3": ParamSpec("kg*m^2*s^2/rad^2", "chapter 8 quadratic yaw damping", "any"),
-    # --- elevator (§6.3) and actuator limits
+    # --- elevator (§6.3); actuator limits are in the [actuators] table (ACTUATOR_SPECS)
     "delta": ParamSpec("kg/m/rad", "elevator moment-to-force coupling factor (§6.3)", "nonnegative"),
-    "u2_max": ParamSpec("rad", "elevator (control angle of attack) saturation", "positive"),
-    "u4_max": ParamSpec("kg/s", "buoyancy pump rate limit |u4| <= u4_max", "positive"),
-    "m0_max": ParamSpec("kg", "buoyancy range |m0| <= m0_max", "positive"),
+    "pump_efficiency": ParamSpec("1", "buoyancy pump efficiency (hydraulic work / electrical energy), 0 < e <= 1",
+                                 "positive"),
     # --- nominal operating point (optional; studies may use it as a default)
     "m0": ParamSpec("kg", "nominal net buoyancy (heaviness) m0", "any"),
     "r_P1": ParamSpec("m", "nominal moving-mass position, body-1", "any"),
@@ -145,6 +157,180 @@ PARAMETER_SPECS: Mapping[str, Mapping[str, ParamSpec]] = MappingProxyType(
 _HEADER_KEYS = {"name", "kind", "title", "source", "notes"}
 
 
+@dataclass(frozen=True)
+class ActuatorSpec:
+    """What an entry of the ``[actuators]`` table may describe.
+
+    Attributes
+    ----------
+    unit : str
+        Unit of ``min``, ``max`` and ``fixed``; ``rate`` is in ``unit/s``.
+    description : str
+        The actuated quantity, with the thesis symbol.
+    """
+
+    unit: str
+    description: str
+
+
+#: Actuators an underwater glider file may list in ``[actuators]`` (setting unit; rates are in unit/s).
+ACTUATOR_SPECS: Mapping[str, ActuatorSpec] = MappingProxyType({
+    "m0": ActuatorSpec("kg", "net buoyancy m0 set by the buoyancy pump (rate = pump rate u4 of (2.8))"),
+    "r_P1": ActuatorSpec("m", "moving-mass position along body-1 (along the hull)"),
+    "r_P2": ActuatorSpec("m", "moving-mass position along body-2 (lateral, roll)"),
+    "r_P3": ActuatorSpec("m", "moving-mass position along body-3 (vertical offset)"),
+    "elevator": ActuatorSpec("rad", "elevator: control angle of attack u2 of §6.3"),
+    "rudder": ActuatorSpec("rad", "rudder angle"),
+})
+
+#: Keys that earlier vehicle files used for actuator limits, and where they went.
+_MOVED_KEYS = {
+    "u2_max": "elevator = { min = -u2_max, max = u2_max, unit = \"rad\", source = \"...\" }",
+    "u4_max": "m0 = { ..., rate = u4_max, unit = \"kg\", source = \"...\" }",
+    "m0_max": "m0 = { min = -m0_max, max = m0_max, unit = \"kg\", source = \"...\" }",
+}
+
+_ACTUATOR_FIELDS = {"min", "max", "rate", "fixed", "unit", "source", "note"}
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """Range and rate of one actuator (an entry of the vehicle file's ``[actuators]`` table).
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`ACTUATOR_SPECS` (``"m0"``, ``"r_P1"``, ..., ``"elevator"``, ``"rudder"``).
+    min, max : float
+        Range of the setting (unit of the spec: kg, m or rad); ``-inf``/``inf`` when unbounded. A fixed actuator
+        has ``min = max = fixed`` unless a range is also given (the range the part could be set to on the bench).
+    rate : float
+        Largest rate of change (unit/s), ``inf`` when unlimited; 0 for a fixed actuator.
+    fixed : float or None
+        The setting of a part that is not actuated in flight, else ``None``.
+    unit : str
+        Unit of the setting.
+    source : str
+        Where the numbers come from.
+    note : str
+        Free text.
+
+    Raises
+    ------
+    VehicleFileError
+        Unknown name, wrong unit, non-finite or non-real numbers, ``min >= max``, a negative or zero rate, a fixed
+        value outside its range, or a missing source.
+    """
+
+    name: str
+    min: float = -math.inf
+    max: float = math.inf
+    rate: float = math.inf
+    fixed: float | None = None
+    unit: str = ""
+    source: str = ""
+    note: str = ""
+
+    def __post_init__(self) -> None:
+        where = f"actuator '{self.name}'"
+        if self.name not in ACTUATOR_SPECS:
+            raise VehicleFileError(f"unknown actuator {self.name!r}; known: {', '.join(ACTUATOR_SPECS)}")
+        spec = ACTUATOR_SPECS[self.name]
+        unit = self.unit or spec.unit
+        if _norm_unit(unit) != _norm_unit(spec.unit):
+            raise VehicleFileError(f"{where} has unit '{unit}', glidectl expects '{spec.unit}' (rate in "
+                                   f"{spec.unit}/s): convert the values")
+        object.__setattr__(self, "unit", spec.unit)
+        vals = {}
+        for key in ("min", "max", "rate", "fixed"):
+            v = getattr(self, key)
+            if v is None:
+                vals[key] = None
+                continue
+            if not _is_real(v):
+                raise VehicleFileError(f"{where}: '{key}' must be a real number, got {type(v).__name__} {v!r}")
+            v = float(v)
+            if math.isnan(v) or (key == "fixed" and not math.isfinite(v)):
+                raise VehicleFileError(f"{where}: '{key}' must be a finite number, got {v!r}")
+            if math.isfinite(v) and abs(v) > VALUE_MAX:
+                raise VehicleFileError(f"{where}: '{key}' = {v:g} is beyond the plausibility limit {VALUE_MAX:g}")
+            vals[key] = v
+        lo, hi, rate, fixed = vals["min"], vals["max"], vals["rate"], vals["fixed"]
+        if lo is None or hi is None or rate is None:
+            raise VehicleFileError(f"{where}: 'min', 'max' and 'rate' must be numbers (omit a key for no limit)")
+        if fixed is not None:
+            if lo == -math.inf and hi == math.inf:
+                lo = hi = fixed
+            if rate != math.inf and rate != 0.0:
+                raise VehicleFileError(f"{where}: a fixed actuator (fixed = {fixed:g}) cannot have a rate "
+                                       f"({rate:g} {spec.unit}/s); drop 'rate' or 'fixed'")
+            rate = 0.0
+            if not lo <= fixed <= hi:
+                raise VehicleFileError(f"{where}: fixed value {fixed:g} {spec.unit} is outside its range "
+                                       f"[{lo:g}, {hi:g}] {spec.unit}")
+        else:
+            if not lo < hi:
+                raise VehicleFileError(f"{where}: min = {lo:g} must be < max = {hi:g} {spec.unit}")
+            if not rate > 0:
+                raise VehicleFileError(f"{where}: rate must be > 0 {spec.unit}/s (omit it for no rate limit), "
+                                       f"got {rate:g}")
+        for key, v in (("source", self.source), ("note", self.note)):
+            if not isinstance(v, str):
+                raise VehicleFileError(f"{where}: '{key}' must be a string, got {v!r}")
+        object.__setattr__(self, "min", lo)
+        object.__setattr__(self, "max", hi)
+        object.__setattr__(self, "rate", rate)
+        object.__setattr__(self, "fixed", fixed)
+
+    @property
+    def actuated(self) -> bool:
+        """True when the setting can be changed in flight (not ``fixed``)."""
+        return self.fixed is None
+
+    @property
+    def bounds(self) -> tuple[float, float]:
+        """``(min, max)`` of the setting in flight: ``(fixed, fixed)`` for a fixed actuator."""
+        return (self.fixed, self.fixed) if self.fixed is not None else (self.min, self.max)
+
+    def contains(self, value: Any, rtol: float = 1e-9) -> Any:
+        """Whether ``value`` (scalar or array) lies in :attr:`bounds`, with a relative slack ``rtol``.
+
+        Parameters
+        ----------
+        value : float or array_like
+            Settings in the actuator's unit.
+        rtol : float, optional
+            Relative slack on the bounds (scaled by ``max(1, |bound|)``).
+
+        Returns
+        -------
+        bool or ndarray of bool
+        """
+        lo, hi = self.bounds
+        v = np.asarray(value, dtype=float)
+        slack_lo = rtol * max(1.0, abs(lo)) if math.isfinite(lo) else 0.0
+        slack_hi = rtol * max(1.0, abs(hi)) if math.isfinite(hi) else 0.0
+        out = (v >= lo - slack_lo) & (v <= hi + slack_hi)
+        return bool(out) if out.ndim == 0 else out
+
+    def clip(self, value: Any) -> Any:
+        """``value`` clipped to :attr:`bounds` (same shape)."""
+        lo, hi = self.bounds
+        return np.clip(value, lo, hi)
+
+    def describe(self) -> str:
+        """One-line summary such as ``[-0.25, 0.25] kg, 0.01 kg/s``."""
+        if self.fixed is not None:
+            return f"fixed {self.fixed:.6g} {self.unit}"
+        rate = "no rate limit" if self.rate == math.inf else f"{self.rate:.6g} {self.unit}/s"
+        return f"[{self.min:.6g}, {self.max:.6g}] {self.unit}, {rate}"
+
+    def as_plain(self) -> dict[str, Any]:
+        """Plain dict (for hashing, pickling and JSON)."""
+        return {"name": self.name, "min": self.min, "max": self.max, "rate": self.rate, "fixed": self.fixed,
+                "unit": self.unit, "source": self.source, "note": self.note}
+
+
 def _norm_unit(u: str) -> str:
     return u.replace(" ", "").replace(".", "*").replace("·", "*")
 
@@ -168,6 +354,8 @@ class Vehicle:
         Source of each value.
     overrides : Mapping[str, float], optional
         Values that replaced the file's.
+    actuators : Mapping[str, Actuator], optional
+        The ``[actuators]`` table (range and rate of the pump, moving mass, elevator, rudder).
 
     Raises
     ------
@@ -190,6 +378,9 @@ class Vehicle:
         File the vehicle was read from.
     overrides : Mapping[str, float]
         Values that replaced the file's.
+    actuators : Mapping[str, Actuator]
+        Range and rate of each actuator the file lists (``veh.actuators["m0"].max``); a fixed part's setting is
+        also its nominal parameter (``veh.r_P3``).
     """
 
     name: str
@@ -200,13 +391,14 @@ class Vehicle:
     path: str
     overrides: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     notes: str = ""
+    actuators: Mapping[str, Actuator] = field(default_factory=lambda: MappingProxyType({}))
 
     def __post_init__(self) -> None:
         for key in ("name", "kind", "title", "path", "notes"):
             value = object.__getattribute__(self, key)
             if not isinstance(value, str):
                 raise ArgumentTypeError(f"Vehicle {key} must be a str, got {type(value).__name__} {value!r}")
-        for key in ("params", "sources", "overrides"):
+        for key in ("params", "sources", "overrides", "actuators"):
             value = object.__getattribute__(self, key)
             if not isinstance(value, Mapping):
                 raise ArgumentTypeError(f"Vehicle {key} must be a mapping, got {type(value).__name__}")
@@ -221,7 +413,15 @@ class Vehicle:
                 raise VehicleFileError(
                     f"{where}: unknown parameter {key!r} for a {self.kind} vehicle; known: {', '.join(spec)}")
             values[key] = _check_value(key, value, spec[key], where)
+        acts = _check_actuators(self.kind, self.actuators, values, where)
+        srcs = dict(self.sources)
+        for name, act in acts.items():  # a fixed part's setting is also the nominal parameter
+            if act.fixed is not None and name in spec and name not in values:
+                values[name] = act.fixed
+                srcs[name] = f"[actuators] {name} (fixed): {act.source}"
+        object.__setattr__(self, "sources", srcs)
         _check_consistency(self.kind, values, where)
+        object.__setattr__(self, "actuators", MappingProxyType(acts))
         object.__setattr__(self, "params", MappingProxyType(values))
         object.__setattr__(self, "sources", MappingProxyType({str(k): str(v) for k, v in self.sources.items()}))
         object.__setattr__(self, "overrides", MappingProxyType(dict(self.overrides)))
@@ -229,7 +429,8 @@ class Vehicle:
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
         # mappingproxy fields do not pickle; rebuild from plain dicts (used by pickle, copy and multiprocessing)
         return (_vehicle_from_plain, (self.name, self.kind, self.title, dict(self.params), dict(self.sources),
-                                      self.path, dict(self.overrides), self.notes))
+                                      self.path, dict(self.overrides), self.notes,
+                                      {k: a.as_plain() for k, a in self.actuators.items()}))
 
     def __getattr__(self, key: str) -> float:
         params = object.__getattribute__(self, "params")
@@ -253,8 +454,11 @@ class Vehicle:
     @property
     def provenance(self) -> str:
         """SHA-256 (first 16 hex digits) of name, kind and the canonical parameter values."""
-        blob = json.dumps({"name": self.name, "kind": self.kind, "params": dict(sorted(self.params.items()))},
-                          sort_keys=True)
+        doc: dict[str, Any] = {"name": self.name, "kind": self.kind, "params": dict(sorted(self.params.items()))}
+        if self.actuators:  # vehicles without an [actuators] table keep their earlier provenance
+            doc["actuators"] = {k: [str(a.min), str(a.max), str(a.rate), str(a.fixed)]
+                                for k, a in sorted(self.actuators.items())}
+        blob = json.dumps(doc, sort_keys=True)
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
     def has(self, *keys: str) -> bool:
@@ -353,7 +557,64 @@ class Vehicle:
             plausibility limit, or an inconsistent mass model.
         """
         return _build_vehicle(self.name, self.kind, self.title, dict(self.params), dict(self.sources),
-                              self.path, {**self.overrides, **overrides}, self.notes, overrides)
+                              self.path, {**self.overrides, **overrides}, self.notes, overrides,
+                              dict(self.actuators))
+
+    def with_actuators(self, **actuators: Mapping[str, Any] | Actuator | None) -> Vehicle:
+        """Return a new vehicle with some actuator entries replaced, added or (with ``None``) removed.
+
+        Parameters
+        ----------
+        **actuators : Actuator, mapping or None
+            ``name=Actuator(...)``, or a mapping of the fields of an ``[actuators]`` entry such as
+            ``m0={"min": -0.25, "max": 0.25, "rate": 0.01, "source": "pump datasheet"}``; ``None`` removes it.
+
+        Returns
+        -------
+        Vehicle
+
+        Raises
+        ------
+        VehicleFileError
+            An invalid entry (as in a vehicle file).
+        """
+        acts: dict[str, Actuator] = dict(self.actuators)
+        for name, entry in actuators.items():
+            if entry is None:
+                acts.pop(name, None)
+            elif isinstance(entry, Actuator):
+                acts[name] = entry
+            elif isinstance(entry, Mapping):
+                acts[name] = _actuator_from_entry(name, dict(entry), f"vehicle '{self.name}'", require_source=False)
+            else:
+                raise VehicleFileError(f"actuator '{name}' must be an Actuator, a mapping or None, got "
+                                       f"{type(entry).__name__}")
+        return Vehicle(name=self.name, kind=self.kind, title=self.title, params=self.params, sources=self.sources,
+                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=acts)
+
+    def actuator_bounds(self, name: str, default: tuple[float, float] = (-math.inf, math.inf)) -> tuple[float, float]:
+        """Flight range of actuator ``name``, or ``default`` when the file does not list it.
+
+        Parameters
+        ----------
+        name : str
+            Actuator key (``"m0"``, ``"r_P1"``, ...).
+        default : (float, float), optional
+            Range returned for an actuator the file does not list.
+
+        Returns
+        -------
+        (float, float)
+
+        Raises
+        ------
+        ArgumentError
+            If ``name`` is not an actuator key.
+        """
+        if name not in ACTUATOR_SPECS:
+            raise ArgumentError(f"unknown actuator {name!r}; known: {', '.join(ACTUATOR_SPECS)}")
+        a = self.actuators.get(name)
+        return a.bounds if a is not None else (float(default[0]), float(default[1]))
 
     def summary_rows(self) -> list[tuple[str, str, str, str]]:
         """(key, value, unit, source) rows for reports.
@@ -364,7 +625,10 @@ class Vehicle:
             One ``(key, value, unit, source)`` row per parameter.
         """
         spec = PARAMETER_SPECS[self.kind]
-        return [(k, f"{v:.6g}", spec[k].unit, self.sources.get(k, "")) for k, v in self.params.items()]
+        rows = [(k, f"{v:.6g}", spec[k].unit, self.sources.get(k, "")) for k, v in self.params.items()]
+        for k, a in self.actuators.items():
+            rows.append((f"[actuator] {k}", a.describe(), a.unit, a.source))
+        return rows
 
 
 def _presets_dir() -> Any:
@@ -443,18 +707,83 @@ def _check_consistency(kind: str, values: Mapping[str, float], path: str) -> Non
                     f"{path}: buoyancy mass m_b = m0 + m - m_h - mbar = {m_b:g} kg is negative")
 
 
+def _actuator_from_entry(name: str, entry: dict[str, Any], where: str, require_source: bool = True) -> Actuator:
+    """An :class:`Actuator` from one ``[actuators]`` entry (an inline table), checked."""
+    if name not in ACTUATOR_SPECS:
+        hint = f" ({name} is a parameter, not an actuator)" if name in _UG else ""
+        raise VehicleFileError(f"{where}: unknown actuator '{name}'{hint}; known: {', '.join(ACTUATOR_SPECS)}")
+    if not isinstance(entry, dict):
+        raise VehicleFileError(f"{where}: actuator '{name}' must be an inline table such as "
+                               f"{{ min = ..., max = ..., rate = ..., unit = \"...\", source = \"...\" }}, got "
+                               f"{entry!r}")
+    bad = set(entry) - _ACTUATOR_FIELDS
+    if bad:
+        raise VehicleFileError(f"{where}: actuator '{name}' has unknown field(s) {sorted(bad)}; allowed: "
+                               f"{sorted(_ACTUATOR_FIELDS)}")
+    if require_source and not (isinstance(entry.get("source"), str) and entry["source"].strip()):
+        raise VehicleFileError(f"{where}: actuator '{name}' needs a non-empty 'source'")
+    if require_source and "unit" not in entry:
+        raise VehicleFileError(f"{where}: actuator '{name}' needs a 'unit' ('{ACTUATOR_SPECS[name].unit}')")
+    if "fixed" in entry and "rate" in entry:
+        raise VehicleFileError(f"{where}: actuator '{name}' is fixed (fixed = {entry['fixed']!r}); it cannot have "
+                               "a 'rate'")
+    if not ({"min", "max", "fixed"} & set(entry)):
+        raise VehicleFileError(f"{where}: actuator '{name}' needs a range (min, max) or a fixed value")
+    if "fixed" not in entry and not {"min", "max"} <= set(entry):
+        raise VehicleFileError(f"{where}: actuator '{name}' needs both 'min' and 'max'")
+    for k in ("unit", "source", "note"):
+        if k in entry and not isinstance(entry[k], str):
+            raise VehicleFileError(f"{where}: actuator '{name}': '{k}' must be a string, got {entry[k]!r}")
+    try:
+        return Actuator(name=name, min=entry.get("min", -math.inf), max=entry.get("max", math.inf),
+                        rate=entry.get("rate", math.inf), fixed=entry.get("fixed"), unit=entry.get("unit", ""),
+                        source=entry.get("source", ""), note=entry.get("note", ""))
+    except VehicleFileError as exc:
+        raise VehicleFileError(f"{where}: {exc}") from None
+
+
+def _check_actuators(kind: str, actuators: Mapping[str, Any], values: Mapping[str, float],
+                     where: str) -> dict[str, Actuator]:
+    """Actuator entries checked against the kind and the nominal parameters (``m0``, ``r_P*``)."""
+    out: dict[str, Actuator] = {}
+    if actuators and kind != "underwater_glider":
+        raise VehicleFileError(f"{where}: an [actuators] table is defined for underwater gliders only, not {kind}")
+    for name, act in actuators.items():
+        if isinstance(act, Mapping) and not isinstance(act, Actuator):
+            act = _actuator_from_entry(str(name), dict(act), where, require_source=False)
+        if not isinstance(act, Actuator) or act.name != name:
+            raise VehicleFileError(f"{where}: actuator entry {name!r} must be an Actuator named {name!r}")
+        if name in values:
+            v = values[name]
+            if act.fixed is not None and v != act.fixed:
+                raise VehicleFileError(
+                    f"{where}: parameter '{name}' = {v:g} and [actuators] {name} fixed = {act.fixed:g} disagree; "
+                    "give the setting once (the fixed actuator value)")
+            if act.fixed is None and not act.contains(v):
+                raise VehicleFileError(
+                    f"{where}: nominal parameter '{name}' = {v:g} {act.unit} is outside the actuator range "
+                    f"[{act.min:g}, {act.max:g}] {act.unit} of [actuators] {name}")
+        out[name] = act
+    return out
+
+
 def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
-                        path: str, overrides: dict[str, float], notes: str) -> Vehicle:
+                        path: str, overrides: dict[str, float], notes: str,
+                        actuators: dict[str, dict[str, Any]] | None = None) -> Vehicle:
+    acts = {k: Actuator(**a) for k, a in (actuators or {}).items()}
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
                    sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
-                   notes=notes)
+                   notes=notes, actuators=MappingProxyType(acts))
 
 
 def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],
                    path: str, all_overrides: dict[str, float], notes: str,
-                   new_overrides: Mapping[str, float]) -> Vehicle:
+                   new_overrides: Mapping[str, float], actuators: dict[str, Actuator] | None = None) -> Vehicle:
     spec = PARAMETER_SPECS[kind]
     for key, val in new_overrides.items():
+        if key in _MOVED_KEYS:
+            raise VehicleFileError(f"override '{key}': actuator limits are set with "
+                                   f"Vehicle.with_actuators(), e.g. {_MOVED_KEYS[key]}")
         if key not in spec:
             raise VehicleFileError(
                 f"override '{key}' is not a parameter of a {kind} vehicle ({path}); known: {', '.join(spec)}")
@@ -464,20 +793,22 @@ def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], s
     _check_consistency(kind, values, path)
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(dict(values)),
                    sources=MappingProxyType(dict(sources)), path=path,
-                   overrides=MappingProxyType(dict(all_overrides)), notes=notes)
+                   overrides=MappingProxyType(dict(all_overrides)), notes=notes,
+                   actuators=MappingProxyType(dict(actuators or {})))
 
 
-def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float], dict[str, str]]:
+def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float], dict[str, str],
+                                          dict[str, Actuator]]:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise VehicleFileError(f"{where}: not valid TOML: {exc}") from None
     except RecursionError:
         raise VehicleFileError(f"{where}: not a usable TOML file (nested too deeply)") from None
-    unknown_top = set(doc) - {"vehicle", "parameters"}
+    unknown_top = set(doc) - {"vehicle", "parameters", "actuators"}
     if unknown_top:
         raise VehicleFileError(f"{where}: unknown top-level table(s) {sorted(unknown_top)}; "
-                               "expected [vehicle] and [parameters]")
+                               "expected [vehicle], [parameters] and optionally [actuators]")
     head = doc.get("vehicle")
     if not isinstance(head, dict):
         raise VehicleFileError(f"{where}: missing [vehicle] table")
@@ -500,6 +831,9 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
     values: dict[str, float] = {}
     sources: dict[str, str] = {}
     for key, entry in table.items():
+        if key in _MOVED_KEYS:
+            raise VehicleFileError(f"{where}: parameter '{key}' moved to the [actuators] table: write "
+                                   f"[actuators] {_MOVED_KEYS[key]}")
         if key not in spec:
             raise VehicleFileError(
                 f"{where}: unknown parameter '{key}' for a {kind} vehicle; known: {', '.join(spec)}")
@@ -520,7 +854,12 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
             raise VehicleFileError(f"{where}: parameter '{key}' needs a non-empty 'source'")
         values[key] = _check_value(key, entry["value"], spec[key], where)
         sources[key] = str(entry["source"])
-    return head["name"], kind, str(head.get("title", head["name"])), str(head.get("notes", "")), values, sources
+    acts_table = doc.get("actuators", {})
+    if not isinstance(acts_table, dict):
+        raise VehicleFileError(f"{where}: [actuators] must be a table")
+    actuators = {str(k): _actuator_from_entry(str(k), v, where) for k, v in acts_table.items()}
+    return (head["name"], kind, str(head.get("title", head["name"])), str(head.get("notes", "")), values, sources,
+            actuators)
 
 
 def _read_file(s: str) -> tuple[str, str]:
@@ -590,5 +929,5 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
         text, where = res.read_text(encoding="utf-8"), f"preset '{s}'"
     else:
         text, where = _read_file(s)
-    name, kind, title, notes, values, sources = _parse(text, where)
-    return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides)
+    name, kind, title, notes, values, sources, actuators = _parse(text, where)
+    return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides, actuators)

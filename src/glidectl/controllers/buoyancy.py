@@ -152,11 +152,13 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
     if not (math.isfinite(m0e) and m0e != 0):
         raise InfeasibleGlideError(f"speed {speed:g} m/s needs buoyancy m0e = {m0e:g} kg (6.7) for vehicle "
                                    f"'{veh.name}' (K_De = {K_De:g}, K_Le = {K_Le:g} kg/m): no steady glide")
-    if abs(m0e) > lim.m0_max:
-        vmax = math.sqrt(lim.m0_max * veh.g / math.hypot(K_De, K_Le))
+    if not lim.m0_in_range(m0e):
+        bound = lim.m0_max if m0e > 0 else -lim.m0_min
+        vmax = math.sqrt(bound * veh.g / math.hypot(K_De, K_Le))
         raise InfeasibleGlideError(
-            f"speed {speed:g} m/s needs buoyancy |m0e| = {abs(m0e):.4g} kg (6.7), beyond the range m0_max = "
-            f"{lim.m0_max:g} kg of vehicle '{veh.name}'; the fastest steady glide is {vmax:.4g} m/s")
+            f"speed {speed:g} m/s needs buoyancy m0e = {m0e:.4g} kg (6.7), outside the range [{lim.m0_min:g}, "
+            f"{lim.m0_max:g}] kg of vehicle '{veh.name}' ([actuators] m0); the fastest steady "
+            f"{'descent' if descending else 'climb'} is {vmax:.4g} m/s")
     if K_Le * m0e < 0:
         raise InfeasibleGlideError(
             f"buoyancy alone cannot make vehicle '{veh.name}' {'descend' if descending else 'climb'} upright: its "

@@ -205,18 +205,19 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
     a_e = min(roots, key=abs)
     u2e = -veh.K_M0 / veh.K_M - a_e                                                        # (6.20), corrected
     lim = actuator_limits(veh)
-    if abs(u2e) > lim.u2_max:
-        a_lo, a_hi = sorted((-veh.K_M0 / veh.K_M - lim.u2_max, -veh.K_M0 / veh.K_M + lim.u2_max))
+    if not lim.u2_min <= u2e <= lim.u2_max:
+        a_lo, a_hi = sorted((-veh.K_M0 / veh.K_M - lim.u2_max, -veh.K_M0 / veh.K_M - lim.u2_min))
         raise InfeasibleGlideError(
             f"gamma_e = {math.degrees(gamma):.4g} deg needs alpha_e = {a_e:.4g} rad and elevator u2e = {u2e:.4g} "
-            f"rad, beyond the saturation u2_max = {lim.u2_max:g} rad of vehicle '{veh.name}'; reachable angles of "
-            f"attack are [{a_lo:.4g}, {a_hi:.4g}] rad")
+            f"rad, beyond the saturation [{lim.u2_min:g}, {lim.u2_max:g}] rad of vehicle '{veh.name}' "
+            f"([actuators] elevator); reachable angles of attack are [{a_lo:.4g}, {a_hi:.4g}] rad")
     kd, kl = effective_coefficients(veh, a_e, u2e)
     m0e = float((kl * math.cos(gamma) - kd * math.sin(gamma)) * speed**2 / veh.g)
-    if abs(m0e) > lim.m0_max:
+    if not lim.m0_in_range(m0e):
         raise InfeasibleGlideError(
-            f"V_e = {speed:g} m/s, gamma_e = {math.degrees(gamma):.4g} deg needs buoyancy m0e = {m0e:.4g} kg, beyond "
-            f"the range m0_max = {lim.m0_max:g} kg of vehicle '{veh.name}'; ask for a lower speed")
+            f"V_e = {speed:g} m/s, gamma_e = {math.degrees(gamma):.4g} deg needs buoyancy m0e = {m0e:.4g} kg, outside "
+            f"the range [{lim.m0_min:g}, {lim.m0_max:g}] kg of vehicle '{veh.name}' ([actuators] m0); ask for a "
+            "lower speed")
     if m0e == 0:
         raise InfeasibleGlideError("the requested glide needs neutral buoyancy m0e = 0 (no steady glide)")
     K_De = veh.K_D0 + veh.K_D * a_e**2

@@ -6,8 +6,9 @@ the input ``u1 = dm0/dt`` (kg/s). Its right-hand side is :meth:`glidectl.models.
 evaluated with the vehicle's ``m0`` replaced by the state's ``m0`` (so for the ``added`` mass model ``m1 = m3 = m +
 m0`` follows the buoyancy, as in §6.3), plus the buoyancy engine ``m0' = pump(m0, u1)``:
 
-* rate limit ``|m0'| <= u4_max`` (vehicle parameter, kg/s; the saturation of ``u4`` of (2.8), §2.2 assumption 2);
-* range ``|m0| <= m0_max`` (vehicle parameter, kg): at a bound the pump cannot push further out.
+* rate limit ``|m0'| <= u4_max`` (``[actuators] m0.rate``, kg/s; the saturation of ``u4`` of (2.8), §2.2
+  assumption 2);
+* range ``m0_min <= m0 <= m0_max`` (``[actuators] m0``, kg): at a bound the pump cannot push further out.
 
 A limit the vehicle does not define is not applied (:class:`ActuatorLimits`, :func:`actuator_limits`).
 :func:`loaded_rates` adds an external body-3 force and pitch moment to the same right-hand side (the elevator of
@@ -23,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
+from ..errors import ArgumentError, ModelError
 from ..params import Vehicle
 from ._validate import numeric_array, require_glider, trailing_array
 from .reduced import ReducedLongitudinalGlider
@@ -46,32 +48,44 @@ _M0_TINY = 1e-12  # kg: ReducedLongitudinalGlider refuses m0 = 0 exactly (chapte
 # ------------------------------------------------------------------------------------------------ actuators
 @dataclass(frozen=True)
 class ActuatorLimits:
-    """Actuator limits of a vehicle (``inf`` where the vehicle file defines none).
+    """Pump and elevator limits of a vehicle, from its ``[actuators]`` table (``inf`` where it defines none).
 
     Attributes
     ----------
     u4_max : float
-        Buoyancy pump rate limit ``|dm0/dt| <= u4_max`` (kg/s).
+        Buoyancy pump rate limit ``|dm0/dt| <= u4_max`` (kg/s): ``[actuators] m0.rate``.
     m0_max : float
-        Buoyancy range ``|m0| <= m0_max`` (kg).
+        Upper end of the buoyancy range ``m0 <= m0_max`` (kg): ``[actuators] m0.max``.
     u2_max : float
-        Elevator saturation ``|u2| <= u2_max`` (rad, control angle of attack of §6.3).
+        Upper elevator saturation ``u2 <= u2_max`` (rad, control angle of attack of §6.3).
+    m0_min : float, optional
+        Lower end of the buoyancy range (kg); default ``-m0_max``.
+    u2_min : float, optional
+        Lower elevator saturation (rad); default ``-u2_max``.
 
     Raises
     ------
     ArgumentTypeError
         If a limit is not a real number.
     ArgumentError
-        If a limit is not positive (``inf``: no limit).
+        If a limit is not positive (``inf``: no limit) or a lower end is not below its upper end.
     """
 
     u4_max: float = math.inf
     m0_max: float = math.inf
     u2_max: float = math.inf
+    m0_min: float | None = None
+    u2_min: float | None = None
 
     def __post_init__(self) -> None:
         for k, unit in (("u4_max", "kg/s"), ("m0_max", "kg"), ("u2_max", "rad")):
             object.__setattr__(self, k, checks.positive(k, getattr(self, k), allow_inf=True, unit=unit))
+        for k, hi, unit in (("m0_min", self.m0_max, "kg"), ("u2_min", self.u2_max, "rad")):
+            lo = getattr(self, k)
+            lo = -hi if lo is None else checks.real(k, lo, allow_inf=True, unit=unit)
+            if not lo < hi:
+                raise ArgumentError(f"{k} = {lo:g} {unit} must be below the upper limit {hi:g} {unit}")
+            object.__setattr__(self, k, lo)
 
     def pump(self, m0: Any, u1: Any) -> Any:
         """Rate ``dm0/dt`` (kg/s) the pump delivers for the command ``u1`` (kg/s) at buoyancy ``m0`` (kg).
@@ -80,38 +94,53 @@ class ActuatorLimits:
         pushes outward.
         """
         m0 = np.real(numeric_array("m0", m0))
-        rate = _saturate(u1, self.u4_max)
+        rate = _saturate(u1, -self.u4_max, self.u4_max)
         re = np.real(rate)
-        blocked = ((m0 >= self.m0_max) & (re > 0)) | ((m0 <= -self.m0_max) & (re < 0))
+        blocked = ((m0 >= self.m0_max) & (re > 0)) | ((m0 <= self.m0_min) & (re < 0))
         return np.where(blocked, 0.0, rate)
 
     def elevator(self, u2: Any) -> Any:
-        """Saturated elevator input ``clip(u2, -u2_max, u2_max)`` (rad)."""
+        """Saturated elevator input ``clip(u2, u2_min, u2_max)`` (rad)."""
         numeric_array("u2", u2)
-        return _saturate(u2, self.u2_max)
+        return _saturate(u2, self.u2_min, self.u2_max)
+
+    def m0_in_range(self, m0: float) -> bool:
+        """Whether the buoyancy ``m0`` (kg) is within ``[m0_min, m0_max]``."""
+        return bool(self.m0_min <= m0 <= self.m0_max)
 
 
-def _saturate(u: Any, bound: float) -> Any:
-    """``clip(u, -bound, bound)`` that carries a complex step: the input passes unchanged (derivative 1) inside the
-    bound, the bound (derivative 0) outside."""
+def _saturate(u: Any, lo: float, hi: float) -> Any:
+    """``clip(u, lo, hi)`` that carries a complex step: the input passes unchanged (derivative 1) inside the
+    bounds, the bound (derivative 0) outside."""
     u = numeric_array("u", u)
     re = np.real(u)
-    return np.where(np.abs(re) <= bound, u, np.sign(re) * bound)
+    return np.where(re > hi, hi, np.where(re < lo, lo, u))
 
 
 def actuator_limits(veh: Vehicle) -> ActuatorLimits:
-    """The vehicle's ``u4_max`` (kg/s), ``m0_max`` (kg) and ``u2_max`` (rad); ``inf`` for those it does not set.
+    """Pump and elevator limits from the vehicle's ``[actuators]`` table; ``inf`` for those it does not set.
+
+    ``m0`` gives ``m0_min``, ``m0_max`` and the pump rate ``u4_max``; ``elevator`` gives ``u2_min``, ``u2_max``.
 
     Raises
     ------
     ArgumentTypeError
         If ``veh`` is not a Vehicle.
     ModelError
-        If it is not an underwater glider.
+        If it is not an underwater glider, or a limit is one-sided in a way the symmetric chapter-6 models
+        cannot use (a range that does not contain 0).
     """
-    p = require_glider(veh).params
-    return ActuatorLimits(float(p.get("u4_max", math.inf)), float(p.get("m0_max", math.inf)),
-                          float(p.get("u2_max", math.inf)))
+    veh = require_glider(veh)
+    m0 = veh.actuators.get("m0")
+    el = veh.actuators.get("elevator")
+    m0_lo, m0_hi = m0.bounds if m0 is not None else (-math.inf, math.inf)
+    u2_lo, u2_hi = el.bounds if el is not None else (-math.inf, math.inf)
+    rate = m0.rate if m0 is not None else math.inf
+    for name, lo, hi in (("m0", m0_lo, m0_hi), ("elevator", u2_lo, u2_hi)):
+        if not lo < 0 < hi:
+            raise ModelError(f"vehicle '{veh.name}': [actuators] {name} range [{lo:g}, {hi:g}] must contain 0 "
+                             "for the pump/elevator models of chapter 6")
+    return ActuatorLimits(u4_max=rate, m0_max=m0_hi, u2_max=u2_hi, m0_min=m0_lo, u2_min=u2_lo)
 
 
 # ------------------------------------------------------------------------------------------------ model
