@@ -185,9 +185,9 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
 }
 
 __all__ = [
-    "Actuator",
     "C_STEADY",
     "AccelerationControlledGlider",
+    "Actuator",
     "ApproximateLinearizationController",
     "ArgumentError",
     "ArgumentTypeError",
