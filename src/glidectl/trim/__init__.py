@@ -4,6 +4,7 @@ helices and straight glides of the three-dimensional glider (chapter 8), and the
 moving-mass position and buoyancy that realize a requested one)."""
 
 from .ctol import CTOLGlide, angle_equation, ctol_glide
+from .envelope import GlideEnvelope, glide_envelope
 from .glide import SteadyGlide, alpha_for_gamma, permissible_gamma, steady_glide
 from .helix import (
     Helix,
@@ -21,6 +22,7 @@ __all__ = [
     "DEFAULT_M0_BOUNDS",
     "DEFAULT_R_P_BOUNDS",
     "CTOLGlide",
+    "GlideEnvelope",
     "Helix",
     "HelixDesign",
     "SteadyGlide",
@@ -29,6 +31,7 @@ __all__ = [
     "classify_motion",
     "ctol_glide",
     "design_helix",
+    "glide_envelope",
     "helix_eigenvalues",
     "helix_equations",
     "helix_newton",
