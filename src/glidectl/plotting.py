@@ -842,6 +842,13 @@ def plot_pareto_study(study: ParetoStudy, ax: Any = None) -> Any:
 _BINDING_COLOURS = {0: "tab:green", 2: "tab:blue", 3: "tab:purple", 4: "tab:orange", 5: "tab:red"}
 
 
+def _range_text(bounds: tuple[float, float], scale: float, unit: str) -> str:
+    lo, hi = bounds
+    if lo == -math.inf and hi == math.inf:
+        return "not limited"
+    return f"in [{lo * scale:g}, {hi * scale:g}] {unit}"
+
+
 def plot_glide_envelope(env: Any, ax: Any = None) -> Any:
     """The glide envelope in the glide polar: horizontal speed against sink rate, coloured by binding limit.
 
@@ -885,8 +892,9 @@ def plot_glide_envelope(env: Any, ax: Any = None) -> Any:
     trim_n = int(np.sum(env.binding == 6))
     ax.set_title(f"glide envelope of '{env.vehicle.name}' at $r_{{P3}}$ = {env.r_p3 * 100:g} cm: "
                  f"{int(env.feasible.sum())} of {n} grid points feasible\n"
-                 f"$m_0$ in [{env.m0_bounds[0]:g}, {env.m0_bounds[1]:g}] kg, $r_{{P1}}$ in "
-                 f"[{env.r_p1_bounds[0] * 100:g}, {env.r_p1_bounds[1] * 100:g}] cm; not drawn: {none_n} with no glide"
+                 f"$m_0$ {_range_text(env.m0_bounds, 1.0, 'kg')}, "
+                 f"$r_{{P1}}$ {_range_text(env.r_p1_bounds, 100.0, 'cm')}; "
+                 f"not drawn: {none_n} with no glide"
                  + (f", {trim_n} with no mass position" if trim_n else ""))
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0, fontsize=7, markerscale=2)
     ax.grid(True, alpha=0.3)

@@ -1,5 +1,6 @@
 """Steady motions: straight glides of the longitudinal glider (chapter 2, with the permissible flight-path
-angles), steady glides of the CTOL aircraft under the steady-glide controller (Theorem 4, chapter 7), circular
+angles, and the glide envelope: those glides on a grid of speeds and angles within the actuator ranges), steady
+glides of the CTOL aircraft under the steady-glide controller (Theorem 4, chapter 7), circular
 helices and straight glides of the three-dimensional glider (chapter 8), and the inverse design of a helix (the
 moving-mass position and buoyancy that realize a requested one)."""
 

@@ -18,6 +18,11 @@ roots the one of smaller ``|alpha|`` is taken (the other lies on the back side o
 leaving the bottom-heaviness ``r_bh = r_P . R^T k = -r_P1 sin(theta) + r_P3 cos(theta)`` free.
 (2.27)-(2.28) as printed are the inverse map; (2.28) returns theta, not gamma (docs/thesis-errata.md).
 
+One solver: :func:`glide_trim_arrays` evaluates this trim elementwise over arrays of speeds and flight-path angles
+(numpy, no Python loop); :func:`steady_glide` calls it for one point and turns its status codes into errors, and
+:func:`~glidectl.trim.envelope.glide_envelope` calls it for a whole grid. When the vehicle file has an
+``[actuators]`` table, :func:`steady_glide` also refuses trims that need ``m0``, ``r_P1`` or ``r_P3`` outside it.
+
 Argument limits (plausibility): speeds in ``(0, SPEED_MAX]`` = (0, 100] m/s, moving-mass offsets ``|r_p3|, |r_bh| <=
 R_P_MAX`` = 10 m; a speed so small that the forces underflow is refused. The trim is accepted only when the residual
 of every equation is below ``RESIDUAL_TOL`` (1e-9) relative to the largest term of that equation.
