@@ -124,6 +124,7 @@ from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, 
 from .stability.singular_perturbation import SingularPerturbation, singular_perturbation
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.ctol import CTOLGlide, ctol_glide
+from .trim.envelope import GlideEnvelope, glide_envelope
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
 from .trim.helix_design import HelixDesign, design_helix
@@ -147,6 +148,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
         "design_helix", "elevator_equilibrium", "ElevatorEquilibrium", "Helix", "helix_trim", "HelixDesign",
         "permissible_gamma", "steady_glide", "SteadyGlide",
+        "glide_envelope", "GlideEnvelope",
     ),
     "linear analysis": (
         "BreakPoint", "controllability", "existence_scan", "ExistenceScan", "glide_model", "helix_rbh_locus",
@@ -223,6 +225,7 @@ __all__ = [
     "ExtendedCTOL",
     "FeedbackLinearizingController",
     "FixedMassGlider3D",
+    "GlideEnvelope",
     "GlidePathModel",
     "GlideTracking",
     "GlidectlError",
@@ -297,6 +300,7 @@ __all__ = [
     "estimate_sos_size",
     "existence_scan",
     "feedback_linearization_blowup",
+    "glide_envelope",
     "glide_model",
     "helix_rbh_locus",
     "helix_sweep",

@@ -54,6 +54,7 @@ __all__ = [
     "plot_composite_certificate",
     "plot_ensemble",
     "plot_existence_scan",
+    "plot_glide_envelope",
     "plot_helix_rbh_locus",
     "plot_helix_sweep",
     "plot_locus",
@@ -833,4 +834,68 @@ def plot_pareto_study(study: ParetoStudy, ax: Any = None) -> Any:
     ax.set_title(f"tracking by steady gliding over {study.t_final:g} s: {len(done)} completed runs"
                  + (f" ({nstop} stopped, not shown)" if nstop else ""))
     ax.grid(True, which="both", alpha=0.3)
+    return ax
+
+
+# ------------------------------------------------------------------------------------------------ glide envelope
+#: colours of the binding limits of a glide envelope (codes 0 and 2-5; codes 1 and 6 have no glide to draw)
+_BINDING_COLOURS = {0: "tab:green", 2: "tab:blue", 3: "tab:purple", 4: "tab:orange", 5: "tab:red"}
+
+
+def _range_text(bounds: tuple[float, float], scale: float, unit: str) -> str:
+    lo, hi = bounds
+    if lo == -math.inf and hi == math.inf:
+        return "not limited"
+    return f"in [{lo * scale:g}, {hi * scale:g}] {unit}"
+
+
+def plot_glide_envelope(env: Any, ax: Any = None) -> Any:
+    """The glide envelope in the glide polar: horizontal speed against sink rate, coloured by binding limit.
+
+    Parameters
+    ----------
+    env : GlideEnvelope
+        From :func:`glidectl.glide_envelope`.
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        One marker per grid point where the steady glide exists: green where it is feasible, else coloured by the
+        actuator limit that binds (``m0`` or ``r_P1``, min or max). The vertical axis is the sink rate (m/s,
+        positive downwards) and points down, so down glides lie below the axis and climbs above it. Dashed rays:
+        the shallowest down and up glides of the permissible set (2.26); between them no glide exists.
+    """
+    from .trim.envelope import BINDING_LABELS
+
+    if ax is None:
+        _, ax = new_figure(width=7.5, height=5.2)
+    n = env.binding.size
+    size = float(np.clip(6000.0 / max(n, 1), 2.0, 40.0))
+    for code, colour in _BINDING_COLOURS.items():
+        mask = env.binding == code
+        if np.any(mask):
+            what = "feasible" if code == 0 else f"{BINDING_LABELS[code]} binds"
+            ax.scatter(env.horizontal_speed[mask], env.vertical_speed[mask], s=size, marker="s", color=colour,
+                       lw=0, label=f"{what} ({int(mask.sum())})")
+    lo, hi = env.gamma_bounds
+    reach = float(np.nanmax(env.speeds)) * 1.05
+    for g, what in ((lo, "down"), (hi, "up")):
+        ax.plot([0.0, reach * math.cos(g)], [0.0, -reach * math.sin(g)], "k--", lw=0.8,
+                label=f"shallowest {what} glide (2.26): {math.degrees(g):+.2f} deg")
+    ax.axhline(0.0, color="k", lw=0.6)
+    if not ax.yaxis_inverted():
+        ax.invert_yaxis()
+    ax.set_xlabel("horizontal speed $V\\cos\\gamma$ [m/s]")
+    ax.set_ylabel("sink rate $-V\\sin\\gamma$ [m/s] (positive down)")
+    none_n = int(np.sum(env.binding == 1))
+    trim_n = int(np.sum(env.binding == 6))
+    ax.set_title(f"glide envelope of '{env.vehicle.name}' at $r_{{P3}}$ = {env.r_p3 * 100:g} cm: "
+                 f"{int(env.feasible.sum())} of {n} grid points feasible\n"
+                 f"$m_0$ {_range_text(env.m0_bounds, 1.0, 'kg')}, "
+                 f"$r_{{P1}}$ {_range_text(env.r_p1_bounds, 100.0, 'cm')}; "
+                 f"not drawn: {none_n} with no glide"
+                 + (f", {trim_n} with no mass position" if trim_n else ""))
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0, fontsize=7, markerscale=2)
+    ax.grid(True, alpha=0.3)
     return ax

@@ -18,6 +18,11 @@ roots the one of smaller ``|alpha|`` is taken (the other lies on the back side o
 leaving the bottom-heaviness ``r_bh = r_P . R^T k = -r_P1 sin(theta) + r_P3 cos(theta)`` free.
 (2.27)-(2.28) as printed are the inverse map; (2.28) returns theta, not gamma (docs/thesis-errata.md).
 
+One solver: :func:`glide_trim_arrays` evaluates this trim elementwise over arrays of speeds and flight-path angles
+(numpy, no Python loop); :func:`steady_glide` calls it for one point and turns its status codes into errors, and
+:func:`~glidectl.trim.envelope.glide_envelope` calls it for a whole grid. When the vehicle file has an
+``[actuators]`` table, :func:`steady_glide` also refuses trims that need ``m0``, ``r_P1`` or ``r_P3`` outside it.
+
 Argument limits (plausibility): speeds in ``(0, SPEED_MAX]`` = (0, 100] m/s, moving-mass offsets ``|r_p3|, |r_bh| <=
 R_P_MAX`` = 10 m; a speed so small that the forces underflow is refused. The trim is accepted only when the residual
 of every equation is below ``RESIDUAL_TOL`` (1e-9) relative to the largest term of that equation.
@@ -33,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverError
+from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, SolverError
 from ..models.glider3d import R_P_MAX
 from ..models.longitudinal import LongitudinalGlider
 from ..params import Vehicle
@@ -236,30 +241,55 @@ def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
     if not abs(gamma) < math.pi / 2:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: a steady glide needs "
                                    "|gamma| < 90 deg")
-    t = abs(math.tan(gamma))
-    KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
-    s = 1.0 if gamma < 0 else -1.0  # sign of the lift coefficient K_L(alpha) (= sign of m0)
-    # K_D a^2 - s t K_L a + (K_D0 - s t K_L0) = 0
-    a2, a1, a0 = KD, -s * t * KL, KD0 - s * t * KL0
-    if a2 == 0:
-        if a1 == 0:  # K_D = 0 and gamma = 0: no lift is needed and none can balance the drag
-            raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
-                                       f"'{veh.name}': outside the permissible set (2.26)")
-        roots = [-a0 / a1]
-    else:
-        disc = a1 * a1 - 4 * a2 * a0
-        if disc < 0:
-            raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
-                                       f"'{veh.name}': outside the permissible set (2.26)")
-        sq = math.sqrt(disc)
-        # numerically stable pair
-        q = -0.5 * (a1 + math.copysign(sq, a1))
-        roots = [q / a2, a0 / q] if q != 0 else [0.0]
-    ok = [a for a in roots if s * (KL0 + KL * a) > 0]
-    if not ok:
+    alpha, why = _alpha_array(veh, np.array([gamma]))
+    if why[0] == _NO_ROOT:
+        raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
+                                   f"'{veh.name}': outside the permissible set (2.26)")
+    if why[0] == _WRONG_SIGN:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
                                    f"'{veh.name}': no angle of attack gives lift of the sign the glide needs (2.26)")
-    return min(ok, key=abs)
+    return float(alpha[0])
+
+
+# reasons _alpha_array finds no angle of attack
+_NO_ROOT, _WRONG_SIGN = 1, 2
+
+
+def _alpha_array(veh: Vehicle, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Vectorized core of :func:`alpha_for_gamma`: ``alpha`` (NaN where none) and a reason code per point.
+
+    Same quadratic and root choice as documented there, elementwise over ``gamma`` (rad, any shape, finite). The
+    reason is 0 (found), ``_NO_ROOT`` (no real root, ``|gamma| >= pi/2`` or ``K_D = 0`` at ``gamma = 0``) or
+    ``_WRONG_SIGN`` (no root with lift of the sign the glide needs).
+    """
+    gamma = np.asarray(gamma, dtype=float)
+    KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
+    with np.errstate(all="ignore"):
+        t = np.abs(np.tan(gamma))
+        s = np.where(gamma < 0, 1.0, -1.0)  # sign of the lift coefficient K_L(alpha) (= sign of m0)
+        # K_D a^2 - s t K_L a + (K_D0 - s t K_L0) = 0
+        a1, a0 = -s * t * KL, KD0 - s * t * KL0
+        if KD == 0:
+            has_root = a1 != 0  # K_D = 0 and gamma = 0: no lift is needed and none can balance the drag
+            r1 = np.where(has_root, -a0 / np.where(has_root, a1, 1.0), np.nan)
+            r2 = r1
+        else:
+            disc = a1 * a1 - 4 * KD * a0
+            has_root = disc >= 0
+            sq = np.sqrt(np.where(has_root, disc, 0.0))
+            q = -0.5 * (a1 + np.copysign(sq, a1))  # numerically stable pair
+            qz = q == 0
+            r1 = np.where(qz, 0.0, q / KD)
+            r2 = np.where(qz, 0.0, a0 / np.where(qz, 1.0, q))
+        ok1 = has_root & (s * (KL0 + KL * r1) > 0)
+        ok2 = has_root & (s * (KL0 + KL * r2) > 0)
+    has_root &= np.abs(gamma) < math.pi / 2
+    ok1 &= has_root
+    ok2 &= has_root
+    pick1 = ok1 & (~ok2 | (np.abs(r1) <= np.abs(r2)))
+    alpha = np.where(pick1, r1, np.where(ok2, r2, np.nan))
+    why = np.where(ok1 | ok2, 0, np.where(has_root, _WRONG_SIGN, _NO_ROOT)).astype(np.int8)
+    return alpha, why
 
 
 def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None = None,
@@ -292,7 +322,8 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
     ------
     ArgumentTypeError
         ``veh`` is not a Vehicle, or ``speed``, ``gamma``, ``r_p3`` or ``r_bh`` is not a real number (``str``,
-        ``None``, ``bool``, arrays...).
+        ``None``, ``bool``...; 0-d numpy arrays are accepted). Arrays of one or more elements are refused with a
+        pointer to :func:`~glidectl.trim.envelope.glide_envelope`, which trims a whole grid at once.
     ArgumentError
         Not exactly one of ``r_p3`` and ``r_bh`` given; a non-finite value; ``speed`` outside ``(0, 100]`` m/s or so
         small that the hydrodynamic forces underflow; ``|r_p3|`` or ``|r_bh|`` above 10 m.
@@ -301,12 +332,19 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
     InfeasibleGlideError
         gamma outside the permissible set (the message states the set), or a mass position that cannot realize
         the moment balance (r_p3 given at |theta| = 90 deg, or a moment balance that needs the moving mass more
-        than R_P_MAX = 10 m from the centre, as near-vertical glides do).
+        than R_P_MAX = 10 m from the centre, as near-vertical glides do). Also when the vehicle's ``[actuators]``
+        table limits ``m0``, ``r_P1`` or ``r_P3`` and the trim needs a setting outside that range (or off a fixed
+        setting); the message names the actuator and the limit. Vehicles without the table are not limited.
     SolverError
         The relative residual check fails (please report the vehicle file).
     """
     _check_glider(veh)
     LongitudinalGlider(veh)  # validates mbar > 0
+    for name, value in (("speed", speed), ("gamma", gamma), ("r_p3", r_p3), ("r_bh", r_bh)):
+        if isinstance(value, list | tuple | np.ndarray) and np.ndim(value) > 0:
+            raise ArgumentTypeError(f"steady_glide takes one glide: {name} must be a real number, got an array of "
+                                    f"shape {np.shape(value)}; for a grid of speeds and flight-path angles use "
+                                    "glide_envelope(veh, speeds, gammas)")
     if (r_p3 is None) == (r_bh is None):
         raise ArgumentError("give exactly one of r_p3= (m) or r_bh= (m) to pick the moving-mass position "
                             "from the one-parameter family of equilibria")
@@ -319,54 +357,149 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
     lo, hi = permissible_gamma(veh)
     set_text = (f"permissible flight-path angles for '{veh.name}' (2.26): gamma < {math.degrees(lo):.4f} deg "
                 f"(down) or gamma > {math.degrees(hi):.4f} deg (up), |gamma| < 90 deg")
-    if not (abs(gamma) < math.pi / 2 and (gamma < lo or gamma > hi)):
+    tr = glide_trim_arrays(veh, np.array([V]), np.array([gamma]), r_p3=r_p3, r_bh=r_bh)
+    status = int(tr.status[0])
+    q = {k: float(getattr(tr, k)[0]) for k in ("alpha", "theta", "m0", "r_p1", "r_p3", "r_bh", "v1", "v3",
+                                                "residual", "relative_residual")}
+    if status == NO_GLIDE:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}")
-    try:
-        alpha = alpha_for_gamma(veh, gamma)
-    except InfeasibleGlideError:
-        raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: {set_text}") from None
-    g, mbar = veh.g, veh.mbar
-    m0 = (veh.K_L0 + veh.K_L * alpha) * V * V / (g * math.cos(gamma))
-    if not abs(m0) >= sys.float_info.min:
+    if status == UNDERFLOW:
         raise ArgumentError(f"speed = {V:g} m/s is so small that the hydrodynamic forces and the net buoyancy m0 "
-                            f"= {m0:g} kg underflow; ask for a speed of at least 1e-150 m/s")
-    theta = gamma + alpha
-    v1, v3 = V * math.cos(alpha), V * math.sin(alpha)
-    m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
-    moment = (m3 - m1) * v1 * v3 + (veh.K_M0 + veh.K_M * alpha) * V * V
-    a_perp = moment / (mbar * g)  # r_P1 cos(theta) + r_P3 sin(theta)
-    st, ct = math.sin(theta), math.cos(theta)
-    if r_bh is not None:
-        rbh = r_bh
-        rp1 = a_perp * ct - rbh * st
-        rp3 = a_perp * st + rbh * ct
-    else:
-        if abs(ct) < 1e-9:
-            raise InfeasibleGlideError("pitch angle is 90 deg: r_p3 cannot select the mass position; give r_bh")
-        rp3 = float(r_p3)  # type: ignore[arg-type]
-        rp1 = (a_perp - rp3 * st) / ct
-        rbh = -rp1 * st + rp3 * ct
-    if not all(math.isfinite(q) for q in (rp1, rp3, rbh, m0)):
+                            f"= {q['m0']:g} kg underflow; ask for a speed of at least 1e-150 m/s")
+    if status == PITCH_90:
+        raise InfeasibleGlideError("pitch angle is 90 deg: r_p3 cannot select the mass position; give r_bh")
+    if status == NON_FINITE:
         raise InfeasibleGlideError(f"non-finite equilibrium for speed={V}, gamma={gamma}")
-    if math.hypot(rp1, rp3) > R_P_MAX:
+    if status == BEYOND_R_P_MAX:
+        rp1, rp3, rbh = q["r_p1"], q["r_p3"], q["r_bh"]
         given = f"r_p3 = {rp3:g} m" if r_bh is None else f"r_bh = {rbh:g} m"
         raise InfeasibleGlideError(
             f"the moment balance of the glide at gamma = {math.degrees(gamma):.4f} deg with {given} needs the moving "
             f"mass at r_P = ({rp1:.4g}, {rp3:.4g}) m, {math.hypot(rp1, rp3):.4g} m from the centre of buoyancy: "
             f"beyond the plausibility limit R_P_MAX = {R_P_MAX:g} m; choose a shallower glide or another "
             "r_p3 / r_bh")
-    xe = np.array([0.0, 0.0, theta, 0.0, v1, v3, rp1, rp3, mbar * v1, mbar * v3, m0])
-    f = LongitudinalGlider(veh).rhs(xe, np.zeros(3))
-    residual = float(np.max(np.abs(f[2:])))
-    L, D = (veh.K_L0 + veh.K_L * alpha) * V * V, (veh.K_D0 + veh.K_D * alpha * alpha) * V * V
-    force = max(abs(m0) * g, abs(L), abs(D))  # largest term of (2.18)-(2.19)
-    torque = max(abs((m3 - m1) * v1 * v3), abs(moment - (m3 - m1) * v1 * v3), mbar * g * math.hypot(rp1, rp3))
-    scaled = [(f[3], torque / veh.J2), (f[4], force / m1), (f[5], force / m3), (f[6], V), (f[7], V),
-              (f[2], 0.0), (f[8], 0.0), (f[9], 0.0), (f[10], 0.0)]
-    rel = max(float(abs(r) / sc) if sc > 0 else (0.0 if r == 0 else math.inf) for r, sc in scaled)
-    if not rel <= RESIDUAL_TOL:
-        raise SolverError(f"steady-glide residual {residual:.3e} is {rel:.2e} of the largest term of its equation "
-                          f"(tolerance {RESIDUAL_TOL:g}); please report this vehicle file")
-    return SteadyGlide(speed=V, gamma=float(gamma), alpha=alpha, theta=theta, m0=m0, r_p1=rp1, r_p3=rp3,
-                       r_bh=rbh, v1=v1, v3=v3, residual=residual, vehicle=veh,
-                       provenance=veh.provenance, mbar=mbar)
+    if status == RESIDUAL_FAILED:
+        raise SolverError(f"steady-glide residual {q['residual']:.3e} is {q['relative_residual']:.2e} of the largest "
+                          f"term of its equation (tolerance {RESIDUAL_TOL:g}); please report this vehicle file")
+    for name, value in (("m0", q["m0"]), ("r_P1", q["r_p1"]), ("r_P3", q["r_p3"])):
+        _check_actuator(veh, name, value, V, gamma)
+    return SteadyGlide(speed=V, gamma=float(gamma), alpha=q["alpha"], theta=q["theta"], m0=q["m0"], r_p1=q["r_p1"],
+                       r_p3=q["r_p3"], r_bh=q["r_bh"], v1=q["v1"], v3=q["v3"], residual=q["residual"], vehicle=veh,
+                       provenance=veh.provenance, mbar=veh.mbar)
+
+
+_ACTUATOR_WORDS = {"m0": ("net buoyancy m0", "kg", "buoyancy pump"),
+                   "r_P1": ("moving-mass position r_P1", "m", "moving mass along the hull"),
+                   "r_P3": ("moving-mass position r_P3", "m", "vertical moving-mass offset")}
+
+
+def _check_actuator(veh: Vehicle, name: str, value: float, V: float, gamma: float) -> None:
+    """InfeasibleGlideError when the trim needs actuator ``name`` at ``value`` outside ``veh.actuators[name]``."""
+    act = veh.actuators.get(name)
+    if act is None or act.contains(value):
+        return
+    what, unit, part = _ACTUATOR_WORDS[name]
+    lo, hi = act.bounds
+    if act.fixed is not None:
+        limit = f"its fixed setting {act.fixed:g} {unit}"
+    elif value > hi:
+        limit = f"its max {hi:g} {unit}"
+    else:
+        limit = f"its min {lo:g} {unit}"
+    hint = ("pass r_p3 equal to the fixed setting (or r_bh that puts it there)" if name == "r_P3" else
+            "choose another speed or flight-path angle (glide_envelope(veh, speeds, gammas) maps the reachable ones)")
+    raise InfeasibleGlideError(
+        f"the steady glide at speed = {V:g} m/s, gamma = {math.degrees(gamma):.4f} deg needs {what} = {value:.6g} "
+        f"{unit}, outside the range of actuator '{name}' ({part}) of vehicle '{veh.name}': {limit} "
+        f"([actuators] {name}: {act.describe()}); {hint}")
+
+
+#: Status codes of :func:`glide_trim_arrays` (0: a steady glide).
+OK, NO_GLIDE, UNDERFLOW, PITCH_90, NON_FINITE, BEYOND_R_P_MAX, RESIDUAL_FAILED = range(7)
+
+
+@dataclass(frozen=True)
+class GlideTrimArrays:
+    """Steady glides on a grid of speeds and flight-path angles (the vectorized core of :func:`steady_glide`).
+
+    Every field has the broadcast shape of the inputs; ``status`` says, per point, whether the glide exists (``OK``)
+    or why not (``NO_GLIDE``: gamma outside (2.26); ``UNDERFLOW``: forces underflow; ``PITCH_90``: r_p3 given at
+    ``|theta| = 90 deg``; ``NON_FINITE``; ``BEYOND_R_P_MAX``: the moment balance needs ``|r_P| > R_P_MAX``;
+    ``RESIDUAL_FAILED``: the relative residual is above :data:`RESIDUAL_TOL`). Values are NaN where no angle of
+    attack exists and otherwise computed (also for the non-OK codes, for diagnostics). Internal: not exported.
+    """
+
+    status: np.ndarray
+    alpha: np.ndarray
+    theta: np.ndarray
+    m0: np.ndarray
+    r_p1: np.ndarray
+    r_p3: np.ndarray
+    r_bh: np.ndarray
+    v1: np.ndarray
+    v3: np.ndarray
+    residual: np.ndarray
+    relative_residual: np.ndarray
+
+
+def glide_trim_arrays(veh: Vehicle, speed: np.ndarray, gamma: np.ndarray, *, r_p3: Any = None,
+                      r_bh: Any = None) -> GlideTrimArrays:
+    """Steady glides at every point of broadcast arrays ``speed`` (m/s) and ``gamma`` (rad): the one trim solver.
+
+    Implements the closed-form trim of the module docstring ((2.26)-(2.29) reconstructed) elementwise and checks
+    each point's residual on :meth:`LongitudinalGlider.rhs` (2.17)-(2.25) as :func:`steady_glide` documents. The
+    caller has validated the vehicle (an underwater glider with ``mbar > 0`` and ``K_D != 0``), the finite inputs and
+    exactly one of ``r_p3`` / ``r_bh`` (m, scalars or arrays broadcasting with the grid). No argument checks here.
+    """
+    V, gam = np.broadcast_arrays(np.asarray(speed, dtype=float), np.asarray(gamma, dtype=float))
+    lo, hi = permissible_gamma(veh)
+    alpha, _ = _alpha_array(veh, gam)
+    inside = (np.abs(gam) < math.pi / 2) & ((gam < lo) | (gam > hi))
+    status = np.where(inside & np.isfinite(alpha), OK, NO_GLIDE).astype(np.int8)
+    g, mbar = veh.g, veh.mbar
+    with np.errstate(all="ignore"):
+        m0 = (veh.K_L0 + veh.K_L * alpha) * V * V / (g * np.cos(gam))
+        status[(status == OK) & ~(np.abs(m0) >= sys.float_info.min)] = UNDERFLOW
+        theta = gam + alpha
+        v1, v3 = V * np.cos(alpha), V * np.sin(alpha)
+        m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
+        moment = (m3 - m1) * v1 * v3 + (veh.K_M0 + veh.K_M * alpha) * V * V
+        a_perp = moment / (mbar * g)  # r_P1 cos(theta) + r_P3 sin(theta)
+        st, ct = np.sin(theta), np.cos(theta)
+        if r_bh is not None:
+            rbh = np.broadcast_to(np.asarray(r_bh, dtype=float), V.shape)
+            rp1 = a_perp * ct - rbh * st
+            rp3 = a_perp * st + rbh * ct
+        else:
+            rp3 = np.broadcast_to(np.asarray(r_p3, dtype=float), V.shape).copy()
+            status[(status == OK) & (np.abs(ct) < 1e-9)] = PITCH_90
+            rp1 = (a_perp - rp3 * st) / ct
+            rbh = -rp1 * st + rp3 * ct
+        finite = np.isfinite(rp1) & np.isfinite(rp3) & np.isfinite(rbh) & np.isfinite(m0)
+        status[(status == OK) & ~finite] = NON_FINITE
+        status[(status == OK) & (np.hypot(rp1, rp3) > R_P_MAX)] = BEYOND_R_P_MAX
+    residual = np.full(V.shape, np.nan)
+    rel = np.full(V.shape, np.nan)
+    ok = status == OK
+    if np.any(ok):
+        a, Vk, m0k, m1k, m3k = alpha[ok], V[ok], m0[ok], m1[ok] if np.ndim(m1) else m1, m3[ok] if np.ndim(m3) else m3
+        v1k, v3k, rp1k, rp3k, mom = v1[ok], v3[ok], rp1[ok], rp3[ok], moment[ok]
+        zero = np.zeros_like(Vk)
+        xe = np.stack([zero, zero, theta[ok], zero, v1k, v3k, rp1k, rp3k, mbar * v1k, mbar * v3k, m0k], axis=-1)
+        f = LongitudinalGlider(veh).rhs(xe, np.zeros((Vk.size, 3)))
+        residual[ok] = np.max(np.abs(f[:, 2:]), axis=1)
+        L, D = (veh.K_L0 + veh.K_L * a) * Vk * Vk, (veh.K_D0 + veh.K_D * a * a) * Vk * Vk
+        force = np.maximum(np.maximum(np.abs(m0k) * g, np.abs(L)), np.abs(D))  # largest term of (2.18)-(2.19)
+        cor = np.abs((m3k - m1k) * v1k * v3k)
+        torque = np.maximum(np.maximum(cor, np.abs(mom - (m3k - m1k) * v1k * v3k)), mbar * g * np.hypot(rp1k, rp3k))
+        scaled = [(f[:, 3], torque / veh.J2), (f[:, 4], force / m1k), (f[:, 5], force / m3k), (f[:, 6], Vk),
+                  (f[:, 7], Vk)] + [(f[:, k], zero) for k in (2, 8, 9, 10)]
+        with np.errstate(all="ignore"):
+            rels = [np.where(sc > 0, np.abs(r) / np.where(sc > 0, sc, 1.0), np.where(r == 0, 0.0, np.inf))
+                    for r, sc in scaled]
+        rel[ok] = np.max(np.stack(rels), axis=0)
+        bad = np.zeros(V.shape, bool)
+        bad[ok] = ~(rel[ok] <= RESIDUAL_TOL)
+        status[bad] = RESIDUAL_FAILED
+    return GlideTrimArrays(status=status, alpha=alpha, theta=theta, m0=m0, r_p1=rp1, r_p3=np.asarray(rp3),
+                           r_bh=np.asarray(rbh), v1=v1, v3=v3, residual=residual, relative_residual=rel)

@@ -583,7 +583,9 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
         ``veh`` is not an underwater glider or lacks the 3D parameters; ``m0`` makes the solid mass ``m + m0 -
         mbar`` or a body mass non-positive; the generalized mass matrix is singular to working precision.
     InfeasibleGlideError
-        ``m0 = 0``, or no steady motion found (the message says what was tried).
+        ``m0 = 0``, or no steady motion found (the message says what was tried); or ``r_p`` / ``m0`` outside the
+        ranges of the vehicle's ``[actuators]`` table (``r_P1``, ``r_P2``, ``r_P3``, ``m0``; off a fixed setting),
+        the message names the actuator.
     SolverError
         The linearization at the solution is not finite or its eigenvalues cannot be computed.
     """
@@ -609,6 +611,13 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
     if m0 == 0:
         raise InfeasibleGlideError("m0 = 0: a neutrally buoyant glider has no steady glide (no net weight to balance "
                                    "drag); use m0 != 0")
+    for name, value, unit in (("r_P1", r[0], "m"), ("r_P2", r[1], "m"), ("r_P3", r[2], "m"), ("m0", m0, "kg")):
+        act = veh.actuators.get(name)
+        if act is not None and not act.contains(float(value)):
+            raise InfeasibleGlideError(
+                f"{name} = {float(value):.6g} {unit} is outside the range of actuator '{name}' of vehicle "
+                f"'{veh.name}' ([actuators] {name}: {act.describe()}); the glider cannot hold this setting: choose "
+                "one in range")
     if veh.mass_model == "added" and not veh.m + m0 - veh.mbar > 0:
         raise ModelError(f"m0 = {m0:g} kg leaves vehicle '{veh.name}' a solid mass m + m0 - mbar = "
                          f"{veh.m + m0 - veh.mbar:g} kg <= 0 (m = {veh.m:g} kg, mbar = {veh.mbar:g} kg): no such "

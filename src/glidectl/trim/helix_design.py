@@ -68,9 +68,35 @@ class HelixDesign:
     provenance: str = ""
 
 
+_R_P_AXES = ("r_P1", "r_P2", "r_P3")
+
+
+def _actuator_bounds(veh: Vehicle, rb: np.ndarray | None, mb: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of ``r_P`` (3, 2) and ``m0`` (2,): the user's, checked against ``veh.actuators``, or the table's."""
+    out_r = np.array(DEFAULT_R_P_BOUNDS, dtype=float) if rb is None else rb.copy()
+    out_m = np.array(DEFAULT_M0_BOUNDS, dtype=float) if mb is None else mb.copy()
+    for name, row, given, unit in ([(n, out_r[k], rb is not None, "m") for k, n in enumerate(_R_P_AXES)]
+                                   + [("m0", out_m, mb is not None, "kg")]):
+        act = veh.actuators.get(name)
+        if act is None:
+            continue
+        a_lo, a_hi = act.bounds
+        if given:
+            if not (act.contains(row[0]) and act.contains(row[1])):
+                arg = "m0_bounds" if name == "m0" else f"r_p_bounds[{_R_P_AXES.index(name)}]"
+                rng = (f"fixed at {act.fixed:g} {unit}: give ({act.fixed:g}, {act.fixed:g}) or leave the bounds to "
+                       "the vehicle file" if act.fixed is not None else f"[{a_lo:g}, {a_hi:g}] {unit}")
+                raise ArgumentError(f"{arg} = ({row[0]:g}, {row[1]:g}) {unit} reaches outside the range of actuator "
+                                    f"'{name}' of vehicle '{veh.name}' ({rng}); keep the bounds within it")
+        else:
+            row[0] = a_lo if math.isfinite(a_lo) else min(row[0], a_hi)
+            row[1] = a_hi if math.isfinite(a_hi) else max(row[1], a_lo)
+    return out_r, out_m
+
+
 def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, speed: float | None = None,
-                 r_p_bounds: tuple[tuple[float, float], ...] = DEFAULT_R_P_BOUNDS,
-                 m0_bounds: tuple[float, float] = DEFAULT_M0_BOUNDS, stability_margin: float = 1e-3,
+                 r_p_bounds: tuple[tuple[float, float], ...] | None = None,
+                 m0_bounds: tuple[float, float] | None = None, stability_margin: float = 1e-3,
                  tol: float = 1e-6, seed: int = 0, n_starts: int = 8,
                  time_limit: float | None = None) -> HelixDesign:
     """Find ``(r_P, m0)`` within bounds giving a stable helix of ``radius`` (m) and ``pitch`` (m, drop per turn,
@@ -87,18 +113,25 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
         LENGTH_MAX``. Give exactly one of ``pitch`` and ``speed``.
     speed : float, optional
         Requested speed ``|v|`` (m/s), in ``(0, 100]``.
-    r_p_bounds : tuple of three (float, float)
-        ``(lo, hi)`` travel of the moving mass along body axes 1, 2, 3 (m), ``lo < hi``, every corner of the box
-        within ``R_P_MAX`` (10 m) of the centre; default :data:`DEFAULT_R_P_BOUNDS`.
-    m0_bounds : (float, float)
-        ``(lo, hi)`` range of the net buoyancy (kg), ``lo < hi``, keeping every body mass (and for the ``added``
-        mass model the solid mass ``m + m0 - mbar``) positive; default :data:`DEFAULT_M0_BOUNDS`.
+    r_p_bounds : tuple of three (float, float), optional
+        ``(lo, hi)`` travel of the moving mass along body axes 1, 2, 3 (m), ``lo <= hi`` (``lo = hi`` fixes that
+        axis), every corner of the box within ``R_P_MAX`` (10 m) of the centre. Default: from the vehicle's
+        ``[actuators]`` table, axis by axis (``r_P1``, ``r_P2``, ``r_P3``; a fixed actuator fixes the axis; an
+        unbounded side, or an axis the table does not list, takes :data:`DEFAULT_R_P_BOUNDS`). Bounds given must
+        lie within the actuator ranges.
+    m0_bounds : (float, float), optional
+        ``(lo, hi)`` range of the net buoyancy (kg), ``lo <= hi``, keeping every body mass (and for the ``added``
+        mass model the solid mass ``m + m0 - mbar``) positive. Default: the ``[actuators] m0`` range (an unbounded
+        side, or no entry: :data:`DEFAULT_M0_BOUNDS`). Bounds given must lie within the actuator range.
     stability_margin : float
         Required ``-max Re(lambda)`` of the helix's reduced linearization (1/s), finite, ``>= 0``.
     tol : float
         Relative tolerance on the targets (nondimensional), in ``(0, 0.1]``.
     seed : int
-        Seed (>= 0) of the random starting points (used only when ``n_starts`` exceeds the 12 structured starts).
+        Seed (>= 0) of the random starting points. The search first tries up to 12 structured starts (fewer
+        distinct ones when an axis is fixed); random starts, uniform in the bounds, fill up to ``n_starts`` only
+        after them. So with the default ``n_starts = 8`` and no fixed axis the search is deterministic and ``seed``
+        has no effect; it matters when ``n_starts`` exceeds the number of distinct structured starts.
     n_starts : int
         Number of starting points tried, 1 to :data:`MAX_STARTS` (64).
     time_limit : float, optional
@@ -117,8 +150,9 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
         arrays of real numbers, or ``seed`` / ``n_starts`` is not an integer.
     ArgumentError
         If not exactly one of ``pitch`` and ``speed`` is given, a value is not finite or outside its range above,
-        or the bounds are not three ``(lo, hi)`` pairs for ``r_P`` and one for ``m0`` with ``lo < hi`` inside the
-        plausibility limits.
+        or the bounds are not three ``(lo, hi)`` pairs for ``r_P`` and one for ``m0`` with ``lo <= hi`` inside the
+        plausibility limits, or they reach outside the vehicle's actuator ranges (the message names the actuator),
+        or every control is fixed.
     ModelError
         If ``veh`` is not an underwater glider, lacks the 3D parameters, or ``m0_bounds`` reach a buoyancy that
         leaves a non-positive mass.
@@ -142,13 +176,19 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
                                 "m0 = 0: no steady glide)")
     else:
         key, val = "speed", checks.real("speed", speed, lo=0.0, lo_open=True, hi=SPEED_MAX, unit="m/s")
-    rb = checks.array("r_p_bounds (three (lo, hi) pairs, m)", r_p_bounds, shape=(3, 2))
-    mb = checks.array("m0_bounds ((lo, hi), kg)", m0_bounds, shape=(2,))
+    rb = (checks.array("r_p_bounds (three (lo, hi) pairs, m)", r_p_bounds, shape=(3, 2)) if r_p_bounds is not None
+          else None)
+    mb = checks.array("m0_bounds ((lo, hi), kg)", m0_bounds, shape=(2,)) if m0_bounds is not None else None
+    rb, mb = _actuator_bounds(veh, rb, mb)
     lo = np.r_[rb[:, 0], mb[0]]
     hi = np.r_[rb[:, 1], mb[1]]
-    if np.any(lo >= hi):
-        raise ArgumentError(f"bounds must have lo < hi for each of r_P1, r_P2, r_P3 (m) and m0 (kg), got "
+    if np.any(lo > hi):
+        raise ArgumentError(f"bounds must have lo <= hi for each of r_P1, r_P2, r_P3 (m) and m0 (kg), got "
                             f"r_p_bounds = {rb.tolist()}, m0_bounds = {mb.tolist()}")
+    free = lo < hi
+    if not np.any(free):
+        raise ArgumentError("every control (r_P1, r_P2, r_P3, m0) is fixed by the bounds or the actuator table: "
+                            "nothing to design; use helix_trim(veh, r_p, m0) for the helix they give")
     corner = float(np.linalg.norm(np.maximum(np.abs(rb[:, 0]), np.abs(rb[:, 1]))))
     if corner > R_P_MAX:
         raise ArgumentError(f"r_p_bounds reach {corner:.4g} m from the centre of buoyancy; at most R_P_MAX = "
@@ -166,7 +206,7 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
     r_p_bounds = tuple((float(a), float(b)) for a, b in rb)  # type: ignore[assignment]
     m0_bounds = (float(mb[0]), float(mb[1]))
     sign = 1.0 if (key == "speed" or val > 0) else -1.0  # descending helices need m0 > 0
-    if key == "pitch" and not (lo[3] < 0 < hi[3] or (sign > 0 and hi[3] > 0) or (sign < 0 and lo[3] < 0)):
+    if key == "pitch" and not ((sign > 0 and hi[3] > 0) or (sign < 0 and lo[3] < 0)):
         raise InfeasibleGlideError(f"a pitch of {val:g} m needs m0 of sign {sign:+.0f}, outside {m0_bounds}")
     target = {"radius": float(radius), key: val}
     state: dict[str, Any] = {"last": None, "n": 0}
@@ -187,49 +227,62 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
             return np.array([10.0, 10.0])
         return np.array([(h.radius - radius) / radius, (got - val) / abs(val)])
 
-    def residual(c: np.ndarray, c0: np.ndarray, reg: float) -> np.ndarray:
-        h = trim(c)
+    def full(x: np.ndarray) -> np.ndarray:
+        """All four controls from the free ones (fixed axes at their bound)."""
+        c = lo.copy()
+        c[free] = x
+        return c
+
+    def residual(x: np.ndarray, x0: np.ndarray, reg: float) -> np.ndarray:
+        h = trim(full(x))
         if h is None:
-            return np.r_[10.0, 10.0, 10.0, reg * (c - c0) / _SCALE]
+            return np.r_[10.0, 10.0, 10.0, reg * (x - x0) / _SCALE[free]]
         pen = 10.0 * max(0.0, float(np.max(h.eigenvalues.real)) + stability_margin)
-        return np.r_[target_err(h), pen, reg * (c - c0) / _SCALE]
+        return np.r_[target_err(h), pen, reg * (x - x0) / _SCALE[free]]
 
     rng = np.random.default_rng(seed)
     m0s = np.clip(sign * np.array([0.25, 0.1, 0.4]), lo[3], hi[3])
-    starts = [np.array([sign * 0.02, s2, 0.04, m]) for m in m0s for s2 in (0.02, -0.02, 0.005, -0.005)]
+    starts: list[np.ndarray] = []
+    for m in m0s:  # structured starts, clipped into the box; duplicates (fixed axes) dropped
+        for s2 in (0.02, -0.02, 0.005, -0.005):
+            c0 = np.clip(np.array([sign * 0.02, s2, 0.04, m]), lo, hi)
+            if not any(np.array_equal(c0, c) for c in starts):
+                starts.append(c0)
     while len(starts) < n_starts:
         starts.append(lo + (hi - lo) * rng.random(4))
+    lo_f, hi_f = lo[free], hi[free]
+    eps = np.minimum(1e-9, 0.25 * (hi_f - lo_f))  # start strictly inside the box
     best: tuple[float, np.ndarray, Helix | None] = (float("inf"), starts[0], None)
     for c0 in starts[:n_starts]:
-        c0 = np.clip(c0, lo + 1e-9, hi - 1e-9)
+        x0 = np.clip(c0[free], lo_f + eps, hi_f - eps)
         state["last"] = None
-        if trim(c0) is None:
+        if trim(full(x0)) is None:
             continue
         try:
-            sol = least_squares(residual, c0, args=(c0, 1e-3), bounds=(lo, hi), x_scale=_SCALE, xtol=1e-12,
-                                ftol=1e-12, gtol=1e-12, max_nfev=60)
+            sol = least_squares(residual, x0, args=(x0, 1e-3), bounds=(lo_f, hi_f), x_scale=_SCALE[free],
+                                xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=60)
             if np.max(np.abs(sol.fun[:3])) > 0.05:  # far from the targets: not worth polishing this start
                 if np.max(np.abs(sol.fun[:2])) < best[0]:
-                    hb = trim(sol.x)
+                    hb = trim(full(sol.x))
                     if hb is not None:
-                        best = (float(np.max(np.abs(target_err(hb)))), sol.x, hb)
+                        best = (float(np.max(np.abs(target_err(hb)))), full(sol.x), hb)
                 continue
             # polish on the targets (and stability) alone
-            sol = least_squares(residual, sol.x, args=(sol.x, 0.0), bounds=(lo, hi), x_scale=_SCALE, xtol=1e-14,
-                                ftol=1e-14, gtol=1e-14, max_nfev=100)
+            sol = least_squares(residual, sol.x, args=(sol.x, 0.0), bounds=(lo_f, hi_f), x_scale=_SCALE[free],
+                                xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=100)
         except GlidectlError:
             raise
         except (ValueError, np.linalg.LinAlgError):  # scipy refusing a start
             continue
-        h = trim(sol.x)
+        h = trim(full(sol.x))
         if h is None:
             continue
         err = float(np.max(np.abs(target_err(h))))
         ok = err <= tol and h.stable and float(np.max(h.eigenvalues.real)) <= -stability_margin * 0.999
         if err < best[0] or (ok and best[2] is not None and not best[2].stable):
-            best = (err, sol.x, h)
+            best = (err, full(sol.x), h)
         if ok:
-            c = sol.x
+            c = full(sol.x)
             return HelixDesign((float(c[0]), float(c[1]), float(c[2])), float(c[3]), h, target, err, state["n"],
                                (tuple(r_p_bounds[0]), tuple(r_p_bounds[1]), tuple(r_p_bounds[2]), tuple(m0_bounds)),
                                veh, veh.provenance)
