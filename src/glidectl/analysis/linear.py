@@ -152,13 +152,13 @@ class DepthGlidePathModel:
 
 
 def depth_rate(model: Any, x: Any) -> Any:
-    """Depth rate ``z' = -sin(theta) v1 + cos(theta) v3`` (m/s, (2.16)) of glide-path states ``x`` (batch, complex-safe),
-    from the base model's own kinematics."""
+    """Depth rate ``-sin(theta) v1 + cos(theta) v3`` (m/s, (2.16)) of glide-path states ``x`` (batch,
+    complex-safe), from the base model's own kinematics."""
     path = model.path if isinstance(model, DepthGlidePathModel) else model
     x = np.asarray(x)
     xr = x[..., :10]
     full = np.concatenate([np.zeros_like(xr[..., :2]), xr[..., 1:]], axis=-1)
-    u = np.zeros(x.shape[:-1] + (len(path.input_names),))
+    u = np.zeros((*x.shape[:-1], len(path.input_names)))
     return path.base.rhs(full, u)[..., 1]
 
 

@@ -62,9 +62,10 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
         and equilibrium of each): :class:`~glidectl.controllers.linear.LinearGlideController` (from
         :func:`~glidectl.controllers.linear.lqr_glide` or :func:`~glidectl.controllers.linear.place_glide`),
         :class:`~glidectl.controllers.torque.TorqueDesign`, :class:`~glidectl.controllers.buoyancy.BuoyancyController`,
-        :class:`~glidectl.controllers.elevator.ElevatorBuoyancyController` or
+        :class:`~glidectl.controllers.elevator.ElevatorBuoyancyController`,
         :class:`~glidectl.controllers.ctol.SteadyGlideController` or
-        :class:`~glidectl.controllers.output_feedback.LQGController` (plant plus estimator). With ``law``: any glidectl model (the plant).
+        :class:`~glidectl.controllers.output_feedback.LQGController` (plant plus estimator).
+        With ``law``: any glidectl model (the plant).
     law : callable, optional
         State feedback ``u = law(x)``, batch-capable (``x`` of shape ``(..., n)`` to ``u`` of shape ``(..., m)``,
         the plant's units). A controller ``c(t, x)`` of this package is time-invariant: pass ``c.u``.
@@ -125,5 +126,6 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
     raise ArgumentTypeError(
         f"closed_loop() does not know the plant and equilibrium of a {type(c).__name__}: give the plant and a state "
         "feedback, closed_loop(model, law) with u = law(x). Supported controllers: LinearGlideController, "
-        "TorqueDesign, BuoyancyController, ElevatorBuoyancyController, SteadyGlideController, LQGController (tracking controllers "
+        "TorqueDesign, BuoyancyController, ElevatorBuoyancyController, SteadyGlideController, LQGController "
+        "(tracking controllers "
         "are time-varying)")

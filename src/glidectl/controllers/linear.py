@@ -170,12 +170,20 @@ class LinearGlideController:
                           outputs=list(self.state_names), name=f"{self.method}_closed_loop")
 
 
-def _bryson(names: Sequence[str], max_dev: Mapping[str, float]) -> np.ndarray:
+def bryson_weights(names: Sequence[str], max_dev: Mapping[str, float]) -> np.ndarray:
+    """Bryson's-rule weight ``diag(1 / max_dev[name]^2)`` for ``names`` (inverse squared units of each)."""
     return np.diag([1.0 / max_dev[n] ** 2 for n in names])
 
 
-def _glide_for(veh: Any, glide: Any, inputs: Any) -> None:
-    """Checks shared by :func:`lqr_glide` and :func:`place_glide`, before anything is computed."""
+def check_glide_design(veh: Any, glide: Any, inputs: Any) -> None:
+    """Checks shared by :func:`lqr_glide`, :func:`place_glide` and
+    :func:`~glidectl.controllers.output_feedback.lqg_glide`, before anything is computed.
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError, VehicleMismatchError, ModelError
+        As those functions.
+    """
     require_glider(veh, "veh")
     require_instance("glide", glide, SteadyGlide, " (from gc.steady_glide)")
     checks.same_vehicle("glide", glide, veh)
@@ -209,14 +217,24 @@ def default_actuate(veh: Vehicle, inputs: Literal["force", "acceleration"] = "fo
     return tuple(q for q in names if getattr(acts.get(ACTUATOR_OF_INPUT[q]), "fixed", None) is None)
 
 
-def _actuated(sys: control.StateSpace, veh: Vehicle, inputs: str, actuate: Any
+def actuated_subset(sys: control.StateSpace, veh: Vehicle, inputs: str, actuate: Any
               ) -> tuple[tuple[str, ...], list[int], list[int], tuple[str, ...]]:
-    """Selected inputs, their indices, the indices of the design states and the locked states."""
+    """Selected inputs, their indices, the indices of the design states and the locked states
+    (:data:`LOCKED_STATES` of the inputs left out).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``actuate`` is not a sequence of names.
+    ArgumentError
+        If ``actuate`` is empty, names an unknown input or one twice, or (default) the file fixes every actuator.
+    """
     labels = list(sys.input_labels)
     if actuate is None:
         act = default_actuate(veh, inputs)  # type: ignore[arg-type]
         if not act:
-            raise ArgumentError(f"the vehicle file fixes every actuator ({', '.join(ACTUATOR_OF_INPUT[q] for q in labels)}"
+            fixed = ", ".join(ACTUATOR_OF_INPUT[q] for q in labels)
+            raise ArgumentError(f"the vehicle file fixes every actuator ({fixed}"
                                 "): nothing to design on; remove a 'fixed' entry or pass actuate=")
     else:
         if isinstance(actuate, str):
@@ -237,8 +255,14 @@ def _actuated(sys: control.StateSpace, veh: Vehicle, inputs: str, actuate: Any
     return tuple(labels[i] for i in ui), ui, si, locked
 
 
-def _weight(name: str, value: Any, n: int, *, definite: bool) -> np.ndarray:
-    """A symmetric ``n x n`` weight, positive semidefinite (``definite``: positive definite)."""
+def symmetric_weight(name: str, value: Any, n: int, *, definite: bool) -> np.ndarray:
+    """A symmetric ``n x n`` weight, positive semidefinite (``definite``: positive definite).
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``value`` is not a finite real ``n x n`` array, not symmetric or not (semi)definite.
+    """
     W = checks.array(name, value, shape=(n, n))
     if not np.allclose(W, W.T, rtol=1e-12, atol=1e-12 * max(1.0, float(np.max(np.abs(W))))):
         raise ArgumentError(f"{name} must be symmetric")
@@ -298,7 +322,7 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         If the LQR design fails (python-control's message is included; e.g. no stabilizing solution) or returns a
         gain that is not finite or does not stabilize the linearization.
     """
-    _glide_for(veh, glide, inputs)
+    check_glide_design(veh, glide, inputs)
     if max_deviation is not None and not isinstance(max_deviation, Mapping):
         raise ArgumentTypeError(f"max_deviation must be a mapping of state/input names to deviations, got "
                                 f"{type(max_deviation).__name__}")
@@ -313,9 +337,9 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         extra[k] = checks.positive(f"max_deviation[{k!r}]", v)
     dev = {**DEFAULT_MAX_DEVIATION, **extra}
     n, m = sys.nstates, sys.ninputs
-    Qm = _bryson(sys.state_labels, dev) if Q is None else _weight("Q", Q, n, definite=False)
-    Rm = _bryson(sys.input_labels, dev) if R is None else _weight("R", R, m, definite=True)
-    act, ui, si, locked = _actuated(sys, veh, inputs, actuate)
+    Qm = bryson_weights(sys.state_labels, dev) if Q is None else symmetric_weight("Q", Q, n, definite=False)
+    Rm = bryson_weights(sys.input_labels, dev) if R is None else symmetric_weight("R", R, m, definite=True)
+    act, ui, si, locked = actuated_subset(sys, veh, inputs, actuate)
     K, E = lqr_subset(np.asarray(sys.A), np.asarray(sys.B), Qm, Rm, ui, si,
                       f"glide gamma = {np.degrees(glide.gamma):.2f} deg with inputs {list(act)}")
     return LinearGlideController(K, "lqr", sys, E, glide, inputs, Qm, Rm, vehicle=veh, actuate=act,
@@ -409,12 +433,12 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
         If :func:`control.place` fails or the achieved poles differ from the requested ones by more than 1e-6
         (relative).
     """
-    _glide_for(veh, glide, inputs)
+    check_glide_design(veh, glide, inputs)
     p = numeric_array("poles", poles).astype(complex).ravel()
     if not np.all(np.isfinite(p)):
         raise ArgumentError(f"poles must be finite, got {poles!r}")
     sys = linearize_glide(veh, glide, inputs)
-    act, ui, si, locked = _actuated(sys, veh, inputs, actuate)
+    act, ui, si, locked = actuated_subset(sys, veh, inputs, actuate)
     names = [sys.state_labels[i] for i in si]
     if p.size != len(si):
         raise ArgumentError(f"need {len(si)} poles for states {names}" + (f" (locked by the inputs left out: "

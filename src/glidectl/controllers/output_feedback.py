@@ -35,7 +35,14 @@ from ..models._validate import trailing_array
 from ..models.closed_loop import ClosedLoop
 from ..params import Vehicle
 from ..trim.glide import SteadyGlide
-from .linear import DEFAULT_MAX_DEVIATION, _actuated, _bryson, _glide_for, _weight, lqr_subset
+from .linear import (
+    DEFAULT_MAX_DEVIATION,
+    actuated_subset,
+    bryson_weights,
+    check_glide_design,
+    lqr_subset,
+    symmetric_weight,
+)
 
 __all__ = ["LQGController", "PlantWithEstimator", "lqg_glide"]
 
@@ -214,7 +221,8 @@ class PlantWithEstimator:
     """The plant of an :class:`LQGController` with its estimator: states plant then ``<state>_hat``; inputs the plant's.
 
     ``rhs(x, u)`` stacks the plant's right-hand side and the Kalman filter fed with the plant's sensor values and
-    ``u``; :attr:`law` is the controller's ``u`` from the estimate (for :class:`~glidectl.models.closed_loop.ClosedLoop`).
+    ``u``; :attr:`law` is the controller's ``u`` from the estimate (for
+    :class:`~glidectl.models.closed_loop.ClosedLoop`).
 
     Parameters
     ----------
@@ -351,7 +359,7 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
     SolverError
         If the LQR or Kalman-filter design fails or returns gains that do not stabilize.
     """
-    _glide_for(veh, glide, inputs)
+    check_glide_design(veh, glide, inputs)
     path_states = glide_model(veh, glide, inputs)[0].state_names
     smap = output_map(sensors, path_states)
     sig = _noise(smap, noise)
@@ -368,17 +376,17 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
                             f"{sorted(known)}")
     dev = {**DEFAULT_MAX_DEVIATION, **{k: checks.positive(f"max_deviation[{k!r}]", v) for k, v in extra.items()}}
     names = list(sys.state_labels)
-    act, ui, si, locked = _actuated(sys, veh, inputs, actuate)
+    act, ui, _, locked = actuated_subset(sys, veh, inputs, actuate)
     measured = set(smap.channels)
     est = [s for s in names if s not in locked and (s not in ("z_prime", "z") or s in measured)]
     reg = [s for s in est if s != "z"]
     # regulator
     A, B, C = np.asarray(sys.A), np.asarray(sys.B), np.asarray(sys.C)
     n10 = len(path_states)
-    Qp = _bryson(path_states, dev) if Q is None else _weight("Q", Q, n10, definite=False)
+    Qp = bryson_weights(path_states, dev) if Q is None else symmetric_weight("Q", Q, n10, definite=False)
     Qm = np.zeros((len(names), len(names)))
     Qm[:n10, :n10] = Qp
-    Rm = _bryson(sys.input_labels, dev) if R is None else _weight("R", R, 3, definite=True)
+    Rm = bryson_weights(sys.input_labels, dev) if R is None else symmetric_weight("R", R, 3, definite=True)
     ri = [names.index(s) for s in reg]
     K, Ereg = lqr_subset(A, B, Qm, Rm, ui, ri, f"glide gamma = {np.degrees(glide.gamma):.2f} deg with inputs "
                          f"{list(act)} on states {reg}")
