@@ -197,7 +197,7 @@ def test_lqg_estimation_error_decays_on_the_nonlinear_plant():
     c = lqg()
     cl = gc.closed_loop(c)
     assert cl.equilibrium is None  # depth grows along the glide
-    model, xe = c.plant_model()
+    _, xe = c.plant_model()
     n = len(xe)
     ei = [c.state_names.index(s) for s in c.estimated_states]
     x0 = np.concatenate([xe, xe[ei]])
@@ -220,7 +220,7 @@ def test_lqg_to_iosys_is_the_estimator_and_law():
     io = c.to_iosys()
     assert list(io.input_labels) == list(SENSORS) and list(io.output_labels) == ["w1", "w3", "w4"]
     assert list(io.state_labels) == [f"{s}_hat" for s in c.estimated_states]
-    model, xe = c.plant_model()
+    _, xe = c.plant_model()
     ei = [c.state_names.index(s) for s in c.estimated_states]
     ye = c.measure(xe)
     d = io._rhs(0.0, xe[ei], ye)
