@@ -93,8 +93,8 @@ class LinearGlideController:
     ArgumentTypeError
         If ``glide`` is not a SteadyGlide, ``plant`` not a state-space model, or a number has the wrong type.
     ArgumentError
-        If ``method`` or ``inputs`` is unknown, ``K`` is not a finite (inputs x states) array, or ``path_offset``
-        is not finite.
+        If ``method`` or ``inputs`` is unknown, ``K`` is not a finite (inputs x states) array, ``path_offset``
+        is not finite, or ``actuate`` / ``locked_states`` name an unknown input / state.
     ModelError
         If ``vehicle`` is not an underwater glider.
     VehicleMismatchError
@@ -125,6 +125,11 @@ class LinearGlideController:
         K = checks.array("K", self.K, shape=(m, n))
         object.__setattr__(self, "K", K)
         object.__setattr__(self, "path_offset", checks.real("path_offset", self.path_offset, unit="m"))
+        for attr, labels in (("actuate", self.plant.input_labels), ("locked_states", self.plant.state_labels)):
+            val = getattr(self, attr)
+            if isinstance(val, str) or not isinstance(val, Sequence) or any(q not in labels for q in val):
+                raise ArgumentError(f"{attr} must be a sequence of names from {list(labels)}, got {val!r}")
+            object.__setattr__(self, attr, tuple(val))
         if self.vehicle is not None:
             require_glider(self.vehicle)
             checks.same_vehicle("glide", self.glide, self.vehicle)
