@@ -25,7 +25,16 @@ from .analysis.helix_existence import ExistenceScan, existence_scan
 from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from .analysis.helix_sweeps import HelixSweep, helix_sweep, straight_glides
 from .analysis.jacobian import hessian, jacobians
-from .analysis.linear import Modes, RankTest, controllability, glide_model, linearize_glide, modes, observability
+from .analysis.linear import (
+    DepthGlidePathModel,
+    Modes,
+    RankTest,
+    controllability,
+    glide_model,
+    linearize_glide,
+    modes,
+    observability,
+)
 from .analysis.locus import BreakPoint, ParameterLocus, mbar_locus, parameter_locus, rbh_locus, uncontrolled_eigs
 from .batch import BatchResult, integrate_batch
 from .controllers.buoyancy import (
@@ -66,10 +75,12 @@ from .controllers.linear import (
     DecoupledAccelerationFeedback,
     LinearGlideController,
     decoupled_gain_matrix,
+    default_actuate,
     lqr_glide,
     place_glide,
 )
 from .controllers.moving_mass import RealizedTorqueComparison, compare_realized_torque
+from .controllers.output_feedback import LQGController, lqg_glide
 from .controllers.torque import (
     TorqueDesign,
     TorqueGainFamily,
@@ -90,6 +101,7 @@ from .errors import (
     VehicleFileError,
     VehicleMismatchError,
 )
+from .iosys import to_iosys
 from .models import phugoid_hamiltonian
 from .models.buoyancy_glider import BuoyancyGlider
 from .models.closed_loop import ClosedLoop
@@ -143,6 +155,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "NondimensionalModel", "NondimensionalScaling", "orbit_period", "phugoid_hamiltonian", "PhugoidClass",
         "PhugoidModel", "quat_to_R", "R_to_ypr", "RealizedTorqueLoop", "ReducedLongitudinalGlider", "SlowModel",
         "TorqueControlledGlider", "ypr_to_quat", "ypr_to_R",
+        "DepthGlidePathModel",
     ),
     "trims": (
         "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
@@ -167,6 +180,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "stable_inversion", "StableInversion", "StateFeedback", "SteadyGlideController", "torque_gain_family",
         "TorqueDesign", "TorqueGainFamily", "track_approximate_linearization", "track_stable_inversion",
         "track_with_steady_glides", "tracking_grid", "TrackingRun", "zero_dynamics", "ZeroDynamics",
+        "default_actuate", "lqg_glide", "LQGController",
     ),
     "stability and certificates": (
         "allowable_delta_m_ratio", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck", "certify_roa",
@@ -179,6 +193,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
         "integrate_batch", "simulate", "simulate_many", "Simulation",
+        "to_iosys",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -214,6 +229,7 @@ __all__ = [
     "CompositeVerification",
     "ControllerRecord",
     "DecoupledAccelerationFeedback",
+    "DepthGlidePathModel",
     "DesignError",
     "Domain",
     "ElevatorBuoyancyController",
@@ -235,6 +251,7 @@ __all__ = [
     "HelixRbhLocus",
     "HelixSweep",
     "InfeasibleGlideError",
+    "LQGController",
     "LinearGlideController",
     "LongitudinalGlider",
     "ModelError",
@@ -292,6 +309,7 @@ __all__ = [
     "ctol_lyapunov",
     "dVdt",
     "decoupled_gain_matrix",
+    "default_actuate",
     "design_helix",
     "design_torque_control",
     "elevator_closed_loop_eigenvalues",
@@ -313,6 +331,7 @@ __all__ = [
     "linearize_glide",
     "list_presets",
     "load_vehicle",
+    "lqg_glide",
     "lqr_glide",
     "lqr_state_feedback",
     "lyapunov_matrix",
@@ -338,6 +357,7 @@ __all__ = [
     "steady_glide",
     "straight_glides",
     "taylor_system",
+    "to_iosys",
     "torque_gain_family",
     "track_approximate_linearization",
     "track_stable_inversion",

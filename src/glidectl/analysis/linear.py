@@ -8,7 +8,7 @@ matrix on badly scaled states.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, SolverError
+from ..models._validate import trailing_array
 from ..models.longitudinal import (
     AccelerationControlledGlider,
     GlidePathModel,
@@ -26,7 +27,8 @@ from ..params import Vehicle
 from ..trim.glide import SteadyGlide
 from .jacobian import jacobians
 
-__all__ = ["Modes", "RankTest", "controllability", "glide_model", "linearize_glide", "modes", "observability"]
+__all__ = ["EXTRA_OUTPUTS", "DepthGlidePathModel", "Modes", "OutputMap", "RankTest", "controllability", "depth_rate",
+           "glide_model", "linearize_glide", "modes", "observability", "output_map"]
 
 InputKind = Literal["force", "acceleration"]
 
@@ -84,8 +86,183 @@ def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -
     return model, np.concatenate([[0.0], xe[2:]])
 
 
-def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -> control.StateSpace:
-    """Exact linearization of the longitudinal glider about a steady glide, with z' (2.30).
+#: Output channels :func:`linearize_glide` knows besides the glide-path states: depth ``z`` (m, positive down; a
+#: kinematic state appended to the model when asked for) and its rate ``depth_rate`` (m/s, from (2.16)).
+EXTRA_OUTPUTS: dict[str, str] = {"z": "m", "depth_rate": "m/s"}
+
+
+@dataclass(frozen=True)
+class DepthGlidePathModel:
+    """The glide-path model of (2.30) with the depth ``z`` (m, positive down) appended as a last, kinematic state.
+
+    States ``("z_prime", <body states>, "z")``: ``z'`` (2.30), the base model's body states and ``z`` with
+    ``z' = -sin(theta) v1 + cos(theta) v3`` of (2.16) (the base model's own kinematics). No force depends on the
+    position, so ``z`` is a pure integrator; together with ``z'`` it determines the horizontal position
+    (``x = (z' - cos(gamma_e) z) / sin(gamma_e)``) on a non-level path.
+
+    Parameters
+    ----------
+    path : GlidePathModel
+        The glide-path model to extend (from :func:`glide_model`).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``path`` is not a :class:`~glidectl.models.longitudinal.GlidePathModel`.
+    """
+
+    path: GlidePathModel
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.path, GlidePathModel):
+            raise ArgumentTypeError(f"path must be a GlidePathModel (from gc.glide_model), got "
+                                    f"{type(self.path).__name__}")
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return (*self.path.state_names, "z")
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return self.path.input_names
+
+    @property
+    def vehicle(self) -> Vehicle:
+        return self.path.vehicle
+
+    @property
+    def gamma(self) -> float:
+        """Flight-path angle of the path (rad)."""
+        return self.path.gamma
+
+    def rhs(self, x: Any, u: Any) -> Any:
+        """Derivative of ``(z', theta, ..., z)`` (shape ``(..., 11)``): the glide-path model's and (2.16).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with the right trailing dimension.
+        """
+        x = trailing_array("x", x, 11, self.state_names)
+        xr = x[..., :10]
+        full = np.concatenate([np.zeros_like(xr[..., :1]), x[..., 10:], xr[..., 1:]], axis=-1)
+        d = self.path.base.rhs(full, u)
+        zp = np.sin(self.path.gamma) * d[..., 0] + np.cos(self.path.gamma) * d[..., 1]
+        return np.concatenate([zp[..., None], d[..., 2:], d[..., 1:2]], axis=-1)
+
+
+def depth_rate(model: Any, x: Any) -> Any:
+    """Depth rate ``-sin(theta) v1 + cos(theta) v3`` (m/s, (2.16)) of glide-path states ``x`` (batch,
+    complex-safe), from the base model's own kinematics."""
+    path = model.path if isinstance(model, DepthGlidePathModel) else model
+    x = np.asarray(x)
+    xr = x[..., :10]
+    full = np.concatenate([np.zeros_like(xr[..., :2]), xr[..., 1:]], axis=-1)
+    u = np.zeros((*x.shape[:-1], len(path.input_names)))
+    return path.base.rhs(full, u)[..., 1]
+
+
+@dataclass(frozen=True)
+class OutputMap:
+    """Named outputs ``y = M c(x)`` of a glide-path model: ``c`` are channels (states, ``z``, ``depth_rate``).
+
+    Built by :func:`output_map`; evaluates the nonlinear outputs of a state batch (``__call__``) and is linearized
+    by :func:`linearize_glide` (``C = M dc/dx``).
+
+    Attributes
+    ----------
+    names : tuple of str
+        Output names.
+    channels : tuple of str
+        The channels the outputs combine (states of the model, ``"z"``, ``"depth_rate"``).
+    M : ndarray, shape (len(names), len(channels))
+        Coefficients (output unit per channel unit).
+    """
+
+    names: tuple[str, ...]
+    channels: tuple[str, ...]
+    M: np.ndarray
+
+    @property
+    def needs_depth(self) -> bool:
+        """True when an output uses the depth ``z`` (the model then carries ``z`` as a state)."""
+        return "z" in self.channels
+
+    def __call__(self, model: Any, x: Any) -> Any:
+        """Outputs (shape ``(..., len(names))``) for states ``x`` of ``model`` (shape ``(..., n)``)."""
+        x = np.asarray(x)
+        names = list(model.state_names)
+        cols = [depth_rate(model, x) if c == "depth_rate" else x[..., names.index(c)] for c in self.channels]
+        return np.stack(cols, axis=-1) @ self.M.T
+
+
+def output_map(outputs: Any, state_names: Sequence[str]) -> OutputMap:
+    """Parse an output selection of :func:`linearize_glide` into an :class:`OutputMap`.
+
+    Parameters
+    ----------
+    outputs : str, sequence of str or mapping
+        A channel name, a sequence of channel names, or a mapping ``{output name: channel name or {channel:
+        coefficient}}`` (a linear combination). Channels: the glide-path states ``state_names`` (without ``"z"``)
+        and :data:`EXTRA_OUTPUTS` (``"z"``, ``"depth_rate"``).
+    state_names : sequence of str
+        States of the glide-path model.
+
+    Returns
+    -------
+    OutputMap
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``outputs`` is not a name, a sequence of names or a mapping of names to names or coefficient mappings,
+        or a coefficient is not a real number.
+    ArgumentError
+        If a channel is unknown, an output or channel is named twice, the selection is empty, a coefficient is not
+        finite or a combination has no nonzero coefficient.
+    """
+    known = [*state_names, *(k for k in EXTRA_OUTPUTS if k not in state_names)]
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    if isinstance(outputs, Mapping):
+        spec = dict(outputs)
+    elif isinstance(outputs, Sequence | np.ndarray) and not isinstance(outputs, bytes):
+        outputs = list(outputs)
+        if not all(isinstance(o, str) for o in outputs):
+            raise ArgumentTypeError(f"outputs must be names (str) from {known} or a mapping {{name: channel or "
+                                    f"{{channel: coefficient}}}}, got {outputs!r}")
+        if len(set(outputs)) != len(outputs):
+            raise ArgumentError(f"the output selection {outputs} names an output twice")
+        spec = {o: o for o in outputs}
+    else:
+        raise ArgumentTypeError(f"outputs must be a name, a sequence of names from {known} or a mapping {{name: "
+                                f"channel or {{channel: coefficient}}}}, got {type(outputs).__name__}")
+    if not spec:
+        raise ArgumentError(f"empty output selection; name at least one of {known} (or pass None for all states)")
+    rows: list[dict[str, float]] = []
+    for name, val in spec.items():
+        if not isinstance(name, str):
+            raise ArgumentTypeError(f"output names must be strings, got {name!r}")
+        comb = {val: 1.0} if isinstance(val, str) else val
+        if not isinstance(comb, Mapping):
+            raise ArgumentTypeError(f"output {name!r} must be a channel name or a mapping {{channel: coefficient}} "
+                                    f"over {known}, got {type(val).__name__}")
+        row = {}
+        for ch, coef in comb.items():
+            if ch not in known:
+                raise ArgumentError(f"unknown output channel {ch!r} in output {name!r}; known channels: {known}")
+            row[ch] = checks.real(f"coefficient of {ch!r} in output {name!r}", coef)
+        if not any(v != 0.0 for v in row.values()):
+            raise ArgumentError(f"output {name!r} has no nonzero coefficient; give at least one channel")
+        rows.append(row)
+    channels = tuple(c for c in known if any(c in r for r in rows))
+    M = np.array([[r.get(c, 0.0) for c in channels] for r in rows])
+    return OutputMap(tuple(spec), channels, M)
+
+
+def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force",
+                    outputs: Any = None) -> control.StateSpace:
+    """Exact linearization of the longitudinal glider about a steady glide, with z' (2.30), and named outputs.
 
     Parameters
     ----------
@@ -97,30 +274,53 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
         ``"force"``: states ``(z_prime, theta, Omega2, v1, v3, r_P1, r_P3, P_P1, P_P3, m0)``, inputs
         ``(u1, u3, u4)`` of (2.15)-(2.25). ``"acceleration"``: states ``(z_prime, theta, Omega2, v1, v3, r_P1,
         rdot_P1, r_P3, rdot_P3, m0)``, inputs ``(w1, w3, w4)`` of (2.33)-(2.34).
+    outputs : str, sequence of str or mapping, optional
+        Measured outputs ``y``; default all states (``C = I``). Channels: every state, ``"z"`` (depth, m, positive
+        down) and ``"depth_rate"`` (m/s, ``-sin(theta) v1 + cos(theta) v3`` of (2.16)). A sequence names channels,
+        e.g. ``("z", "theta", "Omega2")``; a mapping names outputs and gives each a channel or a linear
+        combination ``{channel: coefficient}`` (output unit per channel unit), e.g. ``{"depth": "z",
+        "pitch_lead": {"theta": 1.0, "Omega2": 0.5}}``.
+
+        The glide-path state has no depth (z' replaces x and z; depth is not a function of it), so an output that
+        uses ``"z"`` appends the kinematic state ``z`` of (2.16) as the last state (:class:`DepthGlidePathModel`).
+        In the linearization ``z`` is the depth deviation from the nominal glide at the same time (the nominal depth
+        grows at the sink rate and is no equilibrium; the constant sink rate drops out), a pure integrator: with
+        ``z'`` it fixes the horizontal position, which is why ``z'`` stays unobservable from depth (it needs ``x``).
 
     Returns
     -------
     control.StateSpace
-        ``A, B`` exact (complex step); ``C = I``, ``D = 0``; states/inputs/outputs named; units in
-        :data:`glidectl.models.longitudinal.STATE_UNITS`.
+        ``A, B`` exact (complex step); ``C`` the (complex-step) linearization of the outputs, ``D = 0``; states,
+        inputs and outputs named; units in :data:`glidectl.models.longitudinal.STATE_UNITS`.
 
     Raises
     ------
     ArgumentTypeError
-        If ``veh`` is not a Vehicle or ``glide`` is not a :class:`~glidectl.trim.glide.SteadyGlide` (e.g. ``None``).
+        If ``veh`` is not a Vehicle, ``glide`` is not a :class:`~glidectl.trim.glide.SteadyGlide` (e.g. ``None``),
+        or ``outputs`` is not a name, a sequence of names or a mapping.
     ArgumentError
-        If ``inputs`` is not ``"force"`` or ``"acceleration"``.
+        If ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``outputs`` names an unknown channel, names one
+        twice, is empty or gives a combination without a nonzero finite coefficient.
     VehicleMismatchError
         If ``glide`` was trimmed for another vehicle (different provenance).
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite at the glide.
     """
     model, xe = glide_model(veh, glide, inputs)
-    A, B = jacobians(model.rhs, xe, np.zeros(3))
+    omap = None if outputs is None else output_map(outputs, model.state_names)
+    plant: Any = model
+    if omap is not None and omap.needs_depth:
+        plant, xe = DepthGlidePathModel(model), np.concatenate([xe, [0.0]])
+    A, B = jacobians(plant.rhs, xe, np.zeros(3))
     n = A.shape[0]
-    names = list(model.state_names)
-    return control.ss(A, B, np.eye(n), np.zeros((n, 3)), states=names, inputs=list(model.input_names),
-                      outputs=names, name=f"{veh.name}_gamma{np.degrees(glide.gamma):+.0f}deg_{inputs}")
+    names = list(plant.state_names)
+    if omap is None:
+        C, onames = np.eye(n), names
+    else:
+        C, _ = jacobians(lambda x, u: omap(plant, x), xe, np.zeros(0))
+        onames = list(omap.names)
+    return control.ss(A, B, C, np.zeros((C.shape[0], 3)), states=names, inputs=list(model.input_names),
+                      outputs=onames, name=f"{veh.name}_gamma{np.degrees(glide.gamma):+.0f}deg_{inputs}")
 
 
 @dataclass(frozen=True)
@@ -367,14 +567,16 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
 
 def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | None = None,
                   pbh_tol: float = 1e-8) -> RankTest:
-    """Observability of ``sys`` when only the named states are measured (``y = C x`` with those rows of I).
+    """Observability of ``sys`` when only the named outputs (or states) are measured.
 
     Parameters
     ----------
     sys : control.StateSpace
-        Linear model with named states.
+        Linear model with named states and outputs, e.g. from :func:`linearize_glide` (with ``outputs=`` for depth
+        and combinations).
     outputs : str or sequence of str
-        Names of the measured states; a single name is one output (never split into characters).
+        Names of the measured signals: outputs of ``sys`` (their rows of ``sys.C``) or states (rows of I; an output
+        name wins when a name is both); a single name is one signal (never split into characters).
     tol : float, optional
         Rank tolerance of the (scaled) Kalman observability matrix; default as in :func:`controllability`.
     pbh_tol : float
@@ -384,7 +586,7 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
     -------
     RankTest
         ``kind = "observability"``; ``uncontrollable_modes`` holds the unobservable modes (eigenvalues, 1/s) and
-        ``channels`` the measured states. Computed as the controllability of the dual ``(A^T, C^T)``.
+        ``channels`` the measured signals. Computed as the controllability of the dual ``(A^T, C^T)``.
 
     Raises
     ------
@@ -392,16 +594,22 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
         If ``sys`` is not a :class:`control.StateSpace`, ``outputs`` is not a name or a sequence of names, or a
         tolerance is not a real number.
     ArgumentError
-        If ``outputs`` is empty, names a state ``sys`` does not have or names one twice; a tolerance is not positive
-        and finite; ``sys`` has no states or a non-finite ``A``.
+        If ``outputs`` is empty, names a signal that is neither an output nor a state of ``sys``, or names one twice;
+        a tolerance is not positive and finite; ``sys`` has no states or a non-finite ``A`` or ``C``.
     SolverError
         If the balancing, SVD or eigenvalue computation fails.
     """
     A = _state_matrix(sys)
-    oi = _index(outputs, sys.state_labels, "output state")
+    olabels = list(sys.output_labels)
+    slabels = list(sys.state_labels)
+    labels = olabels + [q for q in slabels if q not in olabels]
+    oi = _index(outputs, labels, "output or state")
+    Cs = np.asarray(sys.C)
+    if np.iscomplexobj(Cs) or not np.all(np.isfinite(Cs)):
+        raise ArgumentError("sys.C must be a finite real matrix (no NaN or inf)")
+    eye = np.eye(A.shape[0])
+    C = np.array([Cs[i] if i < len(olabels) else eye[slabels.index(labels[i])] for i in oi])
     tol, pbh_tol = _tolerances(tol, pbh_tol)
-    C = np.eye(A.shape[0])[oi]
-    r = controllability(control.ss(A.T, C.T, np.eye(A.shape[0]), 0, states=list(sys.state_labels)),
-                        tol=tol, pbh_tol=pbh_tol)
+    r = controllability(control.ss(A.T, C.T, np.eye(A.shape[0]), 0, states=slabels), tol=tol, pbh_tol=pbh_tol)
     return RankTest("observability", r.rank, r.n, r.tol, r.singular_values, r.pbh_min, r.eigenvalues,
-                    r.uncontrollable_modes, pbh_tol, tuple(sys.state_labels[i] for i in oi))
+                    r.uncontrollable_modes, pbh_tol, tuple(labels[i] for i in oi))

@@ -7,6 +7,9 @@ controller's law, with that equilibrium, in coordinates where the equilibrium is
 * :class:`~glidectl.controllers.linear.LinearGlideController`: :class:`~glidectl.models.longitudinal.GlidePathModel`
   (states ``z'`` (m) and the body states; force or acceleration form, as designed), equilibrium the steady glide
   with ``z' = path_offset``;
+* :class:`~glidectl.controllers.output_feedback.LQGController`: the glide-path model (with depth ``z`` when a sensor
+  measures it) followed by the estimator's states ``<state>_hat``; equilibrium the glide and its estimate (None with
+  depth, which changes along the glide);
 * :class:`~glidectl.controllers.torque.TorqueDesign`: :class:`~glidectl.models.torque_glider.TorqueControlledGlider`
   of the open-loop vehicle, equilibrium ``(V_e, gamma_e, alpha_e, 0)``;
 * :class:`~glidectl.controllers.buoyancy.BuoyancyController`: :class:`~glidectl.models.buoyancy_glider.BuoyancyGlider`,
@@ -42,6 +45,7 @@ from .buoyancy import BuoyancyController
 from .ctol import SteadyGlideController
 from .elevator import ElevatorBuoyancyController
 from .linear import LinearGlideController
+from .output_feedback import LQGController
 from .torque import TorqueDesign
 
 __all__ = ["closed_loop"]
@@ -58,8 +62,10 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
         and equilibrium of each): :class:`~glidectl.controllers.linear.LinearGlideController` (from
         :func:`~glidectl.controllers.linear.lqr_glide` or :func:`~glidectl.controllers.linear.place_glide`),
         :class:`~glidectl.controllers.torque.TorqueDesign`, :class:`~glidectl.controllers.buoyancy.BuoyancyController`,
-        :class:`~glidectl.controllers.elevator.ElevatorBuoyancyController` or
-        :class:`~glidectl.controllers.ctol.SteadyGlideController`. With ``law``: any glidectl model (the plant).
+        :class:`~glidectl.controllers.elevator.ElevatorBuoyancyController`,
+        :class:`~glidectl.controllers.ctol.SteadyGlideController` or
+        :class:`~glidectl.controllers.output_feedback.LQGController` (plant plus estimator).
+        With ``law``: any glidectl model (the plant).
     law : callable, optional
         State feedback ``u = law(x)``, batch-capable (``x`` of shape ``(..., n)`` to ``u`` of shape ``(..., m)``,
         the plant's units). A controller ``c(t, x)`` of this package is time-invariant: pass ``c.u``.
@@ -99,6 +105,8 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
         xe[0] = c.path_offset
         return ClosedLoop(model, c.path_input, xe,
                           f"{c.method} glide-path regulator (gamma_e = {np.degrees(c.glide.gamma):.4g} deg)")
+    if isinstance(c, LQGController):
+        return c.closed_loop()
     if isinstance(c, TorqueDesign):
         if c.plant_vehicle is None:
             raise ModelError("this TorqueDesign does not carry its open-loop vehicle (use design_torque_control); "
@@ -118,5 +126,6 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
     raise ArgumentTypeError(
         f"closed_loop() does not know the plant and equilibrium of a {type(c).__name__}: give the plant and a state "
         "feedback, closed_loop(model, law) with u = law(x). Supported controllers: LinearGlideController, "
-        "TorqueDesign, BuoyancyController, ElevatorBuoyancyController, SteadyGlideController (tracking controllers "
+        "TorqueDesign, BuoyancyController, ElevatorBuoyancyController, SteadyGlideController, LQGController "
+        "(tracking controllers "
         "are time-varying)")

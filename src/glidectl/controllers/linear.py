@@ -24,11 +24,15 @@ from ..params import Vehicle
 from ..trim.glide import SteadyGlide
 
 __all__ = [
+    "ACTUATOR_OF_INPUT",
     "DEFAULT_MAX_DEVIATION",
+    "LOCKED_STATES",
     "DecoupledAccelerationFeedback",
     "LinearGlideController",
     "decoupled_gain_matrix",
+    "default_actuate",
     "lqr_glide",
+    "lqr_subset",
     "place_glide",
 ]
 
@@ -36,8 +40,21 @@ __all__ = [
 DEFAULT_MAX_DEVIATION: Mapping[str, float] = {
     "z_prime": 0.5, "theta": 0.1, "Omega2": 0.2, "v1": 0.05, "v3": 0.05, "r_P1": 0.02, "r_P3": 0.02,
     "P_P1": 0.1, "P_P3": 0.1, "m0": 0.1, "rdot_P1": 0.02, "rdot_P3": 0.02,
-    "u1": 1.0, "u3": 1.0, "u4": 0.05, "w1": 0.1, "w3": 0.1, "w4": 0.05,
+    "u1": 1.0, "u3": 1.0, "u4": 0.05, "w1": 0.1, "w3": 0.1, "w4": 0.05, "z": 0.5,
 }
+
+#: States an input holds when it is left out of a design (``actuate``): the buoyancy rate ``u4``/``w4`` integrates to
+#: ``m0``; the mass accelerations ``w1``/``w3`` to ``(r_P, rdot_P)``; the mass forces ``u1``/``u3`` to the momenta
+#: ``P_P`` (in the force form the mass itself still moves with the hull: to hold a mass axis, design in the
+#: acceleration form). These states are uncontrollable (poles at 0) without their input and are left out of the design.
+LOCKED_STATES: Mapping[str, tuple[str, ...]] = {
+    "u1": ("P_P1",), "u3": ("P_P3",), "u4": ("m0",),
+    "w1": ("r_P1", "rdot_P1"), "w3": ("r_P3", "rdot_P3"), "w4": ("m0",),
+}
+
+#: Actuator of the vehicle file moved by each input (a ``fixed`` actuator removes it from the default ``actuate``).
+ACTUATOR_OF_INPUT: Mapping[str, str] = {"u1": "r_P1", "u3": "r_P3", "u4": "m0", "w1": "r_P1", "w3": "r_P3",
+                                        "w4": "m0"}
 
 
 @dataclass(frozen=True)
@@ -65,14 +82,19 @@ class LinearGlideController:
     vehicle : Vehicle or None
         The vehicle the gain was designed for (set by :func:`lqr_glide` and :func:`place_glide`; the plant of
         :func:`glidectl.closed_loop`).
+    actuate : tuple of str
+        The inputs the gain drives (``()``: all); the rows of ``K`` of the other inputs are exactly zero.
+    locked_states : tuple of str
+        States held by the inputs left out (:data:`LOCKED_STATES`), left out of the design: their columns of ``K``
+        are zero and each adds a closed-loop pole at 0 (the actuator stays where it is).
 
     Raises
     ------
     ArgumentTypeError
         If ``glide`` is not a SteadyGlide, ``plant`` not a state-space model, or a number has the wrong type.
     ArgumentError
-        If ``method`` or ``inputs`` is unknown, ``K`` is not a finite (inputs x states) array, or ``path_offset``
-        is not finite.
+        If ``method`` or ``inputs`` is unknown, ``K`` is not a finite (inputs x states) array, ``path_offset``
+        is not finite, or ``actuate`` / ``locked_states`` name an unknown input / state.
     ModelError
         If ``vehicle`` is not an underwater glider.
     VehicleMismatchError
@@ -89,6 +111,8 @@ class LinearGlideController:
     R: np.ndarray | None = None
     path_offset: float = 0.0
     vehicle: Vehicle | None = field(default=None, repr=False, compare=False)
+    actuate: tuple[str, ...] = ()
+    locked_states: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         checks.choice("method", self.method, ("lqr", "place"))
@@ -101,6 +125,11 @@ class LinearGlideController:
         K = checks.array("K", self.K, shape=(m, n))
         object.__setattr__(self, "K", K)
         object.__setattr__(self, "path_offset", checks.real("path_offset", self.path_offset, unit="m"))
+        for attr, labels in (("actuate", self.plant.input_labels), ("locked_states", self.plant.state_labels)):
+            val = getattr(self, attr)
+            if isinstance(val, str) or not isinstance(val, Sequence) or any(q not in labels for q in val):
+                raise ArgumentError(f"{attr} must be a sequence of names from {list(labels)}, got {val!r}")
+            object.__setattr__(self, attr, tuple(val))
         if self.vehicle is not None:
             require_glider(self.vehicle)
             checks.same_vehicle("glide", self.glide, self.vehicle)
@@ -146,20 +175,99 @@ class LinearGlideController:
                           outputs=list(self.state_names), name=f"{self.method}_closed_loop")
 
 
-def _bryson(names: Sequence[str], max_dev: Mapping[str, float]) -> np.ndarray:
+def bryson_weights(names: Sequence[str], max_dev: Mapping[str, float]) -> np.ndarray:
+    """Bryson's-rule weight ``diag(1 / max_dev[name]^2)`` for ``names`` (inverse squared units of each)."""
     return np.diag([1.0 / max_dev[n] ** 2 for n in names])
 
 
-def _glide_for(veh: Any, glide: Any, inputs: Any) -> None:
-    """Checks shared by :func:`lqr_glide` and :func:`place_glide`, before anything is computed."""
+def check_glide_design(veh: Any, glide: Any, inputs: Any) -> None:
+    """Checks shared by :func:`lqr_glide`, :func:`place_glide` and
+    :func:`~glidectl.controllers.output_feedback.lqg_glide`, before anything is computed.
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError, VehicleMismatchError, ModelError
+        As those functions.
+    """
     require_glider(veh, "veh")
     require_instance("glide", glide, SteadyGlide, " (from gc.steady_glide)")
     checks.same_vehicle("glide", glide, veh)
     checks.choice("inputs", inputs, ("force", "acceleration"))
 
 
-def _weight(name: str, value: Any, n: int, *, definite: bool) -> np.ndarray:
-    """A symmetric ``n x n`` weight, positive semidefinite (``definite``: positive definite)."""
+def default_actuate(veh: Vehicle, inputs: Literal["force", "acceleration"] = "force") -> tuple[str, ...]:
+    """Inputs a design drives by default: all of them, except those moving an actuator the vehicle file fixes.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The underwater glider; its ``[actuators]`` table (``fixed = ...`` entries) is read.
+    inputs : {"force", "acceleration"}
+        Input form: ``(u1, u3, u4)`` or ``(w1, w3, w4)``.
+
+    Returns
+    -------
+    tuple of str
+        The inputs whose actuator (:data:`ACTUATOR_OF_INPUT`: ``r_P1``, ``r_P3``, ``m0``) is not fixed; all three
+        for a vehicle without an ``[actuators]`` table.
+
+    Raises
+    ------
+    ArgumentError
+        If ``inputs`` is not ``"force"`` or ``"acceleration"``.
+    """
+    checks.choice("inputs", inputs, ("force", "acceleration"))
+    names = ("u1", "u3", "u4") if inputs == "force" else ("w1", "w3", "w4")
+    acts = getattr(veh, "actuators", {}) or {}
+    return tuple(q for q in names if getattr(acts.get(ACTUATOR_OF_INPUT[q]), "fixed", None) is None)
+
+
+def actuated_subset(sys: control.StateSpace, veh: Vehicle, inputs: str, actuate: Any
+              ) -> tuple[tuple[str, ...], list[int], list[int], tuple[str, ...]]:
+    """Selected inputs, their indices, the indices of the design states and the locked states
+    (:data:`LOCKED_STATES` of the inputs left out).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``actuate`` is not a sequence of names.
+    ArgumentError
+        If ``actuate`` is empty, names an unknown input or one twice, or (default) the file fixes every actuator.
+    """
+    labels = list(sys.input_labels)
+    if actuate is None:
+        act = default_actuate(veh, inputs)  # type: ignore[arg-type]
+        if not act:
+            fixed = ", ".join(ACTUATOR_OF_INPUT[q] for q in labels)
+            raise ArgumentError(f"the vehicle file fixes every actuator ({fixed}"
+                                "): nothing to design on; remove a 'fixed' entry or pass actuate=")
+    else:
+        if isinstance(actuate, str):
+            actuate = (actuate,)
+        if not isinstance(actuate, Sequence) or not all(isinstance(q, str) for q in actuate):
+            raise ArgumentTypeError(f"actuate must be a sequence of input names from {labels}, got {actuate!r}")
+        act = tuple(actuate)
+        if not act:
+            raise ArgumentError(f"actuate is empty; name at least one input of {labels} (or None for the default)")
+        bad = [q for q in act if q not in labels]
+        if bad:
+            raise ArgumentError(f"actuate names {bad}, which are not inputs of the {inputs} form; inputs: {labels}")
+        if len(set(act)) != len(act):
+            raise ArgumentError(f"actuate {list(act)} names an input twice")
+    ui = [labels.index(q) for q in labels if q in act]
+    locked = tuple(s for q in labels if q not in act for s in LOCKED_STATES[q])
+    si = [i for i, s in enumerate(sys.state_labels) if s not in locked]
+    return tuple(labels[i] for i in ui), ui, si, locked
+
+
+def symmetric_weight(name: str, value: Any, n: int, *, definite: bool) -> np.ndarray:
+    """A symmetric ``n x n`` weight, positive semidefinite (``definite``: positive definite).
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If ``value`` is not a finite real ``n x n`` array, not symmetric or not (semi)definite.
+    """
     W = checks.array(name, value, shape=(n, n))
     if not np.allclose(W, W.T, rtol=1e-12, atol=1e-12 * max(1.0, float(np.max(np.abs(W))))):
         raise ArgumentError(f"{name} must be symmetric")
@@ -172,8 +280,8 @@ def _weight(name: str, value: Any, n: int, *, definite: bool) -> np.ndarray:
 
 
 def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acceleration"] = "force",
-              Q: Any = None, R: Any = None, max_deviation: Mapping[str, float] | None = None
-              ) -> LinearGlideController:
+              Q: Any = None, R: Any = None, max_deviation: Mapping[str, float] | None = None,
+              actuate: Sequence[str] | None = None) -> LinearGlideController:
     """LQR regulator to the glide path of ``glide`` (z' included), designed with :func:`control.lqr`.
 
     Parameters
@@ -187,12 +295,19 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         Acceptable deviation of named states and inputs (SI units of each: m, rad, rad/s, m/s, kg m/s, kg, N,
         m/s^2, kg/s), overriding entries of :data:`DEFAULT_MAX_DEVIATION` for Bryson's rule
         (``Q_ii = 1 / max_i^2``).
+    actuate : sequence of str, optional
+        The inputs to design on (e.g. ``("w1", "w4")``); the others get exactly zero gain, and the states they
+        hold (:data:`LOCKED_STATES`) are left out of the design (zero gain columns; ``Q``, ``R`` given in full are
+        restricted to the rest). Default :func:`default_actuate`: every input, except those moving an actuator the
+        vehicle's ``[actuators]`` table marks ``fixed`` (e.g. a fixed ``r_P3`` removes ``u3``/``w3``); a vehicle
+        without the table keeps all three (the gains of the presets are unchanged).
 
     Returns
     -------
     LinearGlideController
-        ``method = "lqr"``, gain ``K`` of shape (3, 10) (input units per glide-path-state unit), the linearization
-        it was designed on, the closed-loop poles (1/s) and the weights used.
+        ``method = "lqr"``, gain ``K`` of shape (3, 10) (input units per glide-path-state unit; zero rows for inputs
+        not actuated), the linearization it was designed on, the closed-loop poles (1/s, of ``A - B K``: the
+        designed ones plus a 0 per locked state) and the weights used.
 
     Raises
     ------
@@ -201,8 +316,9 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         real numbers, or ``Q``/``R`` not real arrays.
     ArgumentError
         If ``inputs`` is not ``"force"`` or ``"acceleration"``; ``Q`` is not a finite symmetric positive
-        semidefinite 10x10 matrix or ``R`` a finite symmetric positive definite 3x3 matrix; or ``max_deviation``
-        names an unknown state or input or gives a value that is not a positive finite number.
+        semidefinite 10x10 matrix or ``R`` a finite symmetric positive definite 3x3 matrix; ``max_deviation``
+        names an unknown state or input or gives a value that is not a positive finite number; or ``actuate`` is
+        empty, names an unknown input or one twice (or the vehicle file fixes every actuator).
     VehicleMismatchError
         If ``glide`` was trimmed for another vehicle.
     ModelError
@@ -211,7 +327,7 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         If the LQR design fails (python-control's message is included; e.g. no stabilizing solution) or returns a
         gain that is not finite or does not stabilize the linearization.
     """
-    _glide_for(veh, glide, inputs)
+    check_glide_design(veh, glide, inputs)
     if max_deviation is not None and not isinstance(max_deviation, Mapping):
         raise ArgumentTypeError(f"max_deviation must be a mapping of state/input names to deviations, got "
                                 f"{type(max_deviation).__name__}")
@@ -226,22 +342,61 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         extra[k] = checks.positive(f"max_deviation[{k!r}]", v)
     dev = {**DEFAULT_MAX_DEVIATION, **extra}
     n, m = sys.nstates, sys.ninputs
-    Qm = _bryson(sys.state_labels, dev) if Q is None else _weight("Q", Q, n, definite=False)
-    Rm = _bryson(sys.input_labels, dev) if R is None else _weight("R", R, m, definite=True)
+    Qm = bryson_weights(sys.state_labels, dev) if Q is None else symmetric_weight("Q", Q, n, definite=False)
+    Rm = bryson_weights(sys.input_labels, dev) if R is None else symmetric_weight("R", R, m, definite=True)
+    act, ui, si, locked = actuated_subset(sys, veh, inputs, actuate)
+    K, E = lqr_subset(np.asarray(sys.A), np.asarray(sys.B), Qm, Rm, ui, si,
+                      f"glide gamma = {np.degrees(glide.gamma):.2f} deg with inputs {list(act)}")
+    return LinearGlideController(K, "lqr", sys, E, glide, inputs, Qm, Rm, vehicle=veh, actuate=act,
+                                 locked_states=locked)
+
+
+def lqr_subset(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray, ui: Sequence[int], si: Sequence[int],
+               what: str) -> tuple[np.ndarray, np.ndarray]:
+    """LQR gain (shape of ``B.T``) designed on inputs ``ui`` and states ``si`` only (zero elsewhere), and the poles
+    of the full ``A - B K`` (1/s).
+
+    Parameters
+    ----------
+    A, B : ndarray
+        Linearization (n x n, n x m).
+    Q, R : ndarray
+        Full weights (n x n, m x m); restricted to ``si`` and ``ui``.
+    ui, si : sequence of int
+        Indices of the inputs and states designed on.
+    what : str
+        What is designed (for error messages).
+
+    Returns
+    -------
+    K : ndarray, shape (m, n)
+    poles : ndarray, shape (n,)
+
+    Raises
+    ------
+    SolverError
+        If :func:`control.lqr` fails or its gain does not stabilize the designed subsystem.
+    """
+    ix = np.ix_(si, si)
     try:
-        K, _, E = control.lqr(sys, Qm, Rm)
+        Kr, _, Er = control.lqr(A[ix], B[np.ix_(si, ui)], Q[ix], R[np.ix_(ui, ui)])
     except Exception as exc:  # python-control raises several types (ControlArgument, LinAlgError, ValueError)
-        raise SolverError(f"LQR design failed for glide gamma = {np.degrees(glide.gamma):.2f} deg: {exc}") from exc
-    K, E = np.asarray(K, dtype=float), np.asarray(E)
-    if not (np.all(np.isfinite(K)) and np.all(np.isfinite(E)) and np.max(E.real) < 0):
-        raise SolverError(f"LQR design for glide gamma = {np.degrees(glide.gamma):.2f} deg returned a gain that does "
-                          f"not stabilize the linearization (closed-loop poles {np.round(E, 6)}); check Q (the "
-                          "unstable modes must be weighted)")
-    return LinearGlideController(K, "lqr", sys, E, glide, inputs, Qm, Rm, vehicle=veh)
+        raise SolverError(f"LQR design failed for {what}: {exc} (an unstable or marginal mode these inputs cannot "
+                          "move makes it impossible; actuate more inputs)") from exc
+    Kr, Er = np.asarray(Kr, dtype=float), np.asarray(Er)
+    if not (np.all(np.isfinite(Kr)) and np.all(np.isfinite(Er)) and np.max(Er.real) < 0):
+        raise SolverError(f"LQR design for {what} returned a gain that does not stabilize the linearization "
+                          f"(closed-loop poles {np.round(Er, 6)}); check Q (the unstable modes must be weighted)")
+    K = np.zeros((B.shape[1], A.shape[0]))
+    K[np.ix_(ui, si)] = Kr
+    if len(si) == A.shape[0]:
+        return K, Er
+    return K, np.linalg.eigvals(A - B @ K)
 
 
 def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
-                inputs: Literal["force", "acceleration"] = "force") -> LinearGlideController:
+                inputs: Literal["force", "acceleration"] = "force",
+                actuate: Sequence[str] | None = None) -> LinearGlideController:
     """Pole placement to the glide path of ``glide`` with :func:`control.place` (1/s poles, conjugate-closed).
 
     Parameters
@@ -251,16 +406,21 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
     glide : SteadyGlide
         From :func:`~glidectl.trim.glide.steady_glide`.
     poles : sequence of complex
-        The 10 requested closed-loop poles (1/s), finite and closed under conjugation (a pole may be repeated at
-        most as often as there are inputs, 3).
+        The requested closed-loop poles (1/s) of the designed states (10, less the states locked by inputs left out
+        of ``actuate``), finite and closed under conjugation (a pole may be repeated at most as often as there are
+        actuated inputs).
     inputs : {"force", "acceleration"}
         Input form of the linearization (see :func:`~glidectl.analysis.linear.linearize_glide`).
+    actuate : sequence of str, optional
+        Inputs to design on; the others get exactly zero gain and the states they hold
+        (:data:`LOCKED_STATES`) zero gain columns and a pole at 0. Default :func:`default_actuate` (as
+        :func:`lqr_glide`).
 
     Returns
     -------
     LinearGlideController
         ``method = "place"``, gain ``K`` of shape (3, 10), the linearization and the achieved closed-loop poles
-        (1/s); ``Q`` and ``R`` are None.
+        (1/s; the requested ones plus a 0 per locked state); ``Q`` and ``R`` are None.
 
     Raises
     ------
@@ -268,8 +428,8 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
         If ``veh`` is not a Vehicle, ``glide`` not a SteadyGlide, or ``poles`` not numbers.
     ArgumentError
         If the number of poles differs from the number of states, a pole is not finite, the set is not closed under
-        conjugation or repeats a pole more often than there are inputs, or ``inputs`` is not ``"force"`` or
-        ``"acceleration"``.
+        conjugation or repeats a pole more often than there are inputs, ``inputs`` is not ``"force"`` or
+        ``"acceleration"``, or ``actuate`` is empty or names an unknown input or one twice.
     VehicleMismatchError
         If ``glide`` was trimmed for another vehicle.
     ModelError
@@ -278,37 +438,46 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
         If :func:`control.place` fails or the achieved poles differ from the requested ones by more than 1e-6
         (relative).
     """
-    _glide_for(veh, glide, inputs)
+    check_glide_design(veh, glide, inputs)
     p = numeric_array("poles", poles).astype(complex).ravel()
     if not np.all(np.isfinite(p)):
         raise ArgumentError(f"poles must be finite, got {poles!r}")
     sys = linearize_glide(veh, glide, inputs)
-    if p.size != sys.nstates:
-        raise ArgumentError(f"need {sys.nstates} poles for states {list(sys.state_labels)}, got {p.size}")
+    act, ui, si, locked = actuated_subset(sys, veh, inputs, actuate)
+    names = [sys.state_labels[i] for i in si]
+    if p.size != len(si):
+        raise ArgumentError(f"need {len(si)} poles for states {names}" + (f" (locked by the inputs left out: "
+                            f"{list(locked)})" if locked else "") + f", got {p.size}")
     scale = np.maximum(1.0, np.abs(p))
     if np.max(np.min(np.abs(p[:, None] - np.conj(p)[None, :]) / scale[:, None], axis=1)) > 1e-9:
         raise ArgumentError(f"poles must be closed under complex conjugation (real gains), got {np.round(p, 6)}")
     mult = np.sum(np.abs(p[:, None] - p[None, :]) <= 1e-12 * scale[:, None], axis=1)
-    if np.max(mult) > sys.ninputs:
-        raise ArgumentError(f"a pole is repeated {int(np.max(mult))} times; with {sys.ninputs} inputs place_glide "
-                            f"can repeat a pole at most {sys.ninputs} times (spread them slightly)")
+    if np.max(mult) > len(ui):
+        raise ArgumentError(f"a pole is repeated {int(np.max(mult))} times; with {len(ui)} inputs place_glide "
+                            f"can repeat a pole at most {len(ui)} times (spread them slightly)")
+    A, B = np.asarray(sys.A), np.asarray(sys.B)
+    Ar, Br = A[np.ix_(si, si)], B[np.ix_(si, ui)]
     try:
         with warnings.catch_warnings():
             # scipy's YT robustness iteration may stop before its tolerance; the placement itself is checked below
             warnings.filterwarnings("ignore", message="Convergence was not reached", category=UserWarning)
-            K = np.asarray(control.place(np.asarray(sys.A), np.asarray(sys.B), p))
+            Kr = np.asarray(control.place(Ar, Br, p))
     except Exception as exc:  # python-control / scipy raise several types
-        raise SolverError(f"pole placement failed: {exc}") from exc
-    if not np.all(np.isfinite(K)):
+        raise SolverError(f"pole placement failed with inputs {list(act)}: {exc}") from exc
+    if not np.all(np.isfinite(Kr)):
         raise SolverError("pole placement returned a gain that is not finite")
-    E = np.linalg.eigvals(np.asarray(sys.A) - np.asarray(sys.B) @ K)
+    K = np.zeros((B.shape[1], A.shape[0]))
+    K[np.ix_(ui, si)] = Kr
+    E = np.linalg.eigvals(Ar - Br @ Kr)
     r, c = linear_sum_assignment(np.abs(E[:, None] - p[None, :]))
     err = float(np.max(np.abs(E[r] - p[c]) / np.maximum(1.0, np.abs(p[c]))))
     if err > 1e-6:
         raise SolverError(f"pole placement inaccurate: closed-loop poles {np.round(E, 6)} differ from the "
                             f"requested {np.round(p, 6)} (relative error {err:.1e}); the requested set may be "
                             "ill-conditioned for this plant")
-    return LinearGlideController(K, "place", sys, E, glide, inputs, vehicle=veh)
+    if locked:
+        E = np.linalg.eigvals(A - B @ K)
+    return LinearGlideController(K, "place", sys, E, glide, inputs, vehicle=veh, actuate=act, locked_states=locked)
 
 
 ZETA = ("r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0")

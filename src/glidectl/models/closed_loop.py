@@ -115,6 +115,18 @@ class ClosedLoop:
     def provenance(self) -> str:
         return str(getattr(getattr(self.plant, "vehicle", None), "provenance", ""))
 
+    def to_iosys(self) -> Any:
+        """This closed loop as an input-free :class:`control.NonlinearIOSystem` (see :func:`glidectl.to_iosys`).
+
+        Returns
+        -------
+        control.NonlinearIOSystem
+            States and outputs named as :attr:`state_names`, no inputs.
+        """
+        from ..iosys import to_iosys
+
+        return to_iosys(self)
+
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:
         """Closed-loop ``x'`` for states ``x`` of shape ``(..., n)`` (``u`` is ignored: the loop is input-free).
 
