@@ -80,7 +80,7 @@ def test_error_hierarchy():
 
 
 def test_preset_list_is_the_shipped_files():
-    assert set(list_presets()) == {"rogue", "sphere_ch5", "elevator_ch6", "slocum_ch8", "dc8_ctol"}
+    assert set(list_presets()) == {"rogue", "sphere_ch5", "elevator_ch6", "slocum_ch8", "dc8_ctol", "slocum_shallow"}
 
 
 @pytest.mark.parametrize("name", list_presets())
