@@ -256,8 +256,8 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
         ``m0 = 0``, chapter-8 pitch damping), has no steady glide in this model or is not singularly perturbed
         (``eps_i <= 0``): not an underwater glider, ``K_M = 0``, no equilibrium angle of attack from (5.90),
         ``K_De <= 0``, ``K_q >= 0`` or ``K_M >= 0``; or its numbers overflow or underflow (a time scale or small
-        parameter that is not a finite positive number, a glide speed outside :data:`SPEED_RANGE`, a linearization that underflows to
-        zero).
+        parameter that is not a finite positive number, a glide speed outside :data:`SPEED_RANGE`, a linearization
+        that underflows to zero).
     SolverError
         If an eigenvalue computation fails.
     """
