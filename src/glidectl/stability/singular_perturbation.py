@@ -24,7 +24,7 @@ from .. import checks
 from ..analysis.jacobian import jacobians
 from ..errors import ModelError, SolverError
 from ..models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
-from ..models.reduced import ReducedLongitudinalGlider, require_v2_pitch_damping
+from ..models.reduced import ReducedLongitudinalGlider, require_centred_mass, require_v2_pitch_damping
 from ..params import Vehicle
 
 __all__ = ["SPEED_RANGE", "SingularPerturbation", "singular_perturbation"]
@@ -272,7 +272,8 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
 
 
 def _singular_perturbation(veh: Vehicle) -> SingularPerturbation:
-    model = ReducedLongitudinalGlider(veh)  # refuses r_P != 0 (assumption 1) and m0 = 0 (assumption 2)
+    require_centred_mass(veh, "singular_perturbation (§5.1)")
+    model = ReducedLongitudinalGlider(veh)  # refuses m0 = 0 (assumption 2)
     require_v2_pitch_damping(veh, "singular_perturbation (§5.1)")
     _, M3 = model.masses
     a_e = model.trim_alpha()
