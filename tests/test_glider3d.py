@@ -32,9 +32,10 @@ from glidectl.trim.helix import helix_trim, reduced_rhs, zeta_of
 SLOCUM = load_vehicle("slocum_ch8")
 # damping K_q V^2 only (no chapter-8 K_Omega1_2 Omega2): the pitch moment is exactly (2.13)
 SLOCUM_KQ = load_vehicle("slocum_ch8", K_Omega1_2=0.0, K_q=-3.0)
-# every term of (2.9)-(2.14) and of the chapter-8 damping switched on
-SLOCUM_FULL = load_vehicle("slocum_ch8", K_q=-3.0, K_q1=-1.0, K_q3=-2.0, K_L0=5.0, K_M0=0.3,
-                           K_Omega2_1=-4.0, K_Omega2_2=-7.0, K_Omega2_3=-5.0)
+# every term of (2.9)-(2.14) and of the chapter-8 damping switched on; the linear damping of each axis in one form
+# only (a file giving both is refused, docs/conventions.md): V^2-scaled for roll and pitch, chapter 8 for yaw
+SLOCUM_FULL = load_vehicle("slocum_ch8", K_q=-3.0, K_Omega1_2=0.0, K_q1=-1.0, K_Omega1_1=0.0, K_q3=0.0, K_L0=5.0,
+                           K_M0=0.3, K_Omega2_1=-4.0, K_Omega2_2=-7.0, K_Omega2_3=-5.0)
 
 F3 = {s: i for i, s in enumerate(FORCE3D_STATES)}
 FL = {s: i for i, s in enumerate(FORCE_STATES)}
@@ -255,13 +256,14 @@ def test_plane_restriction_fails_with_literal_25(case):
         assert abs(lit[1] - dl[FL["Omega2"]]) > 1e-7
 
 
-def test_plane_restriction_needs_ch8_damping_off():
-    """The vehicle override matters: with Table 8.1's K_Omega1_2 = -60 the 3D pitch moment has the extra
-    K_Omega1_2 Omega2 (no V^2) that (2.13) lacks, so Omega2' differs by exactly K_Omega1_2 Omega2 / J2."""
+def test_plane_restriction_keeps_ch8_damping():
+    """One damping convention: with Table 8.1's K_Omega1_2 = -60 (no V^2) both the 3D and the longitudinal model
+    carry K_Omega1_2 Omega2, so they agree; switching it off changes Omega2' by exactly K_Omega1_2 Omega2 / J2."""
     xl = np.array([0.0, 0.0, -0.4, 0.05, 0.7, 0.03, 0.02, 0.04, 6.3, 0.2, 0.25])
     ul = np.zeros(3)
     x3, u3 = _embed(xl, ul)
     d3 = Glider3D(SLOCUM).rhs(x3, u3)
+    _assert_close(_project(x3, d3), LongitudinalGlider(SLOCUM).rhs(xl, ul))
     veh0 = load_vehicle("slocum_ch8", K_Omega1_2=0.0)
     dl = LongitudinalGlider(veh0).rhs(xl, ul)
     assert d3[F3["Omega2"]] - dl[FL["Omega2"]] == pytest.approx(-60.0 * 0.05 / 12.0, rel=1e-12)
@@ -402,10 +404,11 @@ def test_loads_3d_without_sideslip_equal_longitudinal_loads(c):
         sa, ca = np.sin(a), np.cos(a)
         np.testing.assert_allclose(F, [L * sa - D * ca, 0.0, -L * ca - D * sa], rtol=1e-13, atol=1e-14)
         np.testing.assert_allclose(T, [0.0, M, 0.0], rtol=1e-13, atol=1e-14)
-    # Table 8.1: the pitch moment differs from (2.13) by the chapter-8 damping K_Omega1_2 Omega2 (no V^2)
+    # Table 8.1: both carry the chapter-8 damping K_Omega1_2 Omega2 (no V^2), one convention
     T8 = loads_3d(SLOCUM, np.array([v1, 0.0, v3]), np.array([0.0, Om2, 0.0]))[1]
-    M8 = longitudinal_loads(SLOCUM, v1, v3, Om2)[3]
-    assert T8[1] - M8 == pytest.approx(SLOCUM.K_Omega1_2 * Om2, rel=1e-10, abs=1e-14)
+    a, _, _, M8 = longitudinal_loads(SLOCUM, v1, v3, Om2)
+    assert T8[1] == pytest.approx(M8, rel=1e-13, abs=1e-14)
+    assert M8 == pytest.approx(SLOCUM.K_M * a * (v1**2 + v3**2) + SLOCUM.K_Omega1_2 * Om2, rel=1e-12, abs=1e-14)
 
 
 @FAST

@@ -20,7 +20,14 @@ from . import checks
 from .errors import ArgumentError, ArgumentTypeError
 from .params import Vehicle
 
-__all__ = ["angle_of_attack", "atan2_cs", "loads_3d", "loads_at", "longitudinal_loads"]
+__all__ = ["DAMPING_KEYS", "angle_of_attack", "atan2_cs", "damping_moment", "loads_3d", "loads_at",
+           "longitudinal_loads"]
+
+#: Rotational-damping coefficients per body axis ``i = 1, 2, 3`` (roll, pitch, yaw): ``(K_qi, K_Omega1_i,
+#: K_Omega2_i)``, the ``V^2``-scaled linear term of (2.12)-(2.14) (pitch: ``K_q`` = ``K_q2``), the chapter-8 linear
+#: term without ``V^2`` and the chapter-8 quadratic term (docs/conventions.md, "Damping: one convention").
+DAMPING_KEYS = {1: ("K_q1", "K_Omega1_1", "K_Omega2_1"), 2: ("K_q", "K_Omega1_2", "K_Omega2_2"),
+                3: ("K_q3", "K_Omega1_3", "K_Omega2_3")}
 
 
 def _numeric(name: str, value: Any) -> Any:
@@ -128,8 +135,8 @@ def longitudinal_loads(veh: Vehicle, v1: Any, v3: Any, Omega2: Any) -> tuple[Any
     Parameters
     ----------
     veh : Vehicle
-        Uses ``K_L0 [kg/m], K_L [kg/m/rad], K_D0 [kg/m], K_D [kg/m/rad^2], K_M0 [kg], K_M [kg/rad],
-        K_q [kg s/rad]``.
+        Uses ``K_L0 [kg/m], K_L [kg/m/rad], K_D0 [kg/m], K_D [kg/m/rad^2], K_M0 [kg], K_M [kg/rad]`` and the
+        pitch damping of :func:`damping_moment` (``K_q [kg s/rad]``, ``K_Omega1_2``, ``K_Omega2_2``).
     v1, v3 : array_like
         Body-frame velocity components (m/s).
     Omega2 : array_like
@@ -139,7 +146,8 @@ def longitudinal_loads(veh: Vehicle, v1: Any, v3: Any, Omega2: Any) -> tuple[Any
     -------
     alpha : angle of attack (rad)
     L, D : lift and drag (N), ``L = (K_L0 + K_L alpha) V^2``, ``D = (K_D0 + K_D alpha^2) V^2``
-    M_DL2 : pitching moment (N m), ``(K_M0 + K_M alpha + K_q Omega2) V^2``
+    M_DL2 : pitching moment (N m), ``(K_M0 + K_M alpha + K_q Omega2) V^2`` (2.13) plus the chapter-8 pitch damping
+        ``K_Omega1_2 Omega2 + K_Omega2_2 Omega2 |Omega2|`` (:func:`damping_moment`)
 
     Raises
     ------
@@ -157,17 +165,80 @@ def longitudinal_loads(veh: Vehicle, v1: Any, v3: Any, Omega2: Any) -> tuple[Any
     return alpha, L, D, M
 
 
+def _damping(p: Any, V2: Any, Om: Any, axis: int) -> Any:
+    """The damping moment about body axis ``axis`` (unchecked; ``p`` is ``veh.params``)."""
+    kq, k1, k2 = DAMPING_KEYS[axis]
+    out = p.get(kq, 0.0) * Om * V2
+    c1, c2 = p.get(k1, 0.0), p.get(k2, 0.0)
+    if c1 != 0.0:
+        out = out + c1 * Om
+    if c2 != 0.0:
+        out = out + c2 * Om * np.sqrt(Om * Om)  # Omega_i |Omega_i|, analytic in a complex step
+    return out
+
+
+def damping_moment(veh: Vehicle, V2: Any, Omega: Any, axis: int) -> Any:
+    """Rotational damping moment about one body axis (N m): the one convention every model reads.
+
+    ``M_damp_i = K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|``: the ``V^2``-scaled
+    linear damping of (2.12)-(2.14) (pitch: ``K_q`` of (2.13)) plus the chapter-8 damping of §8.2.2 (no ``V^2``;
+    the thesis writes ``Omega_i^2``, implemented as ``Omega_i |Omega_i|`` so that it opposes the rotation for
+    either sign). Absent coefficients count as 0; keys in :data:`DAMPING_KEYS`. A vehicle file may not give the
+    linear term in both forms (nonzero ``K_qi`` and ``K_Omega1_i``): :func:`glidectl.load_vehicle` refuses it.
+    The longitudinal models (through :func:`loads_at`) and the 3-D models (through :func:`loads_3d`) call this
+    function, so a file's damping is the same in 2-D and 3-D (docs/conventions.md, "Damping: one convention").
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider (uses ``K_qi`` [kg s/rad], ``K_Omega1_i`` [kg m^2 s/rad], ``K_Omega2_i``
+        [kg m^2 s^2/rad^2]).
+    V2 : array_like
+        Squared speed (m^2/s^2), real or complex.
+    Omega : array_like
+        Angular rate ``Omega_i`` about the axis (rad/s), real or complex; broadcast with ``V2``.
+    axis : int
+        Body axis: 1 (roll), 2 (pitch) or 3 (yaw).
+
+    Returns
+    -------
+    ndarray
+        The damping moment ``M_damp_i`` (N m).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle, ``V2`` or ``Omega`` is not a number or an array of numbers, or ``axis`` is not
+        an int.
+    ArgumentError
+        If ``axis`` is not 1, 2 or 3, or the shapes do not broadcast.
+    ModelError
+        If ``veh`` is not an underwater glider.
+    """
+    _glider(veh)
+    if isinstance(axis, bool) or not isinstance(axis, int | np.integer):
+        raise ArgumentTypeError(f"axis must be the int 1, 2 or 3 (body axis), got {type(axis).__name__} {axis!r}")
+    if int(axis) not in DAMPING_KEYS:
+        raise ArgumentError(f"axis must be 1 (roll), 2 (pitch) or 3 (yaw), got {axis}")
+    V2, Omega = _numeric("V2", V2), _numeric("Omega", Omega)
+    _broadcast("V2 and Omega", V2, Omega)
+    return _damping(veh.params, V2, Omega, int(axis))
+
+
 def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, Any]:
     """Lift, drag and pitching moment (N, N, N m) for squared speed ``V2`` (m^2/s^2), angle of attack ``alpha``
     (rad, not wrapped: models with alpha as a state, chapter 5, use it directly) and pitch rate (rad/s).
 
     ``L = (K_L0 + K_L alpha) V^2`` (2.11), ``D = (K_D0 + K_D alpha^2) V^2`` (2.9),
-    ``M_DL2 = (K_M0 + K_M alpha + K_q Omega2) V^2`` (2.13); equivalently (5.24)-(5.25).
+    ``M_DL2 = (K_M0 + K_M alpha) V^2 + damping_moment(veh, V^2, Omega2, 2)``, i.e. ``(K_M0 + K_M alpha + K_q Omega2)
+    V^2`` (2.13) plus the chapter-8 terms ``K_Omega1_2 Omega2 + K_Omega2_2 Omega2 |Omega2|`` when the file gives them
+    (docs/conventions.md, "Damping: one convention"); for chapter-5 vehicles this is (5.24)-(5.25).
 
     Parameters
     ----------
     veh : Vehicle
-        Underwater glider (uses ``K_L0, K_L, K_D0, K_D, K_M0, K_M, K_q``).
+        Underwater glider (uses ``K_L0, K_L, K_D0, K_D, K_M0, K_M`` and the pitch damping ``K_q, K_Omega1_2,
+        K_Omega2_2`` of :func:`damping_moment`).
     V2 : array_like
         Squared speed (m^2/s^2).
     alpha : array_like
@@ -195,7 +266,7 @@ def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, 
     p = veh.params
     L = (p["K_L0"] + p["K_L"] * alpha) * V2
     D = (p["K_D0"] + p["K_D"] * alpha * alpha) * V2
-    M = (p["K_M0"] + p["K_M"] * alpha + p["K_q"] * Omega2) * V2
+    M = (p["K_M0"] + p["K_M"] * alpha) * V2 + _damping(p, V2, Omega2, 2)
     return L, D, M
 
 
@@ -225,7 +296,8 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]
         ``SF = K_beta beta V^2`` opposes sideslip (docs/conventions.md); with ``beta = 0`` this is (2.18)-(2.19)'s
         ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
     T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, K_MY beta V^2)`` plus damping
-        ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis.
+        ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis, from
+        :func:`damping_moment` (the pitch row is :func:`loads_at`'s ``M_DL2``, the same as the 2-D models').
     alpha, beta, V : angle of attack ``atan2(v3, v1)``, sideslip ``asin(v2/V)`` (rad) and speed (m/s); at rest
         (``V = 0``) ``beta = 0`` (every term it enters carries ``V^2``).
 
@@ -255,19 +327,12 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]
     at_rest = np.real(V2) == 0
     beta = np.arcsin(v2 / np.where(at_rest, 1.0, V))  # v2 = 0 at rest, so beta = 0 there
     ca, sa, cb, sb = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta)
-    L, D, M2 = loads_at(veh, V2, alpha, 0.0 * V2)
+    L, D, M2 = loads_at(veh, V2, alpha, Om[..., 1])  # pitch moment including pitch damping
     SF = _opt(veh, "K_beta") * beta * V2
     F = np.stack([-D * ca * cb + SF * ca * sb + L * sa,
                   -D * sb - SF * cb,
                   -D * sa * cb + SF * sa * sb - L * ca], axis=-1)
-    O1, O2, O3 = Om[..., 0], Om[..., 1], Om[..., 2]
-
-    def damp(i: int, Oi: Any, kq: str) -> Any:
-        absO = np.sqrt(Oi * Oi)  # |Omega_i|, complex-step safe for real-part sign
-        return _opt(veh, kq) * Oi * V2 + _opt(veh, f"K_Omega1_{i}") * Oi + _opt(veh, f"K_Omega2_{i}") * Oi * absO
-
-    T = np.stack([_opt(veh, "K_MR") * beta * V2 + damp(1, O1, "K_q1"),
-                  M2 + p["K_q"] * O2 * V2 + _opt(veh, "K_Omega1_2") * O2
-                  + _opt(veh, "K_Omega2_2") * O2 * np.sqrt(O2 * O2),
-                  _opt(veh, "K_MY") * beta * V2 + damp(3, O3, "K_q3")], axis=-1)
+    T = np.stack([_opt(veh, "K_MR") * beta * V2 + _damping(p, V2, Om[..., 0], 1),
+                  M2,
+                  _opt(veh, "K_MY") * beta * V2 + _damping(p, V2, Om[..., 2], 3)], axis=-1)
     return F, T, alpha, beta, V

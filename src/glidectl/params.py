@@ -705,6 +705,17 @@ def _check_consistency(kind: str, values: Mapping[str, float], path: str) -> Non
             if m_b < 0:
                 raise VehicleFileError(
                     f"{path}: buoyancy mass m_b = m0 + m - m_h - mbar = {m_b:g} kg is negative")
+        # one damping convention (docs/conventions.md): the linear rate damping about each body axis is given either
+        # V^2-scaled (K_qi, (2.12)-(2.14)) or without V^2 (K_Omega1_i, chapter 8), never both: no conversion between
+        # the two exists (they differ away from one speed), so both nonzero would count the term twice
+        for axis, (kq, k1) in (("roll", ("K_q1", "K_Omega1_1")), ("pitch", ("K_q", "K_Omega1_2")),
+                               ("yaw", ("K_q3", "K_Omega1_3"))):
+            if values.get(kq, 0.0) != 0.0 and values.get(k1, 0.0) != 0.0:
+                raise VehicleFileError(
+                    f"{path}: {axis} damping is given twice, as {kq} = {values[kq]:g} kg s/rad (times V^2, "
+                    f"(2.12)-(2.14)) and as {k1} = {values[k1]:g} kg m^2 s/rad (chapter 8, no V^2); both act on the "
+                    f"same linear rate term and would be counted twice. Keep one and set the other to 0 "
+                    "(docs/conventions.md, 'Damping: one convention')")
 
 
 def _actuator_from_entry(name: str, entry: dict[str, Any], where: str, require_source: bool = True) -> Actuator:

@@ -91,6 +91,8 @@ class LongitudinalGlider:
         ``X1 = -m3 v3 Om - P_P3 Om - m0 g sin(theta) + L sin(alpha) - D cos(alpha)``,
         ``X3 = m1 v1 Om + P_P1 Om + m0 g cos(theta) - L cos(alpha) - D sin(alpha)`` and
         ``Y = (m3 - m1) v1 v3 - mbar g (r_P1 cos(theta) + r_P3 sin(theta)) + M_DL2 - Om (r_P1 P_P1 + r_P3 P_P3)``.
+        ``M_DL2`` is :func:`glidectl.hydro.longitudinal_loads`'s: (2.13) plus any chapter-8 pitch damping of the
+        file, through :func:`glidectl.hydro.damping_moment` (the same damping as the 3-D models).
         Also returns the masses and hydrodynamic quantities used, for reuse. ``x`` has shape ``(..., 11)``.
         """
         x = trailing_array("x", x, 11, FORCE_STATES)

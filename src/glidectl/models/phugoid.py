@@ -42,6 +42,7 @@ from .. import checks
 from ..errors import InfeasibleGlideError, ModelError, SolverError
 from ..params import Vehicle
 from ._validate import angle_arg, numeric_array, require_instance, trailing_array
+from .reduced import require_centred_mass
 
 __all__ = [
     "C_STEADY",
@@ -125,7 +126,13 @@ class PhugoidModel:
         ArgumentError
             ``alpha`` is not finite (``|alpha| <= pi/2``), or ``m0`` is not a positive finite number.
         ModelError
-            Not an underwater glider, ``m1 != m3`` (assumption 3), no ``m0`` available, or ``K <= 0``.
+            Not an underwater glider, the moving mass off the centre of buoyancy (``mbar > 0`` with a nonzero
+            nominal ``r_P``, assumption 4), ``m1 != m3`` (assumption 3), no ``m0`` available, or ``K <= 0``.
+
+        Notes
+        -----
+        Assumption 2 (no drag) and the frozen angle of attack of assumption 1 define the model: drag and the
+        pitch dynamics (with its damping) are left out by construction, whatever the file gives.
         """
         checks.vehicle("veh", veh)
         if veh.kind != "underwater_glider":
@@ -139,6 +146,7 @@ class PhugoidModel:
                 raise ModelError(f"vehicle '{veh.name}' has no nominal m0: pass m0=... (kg) to "
                                  "PhugoidModel.from_vehicle")
             m0 = veh.m0
+        require_centred_mass(veh, "PhugoidModel.from_vehicle", "§4.1 assumption 4 (= chapter 5 assumption 1)")
         m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
         if not math.isclose(m1, m3, rel_tol=1e-12):
             raise ModelError(

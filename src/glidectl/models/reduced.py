@@ -26,10 +26,84 @@ from ..hydro import loads_at
 from ..params import Vehicle
 from ._validate import numeric_array, require_glider, trailing_array
 
-__all__ = ["REDUCED_STATES", "REDUCED_UNITS", "ReducedLongitudinalGlider"]
+__all__ = ["REDUCED_STATES", "REDUCED_UNITS", "ReducedLongitudinalGlider", "require_centred_mass",
+           "require_v2_pitch_damping"]
 
 REDUCED_STATES = ("V", "gamma", "alpha", "Omega2")
 REDUCED_UNITS = {"V": "m/s", "gamma": "rad", "alpha": "rad", "Omega2": "rad/s"}
+
+
+def require_centred_mass(veh: Vehicle, what: str, assumption: str = "chapter 5 assumption 1 (§5.1)") -> None:
+    """Refuse a vehicle whose moving mass is not at the centre of buoyancy (``r_P = 0``).
+
+    The reduced models of chapters 4-6 keep the moving mass ``mbar`` at the centre of buoyancy, so the centres of
+    gravity and buoyancy coincide; a file that places it elsewhere (a nonzero nominal ``r_P1, r_P2, r_P3``, or an
+    ``[actuators]`` range that excludes 0) would have its gravity torque ``-mbar g (r_P1 cos(theta) + r_P3
+    sin(theta))`` silently dropped. A vehicle without a moving mass (``mbar = 0``) or without nominal positions
+    passes (the reduced model places the mass at 0).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+    what : str
+        The analysis refusing (for the message), e.g. ``"singular_perturbation"``.
+    assumption : str
+        How the assumption is numbered where ``what`` comes from (for the message).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ModelError
+        If ``mbar > 0`` and a nominal ``r_P_i`` is nonzero, or an actuated ``r_P_i`` cannot reach 0.
+    """
+    if not veh.mbar > 0:
+        return
+    off = [f"{k} = {veh.params[k]:g} m" for k in ("r_P1", "r_P2", "r_P3") if veh.params.get(k, 0.0) != 0.0]
+    for k in ("r_P1", "r_P2", "r_P3"):
+        act = veh.actuators.get(k)
+        if act is not None and act.fixed is None and not act.min <= 0.0 <= act.max:
+            off.append(f"{k} actuator range [{act.min:g}, {act.max:g}] m excludes 0")
+    if off:
+        raise ModelError(
+            f"{what} needs {assumption}: moving mass at the centre of buoyancy (r_P = 0, centres of gravity and "
+            f"buoyancy coincident); vehicle '{veh.name}' has mbar = {veh.mbar:g} kg with {', '.join(off)}. The "
+            "reduced model would drop its gravity torque -mbar g (r_P1 cos(theta) + r_P3 sin(theta)). Use the "
+            "full longitudinal model (steady_glide, linearize_glide) for this vehicle, or override r_P1 = r_P2 = "
+            "r_P3 = 0")
+
+
+def require_v2_pitch_damping(veh: Vehicle, what: str) -> None:
+    """Refuse a vehicle whose pitch damping is not the ``V^2``-scaled ``K_q`` of (2.13).
+
+    The small parameters (5.16)-(5.17) and the rate scale (5.15) of chapter 5 are built from ``K_q`` alone; the
+    chapter-8 terms ``K_Omega1_2 Omega2 + K_Omega2_2 Omega2 |Omega2|`` (no ``V^2``) do not fit them.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+    what : str
+        The analysis refusing (for the message).
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ModelError
+        If ``K_Omega1_2`` or ``K_Omega2_2`` is nonzero.
+    """
+    bad = [f"{k} = {veh.params[k]:g}" for k in ("K_Omega1_2", "K_Omega2_2") if veh.params.get(k, 0.0) != 0.0]
+    if bad:
+        raise ModelError(
+            f"{what} needs the chapter-5 pitch damping K_q Omega2 V^2 of (2.13) (the scalings (5.15)-(5.17) are "
+            f"built from K_q); vehicle '{veh.name}' gives the chapter-8 form {', '.join(bad)} (no V^2), K_q = "
+            f"{veh.params.get('K_q', 0.0):g}. Give the pitch damping as K_q (kg s/rad) for this analysis")
 
 
 @dataclass(frozen=True)
@@ -48,8 +122,15 @@ class ReducedLongitudinalGlider:
     ArgumentTypeError
         If ``vehicle`` is not a Vehicle.
     ModelError
-        If it is not an underwater glider, has no ``m0`` or ``m0 = 0``, or its translational masses ``M_i`` at
-        ``m0`` are not positive.
+        If it is not an underwater glider, has its moving mass off the centre of buoyancy (``mbar > 0`` and a
+        nonzero ``r_P``: chapter 5 assumption 1, :func:`require_centred_mass`), has no ``m0`` or ``m0 = 0``
+        (assumption 2), or its translational masses ``M_i`` at ``m0`` are not positive.
+
+    Notes
+    -----
+    Pitch damping is read through :func:`glidectl.hydro.damping_moment` like every other model, so chapter-8
+    terms in a file are kept here; analyses whose scalings use ``K_q`` alone refuse them
+    (:func:`require_v2_pitch_damping`). Assumption 3 (``m1 = m3``) is not needed: unequal masses give (5.86)-(5.89).
     """
 
     vehicle: Vehicle
@@ -58,9 +139,10 @@ class ReducedLongitudinalGlider:
 
     def __post_init__(self) -> None:
         v = require_glider(self.vehicle)
+        require_centred_mass(v, "the reduced chapter-5 model (5.4)-(5.7)")
         if v.m0 == 0:
             raise ModelError(f"vehicle '{v.name}' has m0 = 0: chapter 5 needs a constant nonzero buoyancy mass "
-                             "(assumption 2 of §5.1); set m0 in the file or as an override")
+                             "(chapter 5 assumption 2 of §5.1); set m0 in the file or as an override")
         masses = self.masses
         if not min(masses) > 0:
             raise ModelError(f"vehicle '{v.name}' has translational masses M1, M3 = {masses} kg at m0 = {v.m0:g} kg: "

@@ -735,7 +735,8 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
     sp = singular_perturbation(veh)
     M1, M3 = sp.model.masses
     if M1 != M3:
-        raise ModelError(f"composite_lyapunov implements §5.2-§5.3 for equal added masses; vehicle '{veh.name}' "
+        raise ModelError(f"composite_lyapunov needs chapter 5 assumption 3 (§5.1): equal added masses m1 = m3 "
+                         f"(§5.2-§5.3 are proved for them); vehicle '{veh.name}' "
                          f"has m1 + mbar = {M1:g} kg, m3 + mbar = {M3:g} kg (see unequal_mass_check for (5.110))")
     Vlo, Vhi = dom.Vbar
     Vabs = max(-Vlo, Vhi)

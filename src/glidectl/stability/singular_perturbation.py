@@ -24,7 +24,7 @@ from .. import checks
 from ..analysis.jacobian import jacobians
 from ..errors import ModelError, SolverError
 from ..models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
-from ..models.reduced import ReducedLongitudinalGlider
+from ..models.reduced import ReducedLongitudinalGlider, require_centred_mass, require_v2_pitch_damping
 from ..params import Vehicle
 
 __all__ = ["SPEED_RANGE", "SingularPerturbation", "singular_perturbation"]
@@ -233,8 +233,11 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     Parameters
     ----------
     veh : Vehicle
-        Underwater glider (``r_P = 0`` is assumed; ``m0 != 0``). ``K_q < 0`` and ``K_M < 0`` are needed for
-        positive ``eps1, eps2`` (pitch damping and pitch stiffness).
+        Underwater glider satisfying the assumptions of §5.1: 1. moving mass at the centre of buoyancy (``mbar = 0``
+        or ``r_P = 0``; a file with a nonzero ``r_P1, r_P2, r_P3`` is refused, never reduced by dropping the
+        offset), 2. constant ``m0 != 0``; assumption 3 (``m1 = m3``) is relaxed to (5.86)-(5.89) of §5.4. Pitch
+        damping must be the ``V^2``-scaled ``K_q`` of (2.13) (the scalings (5.15)-(5.17) use it): ``K_q < 0``,
+        no chapter-8 ``K_Omega1_2``, ``K_Omega2_2``; ``K_M < 0`` (pitch stiffness).
 
     Returns
     -------
@@ -249,11 +252,12 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
     ArgumentTypeError
         If ``veh`` is not a Vehicle (e.g. a preset name: load it first).
     ModelError
-        If the vehicle has no steady glide in this model or is not singularly perturbed (``eps_i <= 0``): not an
-        underwater glider, ``m0 = 0``, ``K_M = 0``, no equilibrium angle of attack from (5.90), ``K_De <= 0``,
-        ``K_q >= 0`` or ``K_M >= 0``; or its numbers overflow or underflow (a time scale or small parameter that is
-        not a finite positive number, a glide speed outside :data:`SPEED_RANGE`, a linearization that underflows to
-        zero).
+        If the vehicle breaks an assumption of §5.1 (the message names it: ``mbar > 0`` with ``r_P != 0``,
+        ``m0 = 0``, chapter-8 pitch damping), has no steady glide in this model or is not singularly perturbed
+        (``eps_i <= 0``): not an underwater glider, ``K_M = 0``, no equilibrium angle of attack from (5.90),
+        ``K_De <= 0``, ``K_q >= 0`` or ``K_M >= 0``; or its numbers overflow or underflow (a time scale or small
+        parameter that is not a finite positive number, a glide speed outside :data:`SPEED_RANGE`, a linearization
+        that underflows to zero).
     SolverError
         If an eigenvalue computation fails.
     """
@@ -268,7 +272,9 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
 
 
 def _singular_perturbation(veh: Vehicle) -> SingularPerturbation:
-    model = ReducedLongitudinalGlider(veh)
+    require_centred_mass(veh, "singular_perturbation (§5.1)")
+    model = ReducedLongitudinalGlider(veh)  # refuses m0 = 0 (assumption 2)
+    require_v2_pitch_damping(veh, "singular_perturbation (§5.1)")
     _, M3 = model.masses
     a_e = model.trim_alpha()
     K_De = veh.K_D0 + veh.K_D * a_e**2
