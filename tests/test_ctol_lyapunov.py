@@ -284,3 +284,19 @@ def test_certificate_methods_check_points(certs):
     with pytest.raises(gc.ArgumentError):
         c.verify(n=10)
     assert c.in_region(np.zeros(4)) and c.Q1(np.zeros(2)) == 0.0
+
+
+def test_Q_hessian_by_complex_step_matches_real_differences():
+    """``gc.hessian`` of the Theorem-5 Lyapunov function ``Q`` (complex-step gradient) equals second central
+    differences of ``Q`` on real points: ``Q`` accepts the complex points the complex step needs (regression: the
+    argument checks refused them, which broke the roa_certification design's CTOL part)."""
+    cert = ctol_lyapunov(VEH, LEVEL, *GAINS["moderate"])
+    H = gc.hessian(cert.Q, np.zeros(4))
+    h = 1e-3
+    E = np.eye(4) * h
+    Hfd = np.array([[(cert.Q(E[i] + E[j]) - cert.Q(E[i] - E[j]) - cert.Q(-E[i] + E[j]) + cert.Q(-E[i] - E[j]))
+                     / (4 * h * h) for j in range(4)] for i in range(4)])
+    np.testing.assert_allclose(H, Hfd, rtol=1e-5, atol=1e-6 * np.max(np.abs(H)))
+    np.testing.assert_allclose(H, H.T, rtol=1e-12, atol=0)
+    with pytest.raises(gc.ArgumentTypeError):
+        cert.Q("a")

@@ -97,8 +97,9 @@ MAX_SAMPLES = 5_000_000  # largest n of the construction and of verify (each set
 
 
 def _pts(name: str, value: Any, k: int) -> np.ndarray:
-    """A finite real array with trailing dimension ``k``."""
-    a = checks.array(name, value)
+    """A finite array with trailing dimension ``k``: real, or complex for complex-step derivatives
+    (``gc.hessian``, ``gc.jacobians``)."""
+    a = checks.array(name, value, allow_complex=True)
     if a.ndim == 0 or a.shape[-1] != k:
         raise ArgumentError(f"{name} must have a trailing dimension {k}, got shape {a.shape}")
     return a
