@@ -4,6 +4,7 @@ chapters 4-5 refuse a vehicle that breaks their assumptions instead of dropping 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -18,6 +19,7 @@ from glidectl.errors import ArgumentError, ArgumentTypeError, ModelError, Vehicl
 from glidectl.hydro import DAMPING_KEYS, damping_moment, loads_3d, loads_at
 from glidectl.models.glider3d import FixedMassGlider3D, Glider3D, ypr_to_quat
 from glidectl.models.longitudinal import FORCE_STATES
+from glidectl.controllers.torque import TorqueLaw
 from glidectl.models.reduced import ReducedLongitudinalGlider
 
 SLOCUM = gc.load_vehicle("slocum_ch8")  # pitch damping K_Omega1_2 = -60 (no V^2), K_q = 0
@@ -249,3 +251,26 @@ def test_vehicles_within_the_assumptions_still_work():
 def test_composite_names_assumption_3():
     with pytest.raises(ModelError, match=r"chapter 5 assumption 3 .*m1 = m3"):
         gc.composite_lyapunov(SPHERE.with_overrides(m3=30.0))
+
+
+@pytest.mark.parametrize("call", ["elevator", "torque", "scaling"])
+def test_chapter5_small_parameters_refuse_chapter8_damping(call):
+    """The small parameters (5.16)-(5.17) are built from ``K_q``: a vehicle damped by ``K_Omega1_2`` (no ``V^2``) is
+    refused with the assumption named, not given eps2 = inf or a double-damped loop."""
+    from glidectl.controllers.elevator import elevator_equilibrium
+    from glidectl.models.nondimensional import NondimensionalScaling
+
+    if call == "elevator":
+        veh = gc.load_vehicle("elevator_ch6", K_q=0.0, K_Omega1_2=-5.0)
+        with pytest.raises(gc.ModelError, match="K_Omega1_2"):
+            elevator_equilibrium(veh, 0.3, -0.5)
+    elif call == "torque":
+        veh = gc.load_vehicle("sphere_ch5", K_q=0.0, K_Omega1_2=-1.0)
+        ctrl = TorqueLaw(K_M0u=0.0, K_Mu=0.0, K_qu=-1.0)
+        with pytest.raises(gc.ModelError, match="K_Omega1_2"):
+            ctrl.closed_loop_vehicle(veh)
+    else:
+        sph = gc.load_vehicle("sphere_ch5")
+        sc = gc.singular_perturbation(sph).scaling
+        with pytest.raises(gc.ModelError, match="K_Omega1_2"):
+            dataclasses.replace(sc, vehicle=sph.with_overrides(K_q=0.0, K_Omega1_2=-1.0))

@@ -31,6 +31,7 @@ from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverErro
 from ..models._validate import angle_arg, require_glider, require_instance, speed_arg, trailing_array
 from ..models.buoyancy_glider import ActuatorLimits, actuator_limits
 from ..models.elevator_glider import ElevatorBuoyancyGlider, effective_coefficients
+from ..models.reduced import require_v2_pitch_damping
 from ..params import Vehicle
 from ..sim import Simulation, simulate
 from ..stability.singular_perturbation import singular_perturbation
@@ -224,6 +225,7 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
     K_Le = veh.K_L0 + veh.K_L * a_e
     printed = K_De - veh.delta * u2e * speed**2 * math.sin(a_e)                            # (6.23) as printed
     m_e = float(veh.mass(3, m0e) + veh.mbar)
+    require_v2_pitch_damping(veh, "the elevator equilibrium's small parameters (5.16)-(5.17)")
     if not (m_e > 0 and kd != 0 and veh.K_q != 0):
         raise ModelError(f"vehicle '{veh.name}' at the glide V_e = {speed:g} m/s, gamma_e = {gamma:g} rad has "
                          f"M3 = {m_e:g} kg, K'_De = {float(kd):g} kg/m, K_q = {veh.K_q:g}: the time scale (6.27) and "

@@ -51,7 +51,7 @@ from .. import checks
 from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverError
 from ..models._validate import angle_arg, require_glider, require_instance, speed_arg, trailing_array
 from ..models.closed_loop import ClosedLoop
-from ..models.reduced import ReducedLongitudinalGlider
+from ..models.reduced import ReducedLongitudinalGlider, require_v2_pitch_damping
 from ..models.torque_glider import TorqueControlledGlider
 from ..params import Vehicle
 from ..stability.composite import CompositeCertificate, composite_lyapunov
@@ -125,9 +125,10 @@ class TorqueLaw:
         ArgumentTypeError
             If ``veh`` is not a Vehicle.
         ModelError
-            If it is not an underwater glider.
+            If it is not an underwater glider, or its pitch damping is not the ``K_q`` form that (6.5) adds to.
         """
         require_glider(veh, "veh")
+        require_v2_pitch_damping(veh, "the torque feedback (6.5), which adds K_qu to K_q")
         return veh.with_overrides(K_M0=veh.K_M0 + self.K_M0u, K_M=veh.K_M + self.K_Mu, K_q=veh.K_q + self.K_qu)
 
     def closed_loop(self, veh: Vehicle, equilibrium: Any = None) -> ClosedLoop:

@@ -26,7 +26,7 @@ from .. import checks
 from ..errors import ArgumentError, ModelError
 from ..params import Vehicle
 from ._validate import angle_arg, require_instance, trailing_array
-from .reduced import ReducedLongitudinalGlider
+from .reduced import ReducedLongitudinalGlider, require_v2_pitch_damping
 
 __all__ = ["NondimensionalModel", "NondimensionalScaling", "SlowModel"]
 
@@ -87,6 +87,7 @@ class NondimensionalScaling:
 
     def __post_init__(self) -> None:
         ReducedLongitudinalGlider(self.vehicle)  # same validity conditions
+        require_v2_pitch_damping(self.vehicle, "the nondimensional scaling (5.12)-(5.19)")
         units = {"speed": "m/s", "gamma": "rad", "alpha": "rad", "tau_s": "s", "eps1": "", "eps2": ""}
         for k, unit in units.items():
             v = getattr(self, k)
@@ -320,6 +321,7 @@ class SlowModel:
 
     def __post_init__(self) -> None:
         ReducedLongitudinalGlider(self.vehicle)  # same validity conditions
+        require_v2_pitch_damping(self.vehicle, "the nondimensional scaling (5.12)-(5.19)")
         object.__setattr__(self, "alpha", angle_arg("alpha", self.alpha))
 
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:
