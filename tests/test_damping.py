@@ -15,11 +15,11 @@ from hypothesis import strategies as st
 
 import glidectl as gc
 from glidectl.analysis.jacobian import jacobians
+from glidectl.controllers.torque import TorqueLaw
 from glidectl.errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 from glidectl.hydro import DAMPING_KEYS, damping_moment, loads_3d, loads_at
 from glidectl.models.glider3d import FixedMassGlider3D, Glider3D, ypr_to_quat
 from glidectl.models.longitudinal import FORCE_STATES
-from glidectl.controllers.torque import TorqueLaw
 from glidectl.models.reduced import ReducedLongitudinalGlider
 
 SLOCUM = gc.load_vehicle("slocum_ch8")  # pitch damping K_Omega1_2 = -60 (no V^2), K_q = 0
@@ -258,7 +258,6 @@ def test_chapter5_small_parameters_refuse_chapter8_damping(call):
     """The small parameters (5.16)-(5.17) are built from ``K_q``: a vehicle damped by ``K_Omega1_2`` (no ``V^2``) is
     refused with the assumption named, not given eps2 = inf or a double-damped loop."""
     from glidectl.controllers.elevator import elevator_equilibrium
-    from glidectl.models.nondimensional import NondimensionalScaling
 
     if call == "elevator":
         veh = gc.load_vehicle("elevator_ch6", K_q=0.0, K_Omega1_2=-5.0)
