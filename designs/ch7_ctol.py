@@ -374,23 +374,17 @@ def _pairs(lam: np.ndarray) -> list[list[float]]:
     return [[float(z.real), float(z.imag)] for z in lam]
 
 
-def _row(name: str, r: gc.TrackingRun) -> list[str]:
-    status = "completed" if r.completed else f"stopped at {r.stopped_at:.2f} s"
-    return [name, f"{r.max_error:.3g}", f"{r.peak_u1:.3g}", f"{r.rms_u1:.3g}", f"{r.peak_u2:.3g}", f"{r.rms_u2:.3g}",
-            status]
-
-
 def baseline_rows(res: Ch7Results) -> list[list[str]]:
     """The one table of every method on the 7.3.3 climb (also used by the closing note)."""
-    rows = [_row("steady gliding, printed (dt 0.1, k3 7e5, k4 250)", res.printed.run),
-            _row("steady gliding, literal 7e^5, 2.5e^2 (dt 0.1)", res.literal.run)]
+    rows = [res.printed.run.table_row("steady gliding, printed (dt 0.1, k3 7e5, k4 250)"),
+            res.literal.run.table_row("steady gliding, literal 7e^5, 2.5e^2 (dt 0.1)")]
     if res.best is not None:
-        rows.append(_row(f"steady gliding, chosen (dt {res.best.dt:g}, k3 {res.best.k3:g}, k4 {res.best.k4:g})",
-                         res.best.run))
-    rows += [_row("feedback linearization (kp 1, kd 2)", res.blowup.run),
-             _row("stable inversion + FL + TV-LQR, from reference (pre-action)", res.inv_ref),
-             _row("stable inversion + FL + TV-LQR, level start", res.inv_level),
-             _row("approximate linearization [63] (eps = 0 design)", res.approx)]
+        rows.append(res.best.run.table_row(f"steady gliding, chosen (dt {res.best.dt:g}, k3 {res.best.k3:g}, "
+                                           f"k4 {res.best.k4:g})"))
+    rows += [res.blowup.run.table_row("feedback linearization (kp 1, kd 2)"),
+             res.inv_ref.table_row("stable inversion + FL + TV-LQR, from reference (pre-action)"),
+             res.inv_level.table_row("stable inversion + FL + TV-LQR, level start"),
+             res.approx.table_row("approximate linearization [63] (eps = 0 design)")]
     return rows
 
 
@@ -504,7 +498,7 @@ def report(res: Ch7Results) -> Report:
 
     rep.table(f"Tracking the 7.3.3 climb: every method on the same trajectory ({s.t_final:g} s; u1 in N, u2 in N m, "
               "normalized)",
-              ["method", "max |e| [m]", "peak |u1|", "RMS u1", "peak |u2|", "RMS u2", "status"], baseline_rows(res))
+              list(gc.TrackingRun.TABLE_HEADER), baseline_rows(res))
     names = ("c11", "c12", "lambda1", "beta1", "c21", "c22", "lambda2", "beta2", "gamma12")
     lrows = []
     for (k3, k4), c in res.lyapunov.items():
@@ -521,13 +515,8 @@ def report(res: Ch7Results) -> Report:
               f"{s.lyap_r}): printed formula, sampled extreme, value used, and the sampled margin (>= 1 holds) over "
               f"{s.n_verify} samples",
               ["(k3, k4)", "constant", "printed", "sampled", "used", "margin printed", "margin used"], lrows)
-    rows = []
-    for i, r in enumerate(res.pareto.records):
-        rows.append([f"{r['dt']:g}", f"{r['k3']:g}", f"{r['k4']:g}", "yes" if r["completed"] else
-                     f"no ({r['stopped_at']:.1f} s)", f"{r['max_error']:.3g}", f"{r['effort']:.3g}",
-                     f"{r['peak_u2']:.3g}", "*" if i in res.pareto.front else ""])
     rep.table("Pareto study of steady gliding (effort = time-RMS |u|; * = on the front)",
-              ["dt [s]", "k3", "k4", "completed", "max |e| [m]", "effort", "peak |u2|", "front"], rows)
+              list(gc.ParetoStudy.TABLE_HEADER), res.pareto.table_rows())
     for stem, (fig, cap) in figures(res).items():
         rep.figure(stem, fig, cap)
     rep.text("Units: m = 85000 kg and J2 = 4e6 kg m^2", (

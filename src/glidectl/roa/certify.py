@@ -33,7 +33,7 @@ import math
 import os
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import cvxpy as cp
 import numpy as np
@@ -816,6 +816,34 @@ class ROACertificate:
         seed = checks.integer("seed", seed, lo=0)
         X = lo + (hi - lo) * _sobol(len(lo), seed, n)
         return float(np.prod(hi - lo) * np.mean(self.contains(X)))
+
+    HISTORY_HEADER: ClassVar[tuple[str, ...]] = ("problem", "deg", "step", "rho", "measure", "SDP s")
+    """Column names of :meth:`history_table`."""
+
+    def history_table(self, label: str = "") -> list[list[str]]:
+        """The alternation :attr:`history` as rows of text, one per iteration, as :data:`HISTORY_HEADER`.
+
+        Parameters
+        ----------
+        label : str
+            Text of the first column (the problem's name, so that the rows of several certificates can share one
+            table).
+
+        Returns
+        -------
+        list of list of str
+            ``[label, degree, step (first 60 characters), level rho (6 significant digits), sampled area/volume in
+            the box (4 digits, product of the state units), SDP time (s, 2 decimals)]`` per iteration.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``label`` is not a string.
+        """
+        if not isinstance(label, str):
+            raise ArgumentTypeError(f"label must be a string (the table's first column), got {type(label).__name__}")
+        return [[label, str(h["degree"]), h["step"][:60], f"{h['rho']:.6g}", f"{h['volume']:.4g}",
+                 f"{h['sdp_time']:.2f}"] for h in self.history]
 
     def plot(self, ax: Any = None, dims: Any = (0, 1), fixed: Any = None, n: int = 201,
              samples: bool = True) -> Any:

@@ -492,6 +492,103 @@ class CompositeCertificate:
             inside[box] = self.nu(z[box]) <= self.level
         return inside
 
+    @staticmethod
+    def _box_points(box: Any, d: int, n: int, seed: int) -> tuple[float, np.ndarray]:
+        """Volume of ``box = (lo, hi)`` (d values each) and ``n`` scrambled Sobol points in it (checked arguments)."""
+        import warnings
+
+        from scipy.stats import qmc
+
+        if not isinstance(box, tuple | list) or len(box) != 2:
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({d},), got {type(box).__name__}")
+        lo, hi = checks.array("box lo", box[0], shape=(d,)), checks.array("box hi", box[1], shape=(d,))
+        if np.any(lo >= hi):
+            raise ArgumentError(f"box must have lo < hi in every coordinate, got lo {lo.tolist()}, hi {hi.tolist()}")
+        n = checks.integer("n", n, lo=1, hi=2**24)
+        seed = checks.integer("seed", seed, lo=0)
+        with warnings.catch_warnings():  # n not a power of 2: scipy's balance warning
+            warnings.simplefilter("ignore", UserWarning)
+            U = qmc.Sobol(d, seed=seed).random(n)
+        return float(np.prod(hi - lo)), lo + (hi - lo) * U
+
+    @staticmethod
+    def phi_area(box: Any = None, *, level: float = 2 / 3, n: int = 2**16, seed: int = 0) -> float:
+        """Area of the reduced-subsystem set ``{Phi < level}`` of (5.35) in the ``(Vbar, gammabar)`` plane.
+
+        Without ``box``, the whole set ``{Phi < 2/3}`` (the thesis's region-of-attraction estimate of the reduced
+        glider: ``-1 < Vbar < sqrt(3 cos gammabar) - 1``, ``|gammabar| < pi/2``) in closed form, ``sqrt(3)
+        int_{-pi/2}^{pi/2} sqrt(cos g) dg``; with ``box``, the part inside it by quasi-Monte Carlo.
+
+        Parameters
+        ----------
+        box : (array_like, array_like), optional
+            ``(lo, hi)`` of ``(Vbar, gammabar)`` (nondimensional, rad), finite, ``lo < hi``.
+        level : float
+            The level (default 2/3; without ``box`` only 2/3 has the closed form).
+        n : int
+            Sobol points in the box (>= 1; a power of 2 keeps the sequence balanced).
+        seed : int
+            Seed of the scrambled Sobol sequence (>= 0).
+
+        Returns
+        -------
+        float
+            The area (nondimensional speed x rad).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument has the wrong type.
+        ArgumentError
+            If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, ``level`` is not positive, ``level``
+            is not 2/3 without a box, or ``n`` or ``seed`` is out of range.
+        """
+        from scipy.integrate import quad
+
+        level = checks.real("level", level, lo=0.0, lo_open=True)
+        if box is None:
+            if level != 2 / 3:
+                raise ArgumentError(f"the closed form is for level 2/3 only (got {level:g}); pass a box for other "
+                                    "levels")
+            return math.sqrt(3.0) * quad(lambda g: math.sqrt(math.cos(g)), -math.pi / 2, math.pi / 2)[0]
+        vol, P = CompositeCertificate._box_points(box, 2, n, seed)
+        return vol * float(np.mean(CompositeCertificate.Phi(P) < level))
+
+    def estimate_volume(self, box: Any = None, *, n: int = 2**16, seed: int = 0) -> float:
+        """Volume of the region-of-attraction estimate ``L*`` (5.85) inside ``box``, by quasi-Monte Carlo over
+        :meth:`in_estimate`.
+
+        Parameters
+        ----------
+        box : (array_like, array_like), optional
+            ``(lo, hi)`` of ``(Vbar, gammabar, alphabar, Omegabar2)`` (nondimensional), finite, ``lo < hi``; default
+            the domain ``B_p x B_q``.
+        n : int
+            Sobol points (>= 1; a power of 2 keeps the sequence balanced).
+        seed : int
+            Seed of the scrambled Sobol sequence (>= 0).
+
+        Returns
+        -------
+        float
+            The volume (nondimensional); 0 when ``L*`` misses every sample.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument has the wrong type.
+        ArgumentError
+            If ``box`` has the wrong shape, is not finite or has ``lo >= hi`` (or no box is given and the domain's
+            ``Omegabar`` range is infinite), or ``n`` or ``seed`` is out of range.
+        """
+        if box is None:
+            b = np.array(_bounds(self.domain), dtype=float)
+            if not np.all(np.isfinite(b)):
+                raise ArgumentError("the domain's Omegabar range is infinite: pass a finite box (lo, hi)")
+            box = (b[:, 0], b[:, 1])
+        vol, Z = self._box_points(box, 4, n, seed)
+        return vol * float(np.mean(self.in_estimate(Z)))
+
     def plot(self, ax: Any = None, *, n: int = 201) -> Any:
         """Draw ``L*`` (5.85) in the ``(Vbar, gammabar)`` plane at ``alphabar = Omegabar2 = 0``, with the level set
         ``{Phi <= v0}`` (5.35) and the box ``B_p``, in the glidectl style.
