@@ -188,6 +188,22 @@ def test_library_never_selects_a_backend():
     assert proc.stdout.strip() == "svg"
 
 
+def test_batch_builds_fall_back_to_agg_only_without_a_display():
+    code = ("import matplotlib; matplotlib.use('svg'); from glidectl.report.designs import use_agg_without_display "
+            "as f; r = [f({'DISPLAY': ':0'}, 'linux'), f({'WAYLAND_DISPLAY': 'w'}, 'linux'), "
+            "f({'MPLBACKEND': 'svg'}, 'linux'), f({}, 'darwin'), f({}, 'win32'), matplotlib.get_backend()]; "
+            "r += [f({}, 'linux'), matplotlib.get_backend().lower()]; print(r)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[False, False, False, False, False, 'svg', True, 'agg']"
+    from glidectl.report.designs import use_agg_without_display
+
+    with pytest.raises(gc.ArgumentTypeError, match="mapping"):
+        use_agg_without_display(["DISPLAY"])
+    with pytest.raises(gc.ArgumentTypeError, match="platform"):
+        use_agg_without_display({}, 3)
+
+
 # ------------------------------------------------------------------------------------------ issue 15
 def test_a_design_that_raises_exits_2_with_one_line(tmp_path, capsys):
     design = tmp_path / "raises.py"
