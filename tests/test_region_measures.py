@@ -1,4 +1,5 @@
-"""Areas and volumes of the thesis's region-of-attraction estimates (CompositeCertificate.phi_area, .estimate_volume)."""
+"""Areas and volumes of the thesis's region-of-attraction estimates (CompositeCertificate.phi_area and
+.estimate_volume)."""
 
 from __future__ import annotations
 
