@@ -18,7 +18,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.stats import qmc
 
 import glidectl as gc
 from glidectl.report import BHATTA_2006, Report, new_figure, run_script
@@ -164,8 +163,8 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
         lstar = cl.estimate_volume((lo, hi), n=s.n_volume, seed=s.seed_volume)
         fc = gc.certify_roa(fm, backoff=s.backoff, n_truth=s.n_guide, degree=s.full_degree,
                             iterations=s.full_iterations)
-        Xt = lo + (hi - lo) * qmc.Sobol(4, seed=s.seed_truth).random(s.n_truth_4d)
-        truth = bvol * float(np.mean(_converged(s, fm.rhs, Xt, s.horizon_4d)))
+        truth = gc.box_measure(lambda X, rhs=fm.rhs: _converged(s, rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
+                               seed=s.seed_truth)
         full[key] = _Problem(label, fc, fc.volume(n=s.n_volume), truth, lstar, "thesis L* (5.85)", bvol,
                              {"mu": spk.mu, "mu_d": cl.mu_d, "thesis_certified": cl.certified, "K_M": veh.K_M,
                               "K_q": veh.K_q, "K_M0": veh.K_M0})
@@ -191,8 +190,8 @@ def _ctol(s: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
     th_vol = ball4 * (2 * th5.level) ** 2 / math.sqrt(np.linalg.det(H)) if th5.certified else 0.0
     lo, hi = model.box
     bvol = float(np.prod(hi - lo))
-    Xt = lo + (hi - lo) * qmc.Sobol(4, seed=s.seed_truth).random(s.n_truth_4d)
-    truth = bvol * float(np.mean(_converged(s, model.rhs, Xt, s.horizon_4d)))
+    truth = gc.box_measure(lambda X: _converged(s, model.rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
+                           seed=s.seed_truth)
     return {"cert": cert, "model": model, "volume": cert.volume(n=s.n_volume), "theorem5_volume": th_vol,
             "r_a": th5.r_a, "ball_volume": ball4 * th5.r_a**4, "true_volume": truth, "box_volume": bvol,
             "theorem5_certified": th5.certified}

@@ -52,3 +52,24 @@ def test_estimate_volume_counts_the_estimate():
     assert v == cert.estimate_volume(([-0.5, -0.5, -0.3, -1.0], [0.5, 0.5, 0.3, 1.0]), n=2**12)
     with pytest.raises(gc.ArgumentError, match="4"):
         cert.estimate_volume(([0.0, 0.0], [1.0, 1.0]))
+
+
+def test_box_measure_exact_cases_and_errors():
+    # a half plane cuts the unit square in half; its Sobol points are balanced, so 2^k points give 1/2 exactly
+    assert gc.box_measure(lambda X: X[:, 0] < 0.5, ([0.0, 0.0], [1.0, 1.0]), n=2**10) == 0.5
+    # a disc of radius 1 in [-1, 1]^2: pi, to the QMC error
+    assert gc.box_measure(lambda X: np.sum(X**2, axis=1) <= 1, ([-1.0, -1.0], [1.0, 1.0]), n=2**14) == \
+        pytest.approx(math.pi, rel=2e-3)
+    vol, X = gc.box_points(([1.0, -2.0, 0.0], [3.0, 2.0, 0.5]), n=16, seed=3)
+    assert vol == 4.0 and X.shape == (16, 3) and np.all((X >= [1, -2, 0]) & (X < [3, 2, 0.5]))
+    np.testing.assert_array_equal(X, gc.box_points(([1.0, -2.0, 0.0], [3.0, 2.0, 0.5]), n=16, seed=3)[1])
+    with pytest.raises(gc.ArgumentError, match=r"shape \(3,\)"):
+        gc.box_points(([0.0, 0.0], [1.0, 1.0]), dim=3)
+    with pytest.raises(gc.ArgumentError, match="lo < hi"):
+        gc.box_points(([0.0, 1.0], [1.0, 1.0]))
+    with pytest.raises(gc.ArgumentTypeError, match="pair"):
+        gc.box_measure(lambda X: X[:, 0] > 0, "box")
+    with pytest.raises(gc.ArgumentTypeError, match="indicator"):
+        gc.box_measure(None, ([0.0], [1.0]))
+    with pytest.raises(gc.ModelError, match="booleans"):
+        gc.box_measure(lambda X: X[:, 0], ([0.0], [1.0]), n=8)

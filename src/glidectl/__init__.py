@@ -27,6 +27,7 @@ from .analysis.helix_sweeps import HelixSweep, helix_sweep, straight_glides
 from .analysis.jacobian import hessian, jacobians
 from .analysis.linear import Modes, RankTest, controllability, glide_model, linearize_glide, modes, observability
 from .analysis.locus import BreakPoint, ParameterLocus, mbar_locus, parameter_locus, rbh_locus, uncontrolled_eigs
+from .analysis.measure import box_measure, box_points
 from .batch import BatchResult, integrate_batch
 from .controllers.buoyancy import (
     BuoyancyController,
@@ -167,7 +168,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "track_with_steady_glides", "tracking_grid", "TrackingRun", "zero_dynamics", "ZeroDynamics",
     ),
     "stability and certificates": (
-        "allowable_delta_m_ratio", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck", "certify_roa",
+        "allowable_delta_m_ratio", "box_measure", "box_points", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck",
+        "certify_roa",
         "composite_lyapunov", "CompositeCertificate", "CompositeVerification", "ctol_lyapunov",
         "CTOLLyapunovCertificate", "CTOLVerification", "Domain", "dVdt", "estimate_sos_size", "lyapunov_matrix",
         "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
@@ -272,6 +274,8 @@ __all__ = [
     "allowable_delta_m_ratio",
     "approximate_linearization_eigenvalues",
     "benchmarks",
+    "box_measure",
+    "box_points",
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
     "certify_roa",

@@ -308,17 +308,18 @@ class ParetoStudy:
 
     def plot(self, ax: Any = None) -> Any:
         """Draw max position error against control effort for the completed runs, with the Pareto front, in the
-        glidectl style.
+        glidectl style (:func:`glidectl.plotting.plot_pareto_study`).
 
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
-            Axes to draw into; default a new figure.
+            Axes to draw into, effort (time-RMS ``||u||``) across and max position error (m) up, each on a log
+            scale when it spans a decade; default a new figure.
 
         Returns
         -------
         matplotlib.axes.Axes
-            See :func:`glidectl.plotting.plot_pareto_study`.
+            A marker per completed run (colour: gains, shape: ``dt``, filled on the front) and the front as a line.
         """
         from ..plotting import plot_pareto_study, style
 

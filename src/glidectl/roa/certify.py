@@ -42,6 +42,7 @@ from scipy.stats import qmc
 
 from .. import checks
 from ..analysis.jacobian import hessian, jacobians
+from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
@@ -811,11 +812,7 @@ class ROACertificate:
             If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, or ``n`` or ``seed`` is out of
             range.
         """
-        lo, hi = _check_box(box if box is not None else self.system.box, self.system.n)
-        n = checks.integer("n", n, lo=1, hi=2**24)
-        seed = checks.integer("seed", seed, lo=0)
-        X = lo + (hi - lo) * _sobol(len(lo), seed, n)
-        return float(np.prod(hi - lo) * np.mean(self.contains(X)))
+        return box_measure(self.contains, box if box is not None else self.system.box, n, seed, dim=self.system.n)
 
     HISTORY_HEADER: ClassVar[tuple[str, ...]] = ("problem", "deg", "step", "rho", "measure", "SDP s")
     """Column names of :meth:`history_table`."""
@@ -879,15 +876,6 @@ class ROACertificate:
 
         with style():
             return plot_roa_certificate(self, ax, dims=dims, fixed=fixed, n=n, samples=samples)
-
-
-def _check_box(box: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
-    if not isinstance(box, tuple | list) or len(box) != 2:
-        raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({n},), got {type(box).__name__}")
-    lo, hi = checks.array("box lo", box[0], shape=(n,)), checks.array("box hi", box[1], shape=(n,))
-    if np.any(lo >= hi):
-        raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
-    return lo, hi
 
 
 def _sobol(d: int, seed: int, n: int) -> np.ndarray:

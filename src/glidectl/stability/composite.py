@@ -35,6 +35,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .. import checks
+from ..analysis.measure import box_measure
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..params import Vehicle
 from .singular_perturbation import SingularPerturbation, singular_perturbation
@@ -493,25 +494,6 @@ class CompositeCertificate:
         return inside
 
     @staticmethod
-    def _box_points(box: Any, d: int, n: int, seed: int) -> tuple[float, np.ndarray]:
-        """Volume of ``box = (lo, hi)`` (d values each) and ``n`` scrambled Sobol points in it (checked arguments)."""
-        import warnings
-
-        from scipy.stats import qmc
-
-        if not isinstance(box, tuple | list) or len(box) != 2:
-            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({d},), got {type(box).__name__}")
-        lo, hi = checks.array("box lo", box[0], shape=(d,)), checks.array("box hi", box[1], shape=(d,))
-        if np.any(lo >= hi):
-            raise ArgumentError(f"box must have lo < hi in every coordinate, got lo {lo.tolist()}, hi {hi.tolist()}")
-        n = checks.integer("n", n, lo=1, hi=2**24)
-        seed = checks.integer("seed", seed, lo=0)
-        with warnings.catch_warnings():  # n not a power of 2: scipy's balance warning
-            warnings.simplefilter("ignore", UserWarning)
-            U = qmc.Sobol(d, seed=seed).random(n)
-        return float(np.prod(hi - lo)), lo + (hi - lo) * U
-
-    @staticmethod
     def phi_area(box: Any = None, *, level: float = 2 / 3, n: int = 2**16, seed: int = 0) -> float:
         """Area of the reduced-subsystem set ``{Phi < level}`` of (5.35) in the ``(Vbar, gammabar)`` plane.
 
@@ -525,10 +507,8 @@ class CompositeCertificate:
             ``(lo, hi)`` of ``(Vbar, gammabar)`` (nondimensional, rad), finite, ``lo < hi``.
         level : float
             The level (default 2/3; without ``box`` only 2/3 has the closed form).
-        n : int
-            Sobol points in the box (>= 1; a power of 2 keeps the sequence balanced).
-        seed : int
-            Seed of the scrambled Sobol sequence (>= 0).
+        n, seed : int
+            Sobol points in the box and the sequence's seed, as in :func:`glidectl.box_measure`.
 
         Returns
         -------
@@ -551,8 +531,7 @@ class CompositeCertificate:
                 raise ArgumentError(f"the closed form is for level 2/3 only (got {level:g}); pass a box for other "
                                     "levels")
             return math.sqrt(3.0) * quad(lambda g: math.sqrt(math.cos(g)), -math.pi / 2, math.pi / 2)[0]
-        vol, P = CompositeCertificate._box_points(box, 2, n, seed)
-        return vol * float(np.mean(CompositeCertificate.Phi(P) < level))
+        return box_measure(lambda P: CompositeCertificate.Phi(P) < level, box, n, seed, dim=2)
 
     def estimate_volume(self, box: Any = None, *, n: int = 2**16, seed: int = 0) -> float:
         """Volume of the region-of-attraction estimate ``L*`` (5.85) inside ``box``, by quasi-Monte Carlo over
@@ -563,10 +542,8 @@ class CompositeCertificate:
         box : (array_like, array_like), optional
             ``(lo, hi)`` of ``(Vbar, gammabar, alphabar, Omegabar2)`` (nondimensional), finite, ``lo < hi``; default
             the domain ``B_p x B_q``.
-        n : int
-            Sobol points (>= 1; a power of 2 keeps the sequence balanced).
-        seed : int
-            Seed of the scrambled Sobol sequence (>= 0).
+        n, seed : int
+            Sobol points in the box and the sequence's seed, as in :func:`glidectl.box_measure`.
 
         Returns
         -------
@@ -586,8 +563,7 @@ class CompositeCertificate:
             if not np.all(np.isfinite(b)):
                 raise ArgumentError("the domain's Omegabar range is infinite: pass a finite box (lo, hi)")
             box = (b[:, 0], b[:, 1])
-        vol, Z = self._box_points(box, 4, n, seed)
-        return vol * float(np.mean(self.in_estimate(Z)))
+        return box_measure(self.in_estimate, box, n, seed, dim=4)
 
     def plot(self, ax: Any = None, *, n: int = 201) -> Any:
         """Draw ``L*`` (5.85) in the ``(Vbar, gammabar)`` plane at ``alphabar = Omegabar2 = 0``, with the level set
