@@ -125,27 +125,6 @@ def _theorem6_run(s: Settings, veh: gc.Vehicle, traj: gc.ClimbTrajectory) -> gc.
     return gc.track_with_steady_glides(veh, level, t_final=s.t_final, x0=x0, **s.theorem6)
 
 
-def _map(s: Settings, veh: gc.Vehicle) -> tuple[np.ndarray, np.ndarray, float, dict[tuple[float, float], float]]:
-    """Theorem 4 over the (V_e, gamma_e) grid: alpha_e, thrust, largest residual, max Re of the closed loop."""
-    map_v, map_gamma = s.map_v, s.map_gamma
-    A = np.full((map_v.size, map_gamma.size), np.nan)
-    Th = A.copy()
-    res = 0.0
-    max_re = {g: -math.inf for g in s.eig_gains}
-    for i, V in enumerate(map_v):
-        for j, g in enumerate(map_gamma):
-            try:
-                gl = gc.ctol_glide(veh, float(V), float(g))
-            except gc.InfeasibleGlideError:
-                continue
-            A[i, j], Th[i, j] = gl.alpha, gl.thrust
-            res = max(res, gl.residual)
-            for k3, k4 in s.eig_gains:
-                max_re[(k3, k4)] = max(max_re[(k3, k4)],
-                                       float(np.max(gc.ctol_closed_loop_eigenvalues(veh, gl, k3, k4).real)))
-    return A, Th, res, max_re
-
-
 def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: None) -> Ch7Results:
     """Run every computation of the chapter-7 study."""
     veh = gc.load_vehicle("dc8_ctol")
@@ -153,7 +132,8 @@ def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: No
     progress(f"level glide at V = {s.level_mach:g}/sqrt(a_L) (Theorem 4) and the (V, gamma) map of alpha_e, thrust, "
              "stability")
     level = gc.ctol_glide(veh, traj.speed, 0.0)
-    A, Th, res, max_re = _map(s, veh)
+    tmap = gc.ctol_glide_map(veh, s.map_v, s.map_gamma, s.eig_gains)
+    A, Th, res, max_re = tmap.alpha, tmap.thrust, tmap.max_residual, dict(tmap.max_real_eig)
     eigs = {g: gc.ctol_closed_loop_eigenvalues(veh, level, *g) for g in s.eig_gains}
     progress(f"Theorem 5 constants at the level glide for (k3, k4) in {s.lyap_gains}, sampled checks ({s.n_verify})")
     lyap = {g: gc.ctol_lyapunov(veh, level, *g, T=s.lyap_T, k_prime=s.lyap_k_prime, r=s.lyap_r) for g in s.lyap_gains}

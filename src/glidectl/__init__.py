@@ -49,6 +49,7 @@ from .controllers.ctol_feedback_linearization import (
     FeedbackLinearizingController,
     feedback_linearization_blowup,
 )
+from .controllers.ctol_map import CTOLGlideMap, ctol_glide_map
 from .controllers.ctol_runs import TrackingRun
 from .controllers.ctol_stable_inversion import StableInversion, stable_inversion, track_stable_inversion
 from .controllers.ctol_tracking import GlideTracking, ParetoStudy, pareto_front, track_with_steady_glides, tracking_grid
@@ -158,7 +159,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     "controllers": (
         "approximate_linearization_eigenvalues", "ApproximateLinearizationController", "BlowUp",
         "BuoyancyController", "climb_trajectory", "ClimbTrajectory", "closed_loop", "closed_loop_formulas",
-        "compare_realized_torque", "ctol_closed_loop_eigenvalues", "decoupled_gain_matrix",
+        "compare_realized_torque", "ctol_closed_loop_eigenvalues", "ctol_glide_map", "CTOLGlideMap",
+        "decoupled_gain_matrix",
         "DecoupledAccelerationFeedback", "design_torque_control", "elevator_closed_loop_eigenvalues",
         "elevator_example", "ElevatorBuoyancyController", "ElevatorExample", "feedback_linearization_blowup",
         "FeedbackLinearizingController", "GlideTracking", "infer_J2", "LinearGlideController", "lqr_glide",
@@ -204,6 +206,7 @@ __all__ = [
     "BuoyancyLyapunovCheck",
     "CTOLAircraft",
     "CTOLGlide",
+    "CTOLGlideMap",
     "CTOLLyapunovCertificate",
     "CTOLReduced",
     "CTOLVerification",
@@ -290,6 +293,7 @@ __all__ = [
     "controllability",
     "ctol_closed_loop_eigenvalues",
     "ctol_glide",
+    "ctol_glide_map",
     "ctol_lyapunov",
     "dVdt",
     "decoupled_gain_matrix",
