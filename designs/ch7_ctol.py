@@ -20,7 +20,6 @@ from typing import Any
 
 import numpy as np
 from matplotlib.colors import TwoSlopeNorm
-from matplotlib.lines import Line2D
 
 import glidectl as gc
 from glidectl.report import BHATTA_2006, Report, new_figure, run_script
@@ -266,28 +265,12 @@ def figures(res: Ch7Results) -> dict[str, tuple[Any, str]]:
 
     recs = res.pareto.records
     fig, ax = new_figure(1, 1, width=8.5, height=5.2)
-    markers = {dt: "os^Dv<>ph"[i % 9] for i, dt in enumerate(s.grid_dt)}
-    for i, r in enumerate(recs):
-        if not r["completed"]:
-            continue
-        k = s.grid_gains.index((r["k3"], r["k4"]))
-        ax.plot(r["effort"], r["max_error"], markers[r["dt"]], color=f"C{k}", ms=7,
-                mfc=f"C{k}" if i in res.pareto.front else "none")
-    fr = res.pareto.front_records()
-    ax.plot([r["effort"] for r in fr], [r["max_error"] for r in fr], "k-", lw=0.8, label="Pareto front (filled)")
-    for name, r, m in (("stable inversion", res.inv_ref, "*"), ("approx. linearization", res.approx, "P")):
-        if r.completed:
-            ax.plot(r.effort, r.max_error, m, color="k", ms=11, label=name)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("control effort: time-RMS of |u| [-]")
-    ax.set_ylabel("max position error [m]")
-    hs = [Line2D([], [], color=f"C{k}", lw=4, label=f"k3 = {g[0]:g}, k4 = {g[1]:g}")
-          for k, g in enumerate(s.grid_gains)]
-    hs += [Line2D([], [], marker=m, color="grey", ls="", label=f"dt = {dt:g} s") for dt, m in markers.items()]
-    h2, _ = ax.get_legend_handles_labels()
-    fig.legend(handles=hs + h2, fontsize=7, loc="outside right upper")
-    ax.grid(True, which="both", alpha=0.3)
+    res.pareto.plot(ax)
+    extra = [ax.plot(r.effort, r.max_error, m, color="k", ms=11, label=name)[0]
+             for name, r, m in (("stable inversion", res.inv_ref, "*"), ("approx. linearization", res.approx, "P"))
+             if r.completed]
+    ax.legend(handles=[*ax.get_legend().legend_handles, *extra], loc="upper left", bbox_to_anchor=(1.02, 1.0),
+              borderaxespad=0, fontsize=7)
     nfail = sum(not r["completed"] for r in recs)
     out["pareto_front"] = (fig, f"Steady-gliding tracking over dt x (k3, k4) ({len(recs)} runs, {nfail} stopped "
                            "because a replanning step had no steady glide with |alpha_e| <= 0.35 rad; not shown). "
