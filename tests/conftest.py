@@ -2,12 +2,15 @@
 
 The design tests (``tests/test_design_<name>.py``) set ``DESIGN = "<name>"`` (a file of ``designs/``) and use
 ``design`` (the loaded design file, for its settings) and ``quick_build`` (its quick build, written once per test
-module).
+module). ``python_output`` runs code in a fresh interpreter (for matplotlib backend checks).
 """
 
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -49,3 +52,16 @@ def quick_build(design: Design, request: pytest.FixtureRequest,
     pdf = rep.write(tmp_path_factory.mktemp("reports") / _design_name(request))
     numbers = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
     return QuickBuild(design, rep, pdf, numbers)
+
+
+@pytest.fixture
+def python_output() -> Callable[..., str]:
+    """``run(code, timeout=300)``: the stripped stdout of ``python -c code`` in a fresh interpreter (which must exit
+    with status 0; its stderr is the failure message)."""
+
+    def run(code: str, timeout: float = 300) -> str:
+        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=timeout)
+        assert proc.returncode == 0, proc.stderr
+        return proc.stdout.strip()
+
+    return run
