@@ -271,6 +271,8 @@ def figures(res: Ch7Results) -> dict[str, tuple[Any, str]]:
              if r.completed]
     ax.legend(handles=[*ax.get_legend().legend_handles, *extra], loc="upper left", bbox_to_anchor=(1.02, 1.0),
               borderaxespad=0, fontsize=7)
+    ax.set_xscale("log")  # log-log always: the exact-tracking baselines have errors decades below the grid's
+    ax.set_yscale("log")
     nfail = sum(not r["completed"] for r in recs)
     out["pareto_front"] = (fig, f"Steady-gliding tracking over dt x (k3, k4) ({len(recs)} runs, {nfail} stopped "
                            "because a replanning step had no steady glide with |alpha_e| <= 0.35 rad; not shown). "
