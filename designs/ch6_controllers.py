@@ -229,19 +229,9 @@ def figures(res: Ch6Results) -> dict[str, tuple[Any, str]]:
     for a, (cmp, title, idx) in zip(ax, ((res.torque_cmp, "pure torque: initial (V, alpha)", (0, 2)),
                                          (res.elev_cmp, "elevator + buoyancy: initial (V, m0)", (0, 4))),
                                     strict=True):
-        x0 = cmp.x0
-        for k, (name, rec) in enumerate(cmp.records.items()):
-            ok = rec.converged
-            a.plot(x0[ok, idx[0]], x0[ok, idx[1]], "o", ms=5 if k == 0 else 2.5, mfc="none" if k == 0 else
-                   f"C{k}", color=f"C{k}", label=f"{name}: converges ({rec.fraction:.0%})")
-            a.plot(x0[~ok, idx[0]], x0[~ok, idx[1]], "x", ms=6, color=f"C{k + 2}", label=f"{name}: does not")
+        cmp.plot(a, dims=idx)
         a.set_title(title, fontsize=9)
-        a.grid(True, alpha=0.3)
         a.legend(fontsize=7)
-    ax[0].set_xlabel("V [m/s]")
-    ax[0].set_ylabel(r"$\alpha$ [rad]")
-    ax[1].set_xlabel("V [m/s]")
-    ax[1].set_ylabel("$m_0$ [kg]")
     fr = {k: {n: r.fraction for n, r in c.records.items()} for k, c in (("torque", res.torque_cmp),
                                                                        ("elevator", res.elev_cmp))}
     out["roa_comparison"] = (fig, f"Batch simulation from the same {s.n_box} random initial states (projection on two "
@@ -282,21 +272,6 @@ def _positions(sim: gc.Simulation) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------- report
-def comparison_rows(cmp: gc.BatchComparison) -> list[list[str]]:
-    """One row per controller: fraction converged, effort and settling (medians over commonly converged runs)."""
-    rows = []
-    common = cmp.common
-    for name, rec in cmp.records.items():
-        sm = rec.as_dict(common)
-        if sm["n"] == 0:
-            rows.append([name, f"{rec.fraction:.1%}", "-", "-", "-", "-"])
-            continue
-        rows.append([name, f"{rec.fraction:.1%}", ", ".join(f"{v:.3g}" for v in sm["median_peak_u"]),
-                     ", ".join(f"{v:.3g}" for v in sm["max_peak_u"]),
-                     ", ".join(f"{v:.3g}" for v in sm["median_integrated_u"]), f"{sm['median_settling_time']:.2f}"])
-    return rows
-
-
 def report(res: Ch6Results) -> Report:
     """The report: ledger, tables, figures, notes."""
     s = res.settings
@@ -379,15 +354,15 @@ def report(res: Ch6Results) -> Report:
               "weights from the box and the law's peak torque); effort and settling are medians over the runs both "
               "converge from", ["controller", "converged", "median peak |u - u_e| [N m]", "max peak",
                                 "median int |u - u_e| dt [N m s]", "median settling [s]"],
-              comparison_rows(res.torque_cmp))
+              res.torque_cmp.table_rows())
     rep.table("Elevator + buoyancy (elevator_ch6, V_e = 1 m/s, gamma_e = -45 deg, actuator limits of the file): "
               "nonlinear (6.21)-(6.22) vs LQR; inputs (u1 pump [kg/s], u2 elevator [rad])",
               ["controller", "converged", "median peak |u - u_e|", "max peak", "median int |u - u_e| dt",
-               "median settling [s]"], comparison_rows(res.elev_cmp))
+               "median settling [s]"], res.elev_cmp.table_rows())
     rep.table(f"Buoyancy only (sphere_ch5 to V_e = {s.buoy_speed} m/s, pump limits of the file, {s.t_buoy:g} s): "
               f"nonlinear (6.9) with K_b = {s.buoy_kb:g} vs LQR on the pump rate; input u1 [kg/s]",
               ["controller", "converged", "median peak |u - u_e|", "max peak", "median int |u - u_e| dt",
-               "median settling [s]"], comparison_rows(res.buoy_cmp))
+               "median settling [s]"], res.buoy_cmp.table_rows())
     for stem, (fig, cap) in figures(res).items():
         rep.figure(stem, fig, cap)
     rep.text("Corrections to chapter 6", (

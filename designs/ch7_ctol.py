@@ -20,7 +20,6 @@ from typing import Any
 
 import numpy as np
 from matplotlib.colors import TwoSlopeNorm
-from matplotlib.lines import Line2D
 
 import glidectl as gc
 from glidectl.report import BHATTA_2006, Report, new_figure, run_script
@@ -125,27 +124,6 @@ def _theorem6_run(s: Settings, veh: gc.Vehicle, traj: gc.ClimbTrajectory) -> gc.
     return gc.track_with_steady_glides(veh, level, t_final=s.t_final, x0=x0, **s.theorem6)
 
 
-def _map(s: Settings, veh: gc.Vehicle) -> tuple[np.ndarray, np.ndarray, float, dict[tuple[float, float], float]]:
-    """Theorem 4 over the (V_e, gamma_e) grid: alpha_e, thrust, largest residual, max Re of the closed loop."""
-    map_v, map_gamma = s.map_v, s.map_gamma
-    A = np.full((map_v.size, map_gamma.size), np.nan)
-    Th = A.copy()
-    res = 0.0
-    max_re = {g: -math.inf for g in s.eig_gains}
-    for i, V in enumerate(map_v):
-        for j, g in enumerate(map_gamma):
-            try:
-                gl = gc.ctol_glide(veh, float(V), float(g))
-            except gc.InfeasibleGlideError:
-                continue
-            A[i, j], Th[i, j] = gl.alpha, gl.thrust
-            res = max(res, gl.residual)
-            for k3, k4 in s.eig_gains:
-                max_re[(k3, k4)] = max(max_re[(k3, k4)],
-                                       float(np.max(gc.ctol_closed_loop_eigenvalues(veh, gl, k3, k4).real)))
-    return A, Th, res, max_re
-
-
 def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: None) -> Ch7Results:
     """Run every computation of the chapter-7 study."""
     veh = gc.load_vehicle("dc8_ctol")
@@ -153,7 +131,8 @@ def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: No
     progress(f"level glide at V = {s.level_mach:g}/sqrt(a_L) (Theorem 4) and the (V, gamma) map of alpha_e, thrust, "
              "stability")
     level = gc.ctol_glide(veh, traj.speed, 0.0)
-    A, Th, res, max_re = _map(s, veh)
+    tmap = gc.ctol_glide_map(veh, s.map_v, s.map_gamma, s.eig_gains)
+    A, Th, res, max_re = tmap.alpha, tmap.thrust, tmap.max_residual, dict(tmap.max_real_eig)
     eigs = {g: gc.ctol_closed_loop_eigenvalues(veh, level, *g) for g in s.eig_gains}
     progress(f"Theorem 5 constants at the level glide for (k3, k4) in {s.lyap_gains}, sampled checks ({s.n_verify})")
     lyap = {g: gc.ctol_lyapunov(veh, level, *g, T=s.lyap_T, k_prime=s.lyap_k_prime, r=s.lyap_r) for g in s.lyap_gains}
@@ -286,28 +265,14 @@ def figures(res: Ch7Results) -> dict[str, tuple[Any, str]]:
 
     recs = res.pareto.records
     fig, ax = new_figure(1, 1, width=8.5, height=5.2)
-    markers = {dt: "os^Dv<>ph"[i % 9] for i, dt in enumerate(s.grid_dt)}
-    for i, r in enumerate(recs):
-        if not r["completed"]:
-            continue
-        k = s.grid_gains.index((r["k3"], r["k4"]))
-        ax.plot(r["effort"], r["max_error"], markers[r["dt"]], color=f"C{k}", ms=7,
-                mfc=f"C{k}" if i in res.pareto.front else "none")
-    fr = res.pareto.front_records()
-    ax.plot([r["effort"] for r in fr], [r["max_error"] for r in fr], "k-", lw=0.8, label="Pareto front (filled)")
-    for name, r, m in (("stable inversion", res.inv_ref, "*"), ("approx. linearization", res.approx, "P")):
-        if r.completed:
-            ax.plot(r.effort, r.max_error, m, color="k", ms=11, label=name)
-    ax.set_xscale("log")
+    res.pareto.plot(ax)
+    extra = [ax.plot(r.effort, r.max_error, m, color="k", ms=11, label=name)[0]
+             for name, r, m in (("stable inversion", res.inv_ref, "*"), ("approx. linearization", res.approx, "P"))
+             if r.completed]
+    ax.legend(handles=[*ax.get_legend().legend_handles, *extra], loc="upper left", bbox_to_anchor=(1.02, 1.0),
+              borderaxespad=0, fontsize=7)
+    ax.set_xscale("log")  # log-log always: the exact-tracking baselines have errors decades below the grid's
     ax.set_yscale("log")
-    ax.set_xlabel("control effort: time-RMS of |u| [-]")
-    ax.set_ylabel("max position error [m]")
-    hs = [Line2D([], [], color=f"C{k}", lw=4, label=f"k3 = {g[0]:g}, k4 = {g[1]:g}")
-          for k, g in enumerate(s.grid_gains)]
-    hs += [Line2D([], [], marker=m, color="grey", ls="", label=f"dt = {dt:g} s") for dt, m in markers.items()]
-    h2, _ = ax.get_legend_handles_labels()
-    fig.legend(handles=hs + h2, fontsize=7, loc="outside right upper")
-    ax.grid(True, which="both", alpha=0.3)
     nfail = sum(not r["completed"] for r in recs)
     out["pareto_front"] = (fig, f"Steady-gliding tracking over dt x (k3, k4) ({len(recs)} runs, {nfail} stopped "
                            "because a replanning step had no steady glide with |alpha_e| <= 0.35 rad; not shown). "
@@ -374,23 +339,17 @@ def _pairs(lam: np.ndarray) -> list[list[float]]:
     return [[float(z.real), float(z.imag)] for z in lam]
 
 
-def _row(name: str, r: gc.TrackingRun) -> list[str]:
-    status = "completed" if r.completed else f"stopped at {r.stopped_at:.2f} s"
-    return [name, f"{r.max_error:.3g}", f"{r.peak_u1:.3g}", f"{r.rms_u1:.3g}", f"{r.peak_u2:.3g}", f"{r.rms_u2:.3g}",
-            status]
-
-
 def baseline_rows(res: Ch7Results) -> list[list[str]]:
     """The one table of every method on the 7.3.3 climb (also used by the closing note)."""
-    rows = [_row("steady gliding, printed (dt 0.1, k3 7e5, k4 250)", res.printed.run),
-            _row("steady gliding, literal 7e^5, 2.5e^2 (dt 0.1)", res.literal.run)]
+    rows = [res.printed.run.table_row("steady gliding, printed (dt 0.1, k3 7e5, k4 250)"),
+            res.literal.run.table_row("steady gliding, literal 7e^5, 2.5e^2 (dt 0.1)")]
     if res.best is not None:
-        rows.append(_row(f"steady gliding, chosen (dt {res.best.dt:g}, k3 {res.best.k3:g}, k4 {res.best.k4:g})",
-                         res.best.run))
-    rows += [_row("feedback linearization (kp 1, kd 2)", res.blowup.run),
-             _row("stable inversion + FL + TV-LQR, from reference (pre-action)", res.inv_ref),
-             _row("stable inversion + FL + TV-LQR, level start", res.inv_level),
-             _row("approximate linearization [63] (eps = 0 design)", res.approx)]
+        rows.append(res.best.run.table_row(f"steady gliding, chosen (dt {res.best.dt:g}, k3 {res.best.k3:g}, "
+                                           f"k4 {res.best.k4:g})"))
+    rows += [res.blowup.run.table_row("feedback linearization (kp 1, kd 2)"),
+             res.inv_ref.table_row("stable inversion + FL + TV-LQR, from reference (pre-action)"),
+             res.inv_level.table_row("stable inversion + FL + TV-LQR, level start"),
+             res.approx.table_row("approximate linearization [63] (eps = 0 design)")]
     return rows
 
 
@@ -504,7 +463,7 @@ def report(res: Ch7Results) -> Report:
 
     rep.table(f"Tracking the 7.3.3 climb: every method on the same trajectory ({s.t_final:g} s; u1 in N, u2 in N m, "
               "normalized)",
-              ["method", "max |e| [m]", "peak |u1|", "RMS u1", "peak |u2|", "RMS u2", "status"], baseline_rows(res))
+              list(gc.TrackingRun.TABLE_HEADER), baseline_rows(res))
     names = ("c11", "c12", "lambda1", "beta1", "c21", "c22", "lambda2", "beta2", "gamma12")
     lrows = []
     for (k3, k4), c in res.lyapunov.items():
@@ -521,13 +480,8 @@ def report(res: Ch7Results) -> Report:
               f"{s.lyap_r}): printed formula, sampled extreme, value used, and the sampled margin (>= 1 holds) over "
               f"{s.n_verify} samples",
               ["(k3, k4)", "constant", "printed", "sampled", "used", "margin printed", "margin used"], lrows)
-    rows = []
-    for i, r in enumerate(res.pareto.records):
-        rows.append([f"{r['dt']:g}", f"{r['k3']:g}", f"{r['k4']:g}", "yes" if r["completed"] else
-                     f"no ({r['stopped_at']:.1f} s)", f"{r['max_error']:.3g}", f"{r['effort']:.3g}",
-                     f"{r['peak_u2']:.3g}", "*" if i in res.pareto.front else ""])
     rep.table("Pareto study of steady gliding (effort = time-RMS |u|; * = on the front)",
-              ["dt [s]", "k3", "k4", "completed", "max |e| [m]", "effort", "peak |u2|", "front"], rows)
+              list(gc.ParetoStudy.TABLE_HEADER), res.pareto.table_rows())
     for stem, (fig, cap) in figures(res).items():
         rep.figure(stem, fig, cap)
     rep.text("Units: m = 85000 kg and J2 = 4e6 kg m^2", (

@@ -228,25 +228,11 @@ def r_p1_claims(veh: gc.Vehicle, heavy: gc.HelixSweep, light: gc.HelixSweep) -> 
     return out
 
 
-def _mirror(sw: gc.HelixSweep, col: str, parity: int) -> float:
-    """max |y(x) - parity * y(-x)| over the sweep points whose mirror is also a sweep point."""
-    x = sw.values
-    y = sw.column(col)
-    errs = []
-    for i, xi in enumerate(x):
-        if xi == 0:
-            continue
-        j = np.flatnonzero(np.isclose(x, -xi, atol=1e-12))
-        if j.size and sw.exists[i] and sw.exists[j[0]]:
-            errs.append(abs(y[i] - parity * y[j[0]]))
-    return float(np.max(errs)) if errs else float("nan")
-
-
 def r_p2_claims(heavy: gc.HelixSweep, light: gc.HelixSweep) -> list[Claim]:
     """Fig 8.7 (m0 > 0) and Fig 8.8 (m0 < 0): radius to infinity and beta to 0 as r_P2 -> 0; roll ranges; the sign
     rule for beta; symmetry about r_P2 = 0."""
     out = []
-    sym = max(_mirror(sw, c, p) for sw in (heavy, light)
+    sym = max(sw.mirror_error(c, p) for sw in (heavy, light)
               for c, p in (("radius", 1), ("speed", 1), ("alpha", 1), ("beta", -1), ("phi", -1)))
     i0 = [int(np.argmin(np.where(sw.values != 0, np.abs(sw.values), np.inf))) for sw in (heavy, light)]
     r0 = [float(sw.radius[i]) for sw, i in zip((heavy, light), i0, strict=True)]
@@ -289,30 +275,6 @@ def r_p2_claims(heavy: gc.HelixSweep, light: gc.HelixSweep) -> list[Claim]:
     return out
 
 
-def _branch_end(veh: gc.Vehicle, sw: gc.HelixSweep, i: int, target: float, step: float) -> tuple[float, float]:
-    """Walk the branch through point ``i`` towards ``target`` in steps of ``step`` (warm starts only); return the
-    last value reached and the max real part of the eigenvalues there (near 0 at a fold)."""
-    x0 = float(sw.values[i])
-    guess: Any = sw.unknowns[i]
-    last = (x0, float(sw.max_re_eig[i]))
-    n = int(abs(target - x0) / step)
-    prev = float("inf")
-    for k in range(1, n + 1):
-        x = x0 + np.sign(target - x0) * k * step
-        r_p, m0 = list(sw.r_p), sw.m0
-        r_p[["r_P1", "r_P2", "r_P3"].index(sw.parameter)] = x
-        try:
-            h = gc.helix_trim(veh, r_p, m0, guess=guess, n_random=0)
-        except gc.GlidectlError:
-            break
-        d = float(np.linalg.norm(h.unknowns - guess))
-        if d > 10 * prev:
-            break  # a step ten times the previous one: Newton jumped to another branch
-        prev = d
-        guess, last = h.unknowns, (x, float(np.max(h.eigenvalues.real)))
-    return last
-
-
 def r_p3_claims(veh: gc.Vehicle, heavy: gc.HelixSweep, light: gc.HelixSweep, fold_step: float) -> list[Claim]:
     """Fig 8.9 (m0 > 0): a critical r_P3 with a straight glide out of the longitudinal plane; Fig 8.10 (m0 < 0):
     smooth dependence. ``fold_step`` (m) is the step of the walk that locates the ends of each branch."""
@@ -322,8 +284,8 @@ def r_p3_claims(veh: gc.Vehicle, heavy: gc.HelixSweep, light: gc.HelixSweep, fol
     folds = []
     for xj in jumps_h:
         i = int(np.flatnonzero(heavy.values == xj)[0])
-        lo = _branch_end(veh, heavy, i, float(heavy.values[i + 1]) + 1e-3, fold_step)
-        hi = _branch_end(veh, heavy, i + 1, float(heavy.values[i]) - 1e-3, fold_step)
+        lo = heavy.branch_end(i, float(heavy.values[i + 1]) + 1e-3, fold_step)
+        hi = heavy.branch_end(i + 1, float(heavy.values[i]) - 1e-3, fold_step)
         folds.append((lo, hi))
     fold_txt = "; ".join(
         f"the branch from small r_P3 continues up to {100 * lo[0]:.4f} cm (max Re eig {lo[1]:.5f} 1/s), the branch "

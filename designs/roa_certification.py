@@ -18,8 +18,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.integrate import quad
-from scipy.stats import qmc
 
 import glidectl as gc
 from glidectl.report import BHATTA_2006, Report, new_figure, run_script
@@ -110,11 +108,6 @@ def _converged(s: Settings, rhs: Any, X: np.ndarray, horizon: float) -> np.ndarr
     return res.converged_to(np.zeros(X.shape[1]), s.converged_tol)
 
 
-def _phi_area() -> float:
-    """Area of the thesis set {Phi < 2/3} of (5.35): -1 < Vbar < sqrt(3 cos g) - 1, |g| < pi/2."""
-    return math.sqrt(3.0) * quad(lambda g: math.sqrt(math.cos(g)), -math.pi / 2, math.pi / 2)[0]
-
-
 def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
     """Run every certification and comparison of the study."""
     progress("Van der Pol: fixed-V level (Drake's problem), Drake itself if installed, degree-"
@@ -144,10 +137,10 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
     X = np.stack([VV.ravel(), GG.ravel()], axis=1)
     conv = _converged(s, rm.rhs, X, s.horizon_2d).reshape(VV.shape)
     box = float(np.prod(hi - lo))
-    phi_in_box = box * float(np.mean(gc.CompositeCertificate.Phi(
-        lo + (hi - lo) * qmc.Sobol(2, seed=s.seed_volume).random(s.n_volume)) < 2 / 3))
-    rprob = _Problem("reduced", rc, rc.volume(n=s.n_volume), box * float(np.mean(conv)), _phi_area(),
-                     "thesis Phi < 2/3 (5.35)", box, {"phi_area_in_box": phi_in_box})
+    phi_in_box = gc.CompositeCertificate.phi_area((lo, hi), n=s.n_volume, seed=s.seed_volume)
+    rprob = _Problem("reduced", rc, rc.volume(n=s.n_volume), box * float(np.mean(conv)),
+                     gc.CompositeCertificate.phi_area(), "thesis Phi < 2/3 (5.35)", box,
+                     {"phi_area_in_box": phi_in_box})
     progress(f"Taylor trap: Drake's problem on the degree-{s.taylor_order} Taylor model of the reduced glider, "
              "checked on the truth")
     trap = _taylor_trap(s, rm)
@@ -166,13 +159,12 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
         fm = spk.full_model()
         cl = gc.composite_lyapunov(veh)
         lo, hi = fm.box
-        Xs = lo + (hi - lo) * qmc.Sobol(4, seed=s.seed_volume).random(s.n_volume)
         bvol = float(np.prod(hi - lo))
-        lstar = bvol * float(np.mean(cl.in_estimate(Xs)))
+        lstar = cl.estimate_volume((lo, hi), n=s.n_volume, seed=s.seed_volume)
         fc = gc.certify_roa(fm, backoff=s.backoff, n_truth=s.n_guide, degree=s.full_degree,
                             iterations=s.full_iterations)
-        Xt = lo + (hi - lo) * qmc.Sobol(4, seed=s.seed_truth).random(s.n_truth_4d)
-        truth = bvol * float(np.mean(_converged(s, fm.rhs, Xt, s.horizon_4d)))
+        truth = gc.box_measure(lambda X, rhs=fm.rhs: _converged(s, rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
+                               seed=s.seed_truth)
         full[key] = _Problem(label, fc, fc.volume(n=s.n_volume), truth, lstar, "thesis L* (5.85)", bvol,
                              {"mu": spk.mu, "mu_d": cl.mu_d, "thesis_certified": cl.certified, "K_M": veh.K_M,
                               "K_q": veh.K_q, "K_M0": veh.K_M0})
@@ -198,8 +190,8 @@ def _ctol(s: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
     th_vol = ball4 * (2 * th5.level) ** 2 / math.sqrt(np.linalg.det(H)) if th5.certified else 0.0
     lo, hi = model.box
     bvol = float(np.prod(hi - lo))
-    Xt = lo + (hi - lo) * qmc.Sobol(4, seed=s.seed_truth).random(s.n_truth_4d)
-    truth = bvol * float(np.mean(_converged(s, model.rhs, Xt, s.horizon_4d)))
+    truth = gc.box_measure(lambda X: _converged(s, model.rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
+                           seed=s.seed_truth)
     return {"cert": cert, "model": model, "volume": cert.volume(n=s.n_volume), "theorem5_volume": th_vol,
             "r_a": th5.r_a, "ball_volume": ball4 * th5.r_a**4, "true_volume": truth, "box_volume": bvol,
             "theorem5_certified": th5.certified}
@@ -326,11 +318,6 @@ def _figures(res: _Results) -> dict[str, tuple[Any, str]]:
     return out
 
 
-def _history_rows(name: str, cert: gc.ROACertificate) -> list[list[str]]:
-    return [[name, str(h["degree"]), h["step"][:60], f"{h['rho']:.6g}", f"{h['volume']:.4g}", f"{h['sdp_time']:.2f}"]
-            for h in cert.history]
-
-
 def _report(res: _Results) -> Report:
     """The report: ledger, tables, figures, notes."""
     s = res.settings
@@ -401,13 +388,13 @@ def _report(res: _Results) -> Report:
         rep.number("ctol_verified", ct["cert"].certified, "-", ct["cert"].verification.summary())
         rep.number("ctol_wall_time_s", ct["cert"].wall_time, "s", "certify_roa (7 lifted variables)",
                    note=f"SDP solver time {ct['cert'].solve_time:.0f} s")
-    rows = _history_rows("Van der Pol", v.cert) + _history_rows("reduced", r.cert)
+    rows = v.cert.history_table("Van der Pol") + r.cert.history_table("reduced")
     for p in res.full.values():
-        rows += _history_rows(p.name, p.cert)
+        rows += p.cert.history_table(p.name)
     if res.ctol is not None:
-        rows += _history_rows("CTOL", res.ctol["cert"])
+        rows += res.ctol["cert"].history_table("CTOL")
     rep.table("Alternation history: degree, step, level of the level problem (1 = the V step's level kept), sampled "
-              "area/volume in the box, SDP time [s]", ["problem", "deg", "step", "rho", "measure", "SDP s"], rows)
+              "area/volume in the box, SDP time [s]", list(gc.ROACertificate.HISTORY_HEADER), rows)
     for stem, (fig, cap) in _figures(res).items():
         rep.figure(stem, fig, cap)
     rep.text("Method", (

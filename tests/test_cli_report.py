@@ -179,13 +179,25 @@ def test_report_api_checks_its_inputs(tmp_path):
     assert data[0]["reproduced"] is True and data[0]["published"] == 1.001
 
 
-def test_library_never_selects_a_backend():
+def test_library_never_selects_a_backend(python_output):
     """Importing glidectl (and its report API) leaves the user's matplotlib backend alone."""
     code = ("import matplotlib; matplotlib.use('svg'); import glidectl, glidectl.report; "
             "from glidectl.report import new_figure; new_figure(); print(matplotlib.get_backend())")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.strip() == "svg"
+    assert python_output(code) == "svg"
+
+
+def test_batch_builds_fall_back_to_agg_only_without_a_display(python_output):
+    code = ("import matplotlib; matplotlib.use('svg'); from glidectl.report.designs import use_agg_without_display "
+            "as f; r = [f({'DISPLAY': ':0'}, 'linux'), f({'WAYLAND_DISPLAY': 'w'}, 'linux'), "
+            "f({'MPLBACKEND': 'svg'}, 'linux'), f({}, 'darwin'), f({}, 'win32'), matplotlib.get_backend()]; "
+            "r += [f({}, 'linux'), matplotlib.get_backend().lower()]; print(r)")
+    assert python_output(code) == "[False, False, False, False, False, 'svg', True, 'agg']"
+    from glidectl.report.designs import use_agg_without_display
+
+    with pytest.raises(gc.ArgumentTypeError, match="mapping"):
+        use_agg_without_display(["DISPLAY"])
+    with pytest.raises(gc.ArgumentTypeError, match="platform"):
+        use_agg_without_display({}, 3)
 
 
 # ------------------------------------------------------------------------------------------ issue 15

@@ -175,3 +175,21 @@ def test_saturation_shrinks_the_simulated_region():
     assert 0.2 < out.records["sat"].fraction < 1.0
     assert np.all(out.records["sat"].peak_u <= 1.0 + 1e-12)
     assert np.all(out.common == out.records["sat"].converged)
+
+
+def test_table_rows_compare_on_the_common_runs():
+    from glidectl.analysis.closed_loop import BatchComparison, ControllerRecord
+
+    conv_a = np.array([True, True, True, False])
+    conv_b = np.array([True, False, True, True])
+    peak_a = np.array([[1.0, 10.0], [2.0, 20.0], [3.0, 30.0], [9.0, 90.0]])
+    a = ControllerRecord("A", conv_a, peak_a, 2 * peak_a, np.array([1.0, 2.0, 5.0, np.inf]))
+    b = ControllerRecord("B", conv_b, peak_a / 10, peak_a / 5, np.array([4.0, np.inf, 6.0, 1.0]))
+    never = ControllerRecord("C", np.zeros(4, bool), peak_a, peak_a, np.full(4, np.inf))
+    cmp = BatchComparison(np.zeros((4, 2)), np.zeros(2), np.ones(2), 10.0, 0.02, 0.05, {"A": a, "B": b})
+    # common runs: 0 and 2; medians over those two only (run 1 converged for A alone, run 3 for B alone)
+    assert cmp.table_rows() == [["A", "75.0%", "2, 20", "3, 30", "4, 40", "3.00"],
+                                ["B", "75.0%", "0.2, 2", "0.3, 3", "0.4, 4", "5.00"]]
+    assert len(cmp.table_rows()[0]) == len(BatchComparison.TABLE_HEADER)
+    none = BatchComparison(np.zeros((4, 2)), np.zeros(2), np.ones(2), 10.0, 0.02, 0.05, {"A": a, "C": never})
+    assert none.table_rows() == [["A", "75.0%", "-", "-", "-", "-"], ["C", "0.0%", "-", "-", "-", "-"]]

@@ -3,30 +3,19 @@ horizons; the full build runs through the CLI in tests/test_cli_report.py)."""
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.report import Report, load_design
+from glidectl.report import Report
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture(scope="module")
-def ch2(tmp_path_factory):
-    design = load_design(ROOT / "designs" / "ch2_longitudinal.py")
-    rep = design.report(quick=True)
-    pdf = rep.write(tmp_path_factory.mktemp("reports") / "ch2_longitudinal")
-    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-    return design, rep, pdf, nums
+DESIGN = "ch2_longitudinal"
 
 
-def test_settings_presets(ch2):
-    m = ch2[0].module
+def test_settings_presets(design):
+    m = design.module
     assert m.FULL == m.Settings()
     assert m.FULL.rbh_grid == (-0.03, 0.06, 400) and m.FULL.mbar_grid == (0.01, 10.0, 300)
     assert m.FULL.k_diag == tuple(100.0 * np.array([1.0, 3.0, 1.0, 3.0, 0.5]))  # printed diag of K in (2.37)
@@ -35,15 +24,15 @@ def test_settings_presets(ch2):
     assert (m.QUICK.speed, m.QUICK.r_p3, m.QUICK.gammas_deg) == (m.FULL.speed, m.FULL.r_p3, m.FULL.gammas_deg)
 
 
-def test_ch2_quick_report_files(ch2):
-    _, rep, pdf, _ = ch2
+def test_ch2_quick_report_files(quick_build):
+    _, rep, pdf, _ = quick_build
     assert isinstance(rep, Report) and pdf.exists() and pdf.stat().st_size > 50_000
     assert {p.stem for p in pdf.parent.glob("*.png")} == {"glide_family", "fig2_7_rbh_locus", "mbar_locus",
                                                           "glide_path_recovery", "fig2_8_glide_switch"}
 
 
-def test_ch2_quick_numbers(ch2):
-    _, _, _, nums = ch2
+def test_ch2_quick_numbers(quick_build):
+    _, _, _, nums = quick_build
     for entry in nums.values():
         assert {"name", "value", "published", "unit", "rel_err", "source", "reproduced", "note"} <= set(entry)
     veh = gc.load_vehicle("rogue")

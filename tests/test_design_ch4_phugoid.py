@@ -3,28 +3,16 @@ points; same four runs, horizon and tolerances as the full build)."""
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
-
 import pytest
 
-from glidectl.report import Report, load_design
+from glidectl.report import Report
 
-ROOT = Path(__file__).resolve().parents[1]
+DESIGN = "ch4_phugoid"
 TAGS = ("2_3", "0_4", "0", "m0_5")
 
 
-@pytest.fixture(scope="module")
-def ch4(tmp_path_factory):
-    design = load_design(ROOT / "designs" / "ch4_phugoid.py")
-    rep = design.report(quick=True)
-    pdf = rep.write(tmp_path_factory.mktemp("reports") / "ch4_phugoid")
-    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-    return design, rep, pdf, nums
-
-
-def test_settings_presets(ch4):
-    m = ch4[0].module
+def test_settings_presets(design):
+    m = design.module
     assert m.FULL == m.Settings()
     assert (m.FULL.t_final, m.FULL.n_t, m.FULL.n_samples, m.FULL.seed) == (6.0, 6001, 2000, 2006)
     assert tuple(tag for tag, _ in m.FULL.c_runs) == TAGS
@@ -32,8 +20,8 @@ def test_settings_presets(ch4):
     assert (m.MASS, m.M0, m.K_LIFT) == (14.0, 1.0, 100.0)  # Fig 4.1
 
 
-def test_ch4_report_builds(ch4):
-    _, rep, pdf, nums = ch4
+def test_ch4_report_builds(quick_build):
+    _, rep, pdf, nums = quick_build
     out = pdf.parent
     assert isinstance(rep, Report) and pdf.exists() and pdf.stat().st_size > 10_000
     for stem in ("fig4_1_trajectories", "conservation", "period_vs_C"):

@@ -3,30 +3,13 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-from pathlib import Path
 
 import pytest
 
 import glidectl as gc
-from glidectl.report import load_design
 
-ROOT = Path(__file__).resolve().parents[1]
-DESIGN = ROOT / "designs" / "ch5_singular_perturbation.py"
-
-
-@pytest.fixture(scope="module")
-def design():
-    return load_design(DESIGN)
-
-
-@pytest.fixture(scope="module")
-def built(design, tmp_path_factory):
-    rep = design.report(quick=True)
-    pdf = rep.write(tmp_path_factory.mktemp("ch5"))
-    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-    return pdf, nums
+DESIGN = "ch5_singular_perturbation"
 
 
 def test_settings_presets(design):
@@ -38,15 +21,15 @@ def test_settings_presets(design):
     assert mod.QUICK.n_verify < mod.FULL.n_verify and mod.QUICK.roa_grid < mod.FULL.roa_grid
 
 
-def test_ch5_report_files(built):
-    pdf, _ = built
+def test_ch5_report_files(quick_build):
+    pdf = quick_build.pdf
     assert pdf.exists() and pdf.stat().st_size > 20_000
     assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig5_1_reduction.png", "fig5_2_roa.png",
                                                            "fig5_3_unequal_mass.png", "mu_vs_d.png"}
 
 
-def test_ch5_numbers(built):
-    _, nums = built
+def test_ch5_numbers(quick_build):
+    nums = quick_build.numbers
     for name in ("eps1", "eps2", "tau_s", "V_e", "gamma_e_deg", "reduced_eigenvalues", "boundary_layer_eigenvalues",
                  "mu_d", "d"):
         assert name in nums, name

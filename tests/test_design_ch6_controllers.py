@@ -3,31 +3,14 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.report import load_design
 
-ROOT = Path(__file__).resolve().parents[1]
-DESIGN = ROOT / "designs" / "ch6_controllers.py"
-
-
-@pytest.fixture(scope="module")
-def design():
-    return load_design(DESIGN)
-
-
-@pytest.fixture(scope="module")
-def built(design, tmp_path_factory):
-    rep = design.report(quick=True)
-    pdf = rep.write(tmp_path_factory.mktemp("ch6"))
-    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-    return pdf, nums
+DESIGN = "ch6_controllers"
 
 
 def test_settings_presets(design):
@@ -42,15 +25,15 @@ def test_settings_presets(design):
     assert mod.FIG62["speed"] == 1.0 and mod.FIG62["gamma"] == pytest.approx(-math.pi / 4)
 
 
-def test_ch6_report_files(built):
-    pdf, _ = built
+def test_ch6_report_files(quick_build):
+    pdf = quick_build.pdf
     assert pdf.exists() and pdf.stat().st_size > 20_000
     assert {p.name for p in pdf.parent.glob("*.png")} >= {"fig6_2_elevator.png", "realized_torque.png",
                                                            "roa_comparison.png", "buoyancy.png"}
 
 
-def test_ch6_numbers(built, design):
-    _, nums = built
+def test_ch6_numbers(quick_build, design):
+    nums = quick_build.numbers
     fig62 = design.module.FIG62
     for name in ("elevator_alpha_e_deg", "elevator_m0e_kg", "elevator_eps1"):
         assert nums[name]["reproduced"] is True, name

@@ -3,28 +3,16 @@ real build uses FULL: the printed gains alone take about two minutes)."""
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import pytest
 
-from glidectl.report import Report, load_design
+from glidectl.report import Report
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture(scope="module")
-def ch7(tmp_path_factory):
-    design = load_design(ROOT / "designs" / "ch7_ctol.py")
-    rep = design.report(quick=True)
-    pdf = rep.write(tmp_path_factory.mktemp("reports") / "ch7_ctol")
-    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-    return design, rep, pdf, nums
+DESIGN = "ch7_ctol"
 
 
-def test_settings_presets(ch7):
-    design, _, _, _ = ch7
+def test_settings_presets(design):
     m = design.module
     assert m.FULL == m.Settings()
     assert m.FULL.printed == {"dt": 0.1, "k3": 7e5, "k4": 250.0}
@@ -33,8 +21,8 @@ def test_settings_presets(ch7):
     assert m.QUICK.t_final < m.FULL.t_final and m.QUICK.n_verify < m.FULL.n_verify
 
 
-def test_ch7_report_builds_with_required_numbers(ch7):
-    _, rep, pdf, nums = ch7
+def test_ch7_report_builds_with_required_numbers(quick_build):
+    _, rep, pdf, nums = quick_build
     assert isinstance(rep, Report) and pdf.exists() and pdf.stat().st_size > 0
     assert nums["level_alpha_e_rad"]["value"] == pytest.approx(0.0632962, abs=1e-6)
     for name in ("level_k1", "level_k2", "zero_dynamics_eigenvalues", "lower_effort_than_inversion",

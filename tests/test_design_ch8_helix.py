@@ -2,30 +2,18 @@
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import pytest
 
-from glidectl.report import load_design
-
-ROOT = Path(__file__).resolve().parents[1]
+DESIGN = "ch8_helix"
 STEMS = {"fig8_2_trajectory", "fig8_3_position_orientation", "fig8_4_velocities", "fig8_5", "fig8_6", "fig8_7",
          "fig8_8", "fig8_9", "fig8_10", "fig8_11", "fig8_12", "fig8_existence_scan", "fig8_13_rbh_real_parts",
          "fig8_14_rbh_locus"}
 
 
-@pytest.fixture(scope="module")
-def ch8(tmp_path_factory) -> tuple[Path, dict[str, dict]]:
-    tmp_path = tmp_path_factory.mktemp("ch8_helix")
-    rep = load_design(ROOT / "designs" / "ch8_helix.py").report(quick=True)  # process pool of 2 workers
-    pdf = rep.write(tmp_path)
-    return pdf, {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-
-
-def test_settings_presets():
-    mod = load_design(ROOT / "designs" / "ch8_helix.py").module
+def test_settings_presets(design):
+    mod = design.module
     full, quick = mod.FULL, mod.QUICK
     assert full == mod.Settings()
     assert full.sim_t == 2000.0 and full.rbh_grid == (-0.03, 0.10, 261) and full.scan_starts == 30
@@ -36,16 +24,16 @@ def test_settings_presets():
         full.sim_t = 1.0  # frozen
 
 
-def test_ch8_report_files(ch8):
-    pdf, _ = ch8
+def test_ch8_report_files(quick_build):
+    pdf = quick_build.pdf
     assert pdf.exists() and pdf.stat().st_size > 100_000
     pngs = {p.stem: p for p in pdf.parent.glob("*.png")}
     assert set(pngs) == STEMS
     assert all(p.stat().st_size > 10_000 for p in pngs.values())
 
 
-def test_ch8_printed_helix_reproduced(ch8):
-    _, nums = ch8
+def test_ch8_printed_helix_reproduced(quick_build):
+    nums = quick_build.numbers
     for entry in nums.values():
         assert {"name", "value", "published", "unit", "rel_err", "source", "reproduced"} <= set(entry)
     for name, value in (("helix_radius_m", 66.59957), ("helix_speed_mps", 0.729354), ("helix_pitch_m", 206.2100),
@@ -59,8 +47,8 @@ def test_ch8_printed_helix_reproduced(ch8):
     assert nums["helix_beta_deg"]["value"] == pytest.approx(1.1586, abs=1e-3)
 
 
-def test_ch8_bottom_heaviness(ch8):
-    _, nums = ch8
+def test_ch8_bottom_heaviness(quick_build):
+    nums = quick_build.numbers
     assert nums["rbh_nominal_m"]["reproduced"] is True
     assert nums["rbh_bifurcation_m"]["reproduced"] is False  # the thesis reads -0.004 m off a plot
     assert nums["rbh_bifurcation_m"]["value"] == pytest.approx(-0.0070104, abs=1e-6)
@@ -69,16 +57,16 @@ def test_ch8_bottom_heaviness(ch8):
     assert "break-away at -0.02243 m" in kinds and "break-in at 0.08906 m" in kinds
 
 
-def test_ch8_inverse_design(ch8):
-    _, nums = ch8
+def test_ch8_inverse_design(quick_build):
+    nums = quick_build.numbers
     r_p1, r_p2, r_p3, m0 = nums["design_radius50_pitch150"]["value"]
     assert -0.05 <= r_p1 <= 0.05 and -0.05 <= r_p2 <= 0.05 and 0 <= r_p3 <= 0.08 and -0.5 <= m0 <= 0.5
     assert "radius 50.0000 m, pitch 150.0000 m" in nums["design_radius50_pitch150"]["note"]
     assert nums["design_radius1_pitch1000"]["value"] == "infeasible"
 
 
-def test_ch8_maps_and_claims(ch8):
-    _, nums = ch8
+def test_ch8_maps_and_claims(quick_build):
+    nums = quick_build.numbers
     for key in ("fig8_5", "fig8_6", "fig8_7", "fig8_8", "fig8_9", "fig8_10", "fig8_11", "fig8_12"):
         assert nums[f"{key}_points_without_motion"]["value"] == 0, key
     assert "branch jumps (folds) after [0.015]" in nums["fig8_9_points_without_motion"]["note"]

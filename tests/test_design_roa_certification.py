@@ -4,28 +4,17 @@ certificate)."""
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import pytest
 
-from glidectl.report import Report, load_design
+from glidectl.report import Report
 
-ROOT = Path(__file__).resolve().parents[1]
-
-
-@pytest.fixture(scope="module")
-def roa(tmp_path_factory):
-    design = load_design(ROOT / "designs" / "roa_certification.py")
-    rep = design.report(quick=True)
-    pdf = rep.write(tmp_path_factory.mktemp("reports") / "roa_certification")
-    nums = {n["name"]: n for n in json.loads((pdf.parent / "numbers.json").read_text())}
-    return design, rep, pdf, nums
+DESIGN = "roa_certification"
 
 
-def test_settings_presets():
-    m = load_design(ROOT / "designs" / "roa_certification.py").module
+def test_settings_presets(design):
+    m = design.module
     F, Q = m.FULL, m.QUICK
     assert F == m.Settings()
     assert (F.vdp_degree, F.vdp_iterations, F.reduced_degree, F.reduced_iterations) == (6, 6, 4, 4)
@@ -39,8 +28,8 @@ def test_settings_presets():
     assert m.DRAKE_RHO == 2.3045 and m.VDP_TRUE_AREA == 13.72
 
 
-def test_roa_report_builds_with_required_numbers(roa):
-    _, rep, pdf, nums = roa
+def test_roa_report_builds_with_required_numbers(quick_build):
+    _, rep, pdf, nums = quick_build
     assert isinstance(rep, Report) and pdf.exists() and pdf.stat().st_size > 0
     assert nums["vdp_fixed_V_rho"]["reproduced"] is True          # Drake's rho = 2.3045 within 1e-3
     assert nums["vdp_fixed_V_rho"]["published"] == 2.3045

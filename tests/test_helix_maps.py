@@ -369,3 +369,35 @@ def test_resolved_crossing_needs_a_stable_nominal_helix():
     assert not helix_trim(SLOCUM, below, 0.25).stable
     with pytest.raises(ModelError, match="not stable"):
         gc.resolved_crossing(SLOCUM, below, 0.25)
+
+
+def test_mirror_error_measures_the_rP2_symmetry(maps):
+    sw = maps["rP2_heavy"]
+    assert sw.mirror_error("speed") < 1e-9 and sw.mirror_error("radius") < 1e-6 * np.nanmax(sw.radius[sw.values != 0])
+    assert sw.mirror_error("beta", -1) < 1e-9
+    # taken as even, the odd beta shows twice its largest magnitude
+    assert sw.mirror_error("beta", 1) == pytest.approx(2 * np.max(np.abs(sw.beta)), rel=1e-9)
+    assert math.isnan(maps["rP1_heavy"].mirror_error("speed"))  # no point has its mirror on that grid
+    with pytest.raises(gc.ArgumentError, match="parity"):
+        sw.mirror_error("beta", 0)
+    with pytest.raises(gc.ArgumentError, match="column"):
+        sw.mirror_error("nope")
+
+
+def test_branch_end_walks_a_smooth_branch(maps):
+    light = maps["rP3_light"]  # smooth in r_P3: the walk reaches its target
+    x, re = light.branch_end(0, float(light.values[1]), 0.0005)
+    k = int(abs(light.values[1] - light.values[0]) / 0.0005)
+    assert x == pytest.approx(light.values[0] + k * 0.0005, abs=1e-15)
+    h = gc.helix_trim(SLOCUM, (light.r_p[0], light.r_p[1], x), light.m0)
+    assert re == pytest.approx(float(np.max(h.eigenvalues.real)), abs=1e-8)
+    heavy = maps["rP3_heavy"]
+    i = int(np.flatnonzero(heavy.values == heavy.branch_jumps[0])[0])
+    target = float(heavy.values[i + 1]) + 1e-3
+    # (the fold itself, just after the jump at 1.5 cm, needs steps of a few um: the chapter-8 design walks it)
+    assert heavy.branch_end(i, float(heavy.values[i]), 1.0) == (float(heavy.values[i]),
+                                                                 float(heavy.max_re_eig[i]))  # no step
+    with pytest.raises(gc.ArgumentError):
+        heavy.branch_end(i, target, 0.0)
+    with pytest.raises(gc.BudgetError, match="steps"):
+        heavy.branch_end(i, 10.0, 1e-9)

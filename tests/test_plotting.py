@@ -4,8 +4,6 @@ collections, labels with units); the library leaves the backend and the user's r
 from __future__ import annotations
 
 import math
-import subprocess
-import sys
 
 import matplotlib
 
@@ -42,7 +40,7 @@ def _locus():
 
 
 # ------------------------------------------------------------------------------------------------ backend, style
-def test_importing_and_plotting_keep_the_users_backend():
+def test_importing_and_plotting_keep_the_users_backend(python_output):
     assert matplotlib.get_backend() == BACKEND  # importing glidectl and glidectl.plotting above changed nothing
     _locus().plot()
     assert matplotlib.get_backend() == BACKEND
@@ -51,9 +49,7 @@ def test_importing_and_plotting_keep_the_users_backend():
             "from glidectl.analysis.locus import parameter_locus; "
             "parameter_locus(lambda p: np.array([-p, -1.0]), [1.0, 2.0], 'k', 'kg').plot(kind='real'); "
             "print(matplotlib.get_backend())")
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr
-    assert proc.stdout.strip() == "svg"
+    assert python_output(code) == "svg"
 
 
 def test_report_figures_is_a_re_export_of_plotting():

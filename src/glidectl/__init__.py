@@ -36,6 +36,7 @@ from .analysis.linear import (
     observability,
 )
 from .analysis.locus import BreakPoint, ParameterLocus, mbar_locus, parameter_locus, rbh_locus, uncontrolled_eigs
+from .analysis.measure import box_measure, box_points
 from .batch import BatchResult, integrate_batch
 from .controllers.buoyancy import (
     BuoyancyController,
@@ -57,6 +58,7 @@ from .controllers.ctol_feedback_linearization import (
     FeedbackLinearizingController,
     feedback_linearization_blowup,
 )
+from .controllers.ctol_map import CTOLGlideMap, ctol_glide_map
 from .controllers.ctol_runs import TrackingRun
 from .controllers.ctol_stable_inversion import StableInversion, stable_inversion, track_stable_inversion
 from .controllers.ctol_tracking import GlideTracking, ParetoStudy, pareto_front, track_with_steady_glides, tracking_grid
@@ -172,7 +174,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     "controllers": (
         "approximate_linearization_eigenvalues", "ApproximateLinearizationController", "BlowUp",
         "BuoyancyController", "climb_trajectory", "ClimbTrajectory", "closed_loop", "closed_loop_formulas",
-        "compare_realized_torque", "ctol_closed_loop_eigenvalues", "decoupled_gain_matrix",
+        "compare_realized_torque", "ctol_closed_loop_eigenvalues", "ctol_glide_map", "CTOLGlideMap",
+        "decoupled_gain_matrix",
         "DecoupledAccelerationFeedback", "design_torque_control", "elevator_closed_loop_eigenvalues",
         "elevator_example", "ElevatorBuoyancyController", "ElevatorExample", "feedback_linearization_blowup",
         "FeedbackLinearizingController", "GlideTracking", "infer_J2", "LinearGlideController", "lqr_glide",
@@ -183,7 +186,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "default_actuate", "lqg_glide", "LQGController",
     ),
     "stability and certificates": (
-        "allowable_delta_m_ratio", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck", "certify_roa",
+        "allowable_delta_m_ratio", "box_measure", "box_points", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck",
+        "certify_roa",
         "composite_lyapunov", "CompositeCertificate", "CompositeVerification", "ctol_lyapunov",
         "CTOLLyapunovCertificate", "CTOLVerification", "Domain", "dVdt", "estimate_sos_size", "lyapunov_matrix",
         "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
@@ -219,6 +223,7 @@ __all__ = [
     "BuoyancyLyapunovCheck",
     "CTOLAircraft",
     "CTOLGlide",
+    "CTOLGlideMap",
     "CTOLLyapunovCertificate",
     "CTOLReduced",
     "CTOLVerification",
@@ -292,6 +297,8 @@ __all__ = [
     "allowable_delta_m_ratio",
     "approximate_linearization_eigenvalues",
     "benchmarks",
+    "box_measure",
+    "box_points",
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
     "certify_roa",
@@ -306,6 +313,7 @@ __all__ = [
     "controllability",
     "ctol_closed_loop_eigenvalues",
     "ctol_glide",
+    "ctol_glide_map",
     "ctol_lyapunov",
     "dVdt",
     "decoupled_gain_matrix",

@@ -32,6 +32,7 @@ from .locus import (
     rbh_locus,
     uncontrolled_eigs,
 )
+from .measure import box_measure, box_points
 
 __all__ = [
     "AGREE_TOL",
@@ -50,6 +51,8 @@ __all__ = [
     "ParameterLocus",
     "RankTest",
     "StateFeedback",
+    "box_measure",
+    "box_points",
     "central_difference_jacobians",
     "check_sweep_inputs",
     "chunk_bounds",

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import control
 import numpy as np
@@ -339,6 +339,43 @@ class BatchComparison:
     def common(self) -> np.ndarray:
         """Runs from which every controller converged (effort comparisons use these)."""
         return np.logical_and.reduce([r.converged for r in self.records.values()])
+
+    TABLE_HEADER: ClassVar[tuple[str, ...]] = ("controller", "converged", "median peak |u - u_e|", "max peak",
+                                                "median int |u - u_e| dt", "median settling [s]")
+    """Column names of :meth:`table_rows` (input units; append them to the headers as the table needs)."""
+
+    def table_rows(self) -> list[list[str]]:
+        """One row of text per controller for a comparison table, effort and settling over the common runs.
+
+        Each row is ``[name, fraction converged, median peak |u_j - u_e,j| (one value per input), max of those peaks,
+        median int |u_j - u_e,j| dt, median settling time]``, as :data:`TABLE_HEADER`; the effort and settling
+        statistics are those of :meth:`ControllerRecord.as_dict` over :attr:`common` (the runs every controller
+        converged from), so the controllers are compared on the same initial states. A controller row has ``"-"``
+        in the statistics columns when no run is common.
+
+        Returns
+        -------
+        list of list of str
+            One row per controller, in the order of :attr:`records` (fraction as a percentage with one decimal,
+            efforts to 3 significant digits, settling time in s with 2 decimals).
+
+        Raises
+        ------
+        ArgumentError
+            If the records do not have one flag per initial state (a hand-built comparison).
+        """
+        rows = []
+        common = self.common
+        for name, rec in self.records.items():
+            sm = rec.as_dict(common)
+            if sm["n"] == 0:
+                rows.append([name, f"{rec.fraction:.1%}", "-", "-", "-", "-"])
+                continue
+            rows.append([name, f"{rec.fraction:.1%}", ", ".join(f"{v:.3g}" for v in sm["median_peak_u"]),
+                         ", ".join(f"{v:.3g}" for v in sm["max_peak_u"]),
+                         ", ".join(f"{v:.3g}" for v in sm["median_integrated_u"]),
+                         f"{sm['median_settling_time']:.2f}"])
+        return rows
 
     def plot(self, ax: Any = None, *, dims: Sequence[Any] = (0, 1)) -> Any:
         """Draw the initial states in the plane of two states, marked by outcome for each controller (the

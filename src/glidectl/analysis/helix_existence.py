@@ -196,17 +196,18 @@ class ExistenceScan:
 
     def plot(self, ax: Any = None) -> Any:
         """Draw where steady motions were found on the ``(r_P1, m0)`` grid, with the claim region of §8.2.2
-        shaded, in the glidectl style.
+        shaded, in the glidectl style (:func:`glidectl.plotting.plot_existence_scan`).
 
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
-            Axes to draw into; default a new figure.
+            Axes to draw into, ``r_P1`` (cm) across and ``m0`` (kg) up; default a new figure.
 
         Returns
         -------
         matplotlib.axes.Axes
-            See :func:`glidectl.plotting.plot_existence_scan`.
+            One marker per grid point by outcome (a stable upright motion, motions but none stable upright, none)
+            with the number of motions found, legend below the axes.
         """
         from ..plotting import plot_existence_scan, style
 

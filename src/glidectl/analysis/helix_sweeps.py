@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..errors import ArgumentError, ArgumentTypeError, SolverError
+from ..errors import ArgumentError, ArgumentTypeError, BudgetError, GlidectlError, SolverError
 from ..params import Vehicle
 from ..trim.helix import Helix, helix_trim
 from .continuation import (
@@ -184,6 +184,101 @@ class HelixSweep:
         d = np.linalg.norm(np.diff(y, axis=0), axis=1)
         loc = np.array([np.median(np.r_[d[max(i - 5, 0):i], d[i + 1:i + 6]]) for i in range(d.size)])
         return self.values[idx[:-1]][d > 10 * np.maximum(loc, 1e-12)]
+
+    def mirror_error(self, column: str, parity: int = 1) -> float:
+        """Largest ``|y(x) - parity y(-x)|`` of a column over the sweep points whose mirror ``-x`` is also a point
+        (both with a motion found): the symmetry of the map about a zero of the swept parameter (e.g. the equilibria
+        for ``r_P2`` and ``-r_P2`` are mirror images: ``radius`` even, ``beta`` and ``phi`` odd, §8.2.2).
+
+        Parameters
+        ----------
+        column : str
+            One of :attr:`columns`.
+        parity : {1, -1}
+            1 for an even quantity, -1 for an odd one.
+
+        Returns
+        -------
+        float
+            The largest mirror error in the column's unit; NaN when no point has its mirror on the grid (mirrors
+            are matched to 1e-12 in the swept value; ``x = 0`` is skipped).
+
+        Raises
+        ------
+        ArgumentError
+            If ``column`` is not a column or ``parity`` is not 1 or -1.
+        """
+        y = self.column(column)
+        if parity not in (1, -1) or isinstance(parity, bool):
+            raise ArgumentError(f"parity must be 1 (even quantity) or -1 (odd quantity), got {parity!r}")
+        x = self.values
+        errs = []
+        for i, xi in enumerate(x):
+            if xi == 0:
+                continue
+            j = np.flatnonzero(np.isclose(x, -xi, atol=1e-12))
+            if j.size and self.exists[i] and self.exists[j[0]]:
+                errs.append(abs(y[i] - parity * y[j[0]]))
+        return float(np.max(errs)) if errs else float("nan")
+
+    def branch_end(self, i: int, target: float, step: float) -> tuple[float, float]:
+        """Walk the branch of steady motions through point ``i`` towards ``target`` in steps of ``step``, each
+        trim warm-started from the previous one only (no random restarts), and return where it ends: the last
+        value reached and the largest real part of the eigenvalues there (near 0 at a fold, a saddle-node).
+
+        The walk stops at ``target``, where the trim fails, or where the step in the trim unknowns exceeds ten times
+        the previous one (Newton jumped to another branch).
+
+        Parameters
+        ----------
+        i : int
+            Index of the starting point (negative counts from the end); a point without a motion has no branch to
+            walk and gives ``(x_i, nan)``.
+        target : float
+            Value of the swept parameter to walk towards (its unit: m or kg).
+        step : float
+            Step (> 0, same unit); the walk makes ``int(|target - x_i| / step)`` steps at most.
+
+        Returns
+        -------
+        tuple of float
+            ``(value, max Re eigenvalue (1/s))`` at the last point reached (point ``i`` itself when the first step
+            fails).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``i`` is not an integer or ``target``/``step`` not real numbers.
+        ArgumentError
+            If ``i`` is outside the sweep, ``target`` is not finite or ``step`` is not positive and finite.
+        BudgetError
+            If the walk would take more than 10**6 steps.
+        """
+        n = self.values.size
+        i = checks.integer("i", i, lo=-n, hi=n - 1)
+        target = checks.real("target", target)
+        step = checks.real("step", step, lo=0.0, lo_open=True)
+        x0 = float(self.values[i])
+        k_max = int(abs(target - x0) / step)
+        if k_max > 10**6:
+            raise BudgetError(f"walking from {x0:g} to {target:g} in steps of {step:g} takes {k_max} steps (more than "
+                              "10**6): use a larger step")
+        guess: Any = self.unknowns[i]
+        last = (x0, float(self.max_re_eig[i]))
+        prev = float("inf")
+        for k in range(1, k_max + 1):
+            x = x0 + np.sign(target - x0) * k * step
+            r_p, m0 = sweep_controls(self.parameter, x, self.r_p, self.m0)
+            try:
+                h = helix_trim(self.vehicle, r_p, m0, guess=guess, n_random=0)
+            except GlidectlError:
+                break
+            d = float(np.linalg.norm(h.unknowns - guess))
+            if d > 10 * prev:
+                break  # a step ten times the previous one: Newton jumped to another branch
+            prev = d
+            guess, last = h.unknowns, (x, float(np.max(h.eigenvalues.real)))
+        return last
 
     def plot(self, ax: Any = None, column: str = "radius", **kw: Any) -> Any:
         """Draw one column against the swept value in the glidectl style (one panel of Fig 8.5-8.12).

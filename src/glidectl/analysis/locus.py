@@ -323,6 +323,20 @@ def _eigvals(M: np.ndarray, what: str) -> np.ndarray:
         raise SolverError(f"eigenvalues of {what} did not converge: {exc}") from exc
 
 
+def _block_eigenvalues(model: Any, x: np.ndarray, block: Sequence[str], what: str) -> np.ndarray:
+    """Eigenvalues of the ``block`` rows and columns (state names) of the exact Jacobian of ``model.rhs`` at ``x``
+    with zero input (3 inputs, as the glider models)."""
+    A, _ = jacobians(model.rhs, x, np.zeros(3))
+    idx = [model.state_names.index(s) for s in block]
+    return _eigvals(A[np.ix_(idx, idx)], what)
+
+
+def _locus_info(veh: Vehicle, speed: float, gamma: float, matrix: str, **extra: float) -> dict[str, Any]:
+    """The ``info`` of a glider locus: vehicle name and provenance, the glide, which matrix and what is held."""
+    return {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma, "matrix": matrix,
+            **extra}
+
+
 def eta_r_eigenvalues(veh: Vehicle, speed: float, gamma: float, **family: float) -> np.ndarray:
     """Eigenvalues (1/s) of the ``eta_r = (theta, Omega2, v1, v3)`` block ``dq_r/deta_r`` of (2.35) at a steady
     glide of the acceleration-controlled glider.
@@ -361,10 +375,7 @@ def eta_r_eigenvalues(veh: Vehicle, speed: float, gamma: float, **family: float)
     """
     speed, gamma, family = _glide_args(veh, speed, gamma, family)
     acc = AccelerationControlledGlider(veh)
-    g = steady_glide(veh, speed, gamma, **family)
-    A, _ = jacobians(acc.rhs, g.accel_state(), np.zeros(3))
-    idx = [acc.state_names.index(s) for s in ETA_R]
-    return _eigvals(A[np.ix_(idx, idx)], "dq_r/deta_r")
+    return _block_eigenvalues(acc, steady_glide(veh, speed, gamma, **family).accel_state(), ETA_R, "dq_r/deta_r")
 
 
 def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[float], *,
@@ -412,9 +423,8 @@ def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[flo
     speed, gamma, _ = _glide_args(veh, speed, gamma, None)
     vals = _grid("rbh_values", rbh_values)
     return parameter_locus(lambda r: eta_r_eigenvalues(veh, speed, gamma, r_bh=r), vals, "r_bh", "m",
-                           {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
-                            "matrix": "dq_r/deta_r of (2.35), acceleration control"}, vehicle=veh,
-                           time_limit=time_limit)
+                           _locus_info(veh, speed, gamma, "dq_r/deta_r of (2.35), acceleration control"),
+                           vehicle=veh, time_limit=time_limit)
 
 
 UNCONTROLLED_BLOCK = ("theta", "Omega2", "v1", "v3", "r_P1", "r_P3")
@@ -447,25 +457,14 @@ def uncontrolled_eigs(veh: Vehicle, speed: float, gamma: float, **family: float)
 
     Raises
     ------
-    ArgumentTypeError
-        If ``veh`` is not a Vehicle, ``speed``, ``gamma`` or the family value is not a real number, or a keyword
-        other than ``r_p3``/``r_bh`` is given.
-    ArgumentError
-        If ``speed`` is not in (0, 100] m/s, ``gamma`` not in (-pi/2, pi/2), a value is not finite, or not exactly
-        one of ``r_p3``, ``r_bh`` is given.
-    ModelError
-        If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite.
-    InfeasibleGlideError
-        If no steady glide exists at ``speed`` and ``gamma``.
-    SolverError
-        If the steady glide's residual check or the eigenvalue computation fails.
+    ArgumentTypeError, ArgumentError, ModelError, InfeasibleGlideError, SolverError
+        For the arguments and cases of :func:`eta_r_eigenvalues` (this function linearizes the uncontrolled force
+        model instead of the acceleration-controlled glider).
     """
     speed, gamma, family = _glide_args(veh, speed, gamma, family)
     model = LongitudinalGlider(veh)
-    g = steady_glide(veh, speed, gamma, **family)
-    A, _ = jacobians(model.rhs, g.force_state(), np.zeros(3))
-    idx = [model.state_names.index(s) for s in UNCONTROLLED_BLOCK]
-    lam = _eigvals(A[np.ix_(idx, idx)], "the uncontrolled block")
+    lam = _block_eigenvalues(model, steady_glide(veh, speed, gamma, **family).force_state(), UNCONTROLLED_BLOCK,
+                             "the uncontrolled block")
     return np.delete(lam, np.argmin(np.abs(lam)))
 
 
@@ -518,6 +517,5 @@ def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[f
         raise ArgumentError(f"mbar_values must be moving masses > 0 kg, got {vals[0]!r}")
     return parameter_locus(lambda mb: uncontrolled_eigs(veh.with_overrides(mbar=mb), speed, gamma, **family),
                            vals, "mbar", "kg",
-                           {"vehicle": veh.name, "provenance": veh.provenance, "speed": speed, "gamma": gamma,
-                            "matrix": "uncontrolled force model, u = 0", **family}, vehicle=veh,
-                           time_limit=time_limit)
+                           _locus_info(veh, speed, gamma, "uncontrolled force model, u = 0", **family),
+                           vehicle=veh, time_limit=time_limit)

@@ -23,6 +23,7 @@ from .ctol_approximate_linearization import (
     track_approximate_linearization,
 )
 from .ctol_feedback_linearization import BlowUp, FeedbackLinearizingController, feedback_linearization_blowup
+from .ctol_map import CTOLGlideMap, ctol_glide_map
 from .ctol_runs import TrackingRun, simulate_window
 from .ctol_stable_inversion import (
     InternalEquilibrium,
@@ -89,6 +90,7 @@ __all__ = [
     "BuoyancyController",
     "BuoyancyEquilibrium",
     "BuoyancyLyapunovCheck",
+    "CTOLGlideMap",
     "ClimbTrajectory",
     "DecoupledAccelerationFeedback",
     "ElevatorBuoyancyController",
@@ -118,6 +120,7 @@ __all__ = [
     "closed_loop_formulas",
     "compare_realized_torque",
     "ctol_closed_loop_eigenvalues",
+    "ctol_glide_map",
     "decoupled_gain_matrix",
     "design_torque_control",
     "elevator_closed_loop_eigenvalues",

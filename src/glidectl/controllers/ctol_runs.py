@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -132,6 +132,35 @@ class TrackingRun:
 
         with style():
             return plot_tracking_run(self, ax, input_scale=input_scale)
+
+    TABLE_HEADER: ClassVar[tuple[str, ...]] = ("method", "max |e| [m]", "peak |u1|", "RMS u1", "peak |u2|",
+                                                "RMS u2", "status")
+    """Column names of :meth:`table_row` (u1 in N, u2 in N m)."""
+
+    def table_row(self, label: str | None = None) -> list[str]:
+        """One row of text for a table comparing tracking runs (the §7.3.3 baseline table), as :data:`TABLE_HEADER`.
+
+        Parameters
+        ----------
+        label : str, optional
+            Text of the first column; default :attr:`method`.
+
+        Returns
+        -------
+        list of str
+            ``[label, max |e| (m), peak |u1| (N), RMS u1 (N), peak |u2| (N m), RMS u2 (N m), status]``, numbers to
+            3 significant digits; status is ``"completed"`` or ``"stopped at <t> s"``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``label`` is not a string.
+        """
+        if label is not None and not isinstance(label, str):
+            raise ArgumentTypeError(f"label must be a string (the table's first column), got {type(label).__name__}")
+        status = "completed" if self.completed else f"stopped at {self.stopped_at:.2f} s"
+        return [self.method if label is None else label, f"{self.max_error:.3g}", f"{self.peak_u1:.3g}",
+                f"{self.rms_u1:.3g}", f"{self.peak_u2:.3g}", f"{self.rms_u2:.3g}", status]
 
     def as_dict(self) -> dict[str, Any]:
         """The metrics as a plain dict (for tables and ``numbers.json``)."""

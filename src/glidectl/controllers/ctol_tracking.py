@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from itertools import product
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -267,21 +267,59 @@ class ParetoStudy:
     t_final: float
 
     def front_records(self) -> list[dict[str, Any]]:
+        """The records on the Pareto front, sorted by effort.
+
+        Returns
+        -------
+        list of dict
+            ``[records[i] for i in front]``.
+        """
         return [self.records[i] for i in self.front]
+
+    TABLE_HEADER: ClassVar[tuple[str, ...]] = ("dt [s]", "k3", "k4", "completed", "max |e| [m]", "effort",
+                                                "peak |u2|", "front")
+    """Column names of :meth:`table_rows`."""
+
+    def table_rows(self) -> list[list[str]]:
+        """One row of text per grid point, as :data:`TABLE_HEADER`: the settings, whether the run completed (else
+        when it stopped), max position error (m), effort (time-RMS ``||u||``), peak ``|u2|`` (N m), and ``*`` for the
+        points on the front.
+
+        Returns
+        -------
+        list of list of str
+            In the order of :attr:`records`; numbers to 3 significant digits (settings with ``%g``).
+
+        Raises
+        ------
+        ArgumentError
+            If a record lacks one of the keys of :func:`tracking_grid`'s records (a hand-built study).
+        """
+        rows = []
+        try:
+            for i, r in enumerate(self.records):
+                rows.append([f"{r['dt']:g}", f"{r['k3']:g}", f"{r['k4']:g}", "yes" if r["completed"] else
+                             f"no ({r['stopped_at']:.1f} s)", f"{r['max_error']:.3g}", f"{r['effort']:.3g}",
+                             f"{r['peak_u2']:.3g}", "*" if i in self.front else ""])
+        except KeyError as exc:
+            raise ArgumentError(f"ParetoStudy record {len(rows)} has no {exc}: records must be those of "
+                                "tracking_grid") from exc
+        return rows
 
     def plot(self, ax: Any = None) -> Any:
         """Draw max position error against control effort for the completed runs, with the Pareto front, in the
-        glidectl style.
+        glidectl style (:func:`glidectl.plotting.plot_pareto_study`).
 
         Parameters
         ----------
         ax : matplotlib.axes.Axes, optional
-            Axes to draw into; default a new figure.
+            Axes to draw into, effort (time-RMS ``||u||``) across and max position error (m) up, each on a log
+            scale when it spans a decade; default a new figure.
 
         Returns
         -------
         matplotlib.axes.Axes
-            See :func:`glidectl.plotting.plot_pareto_study`.
+            A marker per completed run (colour: gains, shape: ``dt``, filled on the front) and the front as a line.
         """
         from ..plotting import plot_pareto_study, style
 

@@ -33,7 +33,7 @@ import math
 import os
 import time
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import cvxpy as cp
 import numpy as np
@@ -42,6 +42,7 @@ from scipy.stats import qmc
 
 from .. import checks
 from ..analysis.jacobian import hessian, jacobians
+from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
@@ -811,11 +812,35 @@ class ROACertificate:
             If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, or ``n`` or ``seed`` is out of
             range.
         """
-        lo, hi = _check_box(box if box is not None else self.system.box, self.system.n)
-        n = checks.integer("n", n, lo=1, hi=2**24)
-        seed = checks.integer("seed", seed, lo=0)
-        X = lo + (hi - lo) * _sobol(len(lo), seed, n)
-        return float(np.prod(hi - lo) * np.mean(self.contains(X)))
+        return box_measure(self.contains, box if box is not None else self.system.box, n, seed, dim=self.system.n)
+
+    HISTORY_HEADER: ClassVar[tuple[str, ...]] = ("problem", "deg", "step", "rho", "measure", "SDP s")
+    """Column names of :meth:`history_table`."""
+
+    def history_table(self, label: str = "") -> list[list[str]]:
+        """The alternation :attr:`history` as rows of text, one per iteration, as :data:`HISTORY_HEADER`.
+
+        Parameters
+        ----------
+        label : str
+            Text of the first column (the problem's name, so that the rows of several certificates can share one
+            table).
+
+        Returns
+        -------
+        list of list of str
+            ``[label, degree, step (first 60 characters), level rho (6 significant digits), sampled area/volume in
+            the box (4 digits, product of the state units), SDP time (s, 2 decimals)]`` per iteration.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``label`` is not a string.
+        """
+        if not isinstance(label, str):
+            raise ArgumentTypeError(f"label must be a string (the table's first column), got {type(label).__name__}")
+        return [[label, str(h["degree"]), h["step"][:60], f"{h['rho']:.6g}", f"{h['volume']:.4g}",
+                 f"{h['sdp_time']:.2f}"] for h in self.history]
 
     def plot(self, ax: Any = None, dims: Any = (0, 1), fixed: Any = None, n: int = 201,
              samples: bool = True) -> Any:
@@ -851,15 +876,6 @@ class ROACertificate:
 
         with style():
             return plot_roa_certificate(self, ax, dims=dims, fixed=fixed, n=n, samples=samples)
-
-
-def _check_box(box: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
-    if not isinstance(box, tuple | list) or len(box) != 2:
-        raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({n},), got {type(box).__name__}")
-    lo, hi = checks.array("box lo", box[0], shape=(n,)), checks.array("box hi", box[1], shape=(n,))
-    if np.any(lo >= hi):
-        raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
-    return lo, hi
 
 
 def _sobol(d: int, seed: int, n: int) -> np.ndarray:

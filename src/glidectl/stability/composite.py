@@ -35,6 +35,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from .. import checks
+from ..analysis.measure import box_measure
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..params import Vehicle
 from .singular_perturbation import SingularPerturbation, singular_perturbation
@@ -491,6 +492,78 @@ class CompositeCertificate:
         if np.any(box):  # nu is evaluated in the box only (where Vbar > -1)
             inside[box] = self.nu(z[box]) <= self.level
         return inside
+
+    @staticmethod
+    def phi_area(box: Any = None, *, level: float = 2 / 3, n: int = 2**16, seed: int = 0) -> float:
+        """Area of the reduced-subsystem set ``{Phi < level}`` of (5.35) in the ``(Vbar, gammabar)`` plane.
+
+        Without ``box``, the whole set ``{Phi < 2/3}`` (the thesis's region-of-attraction estimate of the reduced
+        glider: ``-1 < Vbar < sqrt(3 cos gammabar) - 1``, ``|gammabar| < pi/2``) in closed form, ``sqrt(3)
+        int_{-pi/2}^{pi/2} sqrt(cos g) dg``; with ``box``, the part inside it by quasi-Monte Carlo.
+
+        Parameters
+        ----------
+        box : (array_like, array_like), optional
+            ``(lo, hi)`` of ``(Vbar, gammabar)`` (nondimensional, rad), finite, ``lo < hi``.
+        level : float
+            The level (default 2/3; without ``box`` only 2/3 has the closed form).
+        n, seed : int
+            Sobol points in the box and the sequence's seed, as in :func:`glidectl.box_measure`.
+
+        Returns
+        -------
+        float
+            The area (nondimensional speed x rad).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument has the wrong type.
+        ArgumentError
+            If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, ``level`` is not positive, ``level``
+            is not 2/3 without a box, or ``n`` or ``seed`` is out of range.
+        """
+        from scipy.integrate import quad
+
+        level = checks.real("level", level, lo=0.0, lo_open=True)
+        if box is None:
+            if level != 2 / 3:
+                raise ArgumentError(f"the closed form is for level 2/3 only (got {level:g}); pass a box for other "
+                                    "levels")
+            return math.sqrt(3.0) * quad(lambda g: math.sqrt(math.cos(g)), -math.pi / 2, math.pi / 2)[0]
+        return box_measure(lambda P: CompositeCertificate.Phi(P) < level, box, n, seed, dim=2)
+
+    def estimate_volume(self, box: Any = None, *, n: int = 2**16, seed: int = 0) -> float:
+        """Volume of the region-of-attraction estimate ``L*`` (5.85) inside ``box``, by quasi-Monte Carlo over
+        :meth:`in_estimate`.
+
+        Parameters
+        ----------
+        box : (array_like, array_like), optional
+            ``(lo, hi)`` of ``(Vbar, gammabar, alphabar, Omegabar2)`` (nondimensional), finite, ``lo < hi``; default
+            the domain ``B_p x B_q``.
+        n, seed : int
+            Sobol points in the box and the sequence's seed, as in :func:`glidectl.box_measure`.
+
+        Returns
+        -------
+        float
+            The volume (nondimensional); 0 when ``L*`` misses every sample.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument has the wrong type.
+        ArgumentError
+            If ``box`` has the wrong shape, is not finite or has ``lo >= hi`` (or no box is given and the domain's
+            ``Omegabar`` range is infinite), or ``n`` or ``seed`` is out of range.
+        """
+        if box is None:
+            b = np.array(_bounds(self.domain), dtype=float)
+            if not np.all(np.isfinite(b)):
+                raise ArgumentError("the domain's Omegabar range is infinite: pass a finite box (lo, hi)")
+            box = (b[:, 0], b[:, 1])
+        return box_measure(self.in_estimate, box, n, seed, dim=4)
 
     def plot(self, ax: Any = None, *, n: int = 201) -> Any:
         """Draw ``L*`` (5.85) in the ``(Vbar, gammabar)`` plane at ``alphabar = Omegabar2 = 0``, with the level set
