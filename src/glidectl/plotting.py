@@ -41,8 +41,8 @@ if TYPE_CHECKING:
     from .analysis.helix_sweeps import HelixSweep
     from .analysis.locus import ParameterLocus
     from .controllers.ctol_runs import TrackingRun
-    from .controllers.dive_cycle import DiveCycleRun
     from .controllers.ctol_tracking import ParetoStudy
+    from .controllers.dive_cycle import DiveCycleRun
     from .roa.certify import ROACertificate
     from .sim import Ensemble, Simulation
     from .stability.composite import CompositeCertificate

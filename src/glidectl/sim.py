@@ -887,7 +887,8 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
     idx = np.array([names.index(s) for s in sens], dtype=int)
     nz = dict(noise or {})
     if noise is not None and not isinstance(noise, dict):
-        raise ArgumentTypeError(f"noise must be a dict of sensor name to standard deviation, got {type(noise).__name__}")
+        raise ArgumentTypeError(f"noise must be a dict of sensor name to standard deviation, got "
+                                f"{type(noise).__name__}")
     sigma = np.zeros(len(sens))
     for k, v in nz.items():
         if k not in sens:
@@ -900,7 +901,7 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
         if seed is None:
             seed = int(np.random.SeedSequence().entropy % (2**63))
         seed = checks.integer("seed", seed, lo=0)
-        count = int(math.floor(tf / T)) + 2
+        count = math.floor(tf / T) + 2
         draws = np.random.default_rng(seed).standard_normal((count, len(sens))) * sigma
     else:
         seed, T, draws = None, 0.0, np.zeros((1, len(sens)))
@@ -988,7 +989,7 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
             raise ArgumentError(f"t_eval must lie in [t0, t0 + t_final] = [{t0:g}, {t_end:g}]")
         te = np.clip(te, t0, t_end)
     if noisy:
-        k_last = int(math.ceil(tf / T))
+        k_last = math.ceil(tf / T)
         cuts = sorted({t0, t_end, *[t0 + k * T for k in range(1, k_last) if t0 + k * T < t_end]})
     else:
         cuts = [t0, t_end]

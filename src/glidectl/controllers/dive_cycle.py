@@ -65,6 +65,7 @@ import control
 import numpy as np
 
 from .. import checks
+from ..analysis.jacobian import jacobians
 from ..analysis.linear import linearize_glide
 from ..errors import (
     ArgumentError,
@@ -75,7 +76,6 @@ from ..errors import (
     ModelError,
     SolverError,
 )
-from ..analysis.jacobian import jacobians
 from ..models._validate import require_glider, require_instance
 from ..models.actuated import ACTUATED_AXES, ActuatedGlider
 from ..models.longitudinal import ACCEL_STATES
@@ -112,7 +112,7 @@ _IZ = ACCEL_STATES.index("z")
 # ------------------------------------------------------------------------------------------------ energy
 def pump_energy(t: Any, depth: Any, m0_rate: Any, *, efficiency: float = 1.0, rho: float = RHO_SEAWATER,
                 p_atm: float = P_ATM, g: float = 9.81, pump_work: str = "out") -> float:
-    """Pump energy ``(1/eta) * integral of p(z) |dV/dt| dt`` (J) of a sampled trajectory (module docstring).
+    """Pump energy, ``1/eta`` times the integral of ``p(z) abs(dV/dt)`` over time (J), of a sampled trajectory.
 
     ``dV/dt = -(dm0/dt) / rho`` (the pump changes the displaced volume, ``m0`` is the net heaviness) and
     ``p(z) = p_atm + rho g z``; trapezoidal rule on the samples.
@@ -390,7 +390,7 @@ def tune_pitch_pid(plant: ActuatedGlider, glide: SteadyGlide) -> tuple[float, fl
     G[0, 6] -= k[0]
     G[1, 8] -= k[1]
     G[2, 10] -= k[2]
-    keep = list(range(2, 11)) + [11]  # drop x, z (no feedback, zero eigenvalues)
+    keep = [*range(2, 11), 11]  # drop x, z (no feedback, zero eigenvalues)
     best = None
     for sign in (1.0, -1.0):
         for kp0 in PID_KP_GRID:
