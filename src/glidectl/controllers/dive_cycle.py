@@ -11,8 +11,8 @@ switches to the other leg and its controller (one design per leg: gain schedulin
 top inflection the run goes on until the climb stops, to measure the last overshoot.
 
 At an inflection the leg's reference moves from the previous glide to the new one along a straight line in state
-space in the time the slowest actuator needs at its rate limit (``ramp_time``); so the linear designs are not
-asked for steps they cannot follow.
+space in the time the slowest actuator needs at :data:`RAMP_RATE_FRACTION` (80 %) of its rate limit
+(``ramp_time``); so the linear designs are not asked for steps they cannot follow, and keep some rate for feedback.
 
 Controllers (``controller=``)
 -----------------------------
@@ -761,10 +761,14 @@ def _lqr_gain(veh: Vehicle, plant: ActuatedGlider, glide: SteadyGlide,
     return K, E, tuple(snames[i] for i in si), tuple(inames[i] for i in ii)
 
 
+#: The reference of a transition moves the actuators at this fraction of their rate limits (headroom for feedback).
+RAMP_RATE_FRACTION = 0.8
+
+
 def _ramp_time(plant: ActuatedGlider, x_from: np.ndarray, x_to: np.ndarray) -> float:
     dp = np.abs(plant.positions(x_to) - plant.positions(x_from))
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(plant.rate_limit > 0, dp / plant.rate_limit, 0.0)
+        t = np.where(plant.rate_limit > 0, dp / (RAMP_RATE_FRACTION * plant.rate_limit), 0.0)
     return float(np.max(np.where(np.isfinite(t), t, 0.0)))
 
 
