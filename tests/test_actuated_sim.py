@@ -31,15 +31,18 @@ def glide(veh):
     return gc.steady_glide(veh, 0.35, np.radians(-25), r_p3=0.02)
 
 
-def _within(run, tol_pos=1e-8, tol_rate=1e-10):
+def _within(run):
+    """Limits hold for the limited rates exactly, and for the integrated positions and mass velocities to the
+    integration accuracy, 10 (rtol |limit| + atol) (the exact flow keeps them: glidectl.models.actuated)."""
     for i, name in enumerate(run.actuator_names):
         p = run.actuator(name)
         lo, hi, R = run.lower[i], run.upper[i], run.rate_limit[i]
-        assert np.all(p >= lo - tol_pos) and np.all(p <= hi + tol_pos), (name, p.min(), p.max())
+        tol_lo, tol_hi, tol_r = (10 * (run.rtol * abs(b) + run.atol) for b in (lo, hi, R))
+        assert np.all(p >= lo - tol_lo) and np.all(p <= hi + tol_hi), (name, p.min(), p.max())
         v = run.actuator(name, rate=True)
-        assert np.all(np.abs(v) <= R + tol_rate), (name, np.abs(v).max(), R)
+        assert np.all(np.abs(v) <= R + tol_r), (name, np.abs(v).max(), R)
         s = run.rates[:, i]
-        assert np.all(np.abs(s) <= R + tol_rate)
+        assert np.all(np.abs(s) <= R)  # the limiter itself is exact
 
 
 class _Piecewise:
@@ -53,15 +56,15 @@ class _Piecewise:
         return self.values[k]
 
 
-@settings(max_examples=8, deadline=None)
+@settings(max_examples=6, deadline=None, database=None)
 @given(st.lists(st.tuples(st.floats(-3, 3), st.floats(-3, 3), st.floats(-3, 3)), min_size=2, max_size=4),
        st.sampled_from(["setpoint", "rate", "acceleration"]))
 def test_actuators_never_exceed_range_or_rate(plant, glide, cmds, kind):
     scale = {"setpoint": np.array([0.04, 0.02, 0.8]), "rate": np.array([0.005, 0.005, 0.02]),
              "acceleration": np.array([0.05, 0.05, 0.02])}[kind]
     values = np.array(cmds) * 2.0 * scale  # up to 6x beyond the limits
-    run = simulate_actuated(plant, glide.accel_state(), 24.0, _Piecewise(values, 6.0, kind),
-                            t_eval=np.linspace(0, 24, 241), method="RK45", rtol=1e-6, atol=1e-9)
+    run = simulate_actuated(plant, glide.accel_state(), 12.0, _Piecewise(values, 3.0, kind),
+                            t_eval=np.linspace(0, 12, 241), method="RK45", rtol=1e-6, atol=1e-9)
     _within(run)
     assert run.command == kind
 

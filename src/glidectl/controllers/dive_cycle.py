@@ -782,7 +782,9 @@ def _nonlinear_designs(veh: Vehicle, plant: ActuatedGlider, gamma: float, speed:
     legs = []
     try:
         for sign in (-1.0, 1.0):
-            design = design_torque_control(veh, gamma=sign * gamma)
+            # the chapter-5 analysis is about the nominal m0: the leg's glide-family value (its sign sets the leg)
+            vl = veh.with_overrides(m0=steady_glide(veh, speed, sign * gamma, r_p3=r_p3).m0)
+            design = design_torque_control(vl, gamma=sign * gamma)
             eq = buoyancy_equilibrium(design.law.closed_loop_vehicle(veh), speed, descending=sign < 0)
             legs.append(_NonlinearLeg(MovingMassTorque(veh, design.law, r_p3=r_p3), eq.m0e,
                                       1.0 / eq.tau_s, plant.pump_gain))
