@@ -172,3 +172,26 @@ def test_bad_inputs(veh):
         gc.dive_cycle(veh, speed=0.6)  # the glide needs more pump than 0.8 kg
     with pytest.raises(gc.ArgumentTypeError):
         gc.dive_cycle(veh, depths=5.0)
+
+
+def test_tuned_pitch_pid_stabilizes_the_linearized_full_pump_glide(veh):
+    plant = gc.ActuatedGlider(veh)
+    for gamma in (-math.radians(25), math.radians(25)):
+        g = gc.steady_glide(veh, 0.4, gamma, r_p3=0.02)
+        kp, ki, _kd, margin = gc.tune_pitch_pid(plant, g)
+        assert margin < 0
+        assert ki == pytest.approx(kp / 20.0)
+    with pytest.raises(gc.ArgumentTypeError):
+        gc.tune_pitch_pid(veh, g)
+
+
+def test_scheduled_lqr_reference_ramps_between_the_glides(veh):
+    run_glides = [gc.steady_glide(veh, 0.35, s * math.radians(25), r_p3=0.02) for s in (1, -1)]
+    xf, xt = run_glides[0].accel_state(), run_glides[1].accel_state()
+    ctrl = gc.ScheduledGlideLQR(np.zeros((3, 11)), xf, xt, 10.0, 50.0, run_glides[1], np.array([-1.0]))
+    x_mid, w_mid = ctrl.reference(35.0)
+    np.testing.assert_allclose(x_mid[[2, 6, 10]], 0.5 * (xf + xt)[[2, 6, 10]], rtol=1e-12)
+    assert x_mid[7] == pytest.approx((xt[6] - xf[6]) / 50.0) and w_mid[2] == pytest.approx((xt[10] - xf[10]) / 50.0)
+    x_end, w_end = ctrl.reference(70.0)
+    np.testing.assert_array_equal(x_end, xt)
+    assert np.all(w_end == 0) and np.all(ctrl(70.0, xt) == 0)
