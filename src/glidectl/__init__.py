@@ -64,6 +64,17 @@ from .controllers.ctol_stable_inversion import StableInversion, stable_inversion
 from .controllers.ctol_tracking import GlideTracking, ParetoStudy, pareto_front, track_with_steady_glides, tracking_grid
 from .controllers.ctol_trajectory import ClimbTrajectory, climb_trajectory
 from .controllers.ctol_zero_dynamics import ZeroDynamics, zero_dynamics
+from .controllers.dive_cycle import (
+    CycleMetrics,
+    DiveCycleRun,
+    MissionComparison,
+    PitchPID,
+    ScheduledGlideLQR,
+    compare_missions,
+    dive_cycle,
+    pump_energy,
+    tune_pitch_pid,
+)
 from .controllers.elevator import (
     ElevatorBuoyancyController,
     ElevatorEquilibrium,
@@ -105,6 +116,7 @@ from .errors import (
 )
 from .iosys import to_iosys
 from .models import phugoid_hamiltonian
+from .models.actuated import ActuatedGlider
 from .models.buoyancy_glider import BuoyancyGlider
 from .models.closed_loop import ClosedLoop
 from .models.ctol import CTOLAircraft, CTOLReduced, ExtendedCTOL
@@ -132,7 +144,7 @@ from .roa import (
     recast,
     taylor_system,
 )
-from .sim import Ensemble, Simulation, simulate, simulate_many
+from .sim import ActuatedSimulation, Ensemble, Simulation, simulate, simulate_actuated, simulate_many
 from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov
 from .stability.singular_perturbation import SingularPerturbation, singular_perturbation
@@ -158,6 +170,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "PhugoidModel", "quat_to_R", "R_to_ypr", "RealizedTorqueLoop", "ReducedLongitudinalGlider", "SlowModel",
         "TorqueControlledGlider", "ypr_to_quat", "ypr_to_R",
         "DepthGlidePathModel",
+        "ActuatedGlider",
     ),
     "trims": (
         "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
@@ -184,6 +197,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "TorqueDesign", "TorqueGainFamily", "track_approximate_linearization", "track_stable_inversion",
         "track_with_steady_glides", "tracking_grid", "TrackingRun", "zero_dynamics", "ZeroDynamics",
         "default_actuate", "lqg_glide", "LQGController",
+        "PitchPID", "ScheduledGlideLQR", "tune_pitch_pid",
     ),
     "stability and certificates": (
         "allowable_delta_m_ratio", "box_measure", "box_points", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck",
@@ -198,6 +212,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
         "integrate_batch", "simulate", "simulate_many", "Simulation",
         "to_iosys",
+        "ActuatedSimulation", "compare_missions", "CycleMetrics", "dive_cycle", "DiveCycleRun", "MissionComparison",
+        "pump_energy", "simulate_actuated",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -208,6 +224,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
 __all__ = [
     "C_STEADY",
     "AccelerationControlledGlider",
+    "ActuatedGlider",
+    "ActuatedSimulation",
     "Actuator",
     "ApproximateLinearizationController",
     "ArgumentError",
@@ -233,9 +251,11 @@ __all__ = [
     "CompositeCertificate",
     "CompositeVerification",
     "ControllerRecord",
+    "CycleMetrics",
     "DecoupledAccelerationFeedback",
     "DepthGlidePathModel",
     "DesignError",
+    "DiveCycleRun",
     "Domain",
     "ElevatorBuoyancyController",
     "ElevatorBuoyancyGlider",
@@ -259,6 +279,7 @@ __all__ = [
     "LQGController",
     "LinearGlideController",
     "LongitudinalGlider",
+    "MissionComparison",
     "ModelError",
     "Modes",
     "NondimensionalModel",
@@ -268,6 +289,7 @@ __all__ = [
     "ParetoStudy",
     "PhugoidClass",
     "PhugoidModel",
+    "PitchPID",
     "PolySystem",
     "ROACertificate",
     "ROAVerification",
@@ -277,6 +299,7 @@ __all__ = [
     "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
     "SOSSize",
+    "ScheduledGlideLQR",
     "Simulation",
     "SingularPerturbation",
     "SlowModel",
@@ -308,6 +331,7 @@ __all__ = [
     "closed_loop",
     "closed_loop_formulas",
     "compare_controllers",
+    "compare_missions",
     "compare_realized_torque",
     "composite_lyapunov",
     "controllability",
@@ -320,6 +344,7 @@ __all__ = [
     "default_actuate",
     "design_helix",
     "design_torque_control",
+    "dive_cycle",
     "elevator_closed_loop_eigenvalues",
     "elevator_equilibrium",
     "elevator_example",
@@ -354,11 +379,13 @@ __all__ = [
     "permissible_gamma",
     "phugoid_hamiltonian",
     "place_glide",
+    "pump_energy",
     "quat_to_R",
     "rbh_locus",
     "recast",
     "resolved_crossing",
     "simulate",
+    "simulate_actuated",
     "simulate_many",
     "singular_perturbation",
     "stable_inversion",
@@ -371,6 +398,7 @@ __all__ = [
     "track_stable_inversion",
     "track_with_steady_glides",
     "tracking_grid",
+    "tune_pitch_pid",
     "uncontrolled_eigs",
     "unequal_mass_check",
     "ypr_to_R",

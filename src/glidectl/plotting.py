@@ -42,6 +42,7 @@ if TYPE_CHECKING:
     from .analysis.locus import ParameterLocus
     from .controllers.ctol_runs import TrackingRun
     from .controllers.ctol_tracking import ParetoStudy
+    from .controllers.dive_cycle import DiveCycleRun
     from .roa.certify import ROACertificate
     from .sim import Ensemble, Simulation
     from .stability.composite import CompositeCertificate
@@ -52,6 +53,7 @@ __all__ = [
     "new_figure",
     "plot_batch_comparison",
     "plot_composite_certificate",
+    "plot_dive_cycle",
     "plot_ensemble",
     "plot_existence_scan",
     "plot_glide_envelope",
@@ -899,3 +901,56 @@ def plot_glide_envelope(env: Any, ax: Any = None) -> Any:
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0, fontsize=7, markerscale=2)
     ax.grid(True, alpha=0.3)
     return ax
+
+
+def plot_dive_cycle(run: DiveCycleRun, ax: Any = None) -> Any:
+    """Dive-cycle mission: depth with the depth limits and the inflections, pitch, and commanded versus achieved
+    pump mass and battery position, versus time.
+
+    Parameters
+    ----------
+    run : DiveCycleRun
+    ax : array of 4 axes, optional
+        Default a new figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` is not 4 axes.
+    """
+    axes = _axes(ax, 4, "DiveCycleRun.plot", width=7.5, height=7.5, sharex=True)
+    t = run.t
+    top, bottom = run.depths
+    a = axes[0]
+    a.plot(t, run.depth, "C0", lw=1, label="depth")
+    for d in (top, bottom):
+        a.axhline(d, color="k", ls="--", lw=0.8)
+    a.plot(run.switch_times, run.switch_depths, "v", color="C3", ms=5, label="inflections")
+    a.invert_yaxis()
+    a.set_ylabel("depth $z$ [m]")
+    a.legend(loc="best", fontsize=7)
+    axes[1].plot(t, np.degrees(run.state("theta")), "C1", lw=1)
+    axes[1].set_ylabel(r"pitch $\theta$ [deg]")
+    for a, name, unit in ((axes[2], "m0", "kg"), (axes[3], "r_P1", "m")):
+        a.plot(t, run.actuator(name, commanded=True), "C7", lw=0.8, ls=":", label="commanded")
+        a.plot(t, run.actuator(name), "C2", lw=1.2, label="achieved")
+        i = run.actuator_names.index(name)
+        for b in (run.lower[i], run.upper[i]):
+            if np.isfinite(b):
+                a.axhline(b, color="C3", ls="--", lw=0.7)
+        lo, hi = run.lower[i], run.upper[i]
+        if np.isfinite(lo) and np.isfinite(hi):
+            pad = 0.3 * (hi - lo)
+            a.set_ylim(lo - pad, hi + pad)
+        a.set_ylabel(label(name, unit))
+        a.legend(loc="best", fontsize=7)
+    for a in axes:
+        for ts in run.switch_times:
+            a.axvline(ts, color="C3", lw=0.5, alpha=0.4)
+    axes[-1].set_xlabel("t [s]")
+    axes[0].set_title(f"{run.vehicle.name}: {len(run.cycles)} dive cycles, controller {run.controller}")
+    return axes[0].figure

@@ -9,6 +9,7 @@ longer than :data:`MAX_T_FINAL` (1e9) are refused.
 from __future__ import annotations
 
 import itertools
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -21,8 +22,8 @@ from scipy.optimize import brentq
 from . import checks
 from .errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 
-__all__ = ["MAX_NFEV_PER_STEP", "MAX_STEPS", "MAX_T_FINAL", "MIN_T_FINAL", "Ensemble", "Model", "Simulation",
-           "simulate", "simulate_many"]
+__all__ = ["COMMAND_KINDS", "MAX_NFEV_PER_STEP", "MAX_STEPS", "MAX_T_FINAL", "MIN_T_FINAL", "ActuatedSimulation",
+           "Ensemble", "Model", "Simulation", "simulate", "simulate_actuated", "simulate_many"]
 
 _EPS = float(np.finfo(float).eps)
 _MIN_RTOL = 100 * _EPS
@@ -668,3 +669,373 @@ def simulate_many(model: Model, X0: Any, t_final: float, *, method: str = "RK45"
     return Ensemble(X0, XF, frozen.copy(), tf, method, rtol, atol, budget.nfev, f"{type(model).__name__}({vname})",
                     names, _model_provenance(model), budget.steps, None if seg.reason is None else seg.t,
                     seg.reason or "t_final")
+
+
+# --------------------------------------------------------------------------------------------- actuated simulation
+#: How :func:`simulate_actuated` reads a controller's output: position ``"setpoint"`` of each actuator (or a mapping
+#: ``{"m0": ..., "r_P1": ...}``), the thesis inputs ``"acceleration"`` ``(w1, w3, w4)`` of (2.33), or requested
+#: ``"rate"`` ``(r_P1_rate, r_P3_rate, m0_rate)``.
+COMMAND_KINDS = ("setpoint", "acceleration", "rate")
+
+
+@dataclass(frozen=True)
+class ActuatedSimulation(Simulation):
+    """A run of :func:`simulate_actuated`: a :class:`Simulation` of an actuated model (``u`` holds the requested
+    actuator rates) plus the commanded and achieved actuator trajectories and the measured outputs.
+
+    Attributes
+    ----------
+    actuator_names : tuple of str
+        ``("r_P1", "r_P3", "m0")``.
+    commanded : ndarray, shape (N, 3)
+        Position command equivalent of the controller's request at each output time (m, m, kg): the setpoint for a
+        setpoint controller, ``p + rate / k`` otherwise (:meth:`~glidectl.ActuatedGlider.position_command`).
+    rates : ndarray, shape (N, 3)
+        Limited rates the actuators were driven with (m/s, m/s, kg/s): ``m0' `` exactly; the velocity target of the
+        mass servo for ``r_P1``, ``r_P3``.
+    sensors : tuple of str
+        Names of the measured outputs (states of the model).
+    y : ndarray, shape (N, len(sensors))
+        Measured outputs the controller saw (with noise).
+    noise : dict of str to float
+        Standard deviation of the noise of each noisy sensor (its unit).
+    seed : int or None
+        Seed of the noise generator (drawn and recorded when the caller gave none; None without noise).
+    sensor_period : float
+        Sample-and-hold period of the noise (s); 0 without noise.
+    command : str
+        How the controller output was read (:data:`COMMAND_KINDS`).
+    controller_states : tuple of str
+        Names of a dynamic controller's states; ``xc`` holds them, shape (N, len(controller_states)).
+    xc : ndarray
+    lower, upper, rate_limit : ndarray, shape (3,)
+        The actuator limits used (m, m, kg; m/s, m/s, kg/s).
+    """
+
+    actuator_names: tuple[str, ...] = ()
+    commanded: np.ndarray | None = None
+    rates: np.ndarray | None = None
+    sensors: tuple[str, ...] = ()
+    y: np.ndarray | None = None
+    noise: dict[str, float] | None = None
+    seed: int | None = None
+    sensor_period: float = 0.0
+    command: str = "setpoint"
+    controller_states: tuple[str, ...] = ()
+    xc: np.ndarray | None = None
+    lower: np.ndarray | None = None
+    upper: np.ndarray | None = None
+    rate_limit: np.ndarray | None = None
+
+    def actuator(self, name: str, *, commanded: bool = False, rate: bool = False) -> np.ndarray:
+        """Trajectory of one actuator at the output times.
+
+        Parameters
+        ----------
+        name : str
+            ``"m0"`` (kg), ``"r_P1"`` or ``"r_P3"`` (m).
+        commanded : bool
+            False: achieved; True: commanded (position command equivalent, or the requested rate with ``rate``).
+        rate : bool
+            False: positions; True: rates (unit/s): achieved (``m0'``, the mass velocity ``rdot_P``) or requested.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``name`` is not a string or a flag is not a bool.
+        ArgumentError
+            If ``name`` is not an actuator of the run.
+        """
+        if not isinstance(name, str):
+            raise ArgumentTypeError(f"name must be an actuator name (str), got {type(name).__name__} {name!r}")
+        checks.boolean("commanded", commanded)
+        checks.boolean("rate", rate)
+        if name not in self.actuator_names:
+            raise ArgumentError(f"no actuator '{name}'; have {self.actuator_names}")
+        i = self.actuator_names.index(name)
+        if rate:
+            if commanded:
+                return self.u[:, i]
+            vel = {"r_P1": "rdot_P1", "r_P3": "rdot_P3"}.get(name)
+            return self.state(vel) if vel in self.state_names else self.rates[:, i]  # type: ignore[index]
+        return self.commanded[:, i] if commanded else self.state(name)  # type: ignore[index]
+
+    @property
+    def saturated(self) -> np.ndarray:
+        """Per output time, whether an actuated axis is at a limit: its requested rate was cut by more than 1e-6 of
+        the rate limit, or it is within 1e-3 of its range width from an end (bool, shape (N,))."""
+        lo, hi, R = self.lower, self.upper, self.rate_limit
+        act = R > 0  # type: ignore[operator]
+        scale = np.where(np.isfinite(R), R, 1.0)  # type: ignore[arg-type]
+        cut = np.abs(self.u - self.rates) > 1e-6 * scale  # type: ignore[operator]
+        p = np.stack([self.state(n) for n in self.actuator_names], axis=1)
+        width = np.where(np.isfinite(hi - lo), hi - lo, np.inf)  # type: ignore[operator]
+        with np.errstate(invalid="ignore"):
+            end = (p - lo <= 1e-3 * width) | (hi - p <= 1e-3 * width)  # type: ignore[operator]
+        return np.any((cut | end) & act, axis=1)
+
+
+def _command_kind(controller: Any, command: Any) -> str:
+    if command != "auto":
+        return str(checks.choice("command", command, (*COMMAND_KINDS, "auto")))
+    declared = getattr(controller, "command", None)
+    if isinstance(declared, str) and declared in COMMAND_KINDS:
+        return declared
+    inputs = getattr(controller, "inputs", None)
+    if inputs == "acceleration":
+        return "acceleration"
+    if inputs == "force":
+        raise ArgumentError("the controller was designed on the force inputs (u1, u3, u4); an actuated glider takes "
+                            "setpoints, the thesis accelerations (w1, w3, w4) or rates: design it with "
+                            "inputs='acceleration' (e.g. gc.lqr_glide(veh, glide, inputs='acceleration'))")
+    return "auto"  # decided per call: a mapping is setpoints, an array needs a declared kind
+
+
+def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = None, *, command: str = "auto",
+                      sensors: Sequence[str] | None = None, noise: dict[str, float] | None = None,
+                      seed: int | None = None, sensor_period: float = 1.0, t0: float = 0.0, t_eval: Any = None,
+                      method: str = "LSODA", rtol: float = 1e-7, atol: float = 1e-10,
+                      stop: Callable[[float, np.ndarray, np.ndarray], float] | None = None,
+                      max_steps: int = MAX_STEPS, max_nfev: int | None = None, time_limit: float | None = None,
+                      on_budget: str = "raise") -> ActuatedSimulation:
+    """Simulate an actuated glider (:class:`~glidectl.ActuatedGlider`) under a controller that sees measured outputs.
+
+    The actuator limits are enforced inside the model's right-hand side (never by clipping results). The controller
+    is evaluated inside the right-hand side on the measured outputs ``y = x[sensors] + n``; the noise ``n`` is
+    Gaussian, drawn from a seeded generator once per ``sensor_period`` and held over it (sample-and-hold; the
+    integrator restarts at each sample). Without noise there are no samples and the controller acts continuously.
+
+    Controllers
+    -----------
+    * static: ``controller(t, y) -> command``;
+    * dynamic (e.g. a PID's integrator, an estimator): an object with ``controller_states`` (tuple of names),
+      ``initial_state(t, y) -> xc0``, ``derivative(t, xc, y) -> xc'`` and ``controller(t, y, xc) -> command``;
+      its states are integrated with the plant's.
+
+    The command is read as ``command`` says (:data:`COMMAND_KINDS`); ``"auto"``: a mapping ``{"m0": c, ...}`` is
+    setpoints (axes it omits keep their position), a controller with ``inputs == "acceleration"`` (an
+    acceleration-form :class:`~glidectl.LinearGlideController`) gives ``(w1, w3, w4)``, one with a ``command``
+    attribute says which. Setpoints go through the servo loops, accelerations and rates through the rate/range
+    limiter (:class:`~glidectl.ActuatedGlider`).
+
+    Parameters
+    ----------
+    plant : ActuatedGlider
+    x0 : array_like, shape (11,)
+        Initial state (SI units); actuators inside their ranges, the mass at a rest-compatible velocity.
+    t_final : float
+        Span simulated (s), in ``[MIN_T_FINAL, MAX_T_FINAL]``; the run covers ``[t0, t0 + t_final]``.
+    controller : callable or dynamic controller, optional
+        See above; default: hold every actuator where it is.
+    command : {"auto", "setpoint", "acceleration", "rate"}
+    sensors : sequence of str, optional
+        Measured states, in the order the controller receives them; default every state (state feedback).
+    noise : dict of str to float, optional
+        Noise standard deviation of some sensors (their units), >= 0.
+    seed : int, optional
+        Seed of the noise (same seed, same noise); default a fresh one, recorded in the result.
+    sensor_period : float
+        Sample-and-hold period of the noise (s), > 0.
+    t0 : float
+        Start time (s) (the controller sees absolute times).
+    t_eval : array_like, optional
+        Output times in ``[t0, t0 + t_final]`` (s); default 2001 evenly spaced.
+    method, rtol, atol : integrator settings, as :func:`simulate` (tolerances in state units)
+    stop : callable, optional
+        ``(t, x, y) -> float`` on the true state ``x`` and the measurement ``y``; the run ends where it falls through
+        zero (``stopped_by = "stop"``). Must be positive at the start.
+    max_steps, max_nfev, time_limit, on_budget : budgets, as :func:`simulate`
+
+    Returns
+    -------
+    ActuatedSimulation
+        States, requested rates (``u``), limited rates, position commands, measurements, controller states and the
+        limits; ``actuator(name)`` gives positions.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``plant`` is not an actuated model, the controller is not callable, or a value has the wrong type.
+    ArgumentError
+        Unknown sensors or noise keys, negative noise, a bad command kind or controller output, settings out of
+        range, a stop condition met at the start.
+    InfeasibleGlideError
+        If ``x0`` has an actuator outside its range or moving too fast.
+    BudgetError
+        If a budget is hit (unless ``on_budget="stop"``).
+    SolverError
+        If the integrator fails or the states become non-finite.
+    """
+    needed = ("rhs", "limited_rates", "setpoint_rates", "acceleration_rates", "position_command", "check_state")
+    if not all(callable(getattr(plant, a, None)) for a in needed):
+        raise ArgumentTypeError(f"plant must be an actuated model (gc.ActuatedGlider(veh)), got {type(plant).__name__}")
+    names, inputs = tuple(plant.state_names), tuple(plant.input_names)
+    axes = tuple(plant.actuator_names)
+    n = len(names)
+    x0 = plant.check_state(x0)
+    tf, rtol, atol, budget = _check_common(t_final, method, rtol, atol, n, max_steps, max_nfev, time_limit,
+                                           on_budget)
+    t0 = checks.real("t0", t0, unit="s")
+    sens = tuple(names if sensors is None else sensors)
+    for s in sens:
+        if s not in names:
+            raise ArgumentError(f"unknown sensor {s!r}; a sensor measures a state: {names}")
+    idx = np.array([names.index(s) for s in sens], dtype=int)
+    nz = dict(noise or {})
+    if noise is not None and not isinstance(noise, dict):
+        raise ArgumentTypeError(f"noise must be a dict of sensor name to standard deviation, got "
+                                f"{type(noise).__name__}")
+    sigma = np.zeros(len(sens))
+    for k, v in nz.items():
+        if k not in sens:
+            raise ArgumentError(f"noise names {k!r}, which is not a sensor; sensors: {sens}")
+        nz[k] = checks.nonnegative(f"noise[{k!r}]", v)
+        sigma[sens.index(k)] = nz[k]
+    noisy = bool(np.any(sigma > 0))
+    T = checks.positive("sensor_period", sensor_period, unit="s")
+    if noisy:
+        if seed is None:
+            seed = int(np.random.SeedSequence().entropy % (2**63))
+        seed = checks.integer("seed", seed, lo=0)
+        count = math.floor(tf / T) + 2
+        draws = np.random.default_rng(seed).standard_normal((count, len(sens))) * sigma
+    else:
+        seed, T, draws = None, 0.0, np.zeros((1, len(sens)))
+    if controller is not None and not callable(controller):
+        raise ArgumentTypeError(f"controller must be callable, got {type(controller).__name__}")
+    cstates = tuple(getattr(controller, "controller_states", ()) or ())
+    dynamic = bool(cstates)
+    if dynamic and not all(callable(getattr(controller, a, None)) for a in ("initial_state", "derivative")):
+        raise ArgumentTypeError("a controller with controller_states must define initial_state(t, y) and "
+                                "derivative(t, xc, y)")
+    nc = len(cstates)
+    kind = "setpoint" if controller is None else _command_kind(controller, command)
+    if stop is not None:
+        checks.function("stop", stop)
+
+    def measure(x: np.ndarray, row: np.ndarray) -> np.ndarray:
+        return x[idx] + row
+
+    def rates(t: float, x: np.ndarray, y: np.ndarray, xc: np.ndarray) -> np.ndarray:
+        if controller is None:
+            return np.zeros(3)
+        out = controller(t, y, xc) if dynamic else controller(t, y)
+        k = kind
+        if isinstance(out, dict):
+            if k not in ("auto", "setpoint"):
+                raise ArgumentError(f"the controller returned a mapping at t = {t:.6g}, but command = {kind!r}")
+            bad = [a for a in out if a not in axes]
+            if bad:
+                raise ArgumentError(f"the controller commands unknown actuators {bad}; actuators: {axes}")
+            c = plant.positions(x).copy()
+            for a, v in out.items():
+                c[axes.index(a)] = v
+            return plant.setpoint_rates(x, c)
+        if k == "auto":
+            raise ArgumentError("the controller returned an array; say what it commands with command='setpoint', "
+                                "'acceleration' (w1, w3, w4) or 'rate' (or give the controller a 'command' "
+                                "attribute, or return a mapping of setpoints)")
+        a = _input(out, 3, ("w1", "w3", "w4") if k == "acceleration" else axes, t)
+        if k == "setpoint":
+            return plant.setpoint_rates(x, a)
+        if k == "acceleration":
+            return plant.acceleration_rates(x, a)
+        return a
+
+    seg_row = draws[0]
+    y0 = measure(x0, seg_row)
+    xc0 = np.zeros(0)
+    if dynamic:
+        xc0 = checks.array("controller initial_state", controller.initial_state(t0, y0), shape=(nc,))
+    z0 = np.concatenate([x0, xc0])
+
+    def fun(t: float, zz: np.ndarray) -> np.ndarray:
+        budget.evaluation()
+        x, xc = zz[:n], zz[n:]
+        y = measure(x, seg_row)
+        u = rates(t, x, y, xc)
+        dx = _model_rhs(plant, x, u, t)
+        if dynamic:
+            return np.concatenate([dx, np.asarray(controller.derivative(t, xc, y), dtype=float).reshape(nc)])
+        return np.asarray(dx, dtype=float)
+
+    d0 = fun(t0, z0)
+    budget.nfev = 0
+    if not np.all(np.isfinite(d0)):
+        raise ArgumentError(f"the right-hand side is not finite at t = {t0:g} (the controller returned non-finite "
+                            "commands, or x0 lies where the model is singular)")
+    event = None
+    if stop is not None:
+        g0 = checks.real("stop(t0, x0, y0)", stop(t0, x0, y0))
+        if g0 <= 0:
+            raise ArgumentError(f"the stop condition is already met at the start (stop = {g0:g} <= 0)")
+
+        def event(t: float, zz: np.ndarray) -> float:
+            return float(stop(t, zz[:n], measure(zz[:n], seg_row)))
+
+    t_end = t0 + tf
+    if t_eval is None:
+        te = np.linspace(t0, t_end, 2001)
+    else:
+        te = checks.array("t_eval", t_eval, ndim=1, min_size=1)
+        if np.any(np.diff(te) < 0):
+            raise ArgumentError("t_eval must be sorted in increasing order")
+        slack = 1e-12 * max(abs(t_end), tf)
+        if te[0] < t0 - slack or te[-1] > t_end + slack:
+            raise ArgumentError(f"t_eval must lie in [t0, t0 + t_final] = [{t0:g}, {t_end:g}]")
+        te = np.clip(te, t0, t_end)
+    if noisy:
+        k_last = math.ceil(tf / T)
+        cuts = sorted({t0, t_end, *[t0 + k * T for k in range(1, k_last) if t0 + k * T < t_end]})
+    else:
+        cuts = [t0, t_end]
+    label = f"simulate_actuated({type(plant).__name__})"
+    ts, zs, rows = [], [], []
+    z = z0
+    stopped_at, stopped_by = None, "t_final"
+    for k, (a, b) in enumerate(itertools.pairwise(cuts)):
+        seg_row = draws[min(k, len(draws) - 1)]
+        last = k == len(cuts) - 2
+        if event is not None and k > 0 and event(a, z) <= 0:  # a new noise sample crossed the stop condition
+            seg = _Segment(a, z, [], [a], "stop")
+        else:
+            seg = _integrate(fun, a, b, z, method=method, rtol=rtol, atol=atol, budget=budget, dense=True,
+                             event=event, what=label)
+        if seg.reason is not None:
+            stopped_at, stopped_by = seg.t, seg.reason
+            if seg.reason != "stop" and on_budget == "raise":
+                raise BudgetError(budget.message(seg.reason, label, seg.t))
+            sel = te[(te >= a) & (te <= seg.t)]
+            if seg.reason == "stop" and (not sel.size or sel[-1] < seg.t):
+                sel = np.append(sel, seg.t)  # the stop time is always an output time
+        else:
+            sel = te[(te >= a) & ((te <= b) if last else (te < b))]
+        if sel.size and seg.interpolants:
+            zs.append(np.atleast_2d(OdeSolution(seg.t_steps, seg.interpolants)(sel).T))
+        elif sel.size:
+            sel = sel[sel <= seg.t]
+            zs.append(np.tile(seg.y, (sel.size, 1)))
+        ts.append(sel)
+        rows.append(np.tile(seg_row, (sel.size, 1)))
+        z = seg.y
+        if stopped_at is not None:
+            break
+    t = np.concatenate(ts) if ts else np.empty(0)
+    Z = np.concatenate(zs) if zs else np.empty((0, n + nc))
+    R = np.concatenate(rows) if rows else np.empty((0, len(sens)))
+    X, XC = Z[:, :n], Z[:, n:]
+    Y = X[:, idx] + R
+    U = np.array([rates(ti, xi, yi, ci) for ti, xi, yi, ci in zip(t, X, Y, XC, strict=True)]).reshape(len(t), 3)
+    S = plant.limited_rates(X, U) if len(t) else np.empty((0, 3))
+    C = plant.position_command(X, U) if len(t) else np.empty((0, 3))
+    vname = getattr(getattr(plant, "vehicle", None), "name", "?")
+    return ActuatedSimulation(
+        t, X, U, names, inputs, method, rtol, atol, budget.nfev, f"{type(plant).__name__}({vname})", stopped_at,
+        _model_provenance(plant), budget.steps, stopped_by, actuator_names=axes, commanded=C, rates=S,
+        sensors=sens, y=Y, noise=nz, seed=seed, sensor_period=T, command=kind, controller_states=cstates, xc=XC,
+        lower=np.array(plant.lower, dtype=float), upper=np.array(plant.upper, dtype=float),
+        rate_limit=np.array(plant.rate_limit, dtype=float))

@@ -1,0 +1,1105 @@
+"""Dive cycles: a supervisor flies sawtooth profiles between two depths on the actuated glider
+(:class:`~glidectl.ActuatedGlider`), with a choice of controllers, and measures each cycle.
+
+Supervisor
+----------
+The mission starts at the top limit in the steady up-glide (so ``t = 0`` is the first top inflection). Each leg
+flies one glide of the glide family, :func:`~glidectl.steady_glide` at ``(speed, -gamma)`` down and
+``(speed, +gamma)`` up, at the vehicle's fixed ``r_P3`` (its pump mass ``m0`` and battery position ``r_P1`` are the
+leg's setpoints), and ends when the *measured* depth reaches the leg's limit: the inflection, where the supervisor
+switches to the other leg and its controller (one design per leg: gain scheduling by leg). After the last cycle's
+top inflection the run goes on until the climb stops, to measure the last overshoot.
+
+At an inflection the leg's reference moves from the previous glide to the new one along a straight line in state
+space in the time the slowest actuator needs at :data:`RAMP_RATE_FRACTION` (80 %) of its rate limit
+(``ramp_time``); so the linear designs are not asked for steps they cannot follow, and keep some rate for feedback.
+
+Controllers (``controller=``)
+-----------------------------
+* ``"lqr"``: :class:`ScheduledGlideLQR`, LQR (python-control) on the acceleration-form linearization
+  (:func:`~glidectl.linearize_glide`) of the leg's glide, restricted to the actuated inputs (``w1`` battery,
+  ``w4`` pump; ``w3`` too if ``r_P3`` moves) and to the states other than the glide-path deviation ``z'`` (which
+  needs the unmeasurable horizontal position); Bryson weights from
+  :data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION`. Needs every state measured.
+* ``"lqg"``: output feedback from named sensors; it needs the estimator of issue 16 part 4, not in this build:
+  refused with a message (pass a controller object meanwhile).
+* ``"nonlinear"``: the chapter-6 steady-glide controller, the torque law (6.5) realized by the moving mass
+  (:class:`~glidectl.MovingMassTorque`) plus the buoyancy law (6.9); applies only to vehicles that meet its
+  chapter-5 assumptions (``K_q < 0``, ``K_M < 0``, equal added masses, a nominal ``m0``); refused otherwise, naming
+  the assumption.
+* ``"pid"``: the operational baseline of Slocum/Seaglider flight software: :class:`PitchPID`, PID on the pitch
+  angle through the battery position ``r_P1`` (feedforward from the glide family), and the pump run to the end of
+  its range at each inflection (``m0 = max`` down, ``min`` up), so the speed is whatever the full pump gives.
+* a controller object: a pair ``(down, up)`` of controllers, an object with ``for_leg(glide, previous, t_start)``
+  returning the leg's controller, or one controller flown on every leg; any controller
+  :func:`~glidectl.sim.simulate_actuated` accepts.
+
+Metrics (:class:`CycleMetrics`)
+-------------------------------
+Per cycle (top inflection to the next top inflection): horizontal ``distance`` (m), ``duration`` (s), the
+``overshoot`` beyond the depth limit after the bottom and the closing top inflection (m), ``saturated_time`` (s
+during which some actuator is at a limit: rate cut or within 1e-3 of its range width from an end) and pump
+``energy`` (J, :func:`pump_energy`).
+
+Pump energy
+-----------
+``E = (1 / eta) * integral of p(z) |dV/dt| dt`` over the times the pump pushes oil *out* (``dm0/dt < 0``: the
+displaced volume grows, ``dV/dt = -(dm0/dt) / rho``), with the absolute pressure ``p(z) = p_atm + rho g z``
+(``rho`` = :data:`RHO_SEAWATER` = 1025 kg/m^3, ``p_atm`` = :data:`P_ATM` = 101 325 Pa, ``g`` of the vehicle) and
+``eta`` the vehicle file's ``pump_efficiency`` (1, i.e. hydraulic work, when the file gives none; the result says
+which). Only pumping out is counted by default: that is the stroke that works against the sea pressure; the
+return stroke is driven by it (Seaglider lets the oil back through a valve, Eriksen et al. 2001, IEEE J. Oceanic
+Eng. 26(4):424-436; the Slocum buoyancy piston is pushed back by the ambient pressure, Webb, Simonetti & Jones
+2001, same issue, 447-452), so counting it would charge the pump for work the sea does. ``pump_work="both"``
+counts both directions (a motor that spends the same power either way).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import control
+import numpy as np
+
+from .. import checks
+from ..analysis.jacobian import jacobians
+from ..analysis.linear import linearize_glide
+from ..errors import (
+    ArgumentError,
+    ArgumentTypeError,
+    BudgetError,
+    GlidectlError,
+    InfeasibleGlideError,
+    ModelError,
+    SolverError,
+)
+from ..models._validate import require_glider, require_instance
+from ..models.actuated import ACTUATED_AXES, ActuatedGlider
+from ..models.longitudinal import ACCEL_STATES
+from ..params import Vehicle
+from ..sim import ActuatedSimulation, simulate_actuated
+from ..trim.glide import SteadyGlide, steady_glide
+from .linear import DEFAULT_MAX_DEVIATION
+
+__all__ = [
+    "CONTROLLER_NAMES",
+    "P_ATM",
+    "RHO_SEAWATER",
+    "CycleMetrics",
+    "DiveCycleRun",
+    "MissionComparison",
+    "PitchPID",
+    "ScheduledGlideLQR",
+    "compare_missions",
+    "dive_cycle",
+    "pump_energy",
+    "tune_pitch_pid",
+]
+
+#: Seawater density used for the pump's volume flow and the hydrostatic pressure (kg/m^3).
+RHO_SEAWATER = 1025.0
+#: Atmospheric pressure at the surface (Pa).
+P_ATM = 101_325.0
+#: Controller names :func:`dive_cycle` knows.
+CONTROLLER_NAMES = ("lqr", "lqg", "nonlinear", "pid")
+_PUMP_WORK = ("out", "both")
+_IZ = ACCEL_STATES.index("z")
+
+
+# ------------------------------------------------------------------------------------------------ energy
+def pump_energy(t: Any, depth: Any, m0_rate: Any, *, efficiency: float = 1.0, rho: float = RHO_SEAWATER,
+                p_atm: float = P_ATM, g: float = 9.81, pump_work: str = "out") -> float:
+    """Pump energy, ``1/eta`` times the integral of ``p(z) abs(dV/dt)`` over time (J), of a sampled trajectory.
+
+    ``dV/dt = -(dm0/dt) / rho`` (the pump changes the displaced volume, ``m0`` is the net heaviness) and
+    ``p(z) = p_atm + rho g z``; trapezoidal rule on the samples.
+
+    Parameters
+    ----------
+    t : array_like, shape (N,)
+        Increasing times (s).
+    depth : array_like, shape (N,)
+        Depth ``z`` (m, positive down).
+    m0_rate : array_like, shape (N,)
+        Pump rate ``dm0/dt`` (kg/s); negative: pumping out (the vehicle gets lighter).
+    efficiency : float
+        Pump efficiency ``eta`` in ``(0, 1]``.
+    rho : float
+        Water density (kg/m^3), > 0.
+    p_atm : float
+        Surface pressure (Pa), >= 0.
+    g : float
+        Gravity (m/s^2), > 0.
+    pump_work : {"out", "both"}
+        Count only pumping out (against the pressure; default) or both directions.
+
+    Returns
+    -------
+    float
+        Energy (J).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If an argument is not a number or an array of numbers.
+    ArgumentError
+        If the arrays differ in shape, are not finite, ``t`` is not increasing, or a constant is out of range.
+    """
+    t = checks.array("t", t, ndim=1, min_size=1)
+    z = checks.array("depth", depth, shape=t.shape)
+    r = checks.array("m0_rate", m0_rate, shape=t.shape)
+    if np.any(np.diff(t) < 0):
+        raise ArgumentError("t must be increasing")
+    eta = checks.real("efficiency", efficiency, lo=0.0, hi=1.0, lo_open=True)
+    rho = checks.positive("rho", rho, unit="kg/m^3")
+    p_atm = checks.nonnegative("p_atm", p_atm, unit="Pa")
+    g = checks.positive("g", g, unit="m/s^2")
+    checks.choice("pump_work", pump_work, _PUMP_WORK)
+    vdot = -r / rho
+    flow = np.maximum(vdot, 0.0) if pump_work == "out" else np.abs(vdot)
+    power = (p_atm + rho * g * z) * flow
+    if t.size < 2:
+        return 0.0
+    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(t)) / eta)
+
+
+# ------------------------------------------------------------------------------------------------ controllers
+def _ramp(t: float, t_start: float, ramp_time: float) -> tuple[float, float]:
+    """Fraction ``s`` of the transition done at ``t`` and its rate (1/s)."""
+    if ramp_time <= 0:
+        return 1.0, 0.0
+    s = (t - t_start) / ramp_time
+    if s <= 0:
+        return 0.0, 0.0
+    if s >= 1:
+        return 1.0, 0.0
+    return s, 1.0 / ramp_time
+
+
+@dataclass(frozen=True)
+class ScheduledGlideLQR:
+    """LQR leg controller of a dive cycle: ``w = w_ff - K (x - x_ref(t))`` on the acceleration-form state, with the
+    reference moving from ``x_from`` to the glide ``glide`` in ``ramp_time`` seconds from ``t_start``.
+
+    Attributes
+    ----------
+    K : ndarray, shape (3, 11)
+        Gain (rows ``w1, w3, w4``; zero columns for ``x``, ``z`` and for the states of fixed actuators; zero rows
+        for fixed actuators). SI units.
+    x_from, x_to : ndarray, shape (11,)
+        Reference at the start and at the end of the transition (acceleration-form states; ``x``, ``z`` unused).
+    t_start, ramp_time : float
+        Start (s) and duration (s) of the transition.
+    glide : SteadyGlide
+        The leg's glide.
+    closed_loop_poles : ndarray
+        Eigenvalues (1/s) of the restricted linear closed loop the gain was designed on.
+    state_names, input_names : tuple of str
+        States and inputs of that restricted design.
+    command : str
+        ``"acceleration"`` (read by :func:`~glidectl.sim.simulate_actuated`).
+
+    Raises
+    ------
+    ArgumentError
+        If the arrays do not have the shapes above or are not finite, or ``ramp_time < 0``.
+    """
+
+    K: np.ndarray
+    x_from: np.ndarray
+    x_to: np.ndarray
+    t_start: float
+    ramp_time: float
+    glide: SteadyGlide = field(repr=False)
+    closed_loop_poles: np.ndarray = field(repr=False)
+    state_names: tuple[str, ...] = ()
+    input_names: tuple[str, ...] = ()
+    command: str = "acceleration"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "K", checks.array("K", self.K, shape=(3, 11)))
+        object.__setattr__(self, "x_from", checks.array("x_from", self.x_from, shape=(11,)))
+        object.__setattr__(self, "x_to", checks.array("x_to", self.x_to, shape=(11,)))
+        object.__setattr__(self, "t_start", checks.real("t_start", self.t_start, unit="s"))
+        object.__setattr__(self, "ramp_time", checks.nonnegative("ramp_time", self.ramp_time, unit="s"))
+
+    def reference(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Reference state (11,) and feedforward ``(w1, w3, w4)`` at time ``t`` (s): the ramp moves the positions
+        at constant rates (velocity entries ``rdot_P1``, ``rdot_P3`` and pump rate ``w4`` follow)."""
+        s, sd = _ramp(t, self.t_start, self.ramp_time)
+        d = self.x_to - self.x_from
+        x_ref = self.x_from + s * d
+        x_ref[7], x_ref[9] = sd * d[6], sd * d[8]
+        return x_ref, np.array([0.0, 0.0, sd * d[10]])
+
+    def __call__(self, t: float, y: Any) -> np.ndarray:
+        """``(w1, w3, w4)`` for the measured full state ``y`` (shape (11,)) at time ``t`` (s)."""
+        x_ref, w_ff = self.reference(t)
+        return w_ff - self.K @ (np.asarray(y, dtype=float) - x_ref)
+
+
+@dataclass(frozen=True)
+class PitchPID:
+    """Operational baseline: PID on the pitch angle through the battery position, pump to a fixed setpoint.
+
+    ``r_P1c = r_ff(t) - kp e - ki I + kd Omega2_meas`` with ``e = theta_ref(t) - theta_meas`` and ``I' = e``
+    (conditional integration: ``I`` is frozen while ``r_P1c`` is at an end of the battery travel and ``e`` would
+    drive it further), and ``m0c = m0_setpoint``. With positive gains the battery goes forward (nose-down gravity
+    torque ``-mbar g r_P1 cos(theta)`` of (2.20)) when the nose is too high: right for a bottom-heavy, statically
+    stable hull; a hull whose pitch response to the battery reverses (Munk moment larger than the pendulum and
+    hydrodynamic stiffness) needs negative gains, which :func:`tune_pitch_pid` finds. The pitch reference and the
+    feedforward move from their previous values to the leg's in ``ramp_time`` seconds from ``t_start``.
+
+    Attributes
+    ----------
+    theta_from, theta_to : float
+        Pitch reference before and after the transition (rad).
+    r_p1_from, r_p1_to : float
+        Battery feedforward before and after the transition (m).
+    m0_setpoint : float
+        Pump setpoint (kg).
+    t_start, ramp_time : float
+        Transition start and duration (s).
+    kp, ki, kd : float
+        Gains (m/rad, m/(rad s), m s/rad), signed (see above).
+    theta_index, omega_index : int
+        Positions of ``theta`` and ``Omega2`` among the sensors.
+    r_p1_bounds : (float, float)
+        Battery travel (m), for the anti-windup.
+
+    Raises
+    ------
+    ArgumentError
+        If a number is not finite or ``ramp_time < 0``.
+    """
+
+    theta_from: float
+    theta_to: float
+    r_p1_from: float
+    r_p1_to: float
+    m0_setpoint: float
+    t_start: float
+    ramp_time: float
+    kp: float = 0.1
+    ki: float = 0.01
+    kd: float = 0.2
+    theta_index: int = 2
+    omega_index: int = 3
+    r_p1_bounds: tuple[float, float] = (-math.inf, math.inf)
+
+    controller_states = ("pitch_error_integral",)
+    command = "setpoint"
+
+    def __post_init__(self) -> None:
+        for k in ("theta_from", "theta_to", "r_p1_from", "r_p1_to", "m0_setpoint", "t_start"):
+            object.__setattr__(self, k, checks.real(k, getattr(self, k)))
+        object.__setattr__(self, "ramp_time", checks.nonnegative("ramp_time", self.ramp_time, unit="s"))
+        for k in ("kp", "ki", "kd"):
+            object.__setattr__(self, k, checks.real(k, getattr(self, k)))
+
+    def _refs(self, t: float) -> tuple[float, float]:
+        s, _ = _ramp(t, self.t_start, self.ramp_time)
+        return (self.theta_from + s * (self.theta_to - self.theta_from),
+                self.r_p1_from + s * (self.r_p1_to - self.r_p1_from))
+
+    def _r_cmd(self, t: float, y: np.ndarray, integral: float) -> tuple[float, float]:
+        th_ref, r_ff = self._refs(t)
+        e = th_ref - float(y[self.theta_index])
+        return r_ff - self.kp * e - self.ki * integral + self.kd * float(y[self.omega_index]), e
+
+    def initial_state(self, t: float, y: Any) -> np.ndarray:
+        """Integrator state at the start (0)."""
+        return np.zeros(1)
+
+    def derivative(self, t: float, xc: Any, y: Any) -> np.ndarray:
+        """``I' = e``, frozen while the command is at an end of the travel and ``e`` pushes it further out."""
+        r, e = self._r_cmd(t, np.asarray(y), float(xc[0]))
+        lo, hi = self.r_p1_bounds
+        if (r >= hi and -self.ki * e > 0) or (r <= lo and -self.ki * e < 0):
+            return np.zeros(1)
+        return np.array([e])
+
+    def __call__(self, t: float, y: Any, xc: Any) -> dict[str, float]:
+        """Setpoints ``{"r_P1": m, "m0": kg}`` at time ``t`` (s) for measurements ``y`` and integrator ``xc``."""
+        r, _ = self._r_cmd(t, np.asarray(y), float(xc[0]))
+        return {"r_P1": r, "m0": self.m0_setpoint}
+
+
+@dataclass(frozen=True)
+class _NonlinearLeg:
+    """Chapter-6 leg: battery setpoint from the torque law (6.5) (MovingMassTorque), pump by (6.9)."""
+
+    mass: Any
+    m0e: float
+    rate_gain: float
+    pump_gain: float
+    command = "setpoint"
+
+    def __call__(self, t: float, y: Any) -> dict[str, float]:
+        y = np.asarray(y, dtype=float)
+        m0 = float(y[10])
+        # (6.9): dm0/dt = -(K_b/tau_s)(m0 - m0e), as a setpoint of the pump servo of gain pump_gain
+        c = m0 + (self.rate_gain / self.pump_gain) * (self.m0e - m0)
+        return {"r_P1": float(self.mass.r_p1_command(y)), "m0": c}
+
+
+#: Gains searched by :func:`tune_pitch_pid`: ``kp`` (m/rad, both signs), ``kd`` (m s/rad), integral time (s).
+PID_KP_GRID = (0.005, 0.01, 0.02, 0.05, 0.1, 0.2)
+PID_KD_GRID = (0.0, 0.02, 0.05, 0.1, 0.2, 0.5)
+PID_INTEGRAL_TIME = 20.0
+
+
+def tune_pitch_pid(plant: ActuatedGlider, glide: SteadyGlide) -> tuple[float, float, float, float]:
+    """PID gains ``(kp, ki, kd)`` of :class:`PitchPID` for a glide: the pair ``(kp, kd)`` of
+    :data:`PID_KP_GRID` (either sign) x :data:`PID_KD_GRID` (sign of ``kp``) with ``ki = kp / PID_INTEGRAL_TIME``
+    whose linearized closed loop (exact Jacobians of :meth:`ActuatedGlider.rhs` at the glide, servo loops
+    included, limits inactive) has the largest stability margin (most negative largest real part).
+
+    Parameters
+    ----------
+    plant : ActuatedGlider
+    glide : SteadyGlide
+        Glide flown (its ``m0`` and ``r_p1`` are the pump setpoint and the battery feedforward).
+
+    Returns
+    -------
+    (kp, ki, kd, max_real) : tuple of float
+        Gains (m/rad, m/(rad s), m s/rad) and the largest real part of the closed-loop eigenvalues (1/s; negative:
+        locally stable).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``plant`` is not an ActuatedGlider or ``glide`` not a SteadyGlide.
+    VehicleMismatchError
+        If the glide was trimmed for another vehicle.
+    ModelError
+        If the right-hand side is not finite at the glide.
+    """
+    require_instance("plant", plant, ActuatedGlider)
+    require_instance("glide", glide, SteadyGlide, " (from gc.steady_glide)")
+    checks.same_vehicle("glide", glide, plant.vehicle)
+    xe = glide.accel_state()
+    A, B = jacobians(plant.rhs, xe, np.zeros(3))
+    k = plant.gain
+    # u = k * (c - p): c_r1 = r_ff + kp theta - ki I + kd Omega2 (deviations; e = -theta), c_r3, c_m0 fixed
+    G = np.zeros((3, 11))
+    G[0, 6] -= k[0]
+    G[1, 8] -= k[1]
+    G[2, 10] -= k[2]
+    keep = [*range(2, 11), 11]  # drop x, z (no feedback, zero eigenvalues)
+    best = None
+    for sign in (1.0, -1.0):
+        for kp0 in PID_KP_GRID:
+            for kd0 in PID_KD_GRID:
+                kp, kd = sign * kp0, sign * kd0
+                ki = kp / PID_INTEGRAL_TIME
+                Acl = np.zeros((12, 12))
+                Gk = G.copy()
+                Gk[0, 2] += k[0] * kp
+                Gk[0, 3] += k[0] * kd
+                Acl[:11, :11] = A + B @ Gk
+                Acl[:11, 11] = B[:, 0] * (-k[0] * ki)
+                Acl[11, 2] = -1.0
+                ev = np.linalg.eigvals(Acl[np.ix_(keep, keep)])
+                margin = float(np.max(ev.real))
+                if best is None or margin < best[3] - 1e-12:
+                    best = (kp, ki, kd, margin)
+    return best  # type: ignore[return-value]
+
+
+# ------------------------------------------------------------------------------------------------ results
+@dataclass(frozen=True)
+class CycleMetrics:
+    """One dive cycle: top inflection, down leg, bottom inflection, up leg, next top inflection.
+
+    Attributes
+    ----------
+    index : int
+        Cycle number (0-based).
+    t_start, t_end : float
+        Times of the opening and closing top inflections (s).
+    distance : float
+        Horizontal distance covered (m).
+    duration : float
+        ``t_end - t_start`` (s).
+    overshoot : tuple of float
+        Depth beyond the limit after the bottom inflection and after the closing top inflection (m, >= 0).
+    saturated_time : float
+        Time during which some actuator is at a limit (s).
+    energy : float
+        Pump energy (J), :func:`pump_energy`.
+    """
+
+    index: int
+    t_start: float
+    t_end: float
+    distance: float
+    duration: float
+    overshoot: tuple[float, float]
+    saturated_time: float
+    energy: float
+
+    @property
+    def max_overshoot(self) -> float:
+        """Largest of the two overshoots (m)."""
+        return max(self.overshoot)
+
+
+def _cycle_metrics(t: np.ndarray, xpos: np.ndarray, depth: np.ndarray, m0_rate: np.ndarray, saturated: np.ndarray,
+                   switch_times: Sequence[float], depths: tuple[float, float], *, efficiency: float, rho: float,
+                   p_atm: float, g: float, pump_work: str) -> tuple[CycleMetrics, ...]:
+    """Metrics of each cycle from sampled arrays; ``switch_times = (top_0, bottom_0, top_1, bottom_1, ...)``."""
+    top, bottom = depths
+    out = []
+    sw = list(switch_times)
+    for k in range((len(sw) - 1) // 2):
+        t0, tb, t1 = sw[2 * k], sw[2 * k + 1], sw[2 * k + 2]
+        t_next = sw[2 * k + 3] if 2 * k + 3 < len(sw) else t[-1]
+        cyc = (t >= t0) & (t <= t1)
+        up = (t >= tb) & (t <= t1)
+        after = (t >= t1) & (t <= t_next)
+        ob = max(0.0, float(np.max(depth[up])) - bottom) if np.any(up) else 0.0
+        ot = max(0.0, top - float(np.min(depth[after]))) if np.any(after) else 0.0
+        tc = t[cyc]
+        sat = float(np.sum(0.5 * (saturated[cyc][1:] + saturated[cyc][:-1]) * np.diff(tc))) if tc.size > 1 else 0.0
+        e = pump_energy(tc, depth[cyc], m0_rate[cyc], efficiency=efficiency, rho=rho, p_atm=p_atm, g=g,
+                        pump_work=pump_work) if tc.size else 0.0
+        x0 = float(np.interp(t0, t, xpos))
+        x1 = float(np.interp(t1, t, xpos))
+        out.append(CycleMetrics(k, float(t0), float(t1), x1 - x0, float(t1 - t0), (ob, ot), sat, e))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class DiveCycleRun:
+    """A simulated dive-cycle mission (:func:`dive_cycle`).
+
+    Attributes
+    ----------
+    controller : str
+        Controller name (``"lqr"``, ``"pid"``, ...) or the class name of a controller object.
+    t : ndarray, shape (N,)
+        Times (s).
+    x : ndarray, shape (N, 11)
+        States ``state_names`` (acceleration form, SI units).
+    state_names : tuple of str
+    u : ndarray, shape (N, 3)
+        Requested actuator rates (m/s, m/s, kg/s).
+    rates : ndarray, shape (N, 3)
+        Limited rates the actuators were driven with.
+    commanded : ndarray, shape (N, 3)
+        Position commands (m, m, kg).
+    saturated : ndarray of bool, shape (N,)
+        Some actuator at a limit.
+    actuator_names : tuple of str
+    lower, upper, rate_limit : ndarray, shape (3,)
+        Actuator limits.
+    switch_times : tuple of float
+        Inflections (s): top, bottom, top, ... (the first at ``t = 0``).
+    switch_depths : tuple of float
+        True depth at each inflection (m); the switch happens on the measured depth.
+    cycles : tuple of CycleMetrics
+    depths : (float, float)
+        Depth limits (m).
+    gamma, speed : float
+        Glide-path angle magnitude (rad) and speed (m/s) of the legs.
+    glides : tuple of SteadyGlide
+        Down and up glides.
+    pump_efficiency : float
+    efficiency_source : str
+        Where ``pump_efficiency`` comes from.
+    rho, p_atm : float
+        Density (kg/m^3) and surface pressure (Pa) of the energy.
+    pump_work : str
+        ``"out"`` or ``"both"``.
+    sensors : tuple of str
+    seed : int or None
+        Noise seed (None without noise).
+    nfev : int
+        Right-hand-side evaluations.
+    vehicle : Vehicle
+    provenance : str
+    """
+
+    controller: str
+    t: np.ndarray
+    x: np.ndarray
+    state_names: tuple[str, ...]
+    u: np.ndarray
+    rates: np.ndarray
+    commanded: np.ndarray
+    saturated: np.ndarray
+    actuator_names: tuple[str, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    rate_limit: np.ndarray
+    switch_times: tuple[float, ...]
+    switch_depths: tuple[float, ...]
+    cycles: tuple[CycleMetrics, ...]
+    depths: tuple[float, float]
+    gamma: float
+    speed: float
+    glides: tuple[SteadyGlide, ...] = field(repr=False)
+    pump_efficiency: float
+    efficiency_source: str
+    rho: float
+    p_atm: float
+    pump_work: str
+    sensors: tuple[str, ...]
+    seed: int | None
+    nfev: int
+    vehicle: Vehicle = field(repr=False, compare=False)
+    provenance: str = ""
+
+    @property
+    def depth(self) -> np.ndarray:
+        """Depth ``z`` (m, positive down), shape (N,)."""
+        return self.x[:, _IZ]
+
+    def state(self, name: str) -> np.ndarray:
+        """Time history of a state.
+
+        Parameters
+        ----------
+        name : str
+            A name of ``state_names``.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+
+        Raises
+        ------
+        ArgumentError
+            If there is no such state.
+        """
+        if name not in self.state_names:
+            raise ArgumentError(f"no state {name!r}; have {self.state_names}")
+        return self.x[:, self.state_names.index(name)]
+
+    def actuator(self, name: str, *, commanded: bool = False, rate: bool = False) -> np.ndarray:
+        """Trajectory of one actuator (as :meth:`glidectl.sim.ActuatedSimulation.actuator`).
+
+        Parameters
+        ----------
+        name : str
+            ``"m0"`` (kg), ``"r_P1"`` or ``"r_P3"`` (m).
+        commanded : bool
+            Commanded instead of achieved.
+        rate : bool
+            Rates (unit/s) instead of positions.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``name`` is not a string or a flag not a bool.
+        ArgumentError
+            If ``name`` is not an actuator.
+        """
+        if not isinstance(name, str):
+            raise ArgumentTypeError(f"name must be an actuator name (str), got {type(name).__name__} {name!r}")
+        checks.boolean("commanded", commanded)
+        checks.boolean("rate", rate)
+        if name not in self.actuator_names:
+            raise ArgumentError(f"no actuator '{name}'; have {self.actuator_names}")
+        i = self.actuator_names.index(name)
+        if rate:
+            if commanded:
+                return self.u[:, i]
+            vel = {"r_P1": "rdot_P1", "r_P3": "rdot_P3"}.get(name)
+            return self.state(vel) if vel else self.rates[:, i]
+        return self.commanded[:, i] if commanded else self.state(name)
+
+    def as_dict(self) -> dict[str, Any]:
+        """Comparison row: per-cycle means of distance (m), duration (s), saturated time (s) and energy (J), and the
+        largest overshoot (m).
+
+        Returns
+        -------
+        dict
+        """
+        c = self.cycles
+        return {"controller": self.controller, "cycles": len(c),
+                "distance_per_cycle": float(np.mean([k.distance for k in c])),
+                "duration_per_cycle": float(np.mean([k.duration for k in c])),
+                "max_overshoot": float(max(k.max_overshoot for k in c)),
+                "saturated_time_per_cycle": float(np.mean([k.saturated_time for k in c])),
+                "energy_per_cycle": float(np.mean([k.energy for k in c]))}
+
+    def summary(self) -> str:
+        """A few lines: mission, controller and per-cycle metrics.
+
+        Returns
+        -------
+        str
+        """
+        lines = [f"dive cycles of '{self.vehicle.name}' between {self.depths[0]:g} and {self.depths[1]:g} m, "
+                 f"gamma = +-{math.degrees(self.gamma):.3g} deg, {self.speed:g} m/s, controller {self.controller}"]
+        for k in self.cycles:
+            lines.append(f"  cycle {k.index}: {k.distance:.1f} m in {k.duration:.0f} s, overshoot "
+                         f"{k.overshoot[0]:.2f} / {k.overshoot[1]:.2f} m, saturated {k.saturated_time:.0f} s, "
+                         f"pump {k.energy:.0f} J")
+        return "\n".join(lines)
+
+    def plot(self, ax: Any = None) -> Any:
+        """Depth with the limits and inflections, pitch, and commanded versus achieved pump and battery.
+
+        Parameters
+        ----------
+        ax : array of 4 axes, optional
+            Default a new figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Raises
+        ------
+        GlidectlError
+            If ``ax`` is not 4 axes.
+        """
+        from ..plotting import plot_dive_cycle, style
+
+        with style():
+            return plot_dive_cycle(self, ax)
+
+
+@dataclass(frozen=True)
+class MissionComparison:
+    """Controllers flown on the same dive-cycle mission (:func:`compare_missions`).
+
+    Attributes
+    ----------
+    rows : tuple of dict
+        One :meth:`DiveCycleRun.as_dict` row per controller that flew; a controller that could not fly has a row
+        with its ``error`` message and NaN metrics.
+    runs : dict of str to DiveCycleRun
+        The runs, by controller name.
+    vehicle : Vehicle
+    provenance : str
+    """
+
+    rows: tuple[dict[str, Any], ...]
+    runs: dict[str, DiveCycleRun] = field(repr=False)
+    vehicle: Vehicle = field(repr=False, compare=False)
+    provenance: str = ""
+
+    def table(self) -> str:
+        """Markdown table: controller, distance/cycle (m), duration/cycle (s), max overshoot (m), saturated
+        time/cycle (s), energy/cycle (J), note.
+
+        Returns
+        -------
+        str
+        """
+        head = ("| controller | distance/cycle [m] | duration/cycle [s] | max overshoot [m] | saturated/cycle [s] "
+                "| energy/cycle [J] | note |\n| --- | ---: | ---: | ---: | ---: | ---: | --- |")
+        lines = [head]
+        for r in self.rows:
+            if r.get("error"):
+                lines.append(f"| {r['controller']} | - | - | - | - | - | {r['error']} |")
+            else:
+                lines.append(f"| {r['controller']} | {r['distance_per_cycle']:.1f} | {r['duration_per_cycle']:.0f} "
+                             f"| {r['max_overshoot']:.2f} | {r['saturated_time_per_cycle']:.0f} "
+                             f"| {r['energy_per_cycle']:.1f} | |")
+        return "\n".join(lines)
+
+    def summary(self) -> str:
+        """The table (:meth:`table`).
+
+        Returns
+        -------
+        str
+        """
+        return self.table()
+
+
+# ------------------------------------------------------------------------------------------------ designs per leg
+def _lqr_gain(veh: Vehicle, plant: ActuatedGlider, glide: SteadyGlide,
+              max_deviation: Mapping[str, float] | None) -> tuple[np.ndarray, np.ndarray, tuple, tuple]:
+    """LQR on the glide's acceleration-form linearization restricted to the actuated inputs, without z'."""
+    sys = linearize_glide(veh, glide, "acceleration")
+    A, B = np.asarray(sys.A), np.asarray(sys.B)
+    snames, inames = list(sys.state_labels), list(sys.input_labels)
+    fixed = [a for a, R in zip(ACTUATED_AXES, plant.rate_limit, strict=True) if R == 0]
+    drop = {"z_prime"}
+    if "r_P1" in fixed:
+        drop |= {"r_P1", "rdot_P1"}
+    if "r_P3" in fixed:
+        drop |= {"r_P3", "rdot_P3"}
+    if "m0" in fixed:
+        drop |= {"m0"}
+    si = [i for i, s in enumerate(snames) if s not in drop]
+    use = {"w1": "r_P1", "w3": "r_P3", "w4": "m0"}
+    ii = [i for i, s in enumerate(inames) if use[s] not in fixed]
+    if not ii:
+        raise ModelError(f"vehicle '{veh.name}' has no actuated pump or moving mass: nothing to control")
+    Ar, Br = A[np.ix_(si, si)], B[np.ix_(si, ii)]
+    dev = {**DEFAULT_MAX_DEVIATION, **dict(max_deviation or {})}
+    Q = np.diag([1.0 / dev[snames[i]] ** 2 for i in si])
+    R = np.diag([1.0 / dev[inames[i]] ** 2 for i in ii])
+    try:
+        Kr, _, E = control.lqr(Ar, Br, Q, R)
+    except Exception as exc:  # python-control raises several types
+        raise SolverError(f"LQR design of the {math.degrees(glide.gamma):+.1f} deg leg failed: {exc}") from exc
+    Kr, E = np.asarray(Kr, dtype=float), np.asarray(E)
+    if not (np.all(np.isfinite(Kr)) and np.max(E.real) < 0):
+        raise SolverError(f"LQR design of the {math.degrees(glide.gamma):+.1f} deg leg does not stabilize the "
+                          f"restricted linearization (poles {np.round(E, 4)})")
+    K = np.zeros((3, 11))
+    for r, i in enumerate(ii):
+        for c, j in enumerate(si):
+            K[i, j + 1] = Kr[r, c]  # glide-path state j (z' = 0) is accel state j + 1
+    return K, E, tuple(snames[i] for i in si), tuple(inames[i] for i in ii)
+
+
+#: The reference of a transition moves the actuators at this fraction of their rate limits (headroom for feedback).
+RAMP_RATE_FRACTION = 0.8
+
+
+def _ramp_time(plant: ActuatedGlider, x_from: np.ndarray, x_to: np.ndarray) -> float:
+    dp = np.abs(plant.positions(x_to) - plant.positions(x_from))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(plant.rate_limit > 0, dp / (RAMP_RATE_FRACTION * plant.rate_limit), 0.0)
+    return float(np.max(np.where(np.isfinite(t), t, 0.0)))
+
+
+def _nonlinear_designs(veh: Vehicle, plant: ActuatedGlider, gamma: float, speed: float, r_p3: float) -> tuple:
+    """(6.5) + (6.9) designs for the down and up legs, or ModelError naming why the chapter-6 controller does not
+    apply."""
+    from .buoyancy import buoyancy_equilibrium
+    from .moving_mass import MovingMassTorque
+    from .torque import design_torque_control
+
+    legs = []
+    try:
+        for sign in (-1.0, 1.0):
+            # the chapter-5 analysis is about the nominal m0: the leg's glide-family value (its sign sets the leg)
+            vl = veh.with_overrides(m0=steady_glide(veh, speed, sign * gamma, r_p3=r_p3).m0)
+            design = design_torque_control(vl, gamma=sign * gamma)
+            eq = buoyancy_equilibrium(design.law.closed_loop_vehicle(veh), speed, descending=sign < 0)
+            legs.append(_NonlinearLeg(MovingMassTorque(veh, design.law, r_p3=r_p3), eq.m0e,
+                                      1.0 / eq.tau_s, plant.pump_gain))
+    except GlidectlError as exc:
+        raise ModelError(f"controller='nonlinear' (the chapter-6 steady-glide controller: torque law (6.5) through "
+                         f"the moving mass and buoyancy law (6.9)) does not apply to vehicle '{veh.name}': {exc}") \
+            from exc
+    return tuple(legs)
+
+
+# ------------------------------------------------------------------------------------------------ mission
+def _check_depths(depths: Any) -> tuple[float, float]:
+    if isinstance(depths, str) or not isinstance(depths, Sequence) or len(depths) != 2:
+        raise ArgumentTypeError(f"depths must be a pair (top, bottom) of depths in m, got {depths!r}")
+    top = checks.real("depths[0] (top)", depths[0], lo=0.0, unit="m")
+    bottom = checks.real("depths[1] (bottom)", depths[1], lo=0.0, unit="m")
+    if not top < bottom:
+        raise ArgumentError(f"depths = ({top:g}, {bottom:g}) m: give (top, bottom) with top < bottom (depth is "
+                            "positive down)")
+    return top, bottom
+
+
+def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float] = (5.0, 100.0),
+               gamma: float = math.radians(25.0), speed: float = 0.35, cycles: int = 3,
+               sensors: Sequence[str] | None = None, noise: dict[str, float] | None = None, seed: int | None = None,
+               sensor_period: float = 1.0, output_step: float = 1.0,
+               pid_gains: tuple[float, float, float] | None = None,
+               max_deviation: Mapping[str, float] | None = None, pump_work: str = "out",
+               rho: float = RHO_SEAWATER, p_atm: float = P_ATM, servo_time: float = 0.5, pump_gain: float = 0.5,
+               method: str = "LSODA", rtol: float = 1e-5, atol: float = 1e-7,
+               max_leg_time: float | None = None) -> DiveCycleRun:
+    """Fly ``cycles`` sawtooth dive cycles between two depths on the actuated glider (module docstring).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider with ``mbar > 0`` and ``[actuators]`` entries ``m0``, ``r_P1``, ``r_P3``.
+    controller : str or controller object
+        ``"lqr"``, ``"lqg"``, ``"nonlinear"``, ``"pid"`` (module docstring), or an object: a pair ``(down, up)``,
+        an object with ``for_leg(glide, previous, t_start)``, or one controller for every leg.
+    depths : (float, float)
+        Top and bottom depth limits (m, positive down), ``0 <= top < bottom``.
+    gamma : float
+        Magnitude of the glide-path angle of both legs (rad), in ``(0, pi/2)``.
+    speed : float
+        Glide speed of the legs (m/s), > 0 (the ``"pid"`` baseline flies at the speed of the full pump).
+    cycles : int
+        Number of cycles, >= 1.
+    sensors : sequence of str, optional
+        Measured states (default all); must include ``z`` (the supervisor switches on the measured depth).
+    noise, seed, sensor_period :
+        Sensor noise standard deviations (state units), seed and sample-and-hold period (s), as
+        :func:`~glidectl.sim.simulate_actuated`; each leg draws from its own stream spawned from ``seed``.
+    output_step : float
+        Spacing of the output samples (s), > 0.
+    pid_gains : (kp, ki, kd), optional
+        Gains of the ``"pid"`` baseline (m/rad, m/(rad s), m s/rad) on both legs; default tuned per leg by
+        :func:`tune_pitch_pid` at the leg's full-pump glide.
+    max_deviation : mapping, optional
+        Bryson's-rule deviations overriding :data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION` (``"lqr"``).
+    pump_work : {"out", "both"}
+        Which pump strokes the energy counts (:func:`pump_energy`).
+    rho, p_atm : float
+        Water density (kg/m^3) and surface pressure (Pa) of the energy.
+    servo_time, pump_gain : float
+        Servo settings of :class:`~glidectl.ActuatedGlider` (s, 1/s).
+    method, rtol, atol : integrator settings of :func:`~glidectl.sim.simulate_actuated`.
+    max_leg_time : float, optional
+        Longest leg allowed (s); default 4 times the nominal leg time plus 600 s.
+
+    Returns
+    -------
+    DiveCycleRun
+
+    Raises
+    ------
+    ArgumentTypeError
+        If an argument has the wrong type.
+    ArgumentError
+        Depths not ``(top, bottom)`` with ``top < bottom``, a non-positive speed, ``gamma`` outside ``(0, pi/2)``,
+        an unknown controller name, ``"lqg"`` (not in this build), sensors without ``z`` or without the states the
+        controller needs.
+    ModelError
+        A vehicle without the actuators (the message shows how to add them), or ``"nonlinear"`` on a vehicle
+        outside its assumptions.
+    InfeasibleGlideError
+        A leg's glide does not exist or needs an actuator setting outside its range.
+    BudgetError
+        A leg does not reach its depth limit within ``max_leg_time`` (the controller does not fly the glide).
+    SolverError
+        A design or the integration fails.
+    """
+    require_glider(veh, "veh")
+    top, bottom = _check_depths(depths)
+    speed = checks.positive("speed", speed, unit="m/s")
+    gamma = checks.real("gamma", gamma, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
+    cycles = checks.integer("cycles", cycles, lo=1, hi=1000)
+    step = checks.positive("output_step", output_step, unit="s")
+    checks.choice("pump_work", pump_work, _PUMP_WORK)
+    if isinstance(controller, str):
+        checks.choice("controller", controller, CONTROLLER_NAMES)
+        if controller == "lqg":
+            raise ArgumentError("controller='lqg' needs the LQG output-feedback controller (estimator from named "
+                                "sensors, issue 16 part 4), which is not in this build of glidectl; pass a "
+                                "controller object (or a (down, up) pair) that reads the sensors instead")
+    plant = ActuatedGlider(veh, servo_time=servo_time, pump_gain=pump_gain)
+    sens = tuple(plant.state_names if sensors is None else sensors)
+    if "z" not in sens:
+        raise ArgumentError(f"sensors {sens} must include the depth 'z': the supervisor switches on the measured "
+                            "depth")
+    iz = sens.index("z")
+    i3 = ACTUATED_AXES.index("r_P3")
+    r_p3 = float(np.clip(veh.params.get("r_P3", 0.0), plant.lower[i3], plant.upper[i3]))
+    glides = []
+    for g in (-gamma, gamma):
+        gl = steady_glide(veh, speed, g, r_p3=r_p3)
+        try:
+            plant.check_state(gl.accel_state(), f"the {'down' if g < 0 else 'up'} glide")
+        except InfeasibleGlideError as exc:
+            raise InfeasibleGlideError(f"{exc} (glide at {speed:g} m/s, gamma = {math.degrees(g):+.2f} deg)") \
+                from None
+        glides.append(gl)
+    g_down, g_up = glides
+    nominal = (bottom - top) / (speed * math.sin(gamma))
+    leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
+    make = _leg_factory(controller, veh, plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains, max_deviation)
+    name = controller if isinstance(controller, str) else type(controller).__name__
+
+    n_legs = 2 * cycles + 1
+    leg_seeds: list[int | None] = [None] * n_legs
+    used_seed = None
+    if noise and any(float(v) > 0 for v in dict(noise).values()):
+        used_seed = int(np.random.SeedSequence().entropy % (2**63)) if seed is None else checks.integer(
+            "seed", seed, lo=0)
+        leg_seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(used_seed).spawn(n_legs)]
+
+    x = g_up.accel_state(0.0, top)
+    t = 0.0
+    prev = g_up
+    runs: list[ActuatedSimulation] = []
+    switch_t, switch_z = [0.0], [top]
+    nfev = 0
+
+    def zdot(xx: np.ndarray) -> float:
+        th, v1, v3 = xx[2], xx[4], xx[5]
+        return float(-v1 * math.sin(th) + v3 * math.cos(th))
+
+    for leg in range(n_legs):
+        down = leg % 2 == 0
+        glide = g_down if down else g_up
+        ctrl = make(glide, prev, t, down)
+        tail = leg == n_legs - 1
+        if tail:
+            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
+                return -zdot(xx)  # climb has stopped: the top overshoot is over
+            if stop(t, x, x) <= 0:
+                break
+        elif down:
+            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
+                return bottom - float(yy[iz])
+        else:
+            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
+                return float(yy[iz]) - top
+        te = np.append(np.arange(t, t + leg_cap, step), t + leg_cap)
+        run = simulate_actuated(plant, x, leg_cap, ctrl, sensors=sens, noise=noise, seed=leg_seeds[leg],
+                                sensor_period=sensor_period, t0=t, t_eval=te, method=method, rtol=rtol, atol=atol,
+                                stop=stop, max_steps=200_000, on_budget="stop")
+        nfev += run.nfev
+        if run.stopped_by not in ("stop",) and not tail:
+            raise BudgetError(f"the {'down' if down else 'up'} leg {leg} of the mission did not reach "
+                              f"{bottom if down else top:g} m within {leg_cap:g} s (it ended at depth "
+                              f"{run.x[-1, _IZ]:.2f} m, by {run.stopped_by}): controller {name!r} does not fly the "
+                              f"{math.degrees(glide.gamma):+.1f} deg glide of vehicle '{veh.name}'; raise "
+                              "max_leg_time or change the controller")
+        runs.append(run)
+        t, x = float(run.t[-1]), run.x[-1].copy()
+        if not tail:
+            switch_t.append(t)
+            switch_z.append(float(x[_IZ]))
+        prev = glide
+
+    def cat(get: Any) -> np.ndarray:
+        parts = [get(r) if k == 0 else get(r)[1:] for k, r in enumerate(runs)]
+        return np.concatenate(parts)
+
+    T = cat(lambda r: r.t)
+    X = cat(lambda r: r.x)
+    U = cat(lambda r: r.u)
+    S = cat(lambda r: r.rates)
+    C = cat(lambda r: r.commanded)
+    SAT = cat(lambda r: r.saturated)
+    eff = float(veh.params.get("pump_efficiency", 1.0))
+    src = (f"vehicle file ({veh.sources.get('pump_efficiency', 'no source given')})" if "pump_efficiency" in
+           veh.params else "not in the vehicle file: 1 (hydraulic work)")
+    mets = _cycle_metrics(T, X[:, 0], X[:, _IZ], S[:, 2], SAT.astype(float), switch_t, (top, bottom),
+                          efficiency=eff, rho=rho, p_atm=p_atm, g=veh.g, pump_work=pump_work)
+    return DiveCycleRun(name, T, X, plant.state_names, U, S, C, SAT, ACTUATED_AXES, plant.lower.copy(),
+                        plant.upper.copy(), plant.rate_limit.copy(), tuple(switch_t), tuple(switch_z), mets,
+                        (top, bottom), gamma, speed, (g_down, g_up), eff, src, float(rho), float(p_atm), pump_work,
+                        sens, used_seed, nfev, veh, veh.provenance)
+
+
+def _leg_factory(controller: Any, veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_down: SteadyGlide,
+                 g_up: SteadyGlide, gamma: float, speed: float, r_p3: float, pid_gains: Any,
+                 max_deviation: Any) -> Any:
+    """``make(glide, previous_glide, t_start, down) -> leg controller`` for the chosen controller."""
+    full = sens == tuple(plant.state_names)
+    if controller == "lqr":
+        if not full:
+            raise ArgumentError("controller='lqr' is state feedback: it needs every state measured (sensors=None); "
+                                "use an output-feedback controller for a subset of sensors")
+        gains = {id(g): _lqr_gain(veh, plant, g, max_deviation) for g in (g_down, g_up)}
+
+        def make_lqr(glide: SteadyGlide, prev: SteadyGlide, t0: float, down: bool) -> Any:
+            K, E, sn, inn = gains[id(glide)]
+            xf, xt = prev.accel_state(), glide.accel_state()
+            return ScheduledGlideLQR(K, xf, xt, t0, _ramp_time(plant, xf, xt), glide, E, sn, inn)
+        return make_lqr
+    if controller == "nonlinear":
+        if not full:
+            raise ArgumentError("controller='nonlinear' needs every state measured (sensors=None)")
+        down_leg, up_leg = _nonlinear_designs(veh, plant, gamma, speed, r_p3)
+        return lambda glide, prev, t0, down: down_leg if down else up_leg
+    if controller == "pid":
+        missing = [s for s in ("theta", "Omega2") if s not in sens]
+        if missing:
+            raise ArgumentError(f"controller='pid' needs the sensors {missing}")
+        if pid_gains is not None and not (isinstance(pid_gains, Sequence) and len(pid_gains) == 3):
+            raise ArgumentTypeError(f"pid_gains must be (kp, ki, kd), got {pid_gains!r}")
+        given = None if pid_gains is None else tuple(checks.real(n, v) for n, v in
+                                                     zip(("kp", "ki", "kd"), pid_gains, strict=True))
+        im = ACTUATED_AXES.index("m0")
+        ir = ACTUATED_AXES.index("r_P1")
+        lo, hi = plant.lower[im], plant.upper[im]
+        if not (math.isfinite(lo) and math.isfinite(hi)):
+            raise ArgumentError("controller='pid' runs the pump to the ends of its range: the vehicle's m0 "
+                                "actuator needs a finite min and max")
+        full_glides = {}
+        for g, m_end in ((g_down, hi), (g_up, lo)):
+            if m_end * g.m0 <= 0:
+                raise InfeasibleGlideError(f"the pump range [{lo:g}, {hi:g}] kg cannot make vehicle '{veh.name}' "
+                                           f"{'heavy' if g.m0 > 0 else 'light'}")
+            v_full = g.speed * math.sqrt(m_end / g.m0)  # m0 grows as V^2 at a fixed gamma
+            gf = steady_glide(veh, v_full, g.gamma, r_p3=r_p3)
+            gains = given if given is not None else tune_pitch_pid(plant, gf)[:3]
+            full_glides[id(g)] = (gf, m_end, gains)
+        it, io = sens.index("theta"), sens.index("Omega2")
+
+        def make_pid(glide: SteadyGlide, prev: SteadyGlide, t0: float, down: bool) -> Any:
+            gf, m_end, (kp, ki, kd) = full_glides[id(glide)]
+            gp, m_prev, _ = full_glides[id(prev)]
+            ramp = abs(m_end - m_prev) / plant.rate_limit[im] if plant.rate_limit[im] > 0 else 0.0
+            ramp = ramp if math.isfinite(ramp) else 0.0
+            return PitchPID(gp.theta, gf.theta, gp.r_p1, gf.r_p1, m_end, t0, ramp, kp, ki, kd, it, io,
+                            (float(plant.lower[ir]), float(plant.upper[ir])))
+        return make_pid
+    # a controller object
+    if isinstance(controller, tuple | list):
+        if len(controller) != 2 or not all(callable(c) for c in controller):
+            raise ArgumentTypeError("a controller pair must be (down, up), two controllers")
+        down_c, up_c = controller
+        return lambda glide, prev, t0, down: down_c if down else up_c
+    if callable(getattr(controller, "for_leg", None)):
+        return lambda glide, prev, t0, down: controller.for_leg(glide, prev, t0)
+    if callable(controller):
+        return lambda glide, prev, t0, down: controller
+    raise ArgumentTypeError(f"controller must be one of {CONTROLLER_NAMES} or a controller object, got "
+                            f"{type(controller).__name__} {controller!r}")
+
+
+def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES, **mission: Any) -> MissionComparison:
+    """Fly the same dive-cycle mission with several controllers and tabulate them.
+
+    Parameters
+    ----------
+    veh : Vehicle
+    controllers : sequence
+        Names or controller objects for :func:`dive_cycle`.
+    **mission
+        Keyword arguments of :func:`dive_cycle` (``depths``, ``gamma``, ``speed``, ``cycles``, ...).
+
+    Returns
+    -------
+    MissionComparison
+        One row per controller; a controller that cannot fly the mission (a refused name, a leg that never
+        reaches its limit) gets a row with its error message instead of metrics.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``controllers`` is not a sequence or ``veh`` not a Vehicle.
+    ArgumentError
+        If ``controllers`` is empty.
+    ModelError
+        If ``veh`` is not an underwater glider.
+    """
+    require_glider(veh, "veh")
+    if isinstance(controllers, str) or not isinstance(controllers, Sequence):
+        raise ArgumentTypeError(f"controllers must be a sequence of names or controller objects, got "
+                                f"{type(controllers).__name__}")
+    if not controllers:
+        raise ArgumentError("controllers is empty")
+    rows, runs = [], {}
+    nan = float("nan")
+    for c in controllers:
+        name = c if isinstance(c, str) else type(c).__name__
+        try:
+            run = dive_cycle(veh, c, **mission)
+        except (ArgumentError, ModelError, InfeasibleGlideError, BudgetError, SolverError) as exc:
+            if isinstance(exc, ArgumentError) and not (isinstance(c, str) and c in ("lqg",)):
+                raise
+            rows.append({"controller": name, "cycles": 0, "distance_per_cycle": nan, "duration_per_cycle": nan,
+                         "max_overshoot": nan, "saturated_time_per_cycle": nan, "energy_per_cycle": nan,
+                         "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:200]}"})
+            continue
+        runs[name] = run
+        rows.append({**run.as_dict(), "error": ""})
+    return MissionComparison(tuple(rows), runs, veh, veh.provenance)
