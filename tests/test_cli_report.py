@@ -263,3 +263,16 @@ def test_report_api_errors_are_glidectl_errors(tmp_path):
     with pytest.raises(OSError):              # OutputError is also an OSError
         rep.write("/dev/null/x")
     assert rep.write(tmp_path / "ok").exists()
+
+
+def test_python_dash_m_glidectl_is_the_cli():
+    """``python -m glidectl list`` runs the same CLI as the ``glidectl`` script (exit 0, lists the presets)."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "glidectl", "list"], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert "slocum_ch8" in out.stdout
+    bad = subprocess.run([sys.executable, "-m", "glidectl", "frobnicate"], capture_output=True, text=True,
+                         timeout=120)
+    assert bad.returncode == 2
