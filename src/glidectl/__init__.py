@@ -130,6 +130,7 @@ from .roa import (
     recast,
     taylor_system,
 )
+from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi, saturated_loop
 from .sim import Ensemble, Simulation, simulate, simulate_many
 from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov
@@ -189,6 +190,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
         "singular_perturbation", "SingularPerturbation", "SOSSize", "taylor_system", "unequal_mass_check",
         "UnequalMassCheck",
+        "certify_roa_lmi", "EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "saturated_loop",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
@@ -236,6 +238,8 @@ __all__ = [
     "ElevatorBuoyancyGlider",
     "ElevatorEquilibrium",
     "ElevatorExample",
+    "EllipsoidCertificate",
+    "EllipsoidVerification",
     "Ensemble",
     "ExistenceScan",
     "ExtendedCTOL",
@@ -272,6 +276,7 @@ __all__ = [
     "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
     "SOSSize",
+    "SaturatedLoop",
     "Simulation",
     "SingularPerturbation",
     "SlowModel",
@@ -295,6 +300,7 @@ __all__ = [
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
     "certify_roa",
+    "certify_roa_lmi",
     "classify_C",
     "classify_motion",
     "climb_trajectory",
@@ -350,6 +356,7 @@ __all__ = [
     "rbh_locus",
     "recast",
     "resolved_crossing",
+    "saturated_loop",
     "simulate",
     "simulate_many",
     "singular_perturbation",
