@@ -19,39 +19,41 @@ Certificate (Tarbouriech, Garcia, Gomes da Silva & Queinnec 2011, Prop. 3.1 / Hu
 ----------------------------------------------------------------------------------------------------------------
 *Generalized sector condition* (Tarbouriech et al. 2011, Lemma 1.6): if ``-a_i <= (K_i - G_i) x <= b_i`` then
 ``psi_i (psi_i - G_i x) <= 0``; on an ellipsoid (symmetric) the condition is ``|(K_i - G_i) x| <= u0_i =
-min(a_i, b_i)``. *Remainder*: ``|delta_j(x)| <= gamma_j |x|`` on the ball ``|x| <= r`` (below). With
-``W = P^-1``, ``S = T^-1`` (diagonal), ``Z = G W`` and multipliers ``nu_j > 0`` (``2 x'P delta <= sum_j nu_j
+min(a_i, b_i)``. *Remainder*: ``delta_j(x)^2 <= x' Q_j x`` on a box ``|x_k| <= b_k`` (below). With ``W = P^-1``,
+``S = T^-1`` (diagonal), ``Z = G W``, ``R_j' R_j = Q_j`` and multipliers ``nu_j > 0`` (``2 x'P delta <= sum_j nu_j
 (Px)_j^2 + delta_j^2 / nu_j``), ``dV/dt < 0`` on ``E = {x' P x <= 1}`` minus the origin follows from::
 
-    [ (A+BK) W + W (A+BK)' + N    -B_s S + Z'    gamma_1 W ... gamma_p W ]
+    [ (A+BK) W + W (A+BK)' + N    -B_s S + Z'    (R_1 W)' ... (R_p W)'   ]
     [            *                   -2 S              0                 ]  <  0,     N = diag(nu_j),
     [            *                     *        -diag(nu_1 I, ..., nu_p I)]
 
     [ W                 (K_i W - Z_i)' ]
     [ K_i W - Z_i            u0_i^2    ]  >= 0  (each saturating channel: E inside the sector region),
 
-    W_ii <= 1 (E inside the box),   W <= r^2 I (E inside the ball where gamma holds),
+    W_kk <= b_k^2 <= 1   (E inside the remainder box, itself inside the box),
 
-(Schur complements of ``sum_j gamma_j^2 / nu_j W W``). ``E`` is then contractive, hence invariant, inside the box and
-in the region of attraction. For a fixed ``r`` this is one SDP maximizing ``log det W`` (volume) or, with a given
-shape ``P0``, the largest ``c`` with ``W = c P0^-1``; the radius is searched on a geometric grid refined by golden
-section.
+(Schur complements of ``sum_j W Q_j W / nu_j``). ``E`` is then contractive, hence invariant, inside the box and in
+the region of attraction. For a fixed remainder box this is one SDP maximizing ``log det W`` (volume) or, with a
+given shape ``P0``, the largest ``c`` with ``W = c P0^-1``. The box is ``b = min(1, rho beta)``: ``rho`` is searched
+on a geometric grid refined by golden section, and ``beta`` (the box's shape) is the unit box in the first round
+and the best ellipsoid's extents in the next ones (``rounds``). Each SDP is solved in ``W = rho^2 B Wt B``,
+``B = diag(beta)``, so that its unknowns are of order one.
 
 Remainder bound (what is and is not rigorous)
 ---------------------------------------------
-``delta_j`` vanishes with its gradient at 0, so by Taylor's theorem ``|delta_j| <= (M_j / 2) |(x, w)|^2`` with
-``M_j`` the largest spectral norm of the Hessian of ``F_j`` over the convex set ``C_r = {|x| <= r, |x_i| <= 1} x
-{w_i between the saturation levels, |w_i| <= |K_i| r}`` (which contains every segment from 0 to ``(x, sat(Kx))``).
-With ``|w|^2 / |x| <= sum_i min(|K_i|^2 r, |K_i| u_i)`` (``u_i`` the larger level)::
+``delta_j`` vanishes with its gradient at 0, so by Taylor's theorem (mean-value form) ``delta_j(xi) = (1/2) xi' H_j
+xi`` with the Hessian ``H_j`` of ``F_j`` at a point of the segment from 0 to ``xi = (x, w)``. On the convex set
+``C = {|x_k| <= b_k} x {w_i between its levels, |w_i| <= sum_k |K_ik| b_k}``, which contains those segments,
+``|delta_j| <= sum_l c_jl |xi_l|`` with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``Hmax`` the entrywise maximum of
+``|H_j|`` over ``C``, ``b`` extended by the input bounds); Cauchy-Schwarz and ``w_i^2 <= (K_i x)^2`` then give
+``delta_j^2 <= x' Q_j x`` with ``Q_j = |c_j|_1 (diag(c_j,x) + K' diag(c_j,w) K)``.
 
-    gamma_j(r) = margin * (M_j(r) / 2) * (r + sum_i min(|K_i|^2 r, |K_i| u_i)).
-
-``M_j(r)`` is the maximum over dense samples of ``C_r`` (Hessians by central differences of complex-step
-Jacobians) times ``hessian_margin`` (default 1.5): a sampled bound with a safety factor, **not** an interval
-enclosure. The certificate is therefore sound up to that bound, and every certificate is also verified a posteriori
-on the true saturated loop (:class:`EllipsoidVerification`): the assembled LMI's eigenvalues, the region blocks, the
-remainder bound on dense samples of ``E``, sampled true ``dV/dt < 0`` in ``E`` and on its boundary, and simulated
-convergence from boundary points. ``verified`` reports those checks.
+``Hmax`` is the maximum over dense samples of ``C`` (corners included; Hessians by central differences of
+complex-step Jacobians) times ``hessian_margin`` (default 1.5): a sampled bound with a safety factor, **not** an
+interval enclosure. The certificate is therefore sound up to that bound, and every certificate is also verified a
+posteriori on the true saturated loop (:class:`EllipsoidVerification`): the assembled LMI's eigenvalues in floating
+point, the region blocks, the remainder bound on dense samples of ``E``, sampled true ``dV/dt < 0`` in ``E`` and on
+its boundary, and simulated convergence from boundary points. ``verified`` reports those checks.
 """
 
 from __future__ import annotations
@@ -1063,8 +1065,11 @@ def certify_roa_lmi(system: Any, *, box: tuple[Any, Any] | None = None, shape: A
     n_hessian : int
         Sample points for the Hessian bound (>= 16).
     n_radii, refine : int
-        Remainder radii of the geometric grid (>= 2) and golden-section refinements (>= 0) of the best one (one SDP
-        each; a loop without remainder needs a single SDP).
+        Sizes ``rho`` of the remainder box on the geometric grid (>= 2) and golden-section refinements (>= 0) of the
+        best one, per round (one SDP each; a loop without remainder needs a single SDP).
+    rounds : int
+        Rounds of the search (>= 1): the first with a box shaped like the loop's box, the next ones shaped like the
+        best ellipsoid so far.
     backoff : float
         The certified ellipsoid is ``W = (1 - backoff) W*``, in ``[0, 0.5]``.
     n_verify, n_simulate : int
