@@ -36,7 +36,7 @@ def test_scalar_saturated_loop_reaches_its_exact_region_and_not_beyond():
     half = 1 / np.sqrt(cert.P[0, 0])
     assert half <= 1.0 + 1e-6          # never beyond the true region (x = 1 is an equilibrium)
     assert half >= 0.99                # the generalized sector condition is lossless here
-    assert cert.verified and cert.method == "lmi"
+    assert cert.certified and cert.method == "lmi"
     assert cert.contains([[0.98 * half]])[0] and not cert.contains([[1.01]])[0]
 
 
@@ -45,7 +45,7 @@ def test_linear_saturated_loop_sector_condition_is_used_and_respected():
     K = np.array([[-2.0, -2.0]])
     sl = _loop("lin2", lambda X: X @ A.T, K, -1.0, 1.0, 3.0)
     cert = gc.certify_roa_lmi(sl)
-    assert cert.verified
+    assert cert.certified
     X = np.concatenate([cert.sample(3000, seed=3), cert.sample(3000, seed=4, boundary=True)])
     v = X @ K.T
     assert np.max(np.abs(v)) > 1.5                   # the ellipsoid reaches well into saturation
@@ -108,7 +108,7 @@ def test_unsaturated_polynomial_loop_lmi_level_is_below_the_sos_level():
     c_sos = _sos_level([A_CL[0, 0] * Z[0] + A_CL[0, 1] * Z[1],
                         A_CL[1, 0] * Z[0] + A_CL[1, 1] * Z[1] + 0.8 * Z[0] ** 2], P_LYAP)
     assert 0 < c_lmi <= c_sos * (1 + 1e-6)
-    assert cert.verified
+    assert cert.certified
     # the remainder bound used holds on dense samples of the set (also checked in the verification)
     X = cert.sample(4000, seed=9)
     delta = F(X) + np.clip(X @ K_FB.T, -np.inf, np.inf) @ B_IN.T - X @ A_CL.T
@@ -123,7 +123,7 @@ def buoyancy():
     sph = gc.load_vehicle("sphere_ch5")
     beq = gc.buoyancy_equilibrium(sph, 1.5)
     loop = gc.closed_loop(gc.BuoyancyController(beq, sph, 5.0))
-    return loop, gc.certify_roa_lmi(loop, **FAST)
+    return loop, gc.certify_roa_lmi(gc.saturated_loop(loop), **FAST)
 
 
 def test_buoyancy_loop_extraction_is_the_loop():
@@ -143,7 +143,7 @@ def test_buoyancy_loop_extraction_is_the_loop():
 
 def test_buoyancy_loop_certificate_is_sound_on_the_true_loop(buoyancy):
     loop, cert = buoyancy
-    assert cert.verified, cert.verification.failing()
+    assert cert.certified, cert.verification.failing()
     xe = loop.equilibrium
     X = np.concatenate([cert.sample(2000, seed=21), cert.sample(2000, seed=22, boundary=True)])
     assert np.all(cert.contains(cert.sample(500, seed=23)))
@@ -203,7 +203,9 @@ def test_loop_not_of_the_saturated_form_is_refused():
     with pytest.raises(gc.ArgumentTypeError, match="saturated linear state feedback"):
         gc.saturated_loop(loop)
     with pytest.raises(gc.ArgumentTypeError, match="ClosedLoop"):
-        gc.certify_roa_lmi(gc.benchmarks.van_der_pol())
+        gc.saturated_loop(gc.benchmarks.van_der_pol())
+    with pytest.raises(gc.ArgumentTypeError, match="saturated_loop"):
+        gc.certify_roa_lmi(loop)
     with pytest.raises(gc.ArgumentTypeError, match="StateFeedback"):
         gc.saturated_loop(gc.BuoyancyGlider(sph), feedback=lambda t, x: x)
 
@@ -220,8 +222,6 @@ def test_bad_arguments_raise_clear_errors():
     sl = _loop("lin", lambda X: -X, np.array([[-1.0, 0.0]]), -1.0, 1.0, 1.0)
     with pytest.raises(gc.ArgumentError, match="symmetric positive definite"):
         gc.certify_roa_lmi(sl, shape=-np.eye(2))
-    with pytest.raises(gc.ArgumentError, match="box is part of a SaturatedLoop"):
-        gc.certify_roa_lmi(sl, box=(-np.ones(2), np.ones(2)))
     with pytest.raises(gc.ArgumentError):
         gc.certify_roa_lmi(sl, solver="NOPE")
     with pytest.raises(gc.ArgumentError, match="bracket 0"):

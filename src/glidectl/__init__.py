@@ -81,6 +81,7 @@ from .controllers.linear import (
 )
 from .controllers.moving_mass import RealizedTorqueComparison, compare_realized_torque
 from .controllers.output_feedback import LQGController, lqg_glide
+from .controllers.saturation import saturated_loop
 from .controllers.torque import (
     TorqueDesign,
     TorqueGainFamily,
@@ -130,7 +131,7 @@ from .roa import (
     recast,
     taylor_system,
 )
-from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi, saturated_loop
+from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
 from .sim import Ensemble, Simulation, simulate, simulate_many
 from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov

@@ -941,7 +941,7 @@ def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any]
     ax.plot(loop.equilibrium[i], loop.equilibrium[j], "k+", ms=12, mew=2, label="equilibrium")
     ax.set_xlabel(label(loop.state_names[i]))
     ax.set_ylabel(label(loop.state_names[j]))
-    status = "verified" if cert.verified else "NOT verified"
+    status = "verified" if cert.certified else "NOT verified"
     ax.set_title(f"{loop.name}\nLMI region of attraction ({status}), "
                  f"{100 * cert.volume_fraction:.3g} % of the box", fontsize=8)
     ax.legend(loc="lower right", fontsize=7)

@@ -4,9 +4,9 @@ saturation and a bounded nonlinear remainder (one quadratic bound per component)
 Loop form (:class:`SaturatedLoop`)
 ----------------------------------
 ``X' = F(X, sat(K (X - X_e)))``: the plant's own right-hand side ``F`` with the input deviation ``w`` (the channels
-fed back) saturated to ``[u_lo, u_hi]`` (``u_lo < 0 < u_hi``, ``+-inf`` for none). :func:`saturated_loop` extracts
-``F``, ``K``, the levels and the equilibrium from a glidectl closed loop and checks, on random points of the box,
-that ``F(X, sat(K (X - X_e)))`` *is* the loop's right-hand side.
+fed back) saturated to ``[u_lo, u_hi]`` (``u_lo < 0 < u_hi``, ``+-inf`` for none). :func:`glidectl.saturated_loop`
+extracts ``F``, ``K``, the levels and the equilibrium from a glidectl closed loop and checks, on random points of
+the box, that ``F(X, sat(K (X - X_e)))`` *is* the loop's right-hand side.
 
 In the scaled deviation ``x = D^-1 (X - X_e)`` (``D`` the half-widths of the largest box centred on the equilibrium
 inside the loop's box) and scaled inputs ``w = s v``::
@@ -53,7 +53,7 @@ complex-step Jacobians) times ``hessian_margin`` (default 1.5): a sampled bound 
 interval enclosure. The certificate is therefore sound up to that bound, and every certificate is also verified a
 posteriori on the true saturated loop (:class:`EllipsoidVerification`): the assembled LMI's eigenvalues in floating
 point, the region blocks, the remainder bound on dense samples of ``E``, sampled true ``dV/dt < 0`` in ``E`` and on
-its boundary, and simulated convergence from boundary points. ``verified`` reports those checks.
+its boundary, and simulated convergence from boundary points. ``certified`` reports those checks.
 """
 
 from __future__ import annotations
@@ -67,28 +67,17 @@ from typing import Any
 import cvxpy as cp
 import numpy as np
 from scipy.special import gammaln
+from scipy.stats import qmc
 
 from .. import checks
 from ..analysis.jacobian import jacobians
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 
-__all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi", "saturated_loop"]
+__all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
 
 #: SDP-capable solvers cvxpy may have installed.
 _SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
-
-#: Half-widths of the default box for states without an actuator limit (state units; ``"rel"`` entries are
-#: relative to the equilibrium value). Actuator states take the vehicle's ``[actuators]`` range, rate states its rate.
-DEFAULT_HALF_WIDTH: dict[str, tuple[float, str]] = {
-    "V": (0.5, "rel"), "gamma": (0.5, "abs"), "alpha": (0.2, "abs"), "Omega2": (0.3, "abs"),
-    "z_prime": (2.0, "abs"), "theta": (0.5, "abs"), "v1": (0.5, "rel"), "v3": (0.1, "abs"),
-}
-
-_RATE_STATES = {"rdot_P1": "r_P1", "rdot_P3": "r_P3"}
-_ACTUATOR_STATES = ("m0", "r_P1", "r_P3")
-_SHRINK = 1.0 - 1e-3            # default boxes stay strictly inside actuator ranges (no pump blocking on them)
-
 
 def _sat(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
     """``clip(v, lo, hi)`` carrying a complex step (derivative 1 inside, 0 outside)."""
@@ -221,220 +210,6 @@ class SaturatedLoop:
         if self.truth is not None:
             return np.asarray(self.truth(X))
         return np.asarray(self.plant_rhs(X, self.input(X)))
-
-
-def _levels(u_min: Any, u_max: Any, u_e: np.ndarray, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
-    m = len(names)
-    lo = np.full(m, -np.inf) if u_min is None else checks.array("u_min", u_min, shape=(m,), finite=False)
-    hi = np.full(m, np.inf) if u_max is None else checks.array("u_max", u_max, shape=(m,), finite=False)
-    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or not (np.all(lo < u_e) and np.all(u_e < hi)):
-        raise ArgumentError(f"u_min < u_e < u_max is needed in every input {list(names)}: u_min = {lo.tolist()}, "
-                            f"u_e = {u_e.tolist()}, u_max = {hi.tolist()}")
-    return lo - u_e, hi - u_e
-
-
-def _default_box(names: tuple[str, ...], xe: np.ndarray, veh: Any) -> tuple[np.ndarray, np.ndarray]:
-    """The validity box: actuator ranges and rates from the vehicle file, :data:`DEFAULT_HALF_WIDTH` elsewhere."""
-    acts = getattr(veh, "actuators", {}) or {}
-    lo, hi = xe.copy(), xe.copy()
-    for i, nm in enumerate(names):
-        a = acts.get(nm) if nm in _ACTUATOR_STATES else acts.get(_RATE_STATES.get(nm, ""))
-        if a is not None and a.fixed is None and nm in _ACTUATOR_STATES and math.isfinite(a.min) and \
-                math.isfinite(a.max):
-            lo[i], hi[i] = a.min, a.max
-        elif a is not None and a.fixed is None and nm in _RATE_STATES and math.isfinite(a.rate):
-            lo[i], hi[i] = -a.rate, a.rate
-        else:
-            w, kind = DEFAULT_HALF_WIDTH.get(nm, (0.5, "abs"))
-            w = w * abs(xe[i]) if kind == "rel" and xe[i] != 0 else w
-            lo[i], hi[i] = xe[i] - w, xe[i] + w
-    c = 0.5 * (lo + hi)
-    return c + _SHRINK * (lo - c), c + _SHRINK * (hi - c)
-
-
-def _check_truth(sl: SaturatedLoop, truth: Callable[[np.ndarray], Any], what: str) -> None:
-    """ModelError unless ``F(X, sat(K dX))`` equals the loop's own right-hand side on random points of the box."""
-    rng = np.random.default_rng(7)
-    lo, hi = sl.box
-    X = lo + (hi - lo) * rng.random((64, sl.n))
-    X[:, list(sl.held)] = sl.equilibrium[list(sl.held)]
-    X = np.concatenate([X, sl.equilibrium[None, :]])
-    with np.errstate(all="ignore"):
-        a = np.asarray(truth(X), dtype=float)
-        b = np.asarray(sl.plant_rhs(X, sl.input(X)), dtype=float)
-    scale = np.maximum(np.max(np.abs(a), axis=0), 1e-300)
-    err = float(np.max(np.abs(a - b) / scale))
-    if not err <= 1e-9:
-        raise ModelError(f"{what}: the loop is not of the form F(x, sat(K (x - x_e))) the LMI path needs (relative "
-                         f"mismatch {err:.2g} on box points)")
-    held = list(sl.held)
-    if held and np.max(np.abs(a[:, held])) > 1e-12 * max(1.0, float(np.max(np.abs(a)))):
-        raise ModelError(f"{what}: the held states {[sl.state_names[i] for i in held]} move when held at their "
-                         "equilibrium values, so they cannot be left out of the certificate")
-
-
-def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | None = None,
-                   u_min: Any = None, u_max: Any = None) -> SaturatedLoop:
-    """Extract ``F``, ``K``, the saturation levels, the equilibrium and a box from a glidectl closed loop.
-
-    Recognized forms:
-
-    * ``gc.closed_loop(BuoyancyController)`` (6.9): ``u1 = sat(-(K_b/tau_s)(m0 - m0e))`` at the pump rate limit
-      ``u4_max`` (:func:`~glidectl.models.buoyancy_glider.actuator_limits`);
-    * ``gc.closed_loop(ElevatorBuoyancyController)`` (6.21)-(6.22): the same pump law; the elevator input is the
-      constant ``clip(u2e)`` (not fed back: part of ``F``);
-    * ``gc.closed_loop(LinearGlideController)`` (:func:`~glidectl.controllers.linear.lqr_glide`,
-      :func:`~glidectl.controllers.linear.place_glide`): ``w = -K (x_r - x_r,e)``, saturated by ``u_min``/``u_max``
-      or by default at the vehicle's rate limits where the units agree (``u4``/``w4`` at ``[actuators] m0.rate``,
-      kg/s; accelerations and forces have no limit in the vehicle file); the states locked by inputs left out of
-      ``actuate`` are held;
-    * a plant with ``feedback`` a :class:`~glidectl.analysis.closed_loop.StateFeedback`
-      (:func:`~glidectl.analysis.closed_loop.lqr_state_feedback`): ``u = sat(u_e - K (x - x_e))`` at its
-      ``u_min``/``u_max``.
-
-    The default box holds the vehicle's actuator ranges (``m0``, ``r_P1``) and rates (``rdot_P1``), and
-    :data:`DEFAULT_HALF_WIDTH` about the equilibrium for the other states, shrunk by 0.1 % (so a range end is never
-    reached). Inside a certified ellipsoid (invariant, inside the box) the actuator range and rate limits are
-    therefore never reached.
-
-    Parameters
-    ----------
-    system : ClosedLoop or model
-        A closed loop of the forms above, or a plant (``rhs(x, u)``, ``state_names``, ``input_names``) with
-        ``feedback``.
-    feedback : StateFeedback, optional
-        The saturated linear law, for a plant.
-    box : (array_like, array_like), optional
-        ``(lo, hi)`` in the states' units; default the validity box above.
-    u_min, u_max : array_like, optional
-        Absolute input limits (one per plant input; a LinearGlideController loop only, overriding the defaults).
-
-    Returns
-    -------
-    SaturatedLoop
-        Checked against the loop's own right-hand side on 65 points of the box.
-
-    Raises
-    ------
-    ArgumentTypeError
-        If ``system`` is not a recognized closed loop (another law, e.g. a torque or CTOL law, or an arbitrary
-        ``closed_loop(model, law)``: give the plant and a StateFeedback instead), or ``feedback`` is not a
-        StateFeedback.
-    ArgumentError
-        If ``u_min``/``u_max`` do not bracket the equilibrium input, are given for another loop, or the box does
-        not contain the equilibrium.
-    ModelError
-        If the loop does not equal ``F(x, sat(K (x - x_e)))`` on the box, a held state moves, or the chapter-6
-        pump is not rate limited (no saturation to certify: use the SOS path).
-    """
-    from ..analysis.closed_loop import StateFeedback
-    from ..controllers.buoyancy import BuoyancyController
-    from ..controllers.elevator import ElevatorBuoyancyController
-    from ..controllers.linear import ACTUATOR_OF_INPUT, LinearGlideController
-    from ..models.buoyancy_glider import actuator_limits
-    from ..models.closed_loop import ClosedLoop
-
-    if feedback is not None:
-        if not isinstance(feedback, StateFeedback):
-            raise ArgumentTypeError(f"feedback must be a StateFeedback (gc.lqr_state_feedback), got "
-                                    f"{type(feedback).__name__}")
-        if u_min is not None or u_max is not None:
-            raise ArgumentError("u_min/u_max come from the StateFeedback; do not give them again")
-        plant = system
-        for attr in ("rhs", "state_names", "input_names"):
-            if not hasattr(plant, attr):
-                raise ArgumentTypeError(f"{type(plant).__name__} is not a glidectl model (no '{attr}')")
-        names, inputs = tuple(plant.state_names), tuple(plant.input_names)
-        xe, ue = np.asarray(feedback.x_e, float), np.asarray(feedback.u_e, float)
-        Kf = -np.asarray(feedback.K, float)
-        lo_d, hi_d = feedback.u_min - ue, feedback.u_max - ue
-        ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
-
-        def full_u(W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
-            U = np.broadcast_to(ue, (*W.shape[:-1], len(ue))).astype(W.dtype).copy()
-            U[..., ch] = ue[ch] + W
-            return U
-
-        truth = (lambda X: plant.rhs(X, feedback(0.0, X)))  # noqa: E731
-        sl = SaturatedLoop(f"{type(plant).__name__} closed by {feedback.name}", names, tuple(inputs[i] for i in ch),
-                           lambda X, W: plant.rhs(X, full_u(W)), xe, Kf[ch], lo_d[ch], hi_d[ch],
-                           box if box is not None else _default_box(names, xe, getattr(plant, "vehicle", None)),
-                           truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")))
-        _check_truth(sl, truth, sl.name)
-        return sl
-    if not isinstance(system, ClosedLoop):
-        raise ArgumentTypeError(f"saturated_loop() needs a glidectl ClosedLoop (gc.closed_loop(controller)) or a "
-                                f"plant with feedback=StateFeedback, got {type(system).__name__}")
-    ctrl = getattr(system.law, "__self__", None)
-    plant, names = system.plant, tuple(system.state_names)
-    xe = None if system.equilibrium is None else np.asarray(system.equilibrium, float)
-    veh = getattr(plant, "vehicle", None)
-    prov = system.provenance
-    held: tuple[int, ...] = ()
-    if isinstance(ctrl, BuoyancyController | ElevatorBuoyancyController) and getattr(system.law, "__name__", "") == "u":
-        if u_min is not None or u_max is not None:
-            raise ArgumentError("u_min/u_max are the vehicle's pump limits for the chapter-6 loops; change the "
-                                "vehicle's [actuators] table instead")
-        lim = actuator_limits(ctrl.vehicle)
-        if not math.isfinite(lim.u4_max):
-            raise ModelError(f"vehicle '{ctrl.vehicle.name}' has no pump rate limit ([actuators] m0.rate): the loop "
-                             "is not saturated; certify it with gc.certify_roa (SOS path)")
-        k = ctrl.rate_gain if isinstance(ctrl, BuoyancyController) else ctrl.K / ctrl.eq.tau_s
-        K = np.zeros((1, 5))
-        K[0, 4] = -k
-        if isinstance(ctrl, BuoyancyController):
-            def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
-                return np.asarray(plant.rhs(X, W))
-        else:
-            u2c = float(np.real(lim.elevator(ctrl.eq.u2e)))
-
-            def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
-                return np.asarray(plant.rhs(X, np.concatenate([W, u2c + 0.0 * W], axis=-1)))
-        sl = SaturatedLoop(system.name, names, ("u1",), F, xe, K, np.array([-lim.u4_max]), np.array([lim.u4_max]),
-                           box if box is not None else _default_box(names, xe, veh), truth=system.rhs,
-                           provenance=prov)
-    elif isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
-        inputs = tuple(plant.input_names)
-        ue = np.zeros(len(inputs))
-        if u_min is None and u_max is None:
-            acts = getattr(veh, "actuators", {}) or {}
-            hi = np.full(len(inputs), np.inf)
-            for i, nm in enumerate(inputs):
-                a = acts.get(ACTUATOR_OF_INPUT.get(nm, ""))
-                if nm in ("u4", "w4") and a is not None and math.isfinite(a.rate):
-                    hi[i] = a.rate
-            lo_d, hi_d = -hi, hi
-        else:
-            lo_d, hi_d = _levels(u_min, u_max, ue, inputs)
-        Kf = -np.asarray(ctrl.K, float)
-        ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
-        held = tuple(names.index(s) for s in ctrl.locked_states)
-        off = np.zeros(len(names))
-        off[0] = ctrl.path_offset
-
-        def F(X: np.ndarray, W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
-            U = np.zeros((*W.shape[:-1], len(inputs)), dtype=W.dtype)
-            U[..., ch] = W
-            return np.asarray(plant.rhs(X, U))
-
-        sl0 = SaturatedLoop(system.name, names, tuple(inputs[i] for i in ch), F, xe, Kf[ch], lo_d[ch], hi_d[ch],
-                            box if box is not None else _default_box(names, xe, veh), held=held, provenance=prov)
-        # the loop's own law is unsaturated: check F with the unsaturated law against it, then saturate
-        lin = SaturatedLoop(sl0.name, names, sl0.input_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
-                            np.full(len(ch), np.inf), sl0.box, held=held)
-        _check_truth(lin, system.rhs, system.name)
-        what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch)
-        return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.input_names, F, xe, sl0.K, sl0.u_lo,
-                             sl0.u_hi, sl0.box, held=held, provenance=prov)
-    else:
-        law = getattr(system.law, "__qualname__", type(system.law).__name__)
-        raise ArgumentTypeError(
-            f"saturated_loop() does not know the law '{law}' of {system.name!r} as a saturated linear state feedback "
-            "u = u_e + sat(K (x - x_e)): supported are the closed loops of BuoyancyController, "
-            "ElevatorBuoyancyController and LinearGlideController, or a plant with feedback=StateFeedback "
-            "(gc.lqr_state_feedback). Other loops go to gc.certify_roa (SOS path)")
-    _check_truth(sl, system.rhs, system.name)
-    return sl
 
 
 # --------------------------------------------------------------------------------------------- scaled problem
@@ -673,7 +448,7 @@ def _lmi_numeric(sc: _Scaled, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: n
 # --------------------------------------------------------------------------------------------- certificate
 @dataclass(frozen=True)
 class EllipsoidVerification:
-    """A-posteriori checks of an :class:`EllipsoidCertificate` (all must pass for ``verified``).
+    """A-posteriori checks of an :class:`EllipsoidCertificate` (all must pass for ``certified``).
 
     Attributes
     ----------
@@ -786,14 +561,10 @@ class EllipsoidCertificate:
     provenance: str = ""
 
     @property
-    def verified(self) -> bool:
-        """True only if every a-posteriori check passed (:class:`EllipsoidVerification`)."""
-        return self.verification.passed
-
-    @property
     def certified(self) -> bool:
-        """Alias of :attr:`verified` (the name :class:`~glidectl.roa.certify.ROACertificate` uses)."""
-        return self.verified
+        """True only if every a-posteriori check passed (:class:`EllipsoidVerification`), as
+        :attr:`glidectl.roa.certify.ROACertificate.certified`."""
+        return self.verification.passed
 
     @property
     def rho(self) -> float:
@@ -889,14 +660,17 @@ class EllipsoidCertificate:
         if box is None:
             return float(math.exp(0.5 * nf * math.log(math.pi) - gammaln(0.5 * nf + 1)
                                   - 0.5 * np.linalg.slogdet(self.P)[1]))
-        from .certify import _check_box, _sobol
-
-        lo, hi = _check_box(box, self.loop.n)
+        if not isinstance(box, tuple | list) or len(box) != 2:
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({self.loop.n},)")
+        lo = checks.array("box lo", box[0], shape=(self.loop.n,))
+        hi = checks.array("box hi", box[1], shape=(self.loop.n,))
+        if np.any(lo >= hi):
+            raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
         n = checks.integer("n", n, lo=1, hi=2**24)
         seed = checks.integer("seed", seed, lo=0)
         f = list(self.loop.free)
         X = np.tile(self.loop.equilibrium, (n, 1))
-        X[:, f] = lo[f] + (hi[f] - lo[f]) * _sobol(len(f), seed, n)
+        X[:, f] = lo[f] + (hi[f] - lo[f]) * qmc.Sobol(len(f), seed=seed).random(n)
         return float(np.prod(hi[f] - lo[f]) * np.mean(self.contains(X)))
 
     @property
@@ -1039,7 +813,7 @@ class _Round:
         return obj
 
 
-def certify_roa_lmi(system: Any, *, box: tuple[Any, Any] | None = None, shape: Any = None,
+def certify_roa_lmi(system: Any, *, shape: Any = None,
                     hessian_margin: float = 1.5, n_hessian: int = 1024, n_radii: int = 8, refine: int = 5,
                     rounds: int = 3,
                     backoff: float = 0.01, n_verify: int = 4000, n_simulate: int = 32, horizon: float | None = None,
@@ -1050,12 +824,10 @@ def certify_roa_lmi(system: Any, *, box: tuple[Any, Any] | None = None, shape: A
 
     Parameters
     ----------
-    system : SaturatedLoop or ClosedLoop
-        A :class:`SaturatedLoop`, or a closed loop :func:`saturated_loop` recognizes (chapter-6 buoyancy and
-        elevator loops, LinearGlideController loops saturated at the vehicle's pump rate).
-    box : (array_like, array_like), optional
-        Box of the states (for a ClosedLoop; default :func:`saturated_loop`'s validity box). The ellipsoid lies in
-        the largest box centred on the equilibrium inside it.
+    system : SaturatedLoop
+        The loop, e.g. :func:`glidectl.saturated_loop` of a closed loop of this package (chapter-6 buoyancy and
+        elevator loops, linear glide regulators saturated at the vehicle's pump rate, saturated state feedbacks).
+        The ellipsoid lies in the largest box centred on the equilibrium inside the loop's box.
     shape : array_like (nf, nf), optional
         A fixed shape ``P0`` (symmetric positive definite, free states' units): the largest level ``c`` with
         ``{dX' P0 dX <= c}`` certified (the LMI analogue of the SOS fixed-V level problem). Default: the shape is
@@ -1085,28 +857,28 @@ def certify_roa_lmi(system: Any, *, box: tuple[Any, Any] | None = None, shape: A
     Returns
     -------
     EllipsoidCertificate
-        ``method = "lmi"``; ``verified`` says whether every a-posteriori check passed.
+        ``method = "lmi"``; ``certified`` says whether every a-posteriori check passed.
 
     Raises
     ------
     ArgumentTypeError
-        If ``system`` is neither a SaturatedLoop nor a recognized closed loop, or an option has the wrong type.
+        If ``system`` is not a SaturatedLoop (the message says to use :func:`glidectl.saturated_loop`), or an
+        option has the wrong type.
     ArgumentError
-        If an option is out of range, ``shape`` is not symmetric positive definite of the free states' size, or
-        ``box`` is given with a SaturatedLoop or does not contain the equilibrium.
+        If an option is out of range, or ``shape`` is not symmetric positive definite of the free states' size.
     ModelError
-        If the linearized loop ``A + B K`` is not Hurwitz (unstable or marginal), the equilibrium is not one, the
-        loop is not of the saturated form, or the Hessian is not finite on the box.
+        If the linearized loop ``A + B K`` is not Hurwitz (unstable or marginal), the equilibrium is not one, or the
+        Hessian is not finite on the box.
     SolverError
         If no SDP is feasible (no ellipsoid of the given shape, or none at all, is certified).
     """
     t_wall = time.perf_counter()
-    if isinstance(system, SaturatedLoop):
-        if box is not None:
-            raise ArgumentError("box is part of a SaturatedLoop: build it with the box you want")
-        sl = system
-    else:
-        sl = saturated_loop(system, box=box)
+    if not isinstance(system, SaturatedLoop):
+        raise ArgumentTypeError(f"certify_roa_lmi() needs a SaturatedLoop, got {type(system).__name__}: for a glidectl "
+                                "closed loop pass gc.saturated_loop(loop) (it extracts F, K and the saturation "
+                                "levels, and refuses loops of another form); polynomial loops without saturation "
+                                "also go to gc.certify_roa (SOS path)")
+    sl = system
     hessian_margin = checks.real("hessian_margin", hessian_margin, lo=1.0)
     n_hessian = checks.integer("n_hessian", n_hessian, lo=16, hi=2**20)
     n_radii = checks.integer("n_radii", n_radii, lo=2, hi=200)
