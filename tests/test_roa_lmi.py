@@ -232,3 +232,19 @@ def test_bad_arguments_raise_clear_errors():
         dataclasses.replace(sl, box=(np.zeros(2), np.ones(2)))
     with pytest.raises(gc.ArgumentTypeError):
         gc.certify_roa_lmi(sl, rounds=1.5)
+
+
+def test_state_feedback_loop_is_extracted():
+    # the ch6 design's saturated LQR on the buoyancy glider (gc.lqr_state_feedback with u_min/u_max)
+    sph = gc.load_vehicle("sphere_ch5")
+    beq = gc.buoyancy_equilibrium(sph, 1.5)
+    plant = gc.BuoyancyGlider(sph)
+    box = np.array([0.3, 0.3, 0.1, 0.3, 0.3])
+    sf = gc.lqr_state_feedback(plant, beq.state, [0.0], Q=1 / box**2, R=[1 / 0.02**2], u_min=[-0.02], u_max=[0.02])
+    sl = gc.saturated_loop(plant, feedback=sf)
+    np.testing.assert_allclose(sl.K, -sf.K)
+    assert (sl.u_lo[0], sl.u_hi[0]) == (-0.02, 0.02)
+    X = sl.box[0] + (sl.box[1] - sl.box[0]) * np.random.default_rng(2).random((100, 5))
+    np.testing.assert_allclose(sl.rhs(X), plant.rhs(X, sf(0.0, X)), rtol=1e-12)
+    with pytest.raises(gc.ArgumentError, match="come from the StateFeedback"):
+        gc.saturated_loop(plant, feedback=sf, u_max=[1.0])
