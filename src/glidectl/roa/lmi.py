@@ -770,6 +770,7 @@ class _Round:
     rnd: int
     sols: dict[float, tuple[float, dict[str, Any]]]
     history: list[dict[str, Any]]
+    backoff: float = 0.0
     t_solve: float = 0.0
 
     def solve(self, rho: float) -> float:
@@ -807,6 +808,12 @@ class _Round:
                        "Z": (r2 * np.asarray(prog.Z.value, float) * beta[None, :] if prog.Z is not None
                              else np.zeros((0, nf))),
                        "nu": r2 * np.asarray(prog.nu.value, float) if prog.nu is not None else np.zeros(0)}
+                # keep only solutions whose LMIs hold in floating point after the backoff (an inaccurate solve
+                # may not)
+                q = 1.0 - self.backoff
+                lmax, rmin = _lmi_numeric(sc, q * W, q * sol["s"], q * sol["Z"], q * sol["nu"], rem.R, prog.p_idx)
+                if not (lmax < 0 and rmin >= -1e-9 and np.max(np.diag(q * W) - rem.b**2) <= 1e-9):
+                    status, obj, sol = f"{status} (rejected: LMI fails in floating point)", -math.inf, {}
         self.history.append({"round": self.rnd, "rho": rho, "box": np.minimum(1.0, rho * beta) * sc.d,
                              "status": status, "objective": obj, "time": dt})
         self.sols[rho] = (obj, sol)
@@ -922,7 +929,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
             p_idx = np.flatnonzero(np.max(Hc[-1], axis=(1, 2)) > tiny)
         prog = _program(sc, p_idx, W0, beta)
         sols: dict[float, tuple[float, dict[str, Any]]] = {}
-        ctx = _Round(prog, sc, t, Hc, beta, hessian_margin, solver, W0, rnd, sols, history)
+        ctx = _Round(prog, sc, t, Hc, beta, hessian_margin, solver, W0, rnd, sols, history, backoff)
 
         def solve(rho: float, ctx: _Round = ctx) -> float:
             return ctx.solve(rho)
