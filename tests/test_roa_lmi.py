@@ -187,6 +187,11 @@ def test_elevator_and_lqr_loops_are_extracted_with_their_saturations():
     np.testing.assert_allclose(sl.rhs(X[inside]), loop.rhs(X[inside]), rtol=1e-12, atol=1e-15)
     m0 = sl.state_names.index("m0")
     np.testing.assert_allclose(sl.rhs(X[~inside])[:, m0], np.clip(v[~inside, 1], -0.01, 0.01))
+    # explicit limits (absolute, one per plant input) override the vehicle's
+    sl2 = gc.saturated_loop(loop, u_min=[-0.1, -1.0, -0.005], u_max=[0.2, 1.0, 0.005])
+    np.testing.assert_allclose(np.c_[sl2.u_lo, sl2.u_hi], [[-0.1, 0.2], [-0.005, 0.005]])
+    with pytest.raises(gc.ArgumentError, match="u_min < u_e < u_max"):
+        gc.saturated_loop(loop, u_min=[0.1, -1.0, -0.005], u_max=[0.2, 1.0, 0.005])
 
 
 # --------------------------------------------------------------------------------------------- bad inputs

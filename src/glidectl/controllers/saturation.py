@@ -40,8 +40,6 @@ _ACTUATOR_STATES = ("m0", "r_P1", "r_P3")
 _SHRINK = 1.0 - 1e-3            # default boxes stay strictly inside actuator ranges (no pump blocking on them)
 
 
-
-
 def _levels(u_min: Any, u_max: Any, u_e: np.ndarray, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
     m = len(names)
     lo = np.full(m, -np.inf) if u_min is None else checks.array("u_min", u_min, shape=(m,), finite=False)
