@@ -822,7 +822,7 @@ class _Round:
 
 def certify_roa_lmi(system: Any, *, shape: Any = None,
                     hessian_margin: float = 1.5, n_hessian: int = 1024, n_radii: int = 8, refine: int = 5,
-                    rounds: int = 3,
+                    rounds: int = 6, round_gain: float = 0.1,
                     backoff: float = 0.01, n_verify: int = 4000, n_simulate: int = 32, horizon: float | None = None,
                     solver: str = "CLARABEL", seed: int = 0) -> EllipsoidCertificate:
     """Largest certified ellipsoid of a saturated closed loop: quadratic ``V``, generalized sector condition and a
@@ -847,8 +847,11 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
         Sizes ``rho`` of the remainder box on the geometric grid (>= 2) and golden-section refinements (>= 0) of the
         best one, per round (one SDP each; a loop without remainder needs a single SDP).
     rounds : int
-        Rounds of the search (>= 1): the first with a box shaped like the loop's box, the next ones shaped like the
-        best ellipsoid so far.
+        Largest number of rounds of the search (>= 1): the first with a box shaped like the loop's box, the next
+        ones shaped like the best ellipsoid so far.
+    round_gain : float
+        The search stops after a round that raised ``log sqrt det W`` (the log of the volume) by less than this
+        (>= 0; 0.1: a volume gain under 10 %).
     backoff : float
         The certified ellipsoid is ``W = (1 - backoff) W*``, in ``[0, 0.5]``.
     n_verify, n_simulate : int
@@ -891,6 +894,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
     n_radii = checks.integer("n_radii", n_radii, lo=2, hi=200)
     refine = checks.integer("refine", refine, lo=0, hi=50)
     rounds = checks.integer("rounds", rounds, lo=1, hi=20)
+    round_gain = checks.real("round_gain", round_gain, lo=0.0)
     backoff = checks.real("backoff", backoff, lo=0.0, hi=0.5)
     n_verify = checks.integer("n_verify", n_verify, lo=1, hi=2**22)
     n_simulate = checks.integer("n_simulate", n_simulate, lo=0, hi=2**16)
@@ -959,9 +963,10 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
                     f2 = solve(math.exp(c2))
         t_solve += ctx.t_solve
         r_best = max(sols, key=lambda r: sols[r][0])
+        gain = sols[r_best][0] - best[0]
         if sols[r_best][0] > best[0]:
             best = sols[r_best]
-        if not np.isfinite(best[0]) or len(p_idx) == 0:
+        if not np.isfinite(best[0]) or len(p_idx) == 0 or gain < round_gain:
             break
         # next round: remainder boxes shaped like the best ellipsoid's extents (largest extent 1: rho is it)
         ext = np.sqrt(np.diag(best[1]["W"]))
