@@ -95,6 +95,28 @@ def test_unsaturated_linear_loop_fixed_shape_level_equals_sos_level():
     assert c_sos == pytest.approx(exact, rel=1e-6)
 
 
+def test_lmi_certifies_at_least_the_sos_degree2_certificate_on_an_unsaturated_linear_loop():
+    # gc.certify_roa at degree 2 (with the box as cuts) returns V = x' P x at a backed-off level rho; the LMI with the
+    # same shape P certifies a level >= rho (both are exact here: the level is set by the box), and the free-shape
+    # LMI ellipsoid is at least as large as the SOS one
+    Z = Poly.variables(2)
+    ps = polynomial_system("lin", ("x1", "x2"), [A_CL[i, 0] * Z[0] + A_CL[i, 1] * Z[1] for i in range(2)],
+                           box=(-np.ones(2), np.ones(2)))
+    ps = dataclasses.replace(ps, cuts=(1 - Z[0] ** 2, 1 - Z[1] ** 2))
+    sos = gc.certify_roa(ps, degree=2, iterations=1, n_truth=64, n_verify=500, n_simulate=4, extra=0)
+    assert sos.certified
+    t = sos.V.terms
+    P = np.array([[t.get((2, 0), 0.0), t.get((1, 1), 0.0) / 2], [t.get((1, 1), 0.0) / 2, t.get((0, 2), 0.0)]])
+    sl = _loop("lin", lambda X: X @ A_OL.T, K_FB, -np.inf, np.inf, 1.0)
+    fixed = gc.certify_roa_lmi(sl, shape=P, backoff=0.0)
+    c_lmi = P[0, 0] / fixed.P[0, 0]
+    assert c_lmi >= sos.rho * (1 - 1e-6)
+    assert c_lmi == pytest.approx(sos.rho_star, rel=1e-4)
+    free = gc.certify_roa_lmi(sl)
+    ellipse_sos = np.pi * sos.rho / np.sqrt(np.linalg.det(P))
+    assert free.volume() >= ellipse_sos * (1 - 1e-6)
+
+
 def test_unsaturated_polynomial_loop_lmi_level_is_below_the_sos_level():
     # with a quadratic term the LMI certifies the level of V through a bound on the remainder: it can only be more
     # conservative than the SOS level problem, which treats the polynomial exactly (never above it)
