@@ -145,7 +145,8 @@ def buoyancy():
     sph = gc.load_vehicle("sphere_ch5")
     beq = gc.buoyancy_equilibrium(sph, 1.5)
     loop = gc.closed_loop(gc.BuoyancyController(beq, sph, 5.0))
-    return loop, gc.certify_roa_lmi(gc.saturated_loop(loop), **FAST)
+    return loop, gc.certify_roa_lmi(gc.saturated_loop(loop), rounds=1, n_radii=4, refine=1, n_hessian=128,
+                                    n_verify=500, n_simulate=4)
 
 
 def test_buoyancy_loop_extraction_is_the_loop():
@@ -175,7 +176,7 @@ def test_buoyancy_loop_certificate_is_sound_on_the_true_loop(buoyancy):
     Vdot = 2 * np.einsum("ni,ij,nj->n", dX, cert.P, loop.rhs(X))                 # the loop's own right-hand side
     assert np.max(Vdot / np.sum((dX / cert.scale) ** 2, axis=1)) < 0
     # simulated convergence from boundary points (outermost samples)
-    X0 = cert.sample(12, seed=24, boundary=True)
+    X0 = cert.sample(8, seed=24, boundary=True)
     res = integrate_batch(loop.rhs, X0, 200.0, rtol=1e-7, atol=1e-10)
     assert np.all(res.converged_to(xe, 1e-4))
     assert cert.volume_fraction > 0
