@@ -94,6 +94,7 @@ from .controllers.linear import (
 )
 from .controllers.moving_mass import RealizedTorqueComparison, compare_realized_torque
 from .controllers.output_feedback import LQGController, lqg_glide
+from .controllers.saturation import saturated_loop
 from .controllers.torque import (
     TorqueDesign,
     TorqueGainFamily,
@@ -144,6 +145,7 @@ from .roa import (
     recast,
     taylor_system,
 )
+from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
 from .sim import ActuatedSimulation, Ensemble, Simulation, simulate, simulate_actuated, simulate_many
 from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov
@@ -207,6 +209,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
         "singular_perturbation", "SingularPerturbation", "SOSSize", "taylor_system", "unequal_mass_check",
         "UnequalMassCheck",
+        "certify_roa_lmi", "EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "saturated_loop",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
@@ -261,6 +264,8 @@ __all__ = [
     "ElevatorBuoyancyGlider",
     "ElevatorEquilibrium",
     "ElevatorExample",
+    "EllipsoidCertificate",
+    "EllipsoidVerification",
     "Ensemble",
     "ExistenceScan",
     "ExtendedCTOL",
@@ -299,6 +304,7 @@ __all__ = [
     "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
     "SOSSize",
+    "SaturatedLoop",
     "ScheduledGlideLQR",
     "Simulation",
     "SingularPerturbation",
@@ -325,6 +331,7 @@ __all__ = [
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
     "certify_roa",
+    "certify_roa_lmi",
     "classify_C",
     "classify_motion",
     "climb_trajectory",
@@ -384,6 +391,7 @@ __all__ = [
     "rbh_locus",
     "recast",
     "resolved_crossing",
+    "saturated_loop",
     "simulate",
     "simulate_actuated",
     "simulate_many",

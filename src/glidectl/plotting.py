@@ -954,3 +954,51 @@ def plot_dive_cycle(run: DiveCycleRun, ax: Any = None) -> Any:
     axes[-1].set_xlabel("t [s]")
     axes[0].set_title(f"{run.vehicle.name}: {len(run.cycles)} dive cycles, controller {run.controller}")
     return axes[0].figure
+
+
+def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any] = (0, 1), n: int = 200) -> Any:
+    """Slice through the equilibrium of an LMI-certified ellipsoid
+    (:class:`~glidectl.roa.lmi.EllipsoidCertificate`) in the plane of two free states, with the loop's box.
+
+    Parameters
+    ----------
+    cert : EllipsoidCertificate
+    ax : matplotlib.axes.Axes, optional
+    dims : two state names or indices
+        The plane (free states of the loop).
+    n : int
+        Points of the drawn boundary (>= 8).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure holding the axes: the ellipse (other free states at equilibrium), the box, the equilibrium.
+    """
+    loop = cert.loop
+    i, j = _pair(dims, loop.state_names, loop.n)
+    free = list(loop.free)
+    if i not in free or j not in free:
+        raise GlidectlError(f"choose two free states of the certificate (held: "
+                            f"{[loop.state_names[k] for k in loop.held]}), got {dims!r}")
+    if n < 8:
+        raise GlidectlError(f"n must be at least 8, got {n}")
+    a, b = free.index(i), free.index(j)
+    P2 = np.asarray(cert.P)[np.ix_([a, b], [a, b])]
+    L = np.linalg.cholesky(np.linalg.inv(0.5 * (P2 + P2.T)))
+    th = np.linspace(0.0, 2 * math.pi, n)
+    E = (L @ np.vstack([np.cos(th), np.sin(th)])).T + loop.equilibrium[[i, j]]
+    if ax is None:
+        _, ax = new_figure(width=6.5, height=5.2)
+    lo, hi = (np.asarray(v, dtype=float) for v in cert.box)
+    ax.fill(E[:, 0], E[:, 1], color="C0", alpha=0.35, label=f"certified ellipsoid (slice), {cert.method}")
+    ax.plot(E[:, 0], E[:, 1], color="C0", lw=1.2)
+    ax.plot([lo[i], hi[i], hi[i], lo[i], lo[i]], [lo[j], lo[j], hi[j], hi[j], lo[j]], "k--", lw=1, label="box")
+    ax.plot(loop.equilibrium[i], loop.equilibrium[j], "k+", ms=12, mew=2, label="equilibrium")
+    ax.set_xlabel(label(loop.state_names[i]))
+    ax.set_ylabel(label(loop.state_names[j]))
+    status = "verified" if cert.certified else "NOT verified"
+    ax.set_title(f"{loop.name}\nLMI region of attraction ({status}), "
+                 f"{100 * cert.volume_fraction:.3g} % of the box", fontsize=8)
+    ax.legend(loc="lower right", fontsize=7)
+    ax.grid(True, alpha=0.3)
+    return ax.figure

@@ -1,0 +1,249 @@
+"""The saturated form ``X' = F(X, sat(K (X - X_e)))`` of the closed loops of this package's controllers, for the LMI
+path of the region-of-attraction layer (:func:`glidectl.roa.lmi.certify_roa_lmi`): :func:`saturated_loop`.
+
+The chapter-6 buoyancy and elevator loops saturate in the pump (rate limit ``[actuators] m0.rate``); a linear glide
+regulator saturates where the vehicle file gives a rate in the input's unit (the pump rate ``u4``/``w4``); a
+:class:`~glidectl.analysis.closed_loop.StateFeedback` carries its own ``u_min``/``u_max``. The extracted form is
+checked against the loop's own right-hand side, so a certificate is of the loop itself.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from .. import checks
+from ..analysis.closed_loop import StateFeedback
+from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from ..models.buoyancy_glider import actuator_limits
+from ..models.closed_loop import ClosedLoop
+from ..roa.lmi import SaturatedLoop
+from .buoyancy import BuoyancyController
+from .elevator import ElevatorBuoyancyController
+from .linear import ACTUATOR_OF_INPUT, LinearGlideController
+
+__all__ = ["DEFAULT_HALF_WIDTH", "saturated_loop"]
+
+
+#: Half-widths of the default box for states without an actuator limit (state units; ``"rel"`` entries are
+#: relative to the equilibrium value). Actuator states take the vehicle's ``[actuators]`` range, rate states its rate.
+DEFAULT_HALF_WIDTH: dict[str, tuple[float, str]] = {
+    "V": (0.5, "rel"), "gamma": (0.5, "abs"), "alpha": (0.2, "abs"), "Omega2": (0.3, "abs"),
+    "z_prime": (2.0, "abs"), "theta": (0.5, "abs"), "v1": (0.5, "rel"), "v3": (0.1, "abs"),
+}
+
+_RATE_STATES = {"rdot_P1": "r_P1", "rdot_P3": "r_P3"}
+_ACTUATOR_STATES = ("m0", "r_P1", "r_P3")
+_SHRINK = 1.0 - 1e-3            # default boxes stay strictly inside actuator ranges (no pump blocking on them)
+
+
+def _levels(u_min: Any, u_max: Any, u_e: np.ndarray, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
+    m = len(names)
+    lo = np.full(m, -np.inf) if u_min is None else checks.array("u_min", u_min, shape=(m,), finite=False)
+    hi = np.full(m, np.inf) if u_max is None else checks.array("u_max", u_max, shape=(m,), finite=False)
+    if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or not (np.all(lo < u_e) and np.all(u_e < hi)):
+        raise ArgumentError(f"u_min < u_e < u_max is needed in every input {list(names)}: u_min = {lo.tolist()}, "
+                            f"u_e = {u_e.tolist()}, u_max = {hi.tolist()}")
+    return lo - u_e, hi - u_e
+
+
+def _default_box(names: tuple[str, ...], xe: np.ndarray, veh: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The validity box: actuator ranges and rates from the vehicle file, :data:`DEFAULT_HALF_WIDTH` elsewhere."""
+    acts = getattr(veh, "actuators", {}) or {}
+    lo, hi = xe.copy(), xe.copy()
+    for i, nm in enumerate(names):
+        a = acts.get(nm) if nm in _ACTUATOR_STATES else acts.get(_RATE_STATES.get(nm, ""))
+        if a is not None and a.fixed is None and nm in _ACTUATOR_STATES and math.isfinite(a.min) and \
+                math.isfinite(a.max):
+            lo[i], hi[i] = a.min, a.max
+        elif a is not None and a.fixed is None and nm in _RATE_STATES and math.isfinite(a.rate):
+            lo[i], hi[i] = -a.rate, a.rate
+        else:
+            w, kind = DEFAULT_HALF_WIDTH.get(nm, (0.5, "abs"))
+            w = w * abs(xe[i]) if kind == "rel" and xe[i] != 0 else w
+            lo[i], hi[i] = xe[i] - w, xe[i] + w
+    c = 0.5 * (lo + hi)
+    return c + _SHRINK * (lo - c), c + _SHRINK * (hi - c)
+
+
+def _check_truth(sl: SaturatedLoop, truth: Callable[[np.ndarray], Any], what: str) -> None:
+    """ModelError unless ``F(X, sat(K dX))`` equals the loop's own right-hand side on random points of the box."""
+    rng = np.random.default_rng(7)
+    lo, hi = sl.box
+    X = lo + (hi - lo) * rng.random((64, sl.n))
+    X[:, list(sl.held)] = sl.equilibrium[list(sl.held)]
+    X = np.concatenate([X, sl.equilibrium[None, :]])
+    with np.errstate(all="ignore"):
+        a = np.asarray(truth(X), dtype=float)
+        b = np.asarray(sl.plant_rhs(X, sl.input(X)), dtype=float)
+    scale = np.maximum(np.max(np.abs(a), axis=0), 1e-300)
+    err = float(np.max(np.abs(a - b) / scale))
+    if not err <= 1e-9:
+        raise ModelError(f"{what}: the loop is not of the form F(x, sat(K (x - x_e))) the LMI path needs (relative "
+                         f"mismatch {err:.2g} on box points)")
+    held = list(sl.held)
+    if held and np.max(np.abs(a[:, held])) > 1e-12 * max(1.0, float(np.max(np.abs(a)))):
+        raise ModelError(f"{what}: the held states {[sl.state_names[i] for i in held]} move when held at their "
+                         "equilibrium values, so they cannot be left out of the certificate")
+
+
+def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | None = None,
+                   u_min: Any = None, u_max: Any = None) -> SaturatedLoop:
+    """Extract ``F``, ``K``, the saturation levels, the equilibrium and a box from a glidectl closed loop.
+
+    Recognized forms:
+
+    * ``gc.closed_loop(BuoyancyController)`` (6.9): ``u1 = sat(-(K_b/tau_s)(m0 - m0e))`` at the pump rate limit
+      ``u4_max`` (:func:`~glidectl.models.buoyancy_glider.actuator_limits`);
+    * ``gc.closed_loop(ElevatorBuoyancyController)`` (6.21)-(6.22): the same pump law; the elevator input is the
+      constant ``clip(u2e)`` (not fed back: part of ``F``);
+    * ``gc.closed_loop(LinearGlideController)`` (:func:`~glidectl.controllers.linear.lqr_glide`,
+      :func:`~glidectl.controllers.linear.place_glide`): ``w = -K (x_r - x_r,e)``, saturated by ``u_min``/``u_max``
+      or by default at the vehicle's rate limits where the units agree (``u4``/``w4`` at ``[actuators] m0.rate``,
+      kg/s; accelerations and forces have no limit in the vehicle file); the states locked by inputs left out of
+      ``actuate`` are held;
+    * a plant with ``feedback`` a :class:`~glidectl.analysis.closed_loop.StateFeedback`
+      (:func:`~glidectl.analysis.closed_loop.lqr_state_feedback`): ``u = sat(u_e - K (x - x_e))`` at its
+      ``u_min``/``u_max``.
+
+    The default box holds the vehicle's actuator ranges (``m0``, ``r_P1``) and rates (``rdot_P1``), and
+    :data:`DEFAULT_HALF_WIDTH` about the equilibrium for the other states, shrunk by 0.1 % (so a range end is never
+    reached). Inside a certified ellipsoid (invariant, inside the box) the actuator range and rate limits are
+    therefore never reached.
+
+    Parameters
+    ----------
+    system : ClosedLoop or model
+        A closed loop of the forms above, or a plant (``rhs(x, u)``, ``state_names``, ``input_names``) with
+        ``feedback``.
+    feedback : StateFeedback, optional
+        The saturated linear law, for a plant.
+    box : (array_like, array_like), optional
+        ``(lo, hi)`` in the states' units; default the validity box above.
+    u_min, u_max : array_like, optional
+        Absolute input limits (one per plant input; a LinearGlideController loop only, overriding the defaults).
+
+    Returns
+    -------
+    SaturatedLoop
+        Checked against the loop's own right-hand side on 65 points of the box.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``system`` is not a recognized closed loop (another law, e.g. a torque or CTOL law, or an arbitrary
+        ``closed_loop(model, law)``: give the plant and a StateFeedback instead), or ``feedback`` is not a
+        StateFeedback.
+    ArgumentError
+        If ``u_min``/``u_max`` do not bracket the equilibrium input, are given for another loop, or the box does
+        not contain the equilibrium.
+    ModelError
+        If the loop does not equal ``F(x, sat(K (x - x_e)))`` on the box, a held state moves, or the chapter-6
+        pump is not rate limited (no saturation to certify: use the SOS path).
+    """
+    if feedback is not None:
+        if not isinstance(feedback, StateFeedback):
+            raise ArgumentTypeError(f"feedback must be a StateFeedback (gc.lqr_state_feedback), got "
+                                    f"{type(feedback).__name__}")
+        if u_min is not None or u_max is not None:
+            raise ArgumentError("u_min/u_max come from the StateFeedback; do not give them again")
+        plant = system
+        for attr in ("rhs", "state_names", "input_names"):
+            if not hasattr(plant, attr):
+                raise ArgumentTypeError(f"{type(plant).__name__} is not a glidectl model (no '{attr}')")
+        names, inputs = tuple(plant.state_names), tuple(plant.input_names)
+        xe, ue = np.asarray(feedback.x_e, float), np.asarray(feedback.u_e, float)
+        Kf = -np.asarray(feedback.K, float)
+        lo_d, hi_d = feedback.u_min - ue, feedback.u_max - ue
+        ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
+
+        def full_u(W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
+            U = np.broadcast_to(ue, (*W.shape[:-1], len(ue))).astype(W.dtype).copy()
+            U[..., ch] = ue[ch] + W
+            return U
+
+        truth = (lambda X: plant.rhs(X, feedback(0.0, X)))  # noqa: E731
+        sl = SaturatedLoop(f"{type(plant).__name__} closed by {feedback.name}", names, tuple(inputs[i] for i in ch),
+                           lambda X, W: plant.rhs(X, full_u(W)), xe, Kf[ch], lo_d[ch], hi_d[ch],
+                           box if box is not None else _default_box(names, xe, getattr(plant, "vehicle", None)),
+                           truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")))
+        _check_truth(sl, truth, sl.name)
+        return sl
+    if not isinstance(system, ClosedLoop):
+        raise ArgumentTypeError(f"saturated_loop() needs a glidectl ClosedLoop (gc.closed_loop(controller)) or a "
+                                f"plant with feedback=StateFeedback, got {type(system).__name__}")
+    ctrl = getattr(system.law, "__self__", None)
+    plant, names = system.plant, tuple(system.state_names)
+    xe = None if system.equilibrium is None else np.asarray(system.equilibrium, float)
+    veh = getattr(plant, "vehicle", None)
+    prov = system.provenance
+    held: tuple[int, ...] = ()
+    if isinstance(ctrl, BuoyancyController | ElevatorBuoyancyController) and getattr(system.law, "__name__", "") == "u":
+        if u_min is not None or u_max is not None:
+            raise ArgumentError("u_min/u_max are the vehicle's pump limits for the chapter-6 loops; change the "
+                                "vehicle's [actuators] table instead")
+        lim = actuator_limits(ctrl.vehicle)
+        if not math.isfinite(lim.u4_max):
+            raise ModelError(f"vehicle '{ctrl.vehicle.name}' has no pump rate limit ([actuators] m0.rate): the loop "
+                             "is not saturated; certify it with gc.certify_roa (SOS path)")
+        k = ctrl.rate_gain if isinstance(ctrl, BuoyancyController) else ctrl.K / ctrl.eq.tau_s
+        K = np.zeros((1, 5))
+        K[0, 4] = -k
+        if isinstance(ctrl, BuoyancyController):
+            def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
+                return np.asarray(plant.rhs(X, W))
+        else:
+            u2c = float(np.real(lim.elevator(ctrl.eq.u2e)))
+
+            def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
+                return np.asarray(plant.rhs(X, np.concatenate([W, u2c + 0.0 * W], axis=-1)))
+        sl = SaturatedLoop(system.name, names, ("u1",), F, xe, K, np.array([-lim.u4_max]), np.array([lim.u4_max]),
+                           box if box is not None else _default_box(names, xe, veh), truth=system.rhs,
+                           provenance=prov)
+    elif isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
+        inputs = tuple(plant.input_names)
+        ue = np.zeros(len(inputs))
+        if u_min is None and u_max is None:
+            acts = getattr(veh, "actuators", {}) or {}
+            hi = np.full(len(inputs), np.inf)
+            for i, nm in enumerate(inputs):
+                a = acts.get(ACTUATOR_OF_INPUT.get(nm, ""))
+                if nm in ("u4", "w4") and a is not None and math.isfinite(a.rate):
+                    hi[i] = a.rate
+            lo_d, hi_d = -hi, hi
+        else:
+            lo_d, hi_d = _levels(u_min, u_max, ue, inputs)
+        Kf = -np.asarray(ctrl.K, float)
+        ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
+        held = tuple(names.index(s) for s in ctrl.locked_states)
+        off = np.zeros(len(names))
+        off[0] = ctrl.path_offset
+
+        def F(X: np.ndarray, W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
+            U = np.zeros((*W.shape[:-1], len(inputs)), dtype=W.dtype)
+            U[..., ch] = W
+            return np.asarray(plant.rhs(X, U))
+
+        sl0 = SaturatedLoop(system.name, names, tuple(inputs[i] for i in ch), F, xe, Kf[ch], lo_d[ch], hi_d[ch],
+                            box if box is not None else _default_box(names, xe, veh), held=held, provenance=prov)
+        # the loop's own law is unsaturated: check F with the unsaturated law against it, then saturate
+        lin = SaturatedLoop(sl0.name, names, sl0.input_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
+                            np.full(len(ch), np.inf), sl0.box, held=held)
+        _check_truth(lin, system.rhs, system.name)
+        what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch)
+        return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.input_names, F, xe, sl0.K, sl0.u_lo,
+                             sl0.u_hi, sl0.box, held=held, provenance=prov)
+    else:
+        law = getattr(system.law, "__qualname__", type(system.law).__name__)
+        raise ArgumentTypeError(
+            f"saturated_loop() does not know the law '{law}' of {system.name!r} as a saturated linear state feedback "
+            "u = u_e + sat(K (x - x_e)): supported are the closed loops of BuoyancyController, "
+            "ElevatorBuoyancyController and LinearGlideController, or a plant with feedback=StateFeedback "
+            "(gc.lqr_state_feedback). Other loops go to gc.certify_roa (SOS path)")
+    _check_truth(sl, system.rhs, system.name)
+    return sl
+
+

@@ -1,0 +1,1035 @@
+"""Region of attraction of a saturated closed loop by LMIs: a quadratic ``V``, the generalized sector condition of the
+saturation and a bounded nonlinear remainder (one quadratic bound per component), one small SDP per remainder box.
+
+Loop form (:class:`SaturatedLoop`)
+----------------------------------
+``X' = F(X, sat(K (X - X_e)))``: the plant's own right-hand side ``F`` with the input deviation ``w`` (the channels
+fed back) saturated to ``[u_lo, u_hi]`` (``u_lo < 0 < u_hi``, ``+-inf`` for none). :func:`glidectl.saturated_loop`
+extracts ``F``, ``K``, the levels and the equilibrium from a glidectl closed loop and checks, on random points of
+the box, that ``F(X, sat(K (X - X_e)))`` *is* the loop's right-hand side.
+
+In the scaled deviation ``x = D^-1 (X - X_e)`` (``D`` the half-widths of the largest box centred on the equilibrium
+inside the loop's box) and scaled inputs ``w = s v``::
+
+    x' = A x + B w + delta(x),    w = sat(K x) = K x - psi(K x),    delta = F(x, w) - A x - B w,
+
+with ``A, B`` the exact (complex-step) Jacobians of ``F`` at the equilibrium.
+
+Certificate (Tarbouriech, Garcia, Gomes da Silva & Queinnec 2011, Prop. 3.1 / Hu & Lin 2001, with a remainder)
+----------------------------------------------------------------------------------------------------------------
+*Generalized sector condition* (Tarbouriech et al. 2011, Lemma 1.6): if ``-a_i <= (K_i - G_i) x <= b_i`` then
+``psi_i (psi_i - G_i x) <= 0``; on an ellipsoid (symmetric) the condition is ``|(K_i - G_i) x| <= u0_i =
+min(a_i, b_i)``. *Remainder*: ``delta_j(x)^2 <= x' Q_j x`` on a box ``|x_k| <= b_k`` (below). With ``W = P^-1``,
+``S = T^-1`` (diagonal), ``Z = G W``, ``R_j' R_j = Q_j`` and multipliers ``nu_j > 0`` (``2 x'P delta <= sum_j nu_j
+(Px)_j^2 + delta_j^2 / nu_j``), ``dV/dt < 0`` on ``E = {x' P x <= 1}`` minus the origin follows from::
+
+    [ (A+BK) W + W (A+BK)' + N    -B_s S + Z'    (R_1 W)' ... (R_p W)'   ]
+    [            *                   -2 S              0                 ]  <  0,     N = diag(nu_j),
+    [            *                     *        -diag(nu_1 I, ..., nu_p I)]
+
+    [ W                 (K_i W - Z_i)' ]
+    [ K_i W - Z_i            u0_i^2    ]  >= 0  (each saturating channel: E inside the sector region),
+
+    W_kk <= b_k^2 <= 1   (E inside the remainder box, itself inside the box),
+
+(Schur complements of ``sum_j W Q_j W / nu_j``). ``E`` is then contractive, hence invariant, inside the box and in
+the region of attraction. For a fixed remainder box this is one SDP maximizing ``log det W`` (volume) or, with a
+given shape ``P0``, the largest ``c`` with ``W = c P0^-1``. The box is ``b = min(1, rho beta)``: ``rho`` is searched
+on a geometric grid refined by golden section, and ``beta`` (the box's shape) is the unit box in the first round
+and the best ellipsoid's extents in the next ones (``rounds``). Each SDP is solved in ``W = rho^2 B Wt B``,
+``B = diag(beta)``, so that its unknowns are of order one.
+
+Remainder bound (what is and is not rigorous)
+---------------------------------------------
+``delta_j`` vanishes with its gradient at 0, so by Taylor's theorem (mean-value form) ``delta_j(xi) = (1/2) xi' H_j
+xi`` with the Hessian ``H_j`` of ``F_j`` at a point of the segment from 0 to ``xi = (x, w)``. On the convex set
+``C = {|x_k| <= b_k} x {w_i between its levels, |w_i| <= sum_k |K_ik| b_k}``, which contains those segments,
+``|delta_j| <= sum_l c_jl |xi_l|`` with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``Hmax`` the entrywise maximum of
+``|H_j|`` over ``C``, ``b`` extended by the input bounds); Cauchy-Schwarz and ``w_i^2 <= (K_i x)^2`` then give
+``delta_j^2 <= x' Q_j x`` with ``Q_j = |c_j|_1 (diag(c_j,x) + K' diag(c_j,w) K)``.
+
+``Hmax`` is the maximum over dense samples of ``C`` (corners included; Hessians by central differences of
+complex-step Jacobians) times ``hessian_margin`` (default 1.5): a sampled bound with a safety factor, **not** an
+interval enclosure. The certificate is therefore sound up to that bound, and every certificate is also verified a
+posteriori on the true saturated loop (:class:`EllipsoidVerification`): the assembled LMI's eigenvalues in floating
+point, the region blocks, the remainder bound on dense samples of ``E``, sampled true ``dV/dt < 0`` in ``E`` and on
+its boundary, and simulated convergence from boundary points. ``certified`` reports those checks.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import cvxpy as cp
+import numpy as np
+from scipy.special import gammaln
+from scipy.stats import qmc
+
+from .. import checks
+from ..analysis.jacobian import jacobians
+from ..batch import integrate_batch
+from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
+
+__all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
+
+#: SDP-capable solvers cvxpy may have installed.
+_SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
+
+def _sat(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
+    """``clip(v, lo, hi)`` carrying a complex step (derivative 1 inside, 0 outside)."""
+    re = np.real(v)
+    return np.where(re > hi, hi + 0.0 * v, np.where(re < lo, lo + 0.0 * v, v))
+
+
+# --------------------------------------------------------------------------------------------- the loop form
+@dataclass(frozen=True, eq=False)
+class SaturatedLoop:
+    """A closed loop ``X' = F(X, sat(K (X - X_e)))`` with saturated input deviations (see the module docstring).
+
+    Parameters
+    ----------
+    name : str
+        What the loop is.
+    state_names : tuple of str
+        The ``n`` states.
+    input_names : tuple of str
+        The ``m`` fed-back channels.
+    plant_rhs : callable
+        ``F(X, w)``: states ``(N, n)`` and input deviations ``(N, m)`` (input units, already saturated) to ``X'``
+        ``(N, n)``; batch-capable and complex-safe (complex-step Jacobians).
+    equilibrium : array_like, shape (n,)
+        ``X_e`` with ``F(X_e, 0) = 0``.
+    K : array_like, shape (m, n)
+        Gain of the input deviation ``v = K (X - X_e)`` (input units per state unit), no zero row.
+    u_lo, u_hi : array_like, shape (m,)
+        Saturation of ``v``: ``u_lo < 0 < u_hi`` (``-inf``/``inf``: not saturated).
+    box : (array_like, array_like)
+        Region of interest and validity ``(lo, hi)`` of the states, containing ``X_e`` strictly (except in held
+        states).
+    held : tuple of int
+        States held at their equilibrium value (actuators the law does not move: zero gain, zero rate); the
+        certificate is on the others, with these fixed.
+    truth : callable, optional
+        The loop's own right-hand side ``X (N, n) -> X'`` (default ``F(X, sat(K (X - X_e)))``); verification uses
+        it.
+    time_unit, provenance : str
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a name is not a string or ``plant_rhs`` / ``truth`` is not callable.
+    ArgumentError
+        If shapes disagree, values are not finite, ``K`` has a zero row, the levels do not bracket 0, or the box
+        does not contain the equilibrium strictly in the free states.
+    """
+
+    name: str
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    plant_rhs: Callable[[np.ndarray, np.ndarray], Any] = field(repr=False)
+    equilibrium: np.ndarray = field(repr=False)
+    K: np.ndarray = field(repr=False)
+    u_lo: np.ndarray = field(repr=False)
+    u_hi: np.ndarray = field(repr=False)
+    box: tuple[np.ndarray, np.ndarray] = field(repr=False)
+    held: tuple[int, ...] = ()
+    truth: Callable[[np.ndarray], Any] | None = field(default=None, repr=False)
+    time_unit: str = "s"
+    provenance: str = ""
+
+    def __post_init__(self) -> None:
+        for nm in ("name", "time_unit", "provenance"):
+            if not isinstance(getattr(self, nm), str):
+                raise ArgumentTypeError(f"{nm} must be a string, got {type(getattr(self, nm)).__name__}")
+        for nm in ("state_names", "input_names"):
+            val = getattr(self, nm)
+            if isinstance(val, str) or not all(isinstance(q, str) for q in val):
+                raise ArgumentTypeError(f"{nm} must be a sequence of strings, got {val!r}")
+            object.__setattr__(self, nm, tuple(val))
+        checks.function("plant_rhs", self.plant_rhs)
+        if self.truth is not None:
+            checks.function("truth", self.truth)
+        n, m = len(self.state_names), len(self.input_names)
+        if n == 0 or m == 0:
+            raise ArgumentError(f"a saturated loop needs states and fed-back inputs, got {n} states, {m} inputs")
+        xe = checks.array("equilibrium", self.equilibrium, shape=(n,))
+        K = checks.array("K", self.K, shape=(m, n))
+        lo = checks.array("u_lo", self.u_lo, shape=(m,), finite=False)
+        hi = checks.array("u_hi", self.u_hi, shape=(m,), finite=False)
+        if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or not (np.all(lo < 0) and np.all(hi > 0)):
+            raise ArgumentError(f"saturation levels must bracket 0 (u_lo < 0 < u_hi, +-inf for none), got u_lo = "
+                                f"{lo.tolist()}, u_hi = {hi.tolist()}")
+        held = tuple(checks.integer("held index", i, lo=0, hi=n - 1) for i in self.held)
+        zero = [self.input_names[i] for i in range(m) if not np.any(K[i])]
+        if zero:
+            raise ArgumentError(f"channels {zero} have zero gain: a constant input belongs to plant_rhs, not to K")
+        if not isinstance(self.box, tuple | list) or len(self.box) != 2:
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({n},)")
+        blo = checks.array("box lo", self.box[0], shape=(n,))
+        bhi = checks.array("box hi", self.box[1], shape=(n,))
+        free = [i for i in range(n) if i not in held]
+        bad = [self.state_names[i] for i in free if not blo[i] < xe[i] < bhi[i]]
+        if bad:
+            raise ArgumentError(f"the box must contain the equilibrium strictly; it does not in {bad}: lo = "
+                                f"{blo.tolist()}, x_e = {xe.tolist()}, hi = {bhi.tolist()}")
+        for nm, val in (("equilibrium", xe), ("K", K), ("u_lo", lo), ("u_hi", hi), ("box", (blo, bhi)),
+                        ("held", held)):
+            object.__setattr__(self, nm, val)
+
+    @property
+    def n(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def m(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def free(self) -> tuple[int, ...]:
+        """Indices of the states the certificate is on (all but :attr:`held`)."""
+        return tuple(i for i in range(self.n) if i not in self.held)
+
+    @property
+    def saturating(self) -> np.ndarray:
+        """Channels with a finite saturation level."""
+        return np.isfinite(self.u_lo) | np.isfinite(self.u_hi)
+
+    def input(self, X: Any) -> Any:
+        """The saturated input deviation ``sat(K (X - X_e))`` at states ``X`` (..., n)."""
+        X = np.asarray(X)
+        return _sat((X - self.equilibrium) @ self.K.T, self.u_lo, self.u_hi)
+
+    def rhs(self, X: Any, u: Any = None) -> np.ndarray:
+        """The loop's right-hand side at states ``X`` (..., n) (``u`` ignored: input-free). The :attr:`truth` when
+        given, else ``F(X, sat(K (X - X_e)))``."""
+        X = np.asarray(X)
+        if self.truth is not None:
+            return np.asarray(self.truth(X))
+        return np.asarray(self.plant_rhs(X, self.input(X)))
+
+
+# --------------------------------------------------------------------------------------------- scaled problem
+@dataclass(frozen=True)
+class _Scaled:
+    f: np.ndarray          # free state indices
+    d: np.ndarray          # state half-widths (free)
+    s: np.ndarray          # input scales
+    A: np.ndarray
+    B: np.ndarray
+    K: np.ndarray
+    lo: np.ndarray         # scaled levels
+    hi: np.ndarray
+    F: Callable[[np.ndarray, np.ndarray], np.ndarray]      # scaled F(x, w) (free components)
+    truth: Callable[[np.ndarray], np.ndarray]              # scaled true loop x -> x'
+
+
+def _scale(sl: SaturatedLoop) -> _Scaled:
+    f = np.array(sl.free)
+    xe = sl.equilibrium
+    lo, hi = sl.box
+    d = np.minimum(xe - lo, hi - xe)[f]
+    Kd = sl.K[:, f] * d
+    u0 = np.minimum(-sl.u_lo, sl.u_hi)
+    s = np.minimum(u0, np.sum(np.abs(Kd), axis=1))
+    s = np.where(s > 0, s, 1.0)
+
+    def X_of(x: np.ndarray) -> np.ndarray:
+        X = np.broadcast_to(xe, (*x.shape[:-1], sl.n)).astype(x.dtype).copy()
+        X[..., f] = xe[f] + d * x
+        return X
+
+    def F(x: np.ndarray, w: np.ndarray) -> np.ndarray:
+        return np.asarray(sl.plant_rhs(X_of(x), w * s))[..., f] / d
+
+    def truth(x: np.ndarray) -> np.ndarray:
+        return np.asarray(sl.rhs(X_of(x)))[..., f] / d
+
+    nf, m = len(f), sl.m
+    with np.errstate(all="ignore"):
+        F0 = F(np.zeros((1, nf)), np.zeros((1, m)))
+    A, B = jacobians(lambda x, w: F(np.asarray(x)[None, :], np.asarray(w)[None, :])[0], np.zeros(nf), np.zeros(m))
+    if not np.all(np.isfinite(A)) or not np.all(np.isfinite(B)):
+        raise ModelError(f"the linearization of '{sl.name}' at its equilibrium is not finite")
+    if np.max(np.abs(F0)) > 1e-8 * max(1.0, float(np.max(np.abs(A)))):
+        raise ModelError(f"the equilibrium of '{sl.name}' is not one: scaled |x'| = {np.max(np.abs(F0)):.3g} there")
+    return _Scaled(f, d, s, A, B, Kd / s[:, None], sl.u_lo / s, sl.u_hi / s, F, truth)
+
+
+def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, seed: int,
+              step: float = 1e-4) -> tuple[np.ndarray, np.ndarray]:
+    """Sorted levels ``t`` and the running entrywise maximum over samples of ``|Hessian of F_j|`` (shape
+    ``(N, nf, q, q)``, ``q = nf + m``): row ``k`` bounds ``|H_j|`` on the samples of ``C(t_k)``, the box
+    ``|x_i| <= min(1, t beta_i)`` times the inputs ``w_i`` within their levels and ``|w_i| <= t sum_k |K_ik| beta_k``
+    (``t`` half uniform in ``[0, rho_max]``, half log-uniform in ``[1e-3, 1] rho_max``; a quarter at corners)."""
+    nf, m = sc.A.shape[0], sc.B.shape[1]
+    rng = np.random.default_rng(seed)
+    t = rho_max * rng.random(n_samples)
+    t[::2] = rho_max * 10.0 ** (-3.0 * rng.random(t[::2].size))          # half log-uniform: small boxes too
+    t = np.sort(t)
+    u = rng.uniform(-1.0, 1.0, (n_samples, nf))
+    u[: n_samples // 4] = np.sign(u[: n_samples // 4])                     # a quarter at corners
+    x = np.clip(t[:, None] * beta * u, -1.0, 1.0)
+    kb = np.abs(sc.K) @ beta
+    wl = np.maximum(sc.lo, -kb * t[:, None]) * (1 - 1e-3)
+    wh = np.minimum(sc.hi, kb * t[:, None]) * (1 - 1e-3)
+    w = wl + (wh - wl) * rng.random((n_samples, m))
+    xi = np.concatenate([x, w], axis=1)
+    q = nf + m
+    h_c = 1e-30
+
+    def jac(z: np.ndarray) -> np.ndarray:      # (N, nf, q), complex step
+        out = np.empty((z.shape[0], nf, q))
+        for k in range(q):
+            zc = z.astype(complex)
+            zc[:, k] += 1j * h_c
+            out[:, :, k] = np.imag(sc.F(zc[:, :nf], zc[:, nf:])) / h_c
+        return out
+
+    H = np.empty((n_samples, nf, q, q))
+    with np.errstate(all="ignore"):
+        for k in range(q):
+            e = np.zeros(q)
+            e[k] = step
+            H[:, :, :, k] = (jac(xi + e) - jac(xi - e)) / (2 * step)
+    if not np.all(np.isfinite(H)):
+        raise ModelError("the Hessian of the loop's right-hand side is not finite on the box (the box reaches a "
+                         "singularity of the model: shrink it)")
+    Habs = 0.5 * np.abs(H + np.swapaxes(H, 2, 3))
+    return t, np.maximum.accumulate(Habs, axis=0)
+
+
+@dataclass(frozen=True)
+class _Remainder:
+    """Remainder bound on the box ``b`` (scaled): ``delta_j^2 <= x' Q_j x`` (``R_j' R_j = Q_j``)."""
+
+    b: np.ndarray          # half-widths of the box where it holds (scaled), (nf,)
+    Q: np.ndarray          # (nf, nf, nf)
+    R: np.ndarray          # (nf, nf, nf)
+
+
+def _remainder(t: np.ndarray, Hc: np.ndarray, sc: _Scaled, beta: np.ndarray, rho: float,
+               margin: float) -> _Remainder:
+    """The bound of the module docstring on the box ``b = min(1, rho beta)``: ``|delta_j| <= sum_l c_jl |xi_l|``
+    with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``b`` extended by the input bounds), then Cauchy-Schwarz
+    ``delta_j^2 <= |c_j|_1 sum_l c_jl xi_l^2`` and ``w_i^2 <= (K_i x)^2``."""
+    nf = sc.A.shape[0]
+    k = int(np.searchsorted(t, rho, side="right")) - 1
+    Hm = margin * (Hc[k] if k >= 0 else np.zeros(Hc.shape[1:]))
+    b = np.minimum(1.0, rho * beta)
+    ub = np.maximum(-sc.lo, sc.hi)
+    bw = np.minimum(ub, np.abs(sc.K) @ b)
+    bx = np.concatenate([b, bw])
+    c = 0.5 * np.einsum("jkl,k->jl", Hm, bx)                      # (nf, q)
+    Q = np.empty((nf, nf, nf))
+    R = np.empty((nf, nf, nf))
+    for j in range(nf):
+        Qj = np.sum(c[j]) * (np.diag(c[j, :nf]) + sc.K.T @ np.diag(c[j, nf:]) @ sc.K)
+        Qj = 0.5 * (Qj + Qj.T)
+        lam, U = np.linalg.eigh(Qj)
+        Q[j] = Qj
+        R[j] = (U * np.sqrt(np.maximum(lam, 0.0))) @ U.T
+    return _Remainder(b, Q, R)
+
+
+@dataclass
+class _Program:
+    prob: cp.Problem
+    W: Any
+    c: Any
+    S: Any
+    Z: Any
+    nu: Any
+    R: list[Any]
+    bb: Any
+    uu: Any
+    p_idx: np.ndarray
+    sat: np.ndarray
+
+
+def _program(sc: _Scaled, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: np.ndarray) -> _Program:
+    """The SDP of the module docstring for the remainder box ``b = min(1, rho beta)``, in ``Wt`` with
+    ``W = rho^2 B Wt B``, ``B = diag(beta)`` (congruence by ``diag(B^-1, I, I) / rho``: the unknowns are of order 1
+    whatever ``rho`` and however elongated the ellipsoid): ``A + BK``, ``B_s`` and ``K`` become ``B^-1 (A + BK) B``,
+    ``B^-1 B_s``, ``K B``; the box is ``Wt_ii <= b_i^2 / (rho beta_i)^2`` and the region blocks have ``u0^2 / rho^2``.
+    Parameters: ``R_j B`` (remainder factors), ``bb``, ``uu``."""
+    nf = sc.A.shape[0]
+    sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
+    ms, p = len(sat), len(p_idx)
+    Bi = 1.0 / beta
+    Acl = Bi[:, None] * (sc.A + sc.B @ sc.K) * beta[None, :]
+    Bs = Bi[:, None] * sc.B[:, sat]
+    Kt = sc.K * beta[None, :]
+    if shape_W0 is None:
+        W = cp.Variable((nf, nf), symmetric=True)
+        c = None
+    else:
+        c = cp.Variable(nonneg=True)
+        W = c * (Bi[:, None] * shape_W0 * Bi[None, :])
+    s_var = cp.Variable(ms) if ms else None
+    Z = cp.Variable((ms, nf)) if ms else None
+    nu = cp.Variable(p) if p else None
+    Rp = [cp.Parameter((nf, nf)) for _ in range(p)]
+    bb = cp.Parameter(nf, nonneg=True)
+    uu = cp.Parameter(ms, nonneg=True) if ms else None
+    eta = 1e-7 * max(1.0, float(np.linalg.norm(Acl, 2))) * cp.trace(W) / nf
+    Nmat = 0
+    if p:
+        E = np.zeros((nf, p))
+        E[p_idx, np.arange(p)] = Bi[p_idx]
+        Nmat = E @ cp.diag(nu) @ E.T
+    top = Acl @ W + W @ Acl.T + Nmat
+    rows = [[top]]
+    if ms:
+        S = cp.diag(s_var)
+        off = -Bs @ S + Z.T
+        rows[0].append(off)
+        rows.append([off.T, -2 * S])
+    for j in range(p):
+        rows[0].append((Rp[j] @ W).T)
+    for r_i in range(1, len(rows)):
+        rows[r_i] += [np.zeros((ms, nf))] * p
+    for j in range(p):
+        row = [Rp[j] @ W]
+        if ms:
+            row.append(np.zeros((nf, ms)))
+        row += [(-nu[k] * np.eye(nf) if k == j else np.zeros((nf, nf))) for k in range(p)]
+        rows.append(row)
+    L = cp.bmat(rows)
+    size = nf + ms + nf * p
+    cons = [0.5 * (L + L.T) + eta * np.eye(size) << 0, cp.diag(W) <= bb]
+    for a, i in enumerate(sat):
+        v = Kt[i:i + 1, :] @ W - Z[a:a + 1, :]
+        blk = cp.bmat([[W, v.T], [v, cp.reshape(uu[a], (1, 1), order="C")]])
+        cons.append(0.5 * (blk + blk.T) >> 0)
+    if shape_W0 is None:
+        cons.append(W >> 0)
+        obj = cp.Maximize(cp.log_det(W))
+    else:
+        obj = cp.Maximize(c)
+    return _Program(cp.Problem(obj, cons), W, c, s_var, Z, nu, Rp, bb, uu, p_idx, sat)
+
+
+def _lmi_numeric(sc: _Scaled, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: np.ndarray, R: np.ndarray,
+                 p_idx: np.ndarray) -> tuple[float, float]:
+    """Largest eigenvalue of the assembled decrease LMI and smallest of the region blocks, in floating point."""
+    nf = W.shape[0]
+    sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
+    ms, p = len(sat), len(p_idx)
+    Acl = sc.A + sc.B @ sc.K
+    size = nf + ms + nf * p
+    L = np.zeros((size, size))
+    N = np.zeros((nf, nf))
+    N[p_idx, p_idx] = nu
+    L[:nf, :nf] = Acl @ W + W @ Acl.T + N
+    if ms:
+        off = -sc.B[:, sat] @ np.diag(s) + Z.T
+        L[:nf, nf:nf + ms] = off
+        L[nf:nf + ms, :nf] = off.T
+        L[nf:nf + ms, nf:nf + ms] = -2 * np.diag(s)
+    for k, j in enumerate(p_idx):
+        a = nf + ms + k * nf
+        L[a:a + nf, :nf] = R[j] @ W
+        L[:nf, a:a + nf] = (R[j] @ W).T
+        L[a:a + nf, a:a + nf] = -nu[k] * np.eye(nf)
+    lmax = float(np.max(np.linalg.eigvalsh(0.5 * (L + L.T))))
+    rmin = math.inf
+    for a, i in enumerate(sat):
+        u0 = float(min(-sc.lo[i], sc.hi[i]))
+        v = sc.K[i] @ W - Z[a]
+        blk = np.block([[W, v[:, None]], [v[None, :], np.array([[u0**2]])]])
+        rmin = min(rmin, float(np.min(np.linalg.eigvalsh(blk))) / max(1.0, u0**2))
+    return lmax, rmin
+
+
+# --------------------------------------------------------------------------------------------- certificate
+@dataclass(frozen=True)
+class EllipsoidVerification:
+    """A-posteriori checks of an :class:`EllipsoidCertificate` (all must pass for ``certified``).
+
+    Attributes
+    ----------
+    lmi_max_eig : float
+        Largest eigenvalue of the assembled decrease LMI at the certified (backed-off) solution, in floating point
+        (must be < 0; scaled units).
+    region_min_eig : float
+        Smallest eigenvalue of the sector-region blocks, relative to ``max(1, u0^2)`` (must be >= 0; ``inf``
+        without saturating channels).
+    box_max : float
+        Largest ``W_ii`` (must be <= 1: the ellipsoid is inside the box).
+    remainder_ratio : float
+        Largest ``|delta_j(x)| / (gamma_j |x|)`` over dense samples of the ellipsoid (must be <= 1: the remainder
+        bound holds there; 0 when the loop has no remainder).
+    n_sampled : int
+        Points of the ellipsoid (inside and on the boundary) where ``dV/dt`` of the true loop was evaluated.
+    max_Vdot : float
+        Largest ``dV/dt / |x|^2`` there (scaled units, per time unit of the loop; must be < 0).
+    n_simulated, n_converged : int
+        Simulations of the true loop from boundary points, and those that converged to the equilibrium.
+    horizon : float
+        Their length (time unit of the loop).
+    """
+
+    lmi_max_eig: float
+    region_min_eig: float
+    box_max: float
+    remainder_ratio: float
+    n_sampled: int
+    max_Vdot: float
+    n_simulated: int
+    n_converged: int
+    horizon: float
+
+    @property
+    def passed(self) -> bool:
+        return bool(self.lmi_max_eig < 0 and self.region_min_eig >= -1e-9 and self.box_max <= 1 + 1e-9
+                    and self.remainder_ratio <= 1 and self.n_sampled > 0 and self.max_Vdot < 0
+                    and self.n_converged == self.n_simulated)
+
+    @property
+    def margins(self) -> dict[str, float]:
+        """One entry per check, ``>= 1`` when it holds (``inf``/``0`` for pass/fail checks)."""
+        inf = math.inf
+        return {"LMI negative definite": inf if self.lmi_max_eig < 0 else 0.0,
+                "sector region": inf if self.region_min_eig >= -1e-9 else 0.0,
+                "inside the box": inf if self.box_max <= 1 + 1e-9 else 0.0,
+                "remainder bound on samples": (1.0 / self.remainder_ratio if self.remainder_ratio > 0 else inf),
+                "sampled dV/dt < 0": inf if self.n_sampled > 0 and self.max_Vdot < 0 else 0.0,
+                "simulations converged": self.n_converged / self.n_simulated if self.n_simulated else 1.0}
+
+    def failing(self) -> dict[str, float]:
+        """The entries of :attr:`margins` below 1."""
+        return {k: v for k, v in self.margins.items() if not v >= 1 - 1e-9}
+
+    def summary(self) -> str:
+        """One line with every check."""
+        return (f"LMI max eig {self.lmi_max_eig:.3g}, region min eig {self.region_min_eig:.3g}, box max "
+                f"{self.box_max:.4g}, remainder ratio {self.remainder_ratio:.3g}, max dV/dt/|x|^2 on "
+                f"{self.n_sampled} samples {self.max_Vdot:.3g}, simulations {self.n_converged}/{self.n_simulated} "
+                f"converged in {self.horizon:g}")
+
+
+@dataclass(frozen=True)
+class EllipsoidCertificate:
+    """Certified region of attraction ``{X : (X - X_e)_f' P (X - X_e)_f <= 1, X_held = X_e,held}`` of a
+    :class:`SaturatedLoop` (``f`` the free states), from :func:`certify_roa_lmi`.
+
+    Attributes
+    ----------
+    loop : SaturatedLoop
+    P : ndarray, shape (nf, nf)
+        The quadratic form in the free states' own units (``V = dX' P dX``, certified level 1).
+    G : ndarray, shape (ms, nf)
+        Gain of the generalized sector condition (per saturating channel, input units per state unit).
+    remainder : ndarray, shape (nf, nf, nf)
+        ``Q_j`` of the remainder bound ``delta_j^2 <= x' Q_j x`` used (scaled coordinates ``x``; zero where the loop is
+        exactly linear-saturated).
+    remainder_box : ndarray, shape (nf,)
+        Half-widths (free states' units) of the box about the equilibrium on which that bound holds (the ellipsoid
+        lies in it).
+    scale : ndarray, shape (nf,)
+        Half-widths ``D`` of the free states (scaled ``x = (X - X_e) / D``).
+    box : (ndarray, ndarray)
+        The loop's box (all states).
+    verification : EllipsoidVerification
+    history : tuple of dict
+        Per SDP: search round, ``rho``, remainder box, status, objective (``log sqrt det W`` of the scaled ``W``, or
+        the level of a fixed shape) and solver time.
+    solve_time, hessian_time, wall_time : float
+        Total SDP solver time, time of the Hessian sampling, and wall time (s).
+    method : str
+        ``"lmi"``.
+    provenance : str
+    """
+
+    loop: SaturatedLoop = field(repr=False)
+    P: np.ndarray = field(repr=False)
+    G: np.ndarray = field(repr=False)
+    remainder: np.ndarray = field(repr=False)
+    remainder_box: np.ndarray = field(repr=False)
+    scale: np.ndarray = field(repr=False)
+    box: tuple[np.ndarray, np.ndarray] = field(repr=False)
+    verification: EllipsoidVerification = field(repr=False)
+    history: tuple[dict[str, Any], ...] = field(repr=False)
+    solve_time: float
+    hessian_time: float
+    wall_time: float
+    method: str = "lmi"
+    provenance: str = ""
+
+    @property
+    def certified(self) -> bool:
+        """True only if every a-posteriori check passed (:class:`EllipsoidVerification`), as
+        :attr:`glidectl.roa.certify.ROACertificate.certified`."""
+        return self.verification.passed
+
+    @property
+    def rho(self) -> float:
+        """The certified level of ``V`` (1)."""
+        return 1.0
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return self.loop.state_names
+
+    def _states(self, X: Any) -> np.ndarray:
+        n = self.loop.n
+        X = np.atleast_2d(checks.array("X", X, finite=False))
+        if X.ndim != 2 or X.shape[-1] != n:
+            raise ArgumentError(f"X must hold states of dimension {n} ({', '.join(self.loop.state_names)}), shape "
+                                f"(N, {n}) or ({n},); got shape {np.shape(X)}")
+        return X
+
+    def value(self, X: Any) -> np.ndarray:
+        """``V = dX_f' P dX_f`` at states ``X``.
+
+        Parameters
+        ----------
+        X : array_like, shape (N, n) or (n,)
+            States in the loop's units.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``X`` is not numeric.
+        ArgumentError
+            If ``X`` has the wrong shape.
+        """
+        X = self._states(X)
+        dX = (X - self.loop.equilibrium)[:, list(self.loop.free)]
+        return np.einsum("ni,ij,nj->n", dX, self.P, dX)
+
+    def contains(self, X: Any) -> np.ndarray:
+        """Membership of the certified ellipsoid (held states at their equilibrium value, relative 1e-12).
+
+        Parameters
+        ----------
+        X : array_like, shape (N, n) or (n,)
+            States; NaN or inf are outside.
+
+        Returns
+        -------
+        ndarray of bool, shape (N,)
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``X`` is not numeric.
+        ArgumentError
+            If ``X`` has the wrong shape.
+        """
+        X = self._states(X)
+        ok = np.all(np.isfinite(X), axis=1)
+        h = list(self.loop.held)
+        if h:
+            xe = self.loop.equilibrium[h]
+            ok &= np.all(np.abs(X[:, h] - xe) <= 1e-12 * np.maximum(1.0, np.abs(xe)), axis=1)
+        with np.errstate(all="ignore"):
+            return ok & (np.nan_to_num(self.value(np.where(np.isfinite(X), X, 0.0)), nan=np.inf) <= 1.0)
+
+    def volume(self, box: tuple[Any, Any] | None = None, n: int = 2**16, seed: int = 0) -> float:
+        """Volume of the ellipsoid in the free states (product of their units): exact by default (it lies in the
+        loop's box), quasi-Monte Carlo inside another ``box``.
+
+        Parameters
+        ----------
+        box : (array_like, array_like), optional
+            ``(lo, hi)`` over all states (held states ignored); default the loop's box (exact formula).
+        n : int
+            Sobol points for another box (>= 1).
+        seed : int
+            Their seed (>= 0).
+
+        Returns
+        -------
+        float
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            For a bad ``box``, ``n`` or ``seed``.
+        """
+        nf = self.P.shape[0]
+        if box is None:
+            return float(math.exp(0.5 * nf * math.log(math.pi) - gammaln(0.5 * nf + 1)
+                                  - 0.5 * np.linalg.slogdet(self.P)[1]))
+        if not isinstance(box, tuple | list) or len(box) != 2:
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({self.loop.n},)")
+        lo = checks.array("box lo", box[0], shape=(self.loop.n,))
+        hi = checks.array("box hi", box[1], shape=(self.loop.n,))
+        if np.any(lo >= hi):
+            raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
+        n = checks.integer("n", n, lo=1, hi=2**24)
+        seed = checks.integer("seed", seed, lo=0)
+        f = list(self.loop.free)
+        X = np.tile(self.loop.equilibrium, (n, 1))
+        X[:, f] = lo[f] + (hi[f] - lo[f]) * qmc.Sobol(len(f), seed=seed).random(n)
+        return float(np.prod(hi[f] - lo[f]) * np.mean(self.contains(X)))
+
+    @property
+    def volume_fraction(self) -> float:
+        """:meth:`volume` over the volume of the loop's box in the free states."""
+        f = list(self.loop.free)
+        lo, hi = self.box
+        return self.volume() / float(np.prod(hi[f] - lo[f]))
+
+    def sample(self, n: int, seed: int = 0, boundary: bool = False) -> np.ndarray:
+        """``n`` random states of the ellipsoid (uniform in it, or on its boundary), held states at equilibrium.
+
+        Parameters
+        ----------
+        n : int
+            Number of points (>= 1).
+        seed : int
+            Seed (>= 0).
+        boundary : bool
+            On the boundary ``V = 1`` instead of inside.
+
+        Returns
+        -------
+        ndarray, shape (n, n_states)
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            For a bad ``n``, ``seed`` or ``boundary``.
+        """
+        n = checks.integer("n", n, lo=1, hi=2**24)
+        seed = checks.integer("seed", seed, lo=0)
+        boundary = checks.boolean("boundary", boundary)
+        dX = _ellipsoid_points(np.linalg.inv(self.P), n, np.random.default_rng(seed), boundary)
+        X = np.tile(self.loop.equilibrium, (n, 1))
+        X[:, list(self.loop.free)] += dX
+        return X
+
+    def plot(self, ax: Any = None, dims: Any = (0, 1), n: int = 200) -> Any:
+        """Draw the ellipsoid's slice through the equilibrium in the plane of two free states, within the box.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Axes to draw into; default a new figure.
+        dims : two state names or indices
+            The plane (free states).
+        n : int
+            Points of the drawn boundary (>= 8).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure drawn into.
+
+        Raises
+        ------
+        GlidectlError
+            For ``dims`` that are not two distinct free states, or ``n < 8``.
+        """
+        from ..plotting import plot_ellipsoid_certificate, style
+
+        with style():
+            return plot_ellipsoid_certificate(self, ax, dims=dims, n=n)
+
+
+def _ellipsoid_points(Winv: np.ndarray, n: int, rng: np.random.Generator, boundary: bool) -> np.ndarray:
+    """Points ``L y`` with ``L L' = W`` (``W`` the inverse of P) and ``y`` uniform in (or on) the unit ball."""
+    L = np.linalg.cholesky(0.5 * (Winv + Winv.T))
+    y = rng.standard_normal((n, L.shape[0]))
+    y /= np.linalg.norm(y, axis=1, keepdims=True)
+    if not boundary:
+        y *= rng.random((n, 1)) ** (1.0 / L.shape[0])
+    return y @ L.T
+
+
+def _check_solver(solver: Any) -> str:
+    available = [s for s in cp.installed_solvers() if s in _SDP_SOLVERS]
+    if not isinstance(solver, str):
+        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__}")
+    return checks.choice("solver", solver, available)
+
+
+@dataclass
+class _Round:
+    """One round of the remainder-box search: solves the SDP for a ``rho`` (cached in ``sols``, logged in
+    ``history``)."""
+
+    prog: _Program
+    sc: _Scaled
+    t: np.ndarray
+    Hc: np.ndarray
+    beta: np.ndarray
+    margin: float
+    solver: str
+    W0: np.ndarray | None
+    rnd: int
+    sols: dict[float, tuple[float, dict[str, Any]]]
+    history: list[dict[str, Any]]
+    backoff: float = 0.0
+    t_solve: float = 0.0
+
+    def solve(self, rho: float) -> float:
+        if rho in self.sols:
+            return self.sols[rho][0]
+        prog, sc, beta = self.prog, self.sc, self.beta
+        nf = sc.A.shape[0]
+        rem = _remainder(self.t, self.Hc, sc, beta, rho, self.margin)
+        for k, j in enumerate(prog.p_idx):
+            prog.R[k].value = rem.R[j] * beta[None, :]
+        prog.bb.value = (rem.b / (rho * beta)) ** 2
+        if prog.uu is not None:
+            prog.uu.value = np.minimum(-sc.lo, sc.hi)[prog.sat] ** 2 / rho**2
+        t0 = time.perf_counter()
+        try:
+            prog.prob.solve(solver=self.solver)
+            status = prog.prob.status
+        except cp.SolverError as exc:
+            status = f"solver error: {str(exc)[:60]}"
+        dt = time.perf_counter() - t0
+        self.t_solve += dt
+        ok = status in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) and prog.prob.value is not None \
+            and bool(np.isfinite(prog.prob.value))
+        sol: dict[str, Any] = {}
+        obj = -math.inf
+        if ok:
+            r2 = rho * rho
+            W = r2 * beta[:, None] * np.asarray(prog.W.value, float) * beta[None, :]
+            W = 0.5 * (W + W.T)
+            if np.linalg.eigvalsh(W)[0] > 0:
+                obj = (0.5 * float(np.linalg.slogdet(W)[1]) if self.W0 is None
+                       else float(np.trace(W) / np.trace(self.W0)))
+                sol = {"W": W, "rem": rem,
+                       "s": r2 * np.asarray(prog.S.value, float) if prog.S is not None else np.zeros(0),
+                       "Z": (r2 * np.asarray(prog.Z.value, float) * beta[None, :] if prog.Z is not None
+                             else np.zeros((0, nf))),
+                       "nu": r2 * np.asarray(prog.nu.value, float) if prog.nu is not None else np.zeros(0)}
+                # keep only solutions whose LMIs hold in floating point after the backoff (an inaccurate solve
+                # may not)
+                q = 1.0 - self.backoff
+                lmax, rmin = _lmi_numeric(sc, q * W, q * sol["s"], q * sol["Z"], q * sol["nu"], rem.R, prog.p_idx)
+                if not (lmax < 0 and rmin >= -1e-9 and np.max(np.diag(q * W) - rem.b**2) <= 1e-9):
+                    status, obj, sol = f"{status} (rejected: LMI fails in floating point)", -math.inf, {}
+        self.history.append({"round": self.rnd, "rho": rho, "box": np.minimum(1.0, rho * beta) * sc.d,
+                             "status": status, "objective": obj, "time": dt})
+        self.sols[rho] = (obj, sol)
+        return obj
+
+
+def certify_roa_lmi(system: Any, *, shape: Any = None,
+                    hessian_margin: float = 1.5, n_hessian: int = 1024, n_radii: int = 8, refine: int = 5,
+                    rounds: int = 6, round_gain: float = 0.1,
+                    backoff: float = 0.01, n_verify: int = 4000, n_simulate: int = 32, horizon: float | None = None,
+                    solver: str = "CLARABEL", seed: int = 0) -> EllipsoidCertificate:
+    """Largest certified ellipsoid of a saturated closed loop: quadratic ``V``, generalized sector condition and a
+    per-component norm-bounded remainder (Tarbouriech et al. 2011, Prop. 3.1, with the remainder; see the module
+    docstring for the LMIs and what the remainder bound rests on).
+
+    Parameters
+    ----------
+    system : SaturatedLoop
+        The loop, e.g. :func:`glidectl.saturated_loop` of a closed loop of this package (chapter-6 buoyancy and
+        elevator loops, linear glide regulators saturated at the vehicle's pump rate, saturated state feedbacks).
+        The ellipsoid lies in the largest box centred on the equilibrium inside the loop's box.
+    shape : array_like (nf, nf), optional
+        A fixed shape ``P0`` (symmetric positive definite, free states' units): the largest level ``c`` with
+        ``{dX' P0 dX <= c}`` certified (the LMI analogue of the SOS fixed-V level problem). Default: the shape is
+        free and ``log det`` (volume) is maximized.
+    hessian_margin : float
+        Safety factor (>= 1) on the sampled Hessian bound of the remainder.
+    n_hessian : int
+        Sample points for the Hessian bound (>= 16).
+    n_radii, refine : int
+        Sizes ``rho`` of the remainder box on the geometric grid (>= 2) and golden-section refinements (>= 0) of the
+        best one, per round (one SDP each; a loop without remainder needs a single SDP).
+    rounds : int
+        Largest number of rounds of the search (>= 1): the first with a box shaped like the loop's box, the next
+        ones shaped like the best ellipsoid so far.
+    round_gain : float
+        The search stops after a round that raised ``log sqrt det W`` (the log of the volume) by less than this
+        (>= 0; 0.1: a volume gain under 10 %).
+    backoff : float
+        The certified ellipsoid is ``W = (1 - backoff) W*``, in ``[0, 0.5]``.
+    n_verify, n_simulate : int
+        Points of the ellipsoid where the true ``dV/dt`` and the remainder bound are checked (>= 1; half on the
+        boundary), and simulations from boundary points (>= 0).
+    horizon : float, optional
+        Length of those simulations (default 25 slowest time constants of the linearization).
+    solver : str
+        An installed SDP solver of cvxpy (default ``"CLARABEL"``).
+    seed : int
+        Seed of every sampling (>= 0).
+
+    Returns
+    -------
+    EllipsoidCertificate
+        ``method = "lmi"``; ``certified`` says whether every a-posteriori check passed.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``system`` is not a SaturatedLoop (the message says to use :func:`glidectl.saturated_loop`), or an
+        option has the wrong type.
+    ArgumentError
+        If an option is out of range, or ``shape`` is not symmetric positive definite of the free states' size.
+    ModelError
+        If the linearized loop ``A + B K`` is not Hurwitz (unstable or marginal), the equilibrium is not one, or the
+        Hessian is not finite on the box.
+    SolverError
+        If no SDP is feasible (no ellipsoid of the given shape, or none at all, is certified).
+    """
+    t_wall = time.perf_counter()
+    if not isinstance(system, SaturatedLoop):
+        raise ArgumentTypeError(f"certify_roa_lmi() needs a SaturatedLoop, got {type(system).__name__}: for a glidectl "
+                                "closed loop pass gc.saturated_loop(loop) (it extracts F, K and the saturation "
+                                "levels, and refuses loops of another form); polynomial loops without saturation "
+                                "also go to gc.certify_roa (SOS path)")
+    sl = system
+    hessian_margin = checks.real("hessian_margin", hessian_margin, lo=1.0)
+    n_hessian = checks.integer("n_hessian", n_hessian, lo=16, hi=2**20)
+    n_radii = checks.integer("n_radii", n_radii, lo=2, hi=200)
+    refine = checks.integer("refine", refine, lo=0, hi=50)
+    rounds = checks.integer("rounds", rounds, lo=1, hi=20)
+    round_gain = checks.real("round_gain", round_gain, lo=0.0)
+    backoff = checks.real("backoff", backoff, lo=0.0, hi=0.5)
+    n_verify = checks.integer("n_verify", n_verify, lo=1, hi=2**22)
+    n_simulate = checks.integer("n_simulate", n_simulate, lo=0, hi=2**16)
+    horizon = None if horizon is None else checks.positive("horizon", horizon)
+    _check_solver(solver)
+    seed = checks.integer("seed", seed, lo=0)
+    sc = _scale(sl)
+    nf = len(sc.f)
+    W0 = None
+    if shape is not None:
+        P0 = checks.array("shape", shape, shape=(nf, nf))
+        if not np.allclose(P0, P0.T, rtol=1e-10, atol=0) or np.linalg.eigvalsh(0.5 * (P0 + P0.T))[0] <= 0:
+            raise ArgumentError("shape must be a symmetric positive definite matrix (the free states' P0)")
+        W0 = np.linalg.inv(np.diag(sc.d) @ (0.5 * (P0 + P0.T)) @ np.diag(sc.d))
+        W0 = 0.5 * (W0 + W0.T)
+    Acl = sc.A + sc.B @ sc.K
+    lam = np.linalg.eigvals(Acl)
+    if not np.max(lam.real) < -1e-9 * max(1.0, float(np.max(np.abs(lam)))):
+        raise ModelError(f"the linearized loop A + BK of '{sl.name}' is not exponentially stable (eigenvalues "
+                         f"{np.round(lam, 6).tolist()}, per {sl.time_unit} in scaled states): no region of "
+                         "attraction to certify; change the gain")
+    t_hess = t_solve = 0.0
+    history: list[dict[str, Any]] = []
+    best: tuple[float, dict[str, Any]] = (-math.inf, {})
+    beta, rho0 = np.ones(nf), 1.0
+    prog: _Program | None = None
+    p_idx = np.zeros(0, dtype=int)
+    for rnd in range(rounds):
+        th = time.perf_counter()
+        rho_max = min(1.0 / float(np.min(beta)), 50.0)       # beyond 1/min(beta) the remainder box is the box
+        t, Hc = _hessians(sc, beta, n_hessian, rho_max, seed + rnd)
+        t_hess += time.perf_counter() - th
+        if prog is None:
+            # components with a remainder (the Hessian is rounding noise for exactly linear components)
+            tiny = 1e-7 * max(1.0, float(np.max(np.abs(np.concatenate([sc.A, sc.B], axis=1)))))
+            p_idx = np.flatnonzero(np.max(Hc[-1], axis=(1, 2)) > tiny)
+        prog = _program(sc, p_idx, W0, beta)
+        sols: dict[float, tuple[float, dict[str, Any]]] = {}
+        ctx = _Round(prog, sc, t, Hc, beta, hessian_margin, solver, W0, rnd, sols, history, backoff)
+
+        def solve(rho: float, ctx: _Round = ctx) -> float:
+            return ctx.solve(rho)
+
+        if len(p_idx) == 0:
+            radii = [rho_max]
+        elif rnd == 0:
+            radii = list(rho_max * np.geomspace(1.0, 1e-3, n_radii))
+        else:
+            radii = list(np.geomspace(min(rho_max, 4.0 * rho0), 0.5 * rho0, n_radii))
+        vals = [solve(r) for r in radii]
+        k = int(np.argmax(vals))
+        if np.isfinite(vals[k]) and len(radii) > 1 and refine:
+            a = math.log(radii[min(k + 1, len(radii) - 1)])
+            b = math.log(radii[max(k - 1, 0)])
+            gr = (math.sqrt(5) - 1) / 2
+            c1, c2 = b - gr * (b - a), a + gr * (b - a)
+            f1, f2 = solve(math.exp(c1)), solve(math.exp(c2))
+            for _ in range(refine - 2):
+                if f1 > f2:
+                    b, c2, f2 = c2, c1, f1
+                    c1 = b - gr * (b - a)
+                    f1 = solve(math.exp(c1))
+                else:
+                    a, c1, f1 = c1, c2, f2
+                    c2 = a + gr * (b - a)
+                    f2 = solve(math.exp(c2))
+        t_solve += ctx.t_solve
+        r_best = max(sols, key=lambda r: sols[r][0])
+        gain = sols[r_best][0] - best[0]
+        if sols[r_best][0] > best[0]:
+            best = sols[r_best]
+        if not np.isfinite(best[0]) or len(p_idx) == 0 or gain < round_gain:
+            break
+        # next round: remainder boxes shaped like the best ellipsoid's extents (largest extent 1: rho is it)
+        ext = np.sqrt(np.diag(best[1]["W"]))
+        beta, rho0 = ext / np.max(ext), float(np.max(ext))
+    if not np.isfinite(best[0]):
+        what = "of the given shape " if W0 is not None else ""
+        raise SolverError(f"no ellipsoid {what}is certified for '{sl.name}': every SDP was infeasible or failed "
+                          f"(statuses {sorted({h['status'] for h in history})}). "
+                          + ("The shape P0 may not be a Lyapunov matrix of the linearized loop A + BK"
+                             if W0 is not None else "The remainder bound leaves no feasible ellipsoid"))
+    sol = best[1]
+    q = 1.0 - backoff
+    Wc, s_c, Zc, nuc = q * sol["W"], q * sol["s"], q * sol["Z"], q * sol["nu"]
+    rem: _Remainder = sol["rem"]
+    lmax, rmin = _lmi_numeric(sc, Wc, s_c, Zc, nuc, rem.R, p_idx)
+    Ps = np.linalg.inv(Wc)
+    Ps = 0.5 * (Ps + Ps.T)
+    Q = np.zeros((nf, nf, nf))
+    Q[p_idx] = rem.Q[p_idx]
+    ver = _verify(sl, sc, Ps, Wc, Q, lmax, rmin, n_verify=n_verify, n_simulate=n_simulate, horizon=horizon,
+                  seed=seed)
+    Dinv = np.diag(1.0 / sc.d)
+    P = Dinv @ Ps @ Dinv
+    sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
+    G = (sc.s[sat, None] * (Zc @ Ps)) @ Dinv if len(sat) else np.zeros((0, nf))
+    return EllipsoidCertificate(sl, 0.5 * (P + P.T), G, Q, rem.b * sc.d, sc.d.copy(), sl.box, ver, tuple(history),
+                                t_solve, t_hess, time.perf_counter() - t_wall, "lmi", sl.provenance)
+
+
+def _verify(sl: SaturatedLoop, sc: _Scaled, Ps: np.ndarray, Wc: np.ndarray, Q: np.ndarray, lmax: float,
+            rmin: float, *, n_verify: int, n_simulate: int, horizon: float | None,
+            seed: int) -> EllipsoidVerification:
+    rng = np.random.default_rng(seed + 11)
+    nb = n_verify // 2
+    x = np.concatenate([_ellipsoid_points(Wc, n_verify - nb, rng, False), _ellipsoid_points(Wc, nb, rng, True)])
+    w = _sat(x @ sc.K.T, sc.lo, sc.hi)
+    with np.errstate(all="ignore"):
+        xdot = sc.truth(x)
+        Fw = sc.F(x, w)
+    r2 = np.sum(x * x, axis=1)
+    vd = 2.0 * np.einsum("ni,ij,nj->n", x, Ps, xdot) / np.maximum(r2, 1e-300)
+    delta = Fw - x @ sc.A.T - w @ sc.B.T
+    bound2 = np.einsum("ni,jik,nk->nj", x, Q, x)
+    tol = 1e-10 * (1.0 + np.abs(x) @ np.abs(sc.A).T) ** 2     # rounding of delta for exactly linear components
+    with np.errstate(all="ignore"):
+        ratio = np.sqrt(np.maximum(delta**2 - tol, 0.0) / np.where(bound2 > 0, bound2, 0.0))
+    ratio = np.where(np.isnan(ratio), 0.0, ratio)
+    ratio_max = float(np.max(ratio)) if ratio.size else 0.0
+    Acl = sc.A + sc.B @ sc.K
+    hz = horizon or 25.0 / float(np.min(np.abs(np.linalg.eigvals(Acl).real)))
+    nsim = min(n_simulate, nb)
+    conv = 0
+    if nsim:
+        f = list(sc.f)
+        X0 = sl.equilibrium[f] + x[n_verify - nb:n_verify - nb + nsim] * sc.d
+        res = integrate_batch(lambda Z: _free_rhs(sl, Z, f), X0, hz, rtol=1e-7, atol=1e-10 * sc.d,
+                              max_steps=200_000)
+        conv = int(np.sum(res.converged_to(sl.equilibrium[f], 1e-3 * float(np.linalg.norm(sc.d)))))
+    return EllipsoidVerification(lmax, rmin, float(np.max(np.diag(Wc))), ratio_max, int(x.shape[0]),
+                                 float(np.max(vd)), nsim, conv, float(hz))
+
+
+def _free_rhs(sl: SaturatedLoop, Z: np.ndarray, f: list[int]) -> np.ndarray:
+    X = np.broadcast_to(sl.equilibrium, (*Z.shape[:-1], sl.n)).astype(Z.dtype).copy()
+    X[..., f] = Z
+    return np.asarray(sl.rhs(X))[..., f]
