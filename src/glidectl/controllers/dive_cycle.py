@@ -72,7 +72,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import control
 import numpy as np
 
 from .. import checks
