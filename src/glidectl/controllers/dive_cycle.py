@@ -1283,7 +1283,7 @@ def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES
                 raise
             rows.append({"controller": name, "cycles": 0, "distance_per_cycle": nan, "duration_per_cycle": nan,
                          "max_overshoot": nan, "saturated_time_per_cycle": nan, "energy_per_cycle": nan,
-                         "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:200]}"})
+                         "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:400]}"})
             continue
         runs[name] = run
         rows.append({**run.as_dict(), "error": ""})
