@@ -214,7 +214,7 @@ def report(res: SlocumResults) -> Report:
              "baseline (PID on pitch through the battery, pump run to its end at each inflection); 'nonlinear' is the "
              "chapter-6 steady-glide controller.\n\n"
              + ("Refused: " + " ".join(f"{r['controller']}: {r['error']}" for r in refused) if refused else
-                "Every controller flew the mission."))
+                "Every controller flew the mission.") + _energy_note(res))
     rep.text("Actuator limits",
              "No controller saturates its own commands; all are run through the actuated model (ActuatedGlider in "
              "simulate_actuated), whose servo loops and rate/range limiter enforce the [actuators] table printed "
@@ -226,6 +226,18 @@ def report(res: SlocumResults) -> Report:
              "certification, not yet a closed loop of gc.closed_loop, in this build. The attempt on the down leg's "
              f"LQR loop answered: {res.roa_message[:300]}")
     return rep
+
+
+def _energy_note(res: SlocumResults) -> str:
+    rows = {r["controller"]: r for r in res.comparison.rows if not r.get("error")}
+    if not {"lqr", "lqg"} <= set(rows):
+        return ""
+    e1, e2 = rows["lqr"]["energy_per_cycle"], rows["lqg"]["energy_per_cycle"]
+    return (f"\n\nPump energy: 'lqg' spends {e2 / e1:.1f} times the energy of 'lqr' per cycle ({e2:.0f} against "
+            f"{e1:.0f} J). Its pump follows the estimate of the unmeasured pump mass and speeds, which the sensor "
+            "noise keeps moving (see its mission figure): every small pumping-out stroke at depth is paid. A "
+            "smaller allowed pump rate in the LQR weights (max_deviation['w4']) or a slower estimator trades "
+            "regulation for energy; the design keeps the default Bryson weights of both.")
 
 
 def design(progress: Callable[[str], None] = lambda msg: None, quick: bool = False) -> Report:

@@ -212,6 +212,10 @@ class ScheduledGlideLQR:
     """LQR leg controller of a dive cycle: ``w = w_ff - K (x - x_ref(t))`` on the acceleration-form state, with the
     reference moving from ``x_from`` to the glide ``glide`` in ``ramp_time`` seconds from ``t_start``.
 
+    Actuator limits: the law does not saturate its commands; it is run through the actuated model
+    (:class:`~glidectl.ActuatedGlider` in :func:`~glidectl.sim.simulate_actuated`), whose servo and rate/range
+    limiter keep the actuators inside the vehicle's ``[actuators]`` table.
+
     Attributes
     ----------
     K : ndarray, shape (3, 11)
@@ -411,6 +415,10 @@ class PitchPID:
     stable hull; a hull whose pitch response to the battery reverses (Munk moment larger than the pendulum and
     hydrodynamic stiffness) needs negative gains, which :func:`tune_pitch_pid` finds. The pitch reference and the
     feedforward move from their previous values to the leg's in ``ramp_time`` seconds from ``t_start``.
+
+    Actuator limits: the commands are position setpoints; the actuated model's servo loops clip them to the ranges
+    and its limiter enforces the rates (:class:`~glidectl.ActuatedGlider`), and the integrator is frozen while the
+    battery command is beyond its travel (``r_p1_bounds``).
 
     Attributes
     ----------
