@@ -156,7 +156,7 @@ def report(res: SlocumResults) -> Report:
                note=res.roa_message[:400])
 
     # ---------------------------------------------------------------- tables
-    rep.table(f"Steady glides of the mission ({s.speed:g} m/s, r_P3 = {veh.actuators['r_P3'].fixed:g} m fixed)",
+    rep.table(f"Mission glides ({s.speed:g} m/s, r_P3 = {veh.actuators['r_P3'].fixed:g} m fixed)",
               ["leg", "gamma [deg]", "alpha [deg]", "theta [deg]", "m0 [kg]", "r_P1 [cm]", "horizontal [m/s]",
                "sink [m/s]"],
               [[leg, f"{math.degrees(g.gamma):+.1f}", f"{math.degrees(g.alpha):.3f}", f"{math.degrees(g.theta):.3f}",
@@ -170,22 +170,22 @@ def report(res: SlocumResults) -> Report:
         for inp in d.actuate:
             i = list(d.plant.input_labels).index(inp)
             gain_rows.append([leg, inp] + [f"{d.K[i, names.index(c)]:.4g}" for c in cols])
-    rep.table("LQR gains on battery (w1, m/s^2) and pump (w4, kg/s) per unit of state deviation (SI); the mission's "
-              "'lqr' and the regulator of its 'lqg'", ["leg", "input", *cols], gain_rows)
+    rep.table("LQR gains of 'lqr' and of the regulator of 'lqg' (w1 m/s^2, w4 kg/s per SI state unit)",
+              ["leg", "input", *cols], gain_rows)
     rep.table("Closed-loop poles (1/s)", ["leg", "LQR (regulator)", "LQG estimator"],
               [[leg, _fmt_poles(d.regulator_poles), _fmt_poles(d.estimator_poles)]
                for leg, d in zip(("down", "up"), res.lqg, strict=True)])
     comp_rows = []
     for r in res.comparison.rows:
         if r.get("error"):
-            comp_rows.append([r["controller"], "-", "-", "-", "-", "-", r["error"]])
+            comp_rows.append([r["controller"], "-", "-", "-", "-", "-",
+                              f"refused ({r['error'].split(':')[0]}): see 'Mission and controllers'"])
         else:
             comp_rows.append([r["controller"], f"{r['distance_per_cycle']:.1f}", f"{r['duration_per_cycle']:.0f}",
                               f"{r['max_overshoot']:.2f}", f"{r['saturated_time_per_cycle']:.0f}",
                               f"{r['energy_per_cycle']:.1f}", ""])
-    rep.table(f"Four controllers on the same mission: {s.cycles} cycle(s) between {s.depths[0]:g} and "
-              f"{s.depths[1]:g} m at {s.speed:g} m/s, +-{s.gamma_deg:g} deg, noisy depth, pitch and pitch rate "
-              f"(seed {s.seed}); per-cycle means, largest overshoot",
+    rep.table(f"Four controllers, {s.cycles} cycle(s) {s.depths[0]:g}-{s.depths[1]:g} m, {s.speed:g} m/s, "
+              f"+-{s.gamma_deg:g} deg (per-cycle means)",
               ["controller", "distance [m]", "duration [s]", "overshoot [m]", "saturated [s]", "pump energy [J]",
                "note"], comp_rows)
 
@@ -207,7 +207,10 @@ def report(res: SlocumResults) -> Report:
     refused = [r for r in res.comparison.rows if r.get("error")]
     rep.text("Mission and controllers",
              "Each leg flies one steady glide of the family at the file's fixed r_P3; the supervisor switches at the "
-             "measured depth limit and ramps the references at 80 % of the actuator rates. 'lqr' is state "
+             "measured depth limit and ramps the references at 80 % of the actuator rates. Every controller sees "
+             "the same noisy depth, pitch and pitch rate (standard deviations "
+             + ", ".join(f"{k} {v:.3g}" for k, v in s.noise) + f" in m, rad, rad/s; held {s.sensor_period:g} s, seed "
+             f"{s.seed}). 'lqr' is state "
              "feedback (every state measured; depth, pitch and pitch rate noisy); 'lqg' sees only the noisy depth, "
              "pitch and pitch rate and estimates the rest (with all three inputs these sensors leave two moving-mass "
              "modes unobservable; with r_P3 fixed the (w1, w4) design is observable); 'pid' is the operational "
