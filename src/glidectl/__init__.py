@@ -69,6 +69,7 @@ from .controllers.dive_cycle import (
     DiveCycleRun,
     MissionComparison,
     PitchPID,
+    ScheduledGlideLQG,
     ScheduledGlideLQR,
     compare_missions,
     dive_cycle,
@@ -200,6 +201,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "track_with_steady_glides", "tracking_grid", "TrackingRun", "zero_dynamics", "ZeroDynamics",
         "default_actuate", "lqg_glide", "LQGController",
         "PitchPID", "ScheduledGlideLQR", "tune_pitch_pid",
+        "ScheduledGlideLQG",
     ),
     "stability and certificates": (
         "allowable_delta_m_ratio", "box_measure", "box_points", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck",
@@ -305,6 +307,7 @@ __all__ = [
     "ReducedLongitudinalGlider",
     "SOSSize",
     "SaturatedLoop",
+    "ScheduledGlideLQG",
     "ScheduledGlideLQR",
     "Simulation",
     "SingularPerturbation",

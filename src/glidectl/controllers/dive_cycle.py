@@ -16,13 +16,24 @@ space in the time the slowest actuator needs at :data:`RAMP_RATE_FRACTION` (80 %
 
 Controllers (``controller=``)
 -----------------------------
+Actuator limits: the named controllers do not saturate their own commands; they are run only through the
+actuated model (:class:`~glidectl.ActuatedGlider` in :func:`~glidectl.sim.simulate_actuated`), whose servo loops
+and rate/range limiter enforce the ``[actuators]`` table (``"pid"`` also clips its battery command to the travel
+for its anti-windup, and setpoints are clipped to the ranges by the servo loops).
+
 * ``"lqr"``: :class:`ScheduledGlideLQR`, LQR (python-control) on the acceleration-form linearization
-  (:func:`~glidectl.linearize_glide`) of the leg's glide, restricted to the actuated inputs (``w1`` battery,
-  ``w4`` pump; ``w3`` too if ``r_P3`` moves) and to the states other than the glide-path deviation ``z'`` (which
-  needs the unmeasurable horizontal position); Bryson weights from
-  :data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION`. Needs every state measured.
-* ``"lqg"``: output feedback from named sensors; it needs the estimator of issue 16 part 4, not in this build:
-  refused with a message (pass a controller object meanwhile).
+  (:func:`~glidectl.linearize_glide`) of the leg's glide, restricted to the actuated inputs (the vehicle file's
+  default, :func:`~glidectl.controllers.linear.default_actuate`: ``w1`` battery, ``w4`` pump; ``w3`` too if
+  ``r_P3`` moves) and to the states other than the glide-path deviation ``z'`` (which needs the unmeasurable
+  horizontal position); Bryson weights from :data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION`. This is the
+  regulator of :func:`~glidectl.lqg_glide` (same weights, same :func:`~glidectl.controllers.linear.lqr_subset`);
+  :func:`~glidectl.lqr_glide` differs in also regulating ``z'``. Needs every state measured.
+* ``"lqg"``: :class:`ScheduledGlideLQG`, output feedback from depth, pitch and pitch rate (:data:`LQG_SENSORS`,
+  noise :data:`LQG_NOISE` unless ``noise`` says otherwise; the controller sees the noisy measurements): the gains
+  of :func:`~glidectl.lqg_glide` at each leg's glide on the acceleration inputs the file actuates (with ``r_P3``
+  fixed: ``w1``, ``w4``; with all three inputs these sensors leave two modes of the moving mass unobservable and
+  the design is refused), an estimator predicting with the actuated model and corrected by the Kalman gain, its
+  state integrated with the plant and carried over each inflection.
 * ``"nonlinear"``: the chapter-6 steady-glide controller, the torque law (6.5) realized by the moving mass
   (:class:`~glidectl.MovingMassTorque`) plus the buoyancy law (6.9); applies only to vehicles that meet its
   chapter-5 assumptions (``K_q < 0``, ``K_M < 0``, equal added masses, a nominal ``m0``); refused otherwise, naming
@@ -61,7 +72,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import control
 import numpy as np
 
 from .. import checks
@@ -82,7 +92,8 @@ from ..models.longitudinal import ACCEL_STATES
 from ..params import Vehicle
 from ..sim import ActuatedSimulation, simulate_actuated
 from ..trim.glide import SteadyGlide, steady_glide
-from .linear import DEFAULT_MAX_DEVIATION
+from .linear import DEFAULT_MAX_DEVIATION, actuated_subset, bryson_weights, lqr_subset
+from .output_feedback import LQGController, lqg_glide
 
 __all__ = [
     "CONTROLLER_NAMES",
@@ -92,6 +103,7 @@ __all__ = [
     "DiveCycleRun",
     "MissionComparison",
     "PitchPID",
+    "ScheduledGlideLQG",
     "ScheduledGlideLQR",
     "compare_missions",
     "dive_cycle",
@@ -105,6 +117,12 @@ RHO_SEAWATER = 1025.0
 P_ATM = 101_325.0
 #: Controller names :func:`dive_cycle` knows.
 CONTROLLER_NAMES = ("lqr", "lqg", "nonlinear", "pid")
+#: Sensors of the ``"lqg"`` controller: depth (pressure sensor), pitch (attitude sensor), pitch rate (rate gyro).
+LQG_SENSORS = ("z", "theta", "Omega2")
+#: Default noise standard deviations of :data:`LQG_SENSORS` (m, rad, rad/s): assumed levels of this design, of the
+#: order of a glider's pressure sensor (5 cm, about 0.05 % of a 100 dbar range), compass/attitude sensor (0.5 deg)
+#: and rate gyro (0.2 deg/s); replace them with the datasheet values of the glider's sensors.
+LQG_NOISE = {"z": 0.05, "theta": math.radians(0.5), "Omega2": math.radians(0.2)}
 _PUMP_WORK = ("out", "both")
 _IZ = ACCEL_STATES.index("z")
 
@@ -179,10 +197,24 @@ def _ramp(t: float, t_start: float, ramp_time: float) -> tuple[float, float]:
     return s, 1.0 / ramp_time
 
 
+def _ramp_reference(t: float, x_from: np.ndarray, x_to: np.ndarray, t_start: float,
+                    ramp_time: float) -> tuple[np.ndarray, np.ndarray]:
+    """Reference state and feedforward ``(w1, w3, w4)`` of a transition from ``x_from`` to ``x_to``."""
+    s, sd = _ramp(t, t_start, ramp_time)
+    d = x_to - x_from
+    x_ref = x_from + s * d
+    x_ref[7], x_ref[9] = sd * d[6], sd * d[8]
+    return x_ref, np.array([0.0, 0.0, sd * d[10]])
+
+
 @dataclass(frozen=True)
 class ScheduledGlideLQR:
     """LQR leg controller of a dive cycle: ``w = w_ff - K (x - x_ref(t))`` on the acceleration-form state, with the
     reference moving from ``x_from`` to the glide ``glide`` in ``ramp_time`` seconds from ``t_start``.
+
+    Actuator limits: the law does not saturate its commands; it is run through the actuated model
+    (:class:`~glidectl.ActuatedGlider` in :func:`~glidectl.sim.simulate_actuated`), whose servo and rate/range
+    limiter keep the actuators inside the vehicle's ``[actuators]`` table.
 
     Attributes
     ----------
@@ -229,16 +261,147 @@ class ScheduledGlideLQR:
     def reference(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         """Reference state (11,) and feedforward ``(w1, w3, w4)`` at time ``t`` (s): the ramp moves the positions
         at constant rates (velocity entries ``rdot_P1``, ``rdot_P3`` and pump rate ``w4`` follow)."""
-        s, sd = _ramp(t, self.t_start, self.ramp_time)
-        d = self.x_to - self.x_from
-        x_ref = self.x_from + s * d
-        x_ref[7], x_ref[9] = sd * d[6], sd * d[8]
-        return x_ref, np.array([0.0, 0.0, sd * d[10]])
+        return _ramp_reference(t, self.x_from, self.x_to, self.t_start, self.ramp_time)
 
     def __call__(self, t: float, y: Any) -> np.ndarray:
         """``(w1, w3, w4)`` for the measured full state ``y`` (shape (11,)) at time ``t`` (s)."""
         x_ref, w_ff = self.reference(t)
         return w_ff - self.K @ (np.asarray(y, dtype=float) - x_ref)
+
+
+@dataclass(frozen=True, eq=False)
+class ScheduledGlideLQG:
+    """LQG leg controller of a dive cycle: the regulator and Kalman gains of :func:`~glidectl.lqg_glide` at the leg's
+    glide, on an estimate of the acceleration-form state, with the reference ramp of :class:`ScheduledGlideLQR`.
+
+    ``w = w_ff(t) - K (xhat - x_ref(t))`` (``K`` of the design on the regulated states, zero columns elsewhere) and
+    ``xhat' = f(xhat, w) + L (y - C xhat)``: the prediction ``f`` is the right-hand side of the actuated glider
+    (:meth:`~glidectl.ActuatedGlider.rhs`, with the same rate/range limiter as the plant, so the estimate follows
+    the inflection transitions and saturations that the leg's linearization does not describe); the correction is
+    the design's stationary Kalman gain ``L`` (:func:`control.lqe` on the linearization at the glide) on the
+    estimated states (the others, horizontal position ``x`` and the held actuators, are predicted only). The
+    controller sees only the measured sensors (noisy in :func:`dive_cycle`); its state, the estimate
+    (``<state>_hat``), is integrated with the plant by :func:`~glidectl.sim.simulate_actuated`. Commands are the
+    thesis accelerations (``command = "acceleration"``); the actuated glider's servo and limiter realize them, so
+    the actuator limits hold (the controller itself does not saturate).
+
+    Attributes
+    ----------
+    design : LQGController
+        The leg's design (gains, poles, sensors, noise).
+    plant : ActuatedGlider
+        The actuated model of the prediction.
+    x_from, x_to : ndarray, shape (11,)
+        Reference at the start and the end of the transition.
+    t_start, ramp_time : float
+        Start (s) and duration (s) of the transition.
+    sensor_index : tuple of int
+        Positions of the design's sensor channels among the measurements ``y`` the controller receives.
+    xhat0 : ndarray, shape (11,), optional
+        Initial estimate (default: ``x_from`` with the measured states replaced by their measurements).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``design`` is not an :class:`~glidectl.LQGController` or ``plant`` not an ActuatedGlider.
+    ArgumentError
+        If the design is not on the acceleration inputs, a sensor is not a plain state, or an array has the wrong
+        shape.
+    """
+
+    design: LQGController
+    plant: ActuatedGlider = field(repr=False)
+    x_from: np.ndarray = field(repr=False)
+    x_to: np.ndarray = field(repr=False)
+    t_start: float = 0.0
+    ramp_time: float = 0.0
+    sensor_index: tuple[int, ...] = ()
+    xhat0: np.ndarray | None = field(default=None, repr=False)
+
+    command = "acceleration"
+    controller_states = tuple(f"{s}_hat" for s in ACCEL_STATES)
+
+    def __post_init__(self) -> None:
+        require_instance("design", self.design, LQGController, " (from gc.lqg_glide)")
+        require_instance("plant", self.plant, ActuatedGlider)
+        if self.design.inputs != "acceleration":
+            raise ArgumentError("a dive-cycle LQG leg commands the thesis accelerations (w1, w3, w4): design it with "
+                                "inputs='acceleration'")
+        object.__setattr__(self, "x_from", checks.array("x_from", self.x_from, shape=(11,)))
+        object.__setattr__(self, "x_to", checks.array("x_to", self.x_to, shape=(11,)))
+        object.__setattr__(self, "t_start", checks.real("t_start", self.t_start, unit="s"))
+        object.__setattr__(self, "ramp_time", checks.nonnegative("ramp_time", self.ramp_time, unit="s"))
+        if self.xhat0 is not None:
+            object.__setattr__(self, "xhat0", checks.array("xhat0", self.xhat0, shape=(11,)))
+        smap = self.design.sensors
+        bad = [c for c in smap.channels if c not in ACCEL_STATES]
+        if bad:
+            raise ArgumentError(f"the LQG sensors use channels {bad}, which are not states of the actuated glider: a "
+                                "dive cycle measures states")
+        if len(self.sensor_index) != len(smap.names):
+            raise ArgumentError(f"sensor_index must give the position of each of {list(smap.names)} among the "
+                                "measurements")
+        names = self.design.state_names  # glide-path states (z_prime first), then z
+        K = np.zeros((3, 11))
+        for j, sname in enumerate(names):
+            if sname != "z_prime":
+                K[:, ACCEL_STATES.index(sname)] = np.asarray(self.design.K)[:, j]
+        Lg = np.zeros((11, len(smap.names)))
+        for r, sname in enumerate(self.design.estimated_states):
+            Lg[ACCEL_STATES.index(sname)] = np.asarray(self.design.L)[r]
+        C = np.zeros((len(smap.names), 11))
+        for k, ch in enumerate(smap.channels):
+            C[:, ACCEL_STATES.index(ch)] += smap.M[:, k]
+        object.__setattr__(self, "_mats", (K, Lg, C, np.array(self.sensor_index, dtype=int)))
+
+    @property
+    def glide(self) -> SteadyGlide:
+        """The leg's glide."""
+        return self.design.glide
+
+    def with_estimate(self, xhat: Any) -> ScheduledGlideLQG:
+        """The same leg controller starting from the estimate ``xhat`` (shape (11,); the previous leg's last).
+
+        Returns
+        -------
+        ScheduledGlideLQG
+
+        Raises
+        ------
+        ArgumentError
+            If ``xhat`` is not 11 finite numbers.
+        """
+        return ScheduledGlideLQG(self.design, self.plant, self.x_from, self.x_to, self.t_start, self.ramp_time,
+                                 self.sensor_index, checks.array("xhat", xhat, shape=(11,)))
+
+    def initial_state(self, t: float, y: Any) -> np.ndarray:
+        """Initial estimate (:attr:`xhat0`, or ``x_from`` corrected by the measurements)."""
+        if self.xhat0 is not None:
+            return self.xhat0.copy()
+        _, _, C, idx = self._mats
+        xh = self.x_from.copy()
+        ym = np.asarray(y, dtype=float)[idx]
+        for r in range(C.shape[0]):
+            nz = np.flatnonzero(C[r])
+            if nz.size == 1:  # a plain state sensor: start from its measurement
+                xh[nz[0]] = ym[r] / C[r, nz[0]]
+        return xh
+
+    def _w(self, t: float, xhat: np.ndarray) -> np.ndarray:
+        x_ref, w_ff = _ramp_reference(t, self.x_from, self.x_to, self.t_start, self.ramp_time)
+        return w_ff - self._mats[0] @ (xhat - x_ref)
+
+    def derivative(self, t: float, xc: Any, y: Any) -> np.ndarray:
+        """Estimator: ``f(xhat, w) + L (y - C xhat)`` (per second)."""
+        _, Lg, C, idx = self._mats
+        xh = np.asarray(xc, dtype=float)
+        w = self._w(t, xh)
+        pred = self.plant.rhs(xh, self.plant.acceleration_rates(xh, w))
+        return pred + Lg @ (np.asarray(y, dtype=float)[idx] - C @ xh)
+
+    def __call__(self, t: float, y: Any, xc: Any) -> np.ndarray:
+        """``(w1, w3, w4)`` from the estimate ``xc`` at time ``t`` (s)."""
+        return self._w(t, np.asarray(xc, dtype=float))
 
 
 @dataclass(frozen=True)
@@ -252,6 +415,10 @@ class PitchPID:
     stable hull; a hull whose pitch response to the battery reverses (Munk moment larger than the pendulum and
     hydrodynamic stiffness) needs negative gains, which :func:`tune_pitch_pid` finds. The pitch reference and the
     feedforward move from their previous values to the leg's in ``ramp_time`` seconds from ``t_start``.
+
+    Actuator limits: the commands are position setpoints; the actuated model's servo loops clip them to the ranges
+    and its limiter enforces the rates (:class:`~glidectl.ActuatedGlider`), and the integrator is frozen while the
+    battery command is beyond its travel (``r_p1_bounds``).
 
     Attributes
     ----------
@@ -725,40 +892,29 @@ class MissionComparison:
 # ------------------------------------------------------------------------------------------------ designs per leg
 def _lqr_gain(veh: Vehicle, plant: ActuatedGlider, glide: SteadyGlide,
               max_deviation: Mapping[str, float] | None) -> tuple[np.ndarray, np.ndarray, tuple, tuple]:
-    """LQR on the glide's acceleration-form linearization restricted to the actuated inputs, without z'."""
+    """LQR on the glide's acceleration-form linearization restricted to the actuated inputs (the vehicle file's
+    default, :func:`~glidectl.controllers.linear.default_actuate`) and to the states other than ``z'``: the
+    regulator of :func:`~glidectl.lqg_glide` without sensors (the same weights, the same
+    :func:`~glidectl.controllers.linear.lqr_subset`). Not :func:`~glidectl.lqr_glide`, which also regulates the
+    glide-path deviation ``z'``: a dive cycle holds the glide, not a path through the origin."""
     sys = linearize_glide(veh, glide, "acceleration")
     A, B = np.asarray(sys.A), np.asarray(sys.B)
     snames, inames = list(sys.state_labels), list(sys.input_labels)
-    fixed = [a for a, R in zip(ACTUATED_AXES, plant.rate_limit, strict=True) if R == 0]
-    drop = {"z_prime"}
-    if "r_P1" in fixed:
-        drop |= {"r_P1", "rdot_P1"}
-    if "r_P3" in fixed:
-        drop |= {"r_P3", "rdot_P3"}
-    if "m0" in fixed:
-        drop |= {"m0"}
-    si = [i for i, s in enumerate(snames) if s not in drop]
-    use = {"w1": "r_P1", "w3": "r_P3", "w4": "m0"}
-    ii = [i for i, s in enumerate(inames) if use[s] not in fixed]
-    if not ii:
-        raise ModelError(f"vehicle '{veh.name}' has no actuated pump or moving mass: nothing to control")
-    Ar, Br = A[np.ix_(si, si)], B[np.ix_(si, ii)]
-    dev = {**DEFAULT_MAX_DEVIATION, **dict(max_deviation or {})}
-    Q = np.diag([1.0 / dev[snames[i]] ** 2 for i in si])
-    R = np.diag([1.0 / dev[inames[i]] ** 2 for i in ii])
-    try:
-        Kr, _, E = control.lqr(Ar, Br, Q, R)
-    except Exception as exc:  # python-control raises several types
-        raise SolverError(f"LQR design of the {math.degrees(glide.gamma):+.1f} deg leg failed: {exc}") from exc
-    Kr, E = np.asarray(Kr, dtype=float), np.asarray(E)
-    if not (np.all(np.isfinite(Kr)) and np.max(E.real) < 0):
-        raise SolverError(f"LQR design of the {math.degrees(glide.gamma):+.1f} deg leg does not stabilize the "
-                          f"restricted linearization (poles {np.round(E, 4)})")
+    act, ui, si, _ = actuated_subset(sys, veh, "acceleration", None)
+    si = [i for i in si if snames[i] != "z_prime"]
+    extra = dict(max_deviation or {})
+    unknown = sorted(str(k) for k in extra if k not in set(snames) | set(inames))
+    if unknown:
+        raise ArgumentError(f"max_deviation names {unknown}, which are not states or inputs of the leg design; "
+                            f"known: {sorted(set(snames) | set(inames))}")
+    dev = {**DEFAULT_MAX_DEVIATION, **{k: checks.positive(f"max_deviation[{k!r}]", v) for k, v in extra.items()}}
+    K10, _ = lqr_subset(A, B, bryson_weights(snames, dev), bryson_weights(inames, dev), ui, si,
+                        f"the {math.degrees(glide.gamma):+.1f} deg leg of vehicle '{veh.name}' with inputs "
+                        f"{list(act)}")
+    E = np.linalg.eigvals((A - B @ K10)[np.ix_(si, si)])
     K = np.zeros((3, 11))
-    for r, i in enumerate(ii):
-        for c, j in enumerate(si):
-            K[i, j + 1] = Kr[r, c]  # glide-path state j (z' = 0) is accel state j + 1
-    return K, E, tuple(snames[i] for i in si), tuple(inames[i] for i in ii)
+    K[:, 1:] = K10  # glide-path state j is acceleration-form state j + 1 (the z' column is zero)
+    return K, E, tuple(snames[i] for i in si), act
 
 
 #: The reference of a transition moves the actuators at this fraction of their rate limits (headroom for feedback).
@@ -834,10 +990,12 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     cycles : int
         Number of cycles, >= 1.
     sensors : sequence of str, optional
-        Measured states (default all); must include ``z`` (the supervisor switches on the measured depth).
+        Measured states (default all; ``"lqg"``: :data:`LQG_SENSORS`); must include ``z`` (the supervisor switches
+        on the measured depth).
     noise, seed, sensor_period :
         Sensor noise standard deviations (state units), seed and sample-and-hold period (s), as
         :func:`~glidectl.sim.simulate_actuated`; each leg draws from its own stream spawned from ``seed``.
+        ``"lqg"`` defaults to :data:`LQG_NOISE` (noise levels also weight its Kalman filter).
     output_step : float
         Spacing of the output samples (s), > 0.
     pid_gains : (kp, ki, kd), optional
@@ -865,8 +1023,8 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         If an argument has the wrong type.
     ArgumentError
         Depths not ``(top, bottom)`` with ``top < bottom``, a non-positive speed, ``gamma`` outside ``(0, pi/2)``,
-        an unknown controller name, ``"lqg"`` (not in this build), sensors without ``z`` or without the states the
-        controller needs.
+        an unknown controller name, sensors without ``z`` or without the states the controller needs, or
+        ``"lqg"`` with sensors that cannot detect the estimated states.
     ModelError
         A vehicle without the actuators (the message shows how to add them), or ``"nonlinear"`` on a vehicle
         outside its assumptions.
@@ -886,12 +1044,13 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     checks.choice("pump_work", pump_work, _PUMP_WORK)
     if isinstance(controller, str):
         checks.choice("controller", controller, CONTROLLER_NAMES)
-        if controller == "lqg":
-            raise ArgumentError("controller='lqg' needs the LQG output-feedback controller (estimator from named "
-                                "sensors, issue 16 part 4), which is not in this build of glidectl; pass a "
-                                "controller object (or a (down, up) pair) that reads the sensors instead")
     plant = ActuatedGlider(veh, servo_time=servo_time, pump_gain=pump_gain)
-    sens = tuple(plant.state_names if sensors is None else sensors)
+    if controller == "lqg":
+        sens = tuple(LQG_SENSORS if sensors is None else sensors)
+        if noise is None:
+            noise = dict(LQG_NOISE)
+    else:
+        sens = tuple(plant.state_names if sensors is None else sensors)
     if "z" not in sens:
         raise ArgumentError(f"sensors {sens} must include the depth 'z': the supervisor switches on the measured "
                             "depth")
@@ -910,7 +1069,8 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     g_down, g_up = glides
     nominal = (bottom - top) / (speed * math.sin(gamma))
     leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
-    make = _leg_factory(controller, veh, plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains, max_deviation)
+    make = _leg_factory(controller, veh, plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains, max_deviation,
+                        noise)
     name = controller if isinstance(controller, str) else type(controller).__name__
 
     n_legs = 2 * cycles + 1
@@ -936,6 +1096,9 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         down = leg % 2 == 0
         glide = g_down if down else g_up
         ctrl = make(glide, prev, t, down)
+        if runs and callable(getattr(ctrl, "with_estimate", None)) and \
+                runs[-1].controller_states == tuple(getattr(ctrl, "controller_states", ())):
+            ctrl = ctrl.with_estimate(runs[-1].xc[-1])  # the estimate carries over the inflection
         tail = leg == n_legs - 1
         if tail:
             def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
@@ -989,9 +1152,11 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
 
 def _leg_factory(controller: Any, veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_down: SteadyGlide,
                  g_up: SteadyGlide, gamma: float, speed: float, r_p3: float, pid_gains: Any,
-                 max_deviation: Any) -> Any:
+                 max_deviation: Any, noise: Any = None) -> Any:
     """``make(glide, previous_glide, t_start, down) -> leg controller`` for the chosen controller."""
     full = sens == tuple(plant.state_names)
+    if controller == "lqg":
+        return _lqg_factory(veh, plant, sens, g_down, g_up, max_deviation, noise)
     if controller == "lqr":
         if not full:
             raise ArgumentError("controller='lqr' is state feedback: it needs every state measured (sensors=None); "
@@ -1055,6 +1220,34 @@ def _leg_factory(controller: Any, veh: Vehicle, plant: ActuatedGlider, sens: tup
                             f"{type(controller).__name__} {controller!r}")
 
 
+def _lqg_factory(veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_down: SteadyGlide,
+                 g_up: SteadyGlide, max_deviation: Any, noise: Any) -> Any:
+    """Leg controllers of ``controller="lqg"``: :func:`~glidectl.lqg_glide` at each leg's glide from the measured
+    sensors (their noise levels weight the Kalman filter; a sensor without noise gets the default of
+    :data:`LQG_NOISE`, or 1e-3 of its Bryson scale)."""
+    bad = [q for q in sens if q not in plant.state_names]
+    if bad:
+        raise ArgumentError(f"sensors {bad} are not states of the actuated glider")
+    lqg_sens = tuple(q for q in sens if q != "x")  # horizontal position is not a sensor of a submerged glider
+    levels = {}
+    for q in lqg_sens:
+        v = float(dict(noise or {}).get(q, 0.0))
+        levels[q] = v if v > 0 else LQG_NOISE.get(q, 1e-3 * DEFAULT_MAX_DEVIATION.get(q, 1.0))
+    designs = {}
+    for g in (g_down, g_up):
+        try:
+            designs[id(g)] = lqg_glide(veh, g, lqg_sens, levels, inputs="acceleration", max_deviation=max_deviation)
+        except ArgumentError as exc:
+            raise ArgumentError(f"controller='lqg' cannot be designed for the {math.degrees(g.gamma):+.1f} deg leg "
+                                f"of vehicle '{veh.name}': {exc}") from exc
+    idx = tuple(sens.index(q) for q in lqg_sens)
+
+    def make_lqg(glide: SteadyGlide, prev: SteadyGlide, t0: float, down: bool) -> Any:
+        xf, xt = prev.accel_state(), glide.accel_state()
+        return ScheduledGlideLQG(designs[id(glide)], plant, xf, xt, t0, _ramp_time(plant, xf, xt), idx)
+    return make_lqg
+
+
 def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES, **mission: Any) -> MissionComparison:
     """Fly the same dive-cycle mission with several controllers and tabulate them.
 
@@ -1098,7 +1291,7 @@ def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES
                 raise
             rows.append({"controller": name, "cycles": 0, "distance_per_cycle": nan, "duration_per_cycle": nan,
                          "max_overshoot": nan, "saturated_time_per_cycle": nan, "energy_per_cycle": nan,
-                         "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:200]}"})
+                         "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:400]}"})
             continue
         runs[name] = run
         rows.append({**run.as_dict(), "error": ""})

@@ -61,6 +61,11 @@ ACTUATOR_OF_INPUT: Mapping[str, str] = {"u1": "r_P1", "u3": "r_P3", "u4": "m0", 
 class LinearGlideController:
     """State feedback ``u = u_e - K (x_r - x_r,e)`` about a steady glide, on the glide-path state ``x_r``.
 
+    Actuator limits: this law does not saturate its own commands. Run it through
+    :class:`~glidectl.models.actuated.ActuatedGlider` (:func:`glidectl.sim.simulate_actuated`,
+    :func:`glidectl.controllers.dive_cycle.dive_cycle`) to have the vehicle's ``[actuators]`` ranges and rates
+    enforced; :func:`glidectl.sim.simulate` on the plain model applies no limits.
+
     Attributes
     ----------
     K : ndarray, shape (3, 10)
@@ -521,6 +526,11 @@ def decoupled_gain_matrix(kp1: float, kd1: float, kp3: float, kd3: float, k4: fl
 @dataclass(frozen=True)
 class DecoupledAccelerationFeedback:
     """Decoupled feedback (2.37) on the moving mass and buoyancy of the acceleration-controlled glider.
+
+    Actuator limits: this law does not saturate its own commands. Run it through
+    :class:`~glidectl.models.actuated.ActuatedGlider` (:func:`glidectl.sim.simulate_actuated`,
+    :func:`glidectl.controllers.dive_cycle.dive_cycle`) to have the vehicle's ``[actuators]`` ranges and rates
+    enforced; :func:`glidectl.sim.simulate` on the plain model applies no limits.
 
     ``w = -K (zeta - zeta_e(t))`` with ``zeta_e`` switching between steady glides at given times. Pass to
     :func:`glidectl.sim.simulate` with :class:`~glidectl.models.longitudinal.AccelerationControlledGlider`.

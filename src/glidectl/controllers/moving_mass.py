@@ -99,6 +99,11 @@ class MovingMassTorque:
     """Torque law (6.5) realized by the moving mass: controller ``(t, xa) -> w`` for
     :class:`AccelerationControlledGlider` (see the module docstring).
 
+    Actuator limits: this law does not saturate its own commands. Run it through
+    :class:`~glidectl.models.actuated.ActuatedGlider` (:func:`glidectl.sim.simulate_actuated`,
+    :func:`glidectl.controllers.dive_cycle.dive_cycle`) to have the vehicle's ``[actuators]`` ranges and rates
+    enforced; :func:`glidectl.sim.simulate` on the plain model applies no limits.
+
     Attributes
     ----------
     vehicle : Vehicle

@@ -56,6 +56,11 @@ class LQGController:
     """LQG output feedback about a steady glide: ``u = -K (xhat - x_e)`` with the Kalman filter
     ``xhat' = d + A (xhat - x_e) + B u + L (y - y_e - C (xhat - x_e))``.
 
+    Actuator limits: this law does not saturate its own commands. Run it through
+    :class:`~glidectl.models.actuated.ActuatedGlider` (:func:`glidectl.sim.simulate_actuated`,
+    :func:`glidectl.controllers.dive_cycle.dive_cycle`) to have the vehicle's ``[actuators]`` ranges and rates
+    enforced; :func:`glidectl.sim.simulate` on the plain model applies no limits.
+
     Built by :func:`lqg_glide`. States are those of the glide-path model (plus depth ``z`` when a sensor measures
     it); the estimate covers :attr:`estimated_states` (the others are taken at their equilibrium values); ``d`` is
     the nominal sink rate in the ``z`` row (zero elsewhere); the equilibrium input of the glide-path form is zero.
