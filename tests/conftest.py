@@ -3,11 +3,16 @@
 The design tests (``tests/test_design_<name>.py``) set ``DESIGN = "<name>"`` (a file of ``designs/``) and use
 ``design`` (the loaded design file, for its settings) and ``quick_build`` (its quick build, written once per test
 module). ``python_output`` runs code in a fresh interpreter (for matplotlib backend checks).
+
+Property tests (hypothesis) run derandomized by default, so a run of the suite is reproducible and CI cannot turn
+red by chance; set ``GLIDECTL_HYPOTHESIS_EXPLORE=1`` to draw new examples on every run (what a developer hunting
+for counterexamples wants). Counterexamples found that way are added to the tests with ``@example``.
 """
 
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from collections.abc import Callable
@@ -15,10 +20,15 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 import pytest
+from hypothesis import settings
 
 from glidectl.report import Design, Report, load_design
 
 DESIGNS = Path(__file__).resolve().parents[1] / "designs"
+
+settings.register_profile("reproducible", derandomize=True, database=None)
+settings.register_profile("explore")
+settings.load_profile("explore" if os.environ.get("GLIDECTL_HYPOTHESIS_EXPLORE") else "reproducible")
 
 
 class QuickBuild(NamedTuple):
