@@ -22,8 +22,21 @@ from scipy.optimize import brentq
 from . import checks
 from .errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 
-__all__ = ["COMMAND_KINDS", "MAX_NFEV_PER_STEP", "MAX_STEPS", "MAX_T_FINAL", "MIN_T_FINAL", "ActuatedSimulation",
-           "Ensemble", "Model", "Simulation", "simulate", "simulate_actuated", "simulate_many"]
+__all__ = [
+    "COMMAND_KINDS",
+    "MAX_NFEV_PER_STEP",
+    "MAX_STEPS",
+    "MAX_T_FINAL",
+    "MIN_T_FINAL",
+    "ActuatedSimulation",
+    "Ensemble",
+    "Model",
+    "Simulation",
+    "actuator_trace",
+    "simulate",
+    "simulate_actuated",
+    "simulate_many",
+]
 
 _EPS = float(np.finfo(float).eps)
 _MIN_RTOL = 100 * _EPS
@@ -678,6 +691,48 @@ def simulate_many(model: Model, X0: Any, t_final: float, *, method: str = "RK45"
 COMMAND_KINDS = ("setpoint", "acceleration", "rate")
 
 
+def actuator_trace(run: Any, name: str, *, commanded: bool = False, rate: bool = False) -> np.ndarray:
+    """One actuator's trajectory from an actuated run (``ActuatedSimulation``, ``DiveCycleRun``): achieved
+    position, commanded position, or (``rate=True``) achieved or commanded rate.
+
+    The run provides ``actuator_names``, ``state_names``, ``state(name)``, ``u`` (commanded rates), ``rates``
+    (limited rates) and ``commanded`` (commanded positions). The achieved battery rate is the integrated mass
+    velocity state (``rdot_P1``, ``rdot_P3``) when the model has it.
+
+    Parameters
+    ----------
+    run : ActuatedSimulation or DiveCycleRun
+    name : str
+        Actuator (``"m0"``, ``"r_P1"``, ...).
+    commanded, rate : bool
+        Which trace.
+
+    Returns
+    -------
+    ndarray, shape (len(run.t),)
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``name`` is not a string or a flag is not a bool.
+    ArgumentError
+        If ``name`` is not an actuator of the run.
+    """
+    if not isinstance(name, str):
+        raise ArgumentTypeError(f"name must be an actuator name (str), got {type(name).__name__} {name!r}")
+    checks.boolean("commanded", commanded)
+    checks.boolean("rate", rate)
+    if name not in run.actuator_names:
+        raise ArgumentError(f"no actuator '{name}'; have {run.actuator_names}")
+    i = run.actuator_names.index(name)
+    if rate:
+        if commanded:
+            return run.u[:, i]
+        vel = {"r_P1": "rdot_P1", "r_P3": "rdot_P3"}.get(name)
+        return run.state(vel) if vel in run.state_names else run.rates[:, i]
+    return run.commanded[:, i] if commanded else run.state(name)
+
+
 @dataclass(frozen=True)
 class ActuatedSimulation(Simulation):
     """A run of :func:`simulate_actuated`: a :class:`Simulation` of an actuated model (``u`` holds the requested
@@ -750,19 +805,7 @@ class ActuatedSimulation(Simulation):
         ArgumentError
             If ``name`` is not an actuator of the run.
         """
-        if not isinstance(name, str):
-            raise ArgumentTypeError(f"name must be an actuator name (str), got {type(name).__name__} {name!r}")
-        checks.boolean("commanded", commanded)
-        checks.boolean("rate", rate)
-        if name not in self.actuator_names:
-            raise ArgumentError(f"no actuator '{name}'; have {self.actuator_names}")
-        i = self.actuator_names.index(name)
-        if rate:
-            if commanded:
-                return self.u[:, i]
-            vel = {"r_P1": "rdot_P1", "r_P3": "rdot_P3"}.get(name)
-            return self.state(vel) if vel in self.state_names else self.rates[:, i]  # type: ignore[index]
-        return self.commanded[:, i] if commanded else self.state(name)  # type: ignore[index]
+        return actuator_trace(self, name, commanded=commanded, rate=rate)
 
     @property
     def saturated(self) -> np.ndarray:

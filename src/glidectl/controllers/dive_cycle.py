@@ -90,7 +90,7 @@ from ..models._validate import require_glider, require_instance
 from ..models.actuated import ACTUATED_AXES, ActuatedGlider
 from ..models.longitudinal import ACCEL_STATES
 from ..params import Vehicle
-from ..sim import ActuatedSimulation, simulate_actuated
+from ..sim import ActuatedSimulation, actuator_trace, simulate_actuated
 from ..trim.glide import SteadyGlide, steady_glide
 from .linear import DEFAULT_MAX_DEVIATION, actuated_subset, bryson_weights, lqr_subset
 from .output_feedback import LQGController, lqg_glide
@@ -771,19 +771,7 @@ class DiveCycleRun:
         ArgumentError
             If ``name`` is not an actuator.
         """
-        if not isinstance(name, str):
-            raise ArgumentTypeError(f"name must be an actuator name (str), got {type(name).__name__} {name!r}")
-        checks.boolean("commanded", commanded)
-        checks.boolean("rate", rate)
-        if name not in self.actuator_names:
-            raise ArgumentError(f"no actuator '{name}'; have {self.actuator_names}")
-        i = self.actuator_names.index(name)
-        if rate:
-            if commanded:
-                return self.u[:, i]
-            vel = {"r_P1": "rdot_P1", "r_P3": "rdot_P3"}.get(name)
-            return self.state(vel) if vel else self.rates[:, i]
-        return self.commanded[:, i] if commanded else self.state(name)
+        return actuator_trace(self, name, commanded=commanded, rate=rate)
 
     def as_dict(self) -> dict[str, Any]:
         """Comparison row: per-cycle means of distance (m), duration (s), saturated time (s) and energy (J), and the
