@@ -387,6 +387,15 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     return [results[d.name] for d in designs]
 
 
+def _result(future: Any, name: str) -> BuildResult | DesignFailure:
+    """A finished job's result; a worker that died (or a cluster error) becomes the design's failure."""
+    try:
+        return future.result()
+    except Exception as exc:
+        return DesignFailure(name, f"building {name} failed in its worker: {type(exc).__name__}: "
+                                   f"{' '.join(str(exc).split())}")
+
+
 def _drain(queue: Any, display: _Display) -> None:
     import queue as queue_mod
 
@@ -420,7 +429,7 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
                     started.add(name)
                     display.start(name)
                 _drain(queue, display)
-                finish(f.result())
+                finish(_result(f, name))
             time.sleep(0.1)
     queue.close()
 
@@ -436,8 +445,7 @@ def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool
             pending[client.submit(build_one, d.name, str(d.path), source, quick, cache_root, pure=False)] = d.name
         while pending:
             for f in [f for f in pending if f.done()]:
-                pending.pop(f)
-                finish(f.result())
+                finish(_result(f, pending.pop(f)))
             time.sleep(0.1)
     finally:
         if own:
