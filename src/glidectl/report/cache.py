@@ -304,6 +304,7 @@ def _skip_dirs() -> tuple[str, ...]:
         dirs |= {matplotlib.get_cachedir(), matplotlib.get_configdir()}
     except Exception:  # pragma: no cover - matplotlib is a dependency
         pass
+    dirs |= {"/proc", "/sys", "/dev", "/etc"}  # system state, never a design's input
     return tuple(os.path.join(os.path.realpath(d), "") for d in dirs if d)
 
 
