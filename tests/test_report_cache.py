@@ -185,6 +185,8 @@ def test_no_cache_forces_a_cold_build_from_the_command_line(project, capsys):
     assert _runs(a) == 1 and "cache hit" in capsys.readouterr().out
     assert main([*argv, "--no-cache"]) == 0
     assert _runs(a) == 2 and "computed" in capsys.readouterr().out
+    assert main(argv) == 0  # the cold build refreshed the cache
+    assert _runs(a) == 2 and "cache hit" in capsys.readouterr().out
 
 
 def test_cached_helper(tmp_path):
@@ -208,6 +210,11 @@ def test_cached_helper(tmp_path):
     with recording(tmp_path) as rec:
         assert cached(("double", 3, veh), lambda: f(3)) == {"value": 6}
     assert rec.run.misses == 1 and len(calls) == 6
+    with recording(tmp_path, refresh=True) as rec:  # --no-cache: computed again, entry overwritten
+        assert cached(("double", 3, veh), lambda: {"value": "new"}) == {"value": "new"}
+    with recording(tmp_path) as rec:
+        assert cached(("double", 3, veh), lambda: f(3)) == {"value": "new"}
+    assert rec.run.hits == 1
     with pytest.raises(gc.ArgumentTypeError, match="callable"):
         cached("k", 3)
     with pytest.raises(gc.ArgumentTypeError, match="canonical"):

@@ -286,6 +286,7 @@ class _Run:
     """State of one design run in this thread/process: the data files it reads, the sub-result cache."""
 
     cache_root: Path | None
+    refresh: bool = False
     reads: set[str] = field(default_factory=set)
     hits: int = 0
     misses: int = 0
@@ -353,14 +354,16 @@ class recording:
     ----------
     cache_root : Path or None
         The cache folder for :func:`cached` (None: :func:`cached` computes without caching).
+    refresh : bool
+        :func:`cached` computes every value again and overwrites the cache (``--no-cache``).
 
     Raises
     ------
     None
     """
 
-    def __init__(self, cache_root: Path | None) -> None:
-        self.run = _Run(None if cache_root is None else Path(cache_root))
+    def __init__(self, cache_root: Path | None, refresh: bool = False) -> None:
+        self.run = _Run(None if cache_root is None else Path(cache_root), bool(refresh))
         self._token: contextvars.Token[_Run | None] | None = None
 
     def __enter__(self) -> recording:
@@ -416,9 +419,10 @@ def _digest(obj: Any) -> Any:
 def cached(key: Any, fn: Callable[[], T]) -> T:
     """Return ``fn()``, cached across builds when a ``glidectl report`` build with a cache is running.
 
-    Inside ``glidectl report`` (without ``--no-cache``) the value is pickled into ``<out>/.cache/results/`` under a
-    hash of ``key`` and glidectl's version and source code; a later build with the same key loads it instead of
-    calling ``fn``. Outside a cached build (a plain ``design()`` call, ``--no-cache``) ``fn()`` is simply called.
+    Inside ``glidectl report`` the value is pickled into ``<out>/.cache/results/`` under a hash of ``key`` and
+    glidectl's version and source code; a later build with the same key loads it instead of calling ``fn``
+    (``--no-cache`` calls ``fn`` and overwrites the entry). Outside a build (a plain ``design()`` call) ``fn()`` is
+    simply called.
     An unreadable entry is ignored and recomputed.
 
     Parameters
@@ -451,7 +455,7 @@ def cached(key: Any, fn: Callable[[], T]) -> T:
     if run is None or run.cache_root is None:
         return fn()
     path = run.cache_root / "results" / f"{k}.pkl"
-    entry = _load_pickle(path)
+    entry = None if run.refresh else _load_pickle(path)
     if isinstance(entry, dict) and entry.get("format") == CACHE_FORMAT and entry.get("key") == k and "value" in entry:
         run.hits += 1
         return entry["value"]

@@ -78,7 +78,7 @@ def _init_worker(queue: Any) -> None:
 
 
 def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str | None = None,
-              progress: Callable[[str], None] | None = None) -> BuildResult | DesignFailure:
+              progress: Callable[[str], None] | None = None, refresh: bool = False) -> BuildResult | DesignFailure:
     """Run one design and return the files its report consists of (nothing is written outside a temporary folder).
 
     Parameters
@@ -95,6 +95,8 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
         Cache folder for the sub-results a design caches with :func:`glidectl.report.cached` (None: no caching).
     progress : callable, optional
         ``progress(message)``; in a pool worker, messages go to the parent's display.
+    refresh : bool
+        Sub-results are computed again (and the cache overwritten) instead of looked up.
 
     Returns
     -------
@@ -113,7 +115,7 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
     try:
         design = _load(name, path, source)
         with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
-            with recording(None if cache_root is None else Path(cache_root)) as rec:
+            with recording(None if cache_root is None else Path(cache_root), refresh) as rec:
                 t0 = time.perf_counter()
                 rep = design.report(progress, quick)
                 progress("writing the report")
@@ -307,7 +309,7 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     scheduler : str or distributed.Client, optional
         Address of a ``dask.distributed`` scheduler: the designs are built on its workers instead.
     use_cache : bool
-        Look results up in (and store them into) the cache; False forces a cold build.
+        Look results up in the cache; False forces a cold build (whose results still refresh the cache).
     stream : text stream, optional
         Where progress goes (default ``sys.stdout``).
     bars : bool, optional
@@ -353,7 +355,8 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
             else:
                 todo.append((d, key, source))
         todo.sort(key=lambda t: -(estimates.get(t[0].name) or 0.0))  # longest first: shortest makespan
-        cache_root = str(store.root) if use_cache else None
+        cache_root = str(store.root)
+        refresh = not use_cache
         keys = {d.name: key for d, key, _ in todo}
 
         def finish(res: BuildResult | DesignFailure) -> None:
@@ -365,21 +368,20 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
             display.done(res, pdf)
             results[res.name] = res
             store.record_timings({res.name: res.seconds}, quick)
-            if use_cache:
-                try:
-                    store.store(keys[res.name], res)
-                except OSError as exc:
-                    display.line(f"  {res.name}: not cached ({exc})")
+            try:
+                store.store(keys[res.name], res)
+            except OSError as exc:
+                display.line(f"  {res.name}: not cached ({exc})")
 
         if scheduler is not None:
-            _run_dask(todo, scheduler, quick, cache_root, display, finish)
+            _run_dask(todo, scheduler, quick, cache_root, refresh, display, finish)
         elif jobs == 1 or len(todo) <= 1:
             for d, _, source in todo:
                 display.start(d.name)
                 finish(build_one(d.name, str(d.path), source, quick, cache_root,
-                                 progress=lambda m, n=d.name: display.message(n, m)))
+                                 progress=lambda m, n=d.name: display.message(n, m), refresh=refresh))
         else:
-            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, display, finish, mp_context)
+            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context)
     finally:
         display.close()
     if failures:
@@ -407,7 +409,7 @@ def _drain(queue: Any, display: _Display) -> None:
         display.message(name, msg)
 
 
-def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str | None,
+def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str, refresh: bool,
               display: _Display, finish: Callable[[Any], None], mp_context: Any) -> None:
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
@@ -415,7 +417,7 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
                              initargs=(queue,)) as ex:
         pending = {}
         for d, _, source in todo:
-            pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root)] = d.name
+            pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh)] = d.name
         started: set[str] = set()
         while pending:
             _drain(queue, display)
@@ -434,7 +436,7 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
     queue.close()
 
 
-def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool, cache_root: str | None,
+def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool, cache_root: str, refresh: bool,
               display: _Display, finish: Callable[[Any], None]) -> None:
     client = dask_client(scheduler)
     own = client is not scheduler
@@ -442,7 +444,8 @@ def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool
         pending = {}
         for d, _, source in todo:
             display.start(d.name)
-            pending[client.submit(build_one, d.name, str(d.path), source, quick, cache_root, pure=False)] = d.name
+            pending[client.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
+                                  pure=False)] = d.name
         while pending:
             for f in [f for f in pending if f.done()]:
                 finish(_result(f, pending.pop(f)))
