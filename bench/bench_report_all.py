@@ -103,6 +103,7 @@ def main() -> None:
     ap.add_argument("--designs", default="", help="comma-separated design names (default: all)")
     ap.add_argument("--profile", action="store_true", help="also profile each design (cProfile, top 10)")
     ap.add_argument("--no-total", action="store_true", help="skip the `glidectl report all` runs")
+    ap.add_argument("--total-only", action="store_true", help="only the `glidectl report all` runs")
     ap.add_argument("--tag", default="", help="suffix of the results file")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
@@ -112,7 +113,7 @@ def main() -> None:
         return
     from glidectl.report import find_designs
 
-    names = [n for n in args.designs.split(",") if n] or list(find_designs(ROOT / "designs"))
+    names = [] if args.total_only else [n for n in args.designs.split(",") if n] or list(find_designs(ROOT / "designs"))
     results = []
     for name in names:
         r = _run_child(name, quick, args.profile)

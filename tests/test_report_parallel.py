@@ -163,7 +163,7 @@ def test_progress_is_plain_lines_without_a_terminal(tmp_path):
     assert lines[-1].startswith("[1/1] tiny_a: done in") and "(computed)" in lines[-1]
     stream = io.StringIO()
     build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)
-    assert "cache hit (built in" in stream.getvalue()
+    assert "(cache hit, built in " in stream.getvalue()
     (tmp_path / "tiny_a.py").write_text(p.read_text() + "\n# edited\n")
     stream = io.StringIO()
     build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)

@@ -268,7 +268,7 @@ class _Display:
             if bar is not None:
                 bar.close()
             if res.from_cache:
-                how = f"cache hit (built in {_fmt_s(res.seconds)})"
+                how = f"cache hit, built in {_fmt_s(res.seconds)}"
                 took = 0.0
             else:
                 took = time.perf_counter() - self.t0.get(name, time.perf_counter())
