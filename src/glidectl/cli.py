@@ -1,13 +1,16 @@
 """The ``glidectl`` command: list designs and vehicle presets, build design reports.
 
-``glidectl report NAME|PATH|all [--designs DIR] [--out DIR] [--quick]`` builds designs found in ``./designs`` (or
-``--designs DIR``), or any design file; ``glidectl list`` shows the designs found and the vehicle presets. Every
+``glidectl report NAME|PATH|all [--designs DIR] [--out DIR] [--quick] [--jobs N] [--scheduler ADDRESS]
+[--no-cache]`` builds designs found in ``./designs`` (or ``--designs DIR``), or any design file, on ``N`` processes
+(default: all cores) or a dask cluster, reusing what ``OUT/.cache`` holds from earlier builds; ``glidectl list``
+shows the designs found and the vehicle presets. Every
 error exits with status 2 and a one-line message; the output folder is checked before anything is computed.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 import traceback
@@ -18,6 +21,7 @@ from typing import NoReturn
 from .errors import GlidectlError
 from .params import list_presets, load_vehicle
 from .report.designs import check_writable, find_designs, load_design, use_agg_without_display
+from .report.parallel import build_designs, require_dask
 
 __all__ = ["main"]
 
@@ -33,16 +37,6 @@ def _where(exc: BaseException) -> str:
     """``file:line`` of the innermost frame of ``exc``'s traceback (where a design file failed)."""
     frames = traceback.extract_tb(exc.__traceback__)
     return f" ({Path(frames[-1].filename).name}:{frames[-1].lineno})" if frames else ""
-
-
-def _progress(prefix: str, t0: float):
-    step = {"k": 0}
-
-    def report(msg: str) -> None:
-        step["k"] += 1
-        print(f"  {prefix} [{step['k']:2d}] {time.perf_counter() - t0:7.1f} s  {msg}", flush=True)
-
-    return report
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
@@ -70,12 +64,25 @@ def _cmd_report(args: argparse.Namespace) -> int:
     designs = [load_design(s, args.designs) for s in specs]
     for d in designs:  # every output folder is checked before anything is computed
         check_writable(Path(args.out) / d.name)
-    for i, d in enumerate(designs, 1):
-        t0 = time.perf_counter()
-        print(f"[{i}/{len(designs)}] {d.name}: {d.title}" + (" (quick settings)" if args.quick else ""), flush=True)
-        pdf = d.build(args.out, _progress(d.name, t0), quick=args.quick)
-        print(f"[{i}/{len(designs)}] {d.name}: done in {time.perf_counter() - t0:.1f} s -> {pdf}", flush=True)
+    if args.scheduler is not None:
+        require_dask()  # a missing dask is reported before anything is built
+    t0 = time.perf_counter()
+    results = build_designs(designs, args.out, quick=args.quick, jobs=args.jobs, scheduler=args.scheduler,
+                            use_cache=not args.no_cache)
+    if len(results) > 1:
+        hits = sum(r.from_cache for r in results)
+        print(f"{len(results)} designs in {time.perf_counter() - t0:.1f} s ({hits} from the cache)", flush=True)
     return 0
+
+
+def _jobs(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"--jobs must be a positive integer, got {text!r}")
+    return n
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -109,6 +116,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     rp.add_argument("--designs", default="designs", help="folder of design files (default: ./designs)")
     rp.add_argument("--out", default="reports", help="output folder; a design writes OUT/NAME/ (default: ./reports)")
     rp.add_argument("--quick", action="store_true", help="use each design's quick settings (smaller studies)")
+    rp.add_argument("--jobs", "-j", type=_jobs, default=os.cpu_count() or 1,
+                    help="designs built at once, each in its own process (default: all cores)")
+    rp.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                    help="build on a dask.distributed cluster at ADDRESS instead (needs the dask extra)")
+    rp.add_argument("--no-cache", action="store_true",
+                    help="ignore the cache in OUT/.cache and build everything again (the cache is refreshed)")
     rp.set_defaults(func=_cmd_report)
     args = parser.parse_args(argv)
     try:

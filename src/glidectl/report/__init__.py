@@ -14,6 +14,7 @@ returns a :class:`Report`; ``glidectl report NAME|PATH|all`` builds it into ``<o
         return rep
 """
 
+from .cache import cached
 from .designs import Design, build_design, check_writable, find_designs, load_design, run_script
 from .document import BHATTA_2006, Number, Report
 from .figures import STYLE, label, new_figure, style
@@ -25,6 +26,7 @@ __all__ = [
     "Number",
     "Report",
     "build_design",
+    "cached",
     "check_writable",
     "find_designs",
     "label",

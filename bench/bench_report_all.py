@@ -1,0 +1,141 @@
+"""Benchmark: every design of ``designs/`` built the way ``glidectl report`` builds it, cold and warm.
+
+Per design, in a fresh Python process each (no state shared between designs):
+
+- **cold**: the build with an empty cache (``build_designs(..., jobs=1)`` into a new output folder), wall time;
+- **warm**: the same build again with nothing changed (a cache hit: the files are rewritten from ``OUT/.cache``);
+- **profile** (``--profile``): one more cold build under ``cProfile``, its wall time (with the profiler's overhead)
+  and the top 10 functions by cumulative time.
+
+Then, unless ``--no-total``, ``glidectl report all`` itself as a user runs it (a subprocess, ``--jobs`` default):
+cold (``--no-cache``) and warm, total wall time including the interpreter start.
+
+Run from the project root::
+
+    python bench/bench_report_all.py                       # quick settings, every design
+    python bench/bench_report_all.py --full                # the reports' full settings
+    python bench/bench_report_all.py --designs ch6_controllers,ch7_ctol --profile --no-total
+
+Writes ``bench/results/report_all.json`` (``--tag`` adds a suffix: ``report_all_<tag>.json``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import json
+import os
+import pstats
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _one(name: str, quick: bool, profile: bool) -> dict:
+    """Child process: cold, warm and (optionally) profiled build of one design."""
+    from glidectl.report import load_design
+    from glidectl.report.designs import use_agg_without_display
+    from glidectl.report.parallel import build_designs
+
+    use_agg_without_display()
+    d = load_design(name, ROOT / "designs")
+    out: dict = {"design": name, "settings": "quick" if quick else "full"}
+    with tempfile.TemporaryDirectory(prefix="bench-report-") as tmp:
+        t0 = time.perf_counter()
+        (res,) = build_designs([d], tmp, quick=quick, jobs=1, stream=io.StringIO())
+        out["cold_s"] = time.perf_counter() - t0
+        out["compute_s"] = res.seconds
+        t0 = time.perf_counter()
+        (hit,) = build_designs([d], tmp, quick=quick, jobs=1, stream=io.StringIO())
+        out["warm_s"] = time.perf_counter() - t0
+        out["warm_was_hit"] = hit.from_cache
+        out["numbers"] = json.loads(res.files["numbers.json"])
+    if profile:
+        prof = cProfile.Profile()
+        t0 = time.perf_counter()
+        prof.runcall(d.report, lambda m: None, quick)
+        out["profiled_s"] = time.perf_counter() - t0
+        st = pstats.Stats(prof)
+        rows = sorted(st.stats.items(), key=lambda kv: -kv[1][3])  # (cc, nc, tt, ct, callers)
+        top = []
+        for (fn, line, func), (_, nc, tt, ct, _) in rows:
+            if func in ("<module>", "runcall", "<lambda>") and ct >= rows[0][1][3] * 0.99:
+                continue  # the profiled call itself
+            top.append({"function": f"{Path(fn).name}:{line}({func})", "calls": nc, "tottime_s": round(tt, 3),
+                        "cumtime_s": round(ct, 3)})
+            if len(top) == 10:
+                break
+        out["top_cumulative"] = top
+    return out
+
+
+def _run_child(name: str, quick: bool, profile: bool) -> dict:
+    cmd = [sys.executable, __file__, "--child", name] + ([] if quick else ["--full"]) + (["--profile"] if profile
+                                                                                          else [])
+    proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+    if proc.returncode != 0:
+        return {"design": name, "error": proc.stderr.strip().splitlines()[-1:] or ["?"]}
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
+def _total(quick: bool) -> dict:
+    with tempfile.TemporaryDirectory(prefix="bench-report-all-") as tmp:
+        base = [sys.executable, "-m", "glidectl.cli", "report", "all", "--out", tmp] + (["--quick"] if quick else [])
+        res = {}
+        for label, extra in (("cold_s", ["--no-cache"]), ("warm_s", [])):
+            t0 = time.perf_counter()
+            proc = subprocess.run(base + extra, capture_output=True, text=True, cwd=ROOT)
+            res[label] = time.perf_counter() - t0
+            res[label.replace("_s", "_rc")] = proc.returncode
+            res[label.replace("_s", "_summary")] = proc.stdout.strip().splitlines()[-1:] if proc.stdout else []
+        res["jobs"] = os.cpu_count()
+        return res
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--full", action="store_true", help="the designs' full settings (default: quick)")
+    ap.add_argument("--designs", default="", help="comma-separated design names (default: all)")
+    ap.add_argument("--profile", action="store_true", help="also profile each design (cProfile, top 10)")
+    ap.add_argument("--no-total", action="store_true", help="skip the `glidectl report all` runs")
+    ap.add_argument("--total-only", action="store_true", help="only the `glidectl report all` runs")
+    ap.add_argument("--tag", default="", help="suffix of the results file")
+    ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    quick = not args.full
+    if args.child:
+        print(json.dumps(_one(args.child, quick, args.profile)))
+        return
+    from glidectl.report import find_designs
+
+    names = [] if args.total_only else [n for n in args.designs.split(",") if n] or list(find_designs(ROOT / "designs"))
+    results = []
+    for name in names:
+        r = _run_child(name, quick, args.profile)
+        results.append(r)
+        if "error" in r:
+            print(f"{name:<28} ERROR {r['error']}", flush=True)
+            continue
+        print(f"{name:<28} cold {r['cold_s']:8.1f} s  warm {r['warm_s']:6.2f} s (hit: {r['warm_was_hit']})"
+              + (f"  profiled {r['profiled_s']:8.1f} s" if "profiled_s" in r else ""), flush=True)
+        for row in r.get("top_cumulative", []):
+            print(f"    {row['cumtime_s']:8.2f} s  {row['calls']:>8}  {row['function']}")
+    doc = {"settings": "quick" if quick else "full", "cpus": os.cpu_count(), "load_avg": os.getloadavg(),
+           "python": sys.version.split()[0], "designs": results}
+    if not args.no_total:
+        doc["report_all"] = _total(quick)
+        t = doc["report_all"]
+        print(f"glidectl report all{' --quick' if quick else ''}: cold {t['cold_s']:.1f} s, warm {t['warm_s']:.1f} s")
+    out = ROOT / "bench" / "results" / f"report_all{'_' + args.tag if args.tag else ''}.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(doc, indent=1))
+    print(out)
+
+
+if __name__ == "__main__":
+    main()

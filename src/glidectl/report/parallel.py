@@ -1,0 +1,455 @@
+"""Building many designs: the cache lookups, a process pool or a ``dask.distributed`` cluster, progress display.
+
+:func:`build_designs` is what ``glidectl report all [--jobs N] [--scheduler ADDRESS] [--no-cache]`` runs. Each
+design that is not in the cache is built by :func:`build_one`, a top-level function of picklable arguments (the
+design's name, path and source text), so it runs unchanged in this process, in a spawned worker process or on a
+dask worker; it returns the files the design wrote as bytes (a :class:`~glidectl.report.cache.BuildResult`), and
+this process writes them into ``<out>/<name>/`` and the cache. A serial build, a pool build and a cluster build
+therefore write the same files.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import sys
+import tempfile
+import threading
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TextIO
+
+from ..errors import ArgumentError, DesignError, GlidectlError
+from .cache import BuildResult, DesignCache, design_key, recording, settings_of
+from .designs import Design, load_design
+
+__all__ = ["DesignFailure", "build_designs", "build_one", "dask_client", "require_dask"]
+
+
+@dataclass(frozen=True)
+class DesignFailure:
+    """A design that raised: its name and the one-line message (with the design file's line for its own errors)."""
+
+    name: str
+    message: str
+
+
+def _where(exc: BaseException) -> str:
+    frames = traceback.extract_tb(exc.__traceback__)
+    return f" ({Path(frames[-1].filename).name}:{frames[-1].lineno})" if frames else ""
+
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    if isinstance(exc, GlidectlError):
+        return text
+    return f"{type(exc).__name__}: {text}{_where(exc)}"
+
+
+def _load(name: str, path: str, source: bytes) -> Design:
+    """Load the design from its file when it is there with this content, else from ``source`` (remote workers)."""
+    p = Path(path)
+    try:
+        same = p.is_file() and p.read_bytes() == source
+    except OSError:
+        same = False
+    if same:
+        return load_design(p)
+    folder = Path(tempfile.mkdtemp(prefix="glidectl-design-"))
+    f = folder / f"{name}.py"
+    f.write_bytes(source)
+    return load_design(f)
+
+
+# a queue for progress messages, given to pool workers when they start (queues are inherited, not pickled)
+_WORKER_QUEUE: Any = None
+
+
+def _init_worker(queue: Any) -> None:
+    global _WORKER_QUEUE
+    _WORKER_QUEUE = queue
+    from .designs import use_agg_without_display
+
+    use_agg_without_display()
+
+
+def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str | None = None,
+              progress: Callable[[str], None] | None = None, refresh: bool = False) -> BuildResult | DesignFailure:
+    """Run one design and return the files its report consists of (nothing is written outside a temporary folder).
+
+    Parameters
+    ----------
+    name : str
+        Design name (file stem).
+    path : str
+        The design file (used when it exists with content ``source``).
+    source : bytes
+        Content of the design file (loaded from a temporary copy where ``path`` differs, e.g. on a remote worker).
+    quick : bool
+        Use the design's quick settings.
+    cache_root : str, optional
+        Cache folder for the sub-results a design caches with :func:`glidectl.report.cached` (None: no caching).
+    progress : callable, optional
+        ``progress(message)``; in a pool worker, messages go to the parent's display.
+    refresh : bool
+        Sub-results are computed again (and the cache overwritten) instead of looked up.
+
+    Returns
+    -------
+    BuildResult or DesignFailure
+        The files (``report.pdf``, PNGs, ``numbers.json``), the data files the design read and the timing; or the
+        one-line error when the design failed.
+
+    Raises
+    ------
+    None
+        Errors of the design are returned as :class:`DesignFailure`.
+    """
+    queue = _WORKER_QUEUE
+    if progress is None:
+        progress = (lambda m: queue.put((name, m))) if queue is not None else (lambda m: None)
+    try:
+        design = _load(name, path, source)
+        with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
+            with recording(None if cache_root is None else Path(cache_root), refresh) as rec:
+                t0 = time.perf_counter()
+                rep = design.report(progress, quick)
+                progress("writing the report")
+                rep.write(Path(tmp) / name)
+                seconds = time.perf_counter() - t0
+            files = {p.name: p.read_bytes() for p in sorted((Path(tmp) / name).iterdir()) if p.is_file()}
+            deps = rec.deps(exclude=[tmp] + ([cache_root] if cache_root else []))
+        return BuildResult(name, files, seconds, deps, tuple(v.provenance for v in rep.vehicles), False,
+                           rec.run.hits, rec.run.misses)
+    except Exception as exc:
+        return DesignFailure(name, _one_line(exc))
+
+
+def require_dask() -> None:
+    """Check that ``dask.distributed`` can be imported.
+
+    Raises
+    ------
+    DesignError
+        If it cannot: install the ``dask`` extra.
+    """
+    try:
+        import distributed  # noqa: F401
+    except ImportError as exc:
+        raise DesignError("--scheduler needs dask.distributed, which is not installed: pip install "
+                          "'glidectl[dask]' (in a clone: pip install -e \".[dask]\")") from exc
+
+
+def dask_client(address: Any) -> Any:
+    """A ``dask.distributed`` client for a scheduler address (or the client itself when one is given).
+
+    Parameters
+    ----------
+    address : str or distributed.Client
+        Scheduler address, e.g. ``"tcp://10.0.0.5:8786"``.
+
+    Returns
+    -------
+    distributed.Client
+
+    Raises
+    ------
+    DesignError
+        If dask.distributed is not installed (install the ``dask`` extra) or the scheduler cannot be reached.
+    """
+    require_dask()
+    from distributed import Client
+
+    if isinstance(address, Client):
+        return address
+    try:
+        return Client(address, timeout="20s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise DesignError(f"cannot reach the dask scheduler at {address!r}: {exc}") from exc
+
+
+# ------------------------------------------------------------------------------------------ display
+def _fmt_s(t: float | None) -> str:
+    if t is None:
+        return "?"
+    return f"{t:.1f} s" if t < 120 else f"{t / 60:.1f} min"
+
+
+class _Display:
+    """Progress of a build: a bar per running design on a terminal (tqdm), plain lines otherwise."""
+
+    def __init__(self, designs: Sequence[Design], quick: bool, estimates: dict[str, float | None],
+                 stream: TextIO | None = None, bars: bool | None = None) -> None:
+        self.stream = stream or sys.stdout
+        self.quick = quick
+        self.index = {d.name: i for i, d in enumerate(designs, 1)}
+        self.titles = {d.name: d.title for d in designs}
+        self.n = len(designs)
+        self.estimates = estimates
+        self.t0: dict[str, float] = {}
+        self.steps: dict[str, int] = {}
+        if bars is None:
+            bars = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.tqdm: Any = None
+        if bars:
+            try:
+                from tqdm import tqdm
+
+                self.tqdm = tqdm
+            except ImportError:  # pragma: no cover - tqdm is a dependency
+                self.tqdm = None
+        self.bars: dict[str, Any] = {}
+        self.lock = threading.Lock()
+        self._stop = threading.Event()
+        self._ticker: threading.Thread | None = None
+
+    def _tag(self, name: str) -> str:
+        return f"[{self.index[name]}/{self.n}] {name}"
+
+    def line(self, text: str) -> None:
+        if self.tqdm is not None:
+            self.tqdm.write(text, file=self.stream)
+        else:
+            print(text, file=self.stream, flush=True)
+
+    def start(self, name: str) -> None:
+        with self.lock:
+            self.t0[name] = time.perf_counter()
+            est = self.estimates.get(name)
+            q = " (quick settings)" if self.quick else ""
+            if self.tqdm is not None:
+                self.bars[name] = self.tqdm(total=round(est, 1) if est else None, desc=name, unit="s",
+                                            position=len(self.bars), leave=False, file=self.stream,
+                                            bar_format="{desc}: {percentage:3.0f}%|{bar}| {n:.0f}/{total:.0f} s "
+                                                       "{postfix}" if est else "{desc}: {n:.0f} s {postfix}")
+                self._start_ticker()
+            else:
+                self.line(f"{self._tag(name)}: {self.titles[name]}{q} (last build: {_fmt_s(est)})")
+
+    def message(self, name: str, msg: str) -> None:
+        with self.lock:
+            if name not in self.t0:
+                return
+            self.steps[name] = self.steps.get(name, 0) + 1
+            elapsed = time.perf_counter() - self.t0[name]
+            bar = self.bars.get(name)
+            if bar is not None:
+                bar.set_postfix_str(msg[:60], refresh=False)
+                self._tick(name, bar)
+            else:
+                self.line(f"  {name} [{self.steps[name]:2d}] {elapsed:7.1f} s  {msg}")
+
+    def _tick(self, name: str, bar: Any) -> None:
+        elapsed = time.perf_counter() - self.t0[name]
+        total = bar.total
+        bar.n = min(elapsed, total * 0.99) if total else elapsed
+        bar.refresh()
+
+    def _start_ticker(self) -> None:
+        if self._ticker is not None:
+            return
+
+        def loop() -> None:
+            while not self._stop.wait(0.5):
+                with self.lock:
+                    for name, bar in list(self.bars.items()):
+                        self._tick(name, bar)
+
+        self._ticker = threading.Thread(target=loop, daemon=True)
+        self._ticker.start()
+
+    def done(self, res: BuildResult, pdf: Path) -> None:
+        with self.lock:
+            bar = self.bars.pop(name := res.name, None)
+            if bar is not None:
+                bar.close()
+            if res.from_cache:
+                how = f"cache hit, built in {_fmt_s(res.seconds)}"
+                took = 0.0
+            else:
+                took = time.perf_counter() - self.t0.get(name, time.perf_counter())
+                sub = res.sub_hits + res.sub_misses
+                how = "computed" + (f", sub-results {res.sub_hits}/{sub} from cache" if sub else "")
+            self.line(f"{self._tag(name)}: done in {took:.1f} s ({how}) -> {pdf}")
+
+    def failed(self, fail: DesignFailure) -> None:
+        with self.lock:
+            bar = self.bars.pop(fail.name, None)
+            if bar is not None:
+                bar.close()
+            self.line(f"{self._tag(fail.name)}: failed: {fail.message}")
+
+    def close(self) -> None:
+        self._stop.set()
+        for bar in self.bars.values():
+            bar.close()
+
+
+# ------------------------------------------------------------------------------------------ the build
+def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = False, jobs: int | None = None,
+                  scheduler: Any = None, use_cache: bool = True, stream: TextIO | None = None,
+                  bars: bool | None = None, mp_context: Any = None) -> list[BuildResult]:
+    """Build designs into ``<out>/<name>/``: cached ones from ``<out>/.cache``, the others serially, on a process
+    pool or on a dask cluster.
+
+    Parameters
+    ----------
+    designs : sequence of Design
+        Loaded designs (:func:`~glidectl.report.load_design`).
+    out : str or Path
+        Parent output folder (its ``.cache`` subfolder holds the cache and the last build times).
+    quick : bool
+        Use the designs' quick settings.
+    jobs : int, optional
+        Worker processes (default ``os.cpu_count()``); 1 builds in this process.
+    scheduler : str or distributed.Client, optional
+        Address of a ``dask.distributed`` scheduler: the designs are built on its workers instead.
+    use_cache : bool
+        Look results up in the cache; False forces a cold build (whose results still refresh the cache).
+    stream : text stream, optional
+        Where progress goes (default ``sys.stdout``).
+    bars : bool, optional
+        Progress bars (default: when ``stream`` is a terminal); plain lines otherwise.
+    mp_context : multiprocessing context, optional
+        Start method of the pool (default ``spawn``, safe with threads and on every platform).
+
+    Returns
+    -------
+    list of BuildResult
+        One per design, in the order given.
+
+    Raises
+    ------
+    ArgumentError
+        If ``jobs`` is not a positive integer.
+    DesignError
+        If a design failed (the first failure's one-line message; the other designs are still built) or the dask
+        scheduler cannot be used.
+    """
+    if jobs is None:
+        jobs = os.cpu_count() or 1
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ArgumentError(f"jobs must be a positive integer (worker processes), got {jobs!r}")
+    out = Path(out)
+    store = DesignCache(out / ".cache")
+    timings = store.timings()
+    tag = "quick" if quick else "full"
+    estimates = {d.name: timings.get(f"{d.name}:{tag}") for d in designs}
+    display = _Display(designs, quick, estimates, stream, bars)
+    results: dict[str, BuildResult] = {}
+    failures: list[DesignFailure] = []
+    todo: list[tuple[Design, str, bytes]] = []
+    try:
+        for d in designs:
+            source = d.path.read_bytes()
+            key = design_key(d.name, source, quick, settings_of(d.module, quick))
+            hit = store.load(d.name, key) if use_cache else None
+            if hit is not None:
+                display.t0[d.name] = time.perf_counter()
+                display.done(hit, hit.write(out))
+                results[d.name] = hit
+            else:
+                todo.append((d, key, source))
+        todo.sort(key=lambda t: -(estimates.get(t[0].name) or 0.0))  # longest first: shortest makespan
+        cache_root = str(store.root)
+        refresh = not use_cache
+        keys = {d.name: key for d, key, _ in todo}
+
+        def finish(res: BuildResult | DesignFailure) -> None:
+            if isinstance(res, DesignFailure):
+                display.failed(res)
+                failures.append(res)
+                return
+            pdf = res.write(out)
+            display.done(res, pdf)
+            results[res.name] = res
+            store.record_timings({res.name: res.seconds}, quick)
+            try:
+                store.store(keys[res.name], res)
+            except OSError as exc:
+                display.line(f"  {res.name}: not cached ({exc})")
+
+        if scheduler is not None:
+            _run_dask(todo, scheduler, quick, cache_root, refresh, display, finish)
+        elif jobs == 1 or len(todo) <= 1:
+            for d, _, source in todo:
+                display.start(d.name)
+                finish(build_one(d.name, str(d.path), source, quick, cache_root,
+                                 progress=lambda m, n=d.name: display.message(n, m), refresh=refresh))
+        else:
+            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context)
+    finally:
+        display.close()
+    if failures:
+        raise DesignError(failures[0].message)
+    return [results[d.name] for d in designs]
+
+
+def _result(future: Any, name: str) -> BuildResult | DesignFailure:
+    """A finished job's result; a worker that died (or a cluster error) becomes the design's failure."""
+    try:
+        return future.result()
+    except Exception as exc:
+        return DesignFailure(name, f"building {name} failed in its worker: {type(exc).__name__}: "
+                                   f"{' '.join(str(exc).split())}")
+
+
+def _drain(queue: Any, display: _Display) -> None:
+    import queue as queue_mod
+
+    while True:
+        try:
+            name, msg = queue.get_nowait()
+        except (queue_mod.Empty, EOFError, OSError):
+            return
+        display.message(name, msg)
+
+
+def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str, refresh: bool,
+              display: _Display, finish: Callable[[Any], None], mp_context: Any) -> None:
+    ctx = mp_context or multiprocessing.get_context("spawn")
+    queue = ctx.Queue()
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                             initargs=(queue,)) as ex:
+        pending = {}
+        for d, _, source in todo:
+            pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh)] = d.name
+        started: set[str] = set()
+        while pending:
+            _drain(queue, display)
+            for f, name in pending.items():  # running: handed to a worker
+                if name not in started and (f.running() or f.done()):
+                    started.add(name)
+                    display.start(name)
+            for f in [f for f in pending if f.done()]:
+                name = pending.pop(f)
+                if name not in started:
+                    started.add(name)
+                    display.start(name)
+                _drain(queue, display)
+                finish(_result(f, name))
+            time.sleep(0.1)
+    queue.close()
+
+
+def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool, cache_root: str, refresh: bool,
+              display: _Display, finish: Callable[[Any], None]) -> None:
+    client = dask_client(scheduler)
+    own = client is not scheduler
+    try:
+        pending = {}
+        for d, _, source in todo:
+            display.start(d.name)
+            pending[client.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
+                                  pure=False)] = d.name
+        while pending:
+            for f in [f for f in pending if f.done()]:
+                finish(_result(f, pending.pop(f)))
+            time.sleep(0.1)
+    finally:
+        if own:
+            client.close()

@@ -1,0 +1,221 @@
+"""The build cache of ``glidectl report`` (issue 18 part 3): hits, exact invalidation, corrupt entries, --no-cache,
+and the sub-result helper ``glidectl.report.cached``."""
+
+from __future__ import annotations
+
+import json
+import pickle
+from pathlib import Path
+
+import pytest
+
+import glidectl as gc
+from glidectl.cli import main
+from glidectl.report import cached, load_design
+from glidectl.report.cache import DesignCache, design_key, recording, settings_of
+from glidectl.report.parallel import build_designs
+
+ROGUE = Path(gc.__file__).resolve().parent / "vehicles" / "rogue.toml"
+
+TINY = '''
+from dataclasses import dataclass
+from pathlib import Path
+
+import glidectl as gc
+from glidectl.report import Report
+
+TITLE = "tiny"
+VEHICLE = {vehicle!r}
+OVERRIDES = {overrides!r}
+
+
+@dataclass(frozen=True)
+class Settings:
+    scale: float = 2.0
+
+
+FULL = Settings()
+QUICK = Settings(scale={quick_scale!r})
+
+
+def design(progress, quick=False):
+    s = QUICK if quick else FULL
+    with open(Path(__file__).with_suffix(".runs"), "a") as f:  # counts the computations
+        f.write("x")
+    veh = gc.load_vehicle(VEHICLE, **OVERRIDES)
+    rep = Report(TITLE, vehicle=veh)
+    progress("numbers")
+    rep.number("scaled_mbar", veh.mbar * s.scale, "kg")
+    rep.number("K_M", veh.K_M, "kg/rad")
+    return rep
+'''
+
+
+def _write_design(folder: Path, name: str, vehicle: str, overrides: dict | None = None,
+                  quick_scale: float = 1.0) -> Path:
+    folder.mkdir(parents=True, exist_ok=True)
+    p = folder / f"{name}.py"
+    p.write_text(TINY.format(vehicle=vehicle, overrides=overrides or {}, quick_scale=quick_scale))
+    return p
+
+
+def _runs(path: Path) -> int:
+    f = path.with_suffix(".runs")
+    return len(f.read_text()) if f.exists() else 0
+
+
+def _build(paths: list[Path], out: Path, **kw) -> dict[str, gc.report.cache.BuildResult]:
+    res = build_designs([load_design(p) for p in paths], out, quick=True, jobs=1, stream=_Null(), **kw)
+    return {r.name: r for r in res}
+
+
+class _Null:
+    def write(self, s: str) -> int:
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+
+def _numbers(out: Path, name: str) -> dict[str, float]:
+    return {n["name"]: n["value"] for n in json.loads((out / name / "numbers.json").read_text())}
+
+
+@pytest.fixture
+def project(tmp_path):
+    veh = tmp_path / "vehicles" / "my_rogue.toml"
+    veh.parent.mkdir()
+    veh.write_text(ROGUE.read_text())
+    designs = tmp_path / "designs"
+    a = _write_design(designs, "uses_file", str(veh))
+    b = _write_design(designs, "uses_preset", "rogue")
+    return tmp_path, veh, a, b
+
+
+def test_unchanged_rebuild_is_a_hit_and_writes_the_same_files(project):
+    tmp, _, a, b = project
+    out = tmp / "out"
+    first = _build([a, b], out)
+    assert not any(r.from_cache for r in first.values())
+    assert str(tmp / "vehicles" / "my_rogue.toml") in first["uses_file"].deps  # the vehicle file it read
+    assert any(p.endswith("rogue.toml") for p in first["uses_preset"].deps)  # presets are tracked too
+    before = {n: (out / n / "numbers.json").read_bytes() for n in first}
+    (out / "uses_file" / "numbers.json").unlink()
+    second = _build([a, b], out)
+    assert all(r.from_cache for r in second.values())
+    assert _runs(a) == 1 and _runs(b) == 1  # not computed again
+    assert {n: (out / n / "numbers.json").read_bytes() for n in second} == before  # rewritten from the cache
+    assert _numbers(out, "uses_file") == {"scaled_mbar": 2.0, "K_M": -36.5}
+    timings = DesignCache(out / ".cache").timings()
+    assert set(timings) == {"uses_file:quick", "uses_preset:quick"} and all(t > 0 for t in timings.values())
+
+
+def test_changed_setting_recomputes_that_design_only(project):
+    tmp, veh, a, b = project
+    out = tmp / "out"
+    _build([a, b], out)
+    _write_design(a.parent, "uses_file", str(veh), quick_scale=3.0)  # QUICK changes
+    res = _build([a, b], out)
+    assert not res["uses_file"].from_cache and res["uses_preset"].from_cache
+    assert _numbers(out, "uses_file")["scaled_mbar"] == pytest.approx(6.0)
+    assert _runs(a) == 2 and _runs(b) == 1
+
+
+def test_changed_vehicle_file_recomputes_exactly_the_designs_that_read_it(project):
+    tmp, veh, a, b = project
+    out = tmp / "out"
+    _build([a, b], out)
+    veh.write_text(veh.read_text().replace("value = -36.5", "value = -40.0"))
+    res = _build([a, b], out)
+    assert not res["uses_file"].from_cache and res["uses_preset"].from_cache
+    assert _numbers(out, "uses_file")["K_M"] == -40.0
+    assert _numbers(out, "uses_preset")["K_M"] == -36.5
+    assert _build([a, b], out)["uses_file"].from_cache  # and the new result is cached in turn
+
+
+def test_different_vehicle_override_recomputes(project):
+    tmp, veh, a, _ = project
+    out = tmp / "out"
+    _build([a], out)
+    _write_design(a.parent, "uses_file", str(veh), overrides={"K_M": -50.0})
+    res = _build([a], out)
+    assert not res["uses_file"].from_cache and _numbers(out, "uses_file")["K_M"] == -50.0
+
+
+def test_key_depends_on_settings_quick_flag_and_source(project):
+    _, _, a, _ = project
+    d = load_design(a)
+    src = a.read_bytes()
+    k = design_key(d.name, src, True, settings_of(d.module, True))
+    assert k == design_key(d.name, src, True, settings_of(d.module, True))
+    assert settings_of(d.module, True) == "Settings(scale=1.0)"
+    assert settings_of(d.module, False) == "Settings(scale=2.0)"
+    others = {design_key(d.name, src, False, settings_of(d.module, False)), design_key(d.name, src + b"#", True,
+              settings_of(d.module, True)), design_key("other", src, True, settings_of(d.module, True))}
+    assert k not in others and len(others) == 3
+    with pytest.raises(gc.ArgumentTypeError):
+        design_key(d.name, "text", True, "")
+
+
+@pytest.mark.parametrize("garbage", [b"", b"not a pickle", b"\x80\x05\x95truncated",
+                                     pickle.dumps({"format": "old", "result": 1}),
+                                     pickle.dumps({"format": "glidectl-cache-1", "key": "x", "result": None})])
+def test_corrupt_entries_are_ignored_and_rebuilt(project, garbage):
+    tmp, _, a, _ = project
+    out = tmp / "out"
+    _build([a], out)
+    entries = list((out / ".cache" / "designs" / "uses_file").glob("*.pkl"))
+    assert len(entries) == 1
+    entries[0].write_bytes(garbage)
+    res = _build([a], out)
+    assert not res["uses_file"].from_cache and _runs(a) == 2
+    assert _numbers(out, "uses_file")["scaled_mbar"] == 2.0
+    assert _build([a], out)["uses_file"].from_cache  # the rebuilt entry replaced the corrupt one
+
+
+def test_no_cache_forces_a_cold_build_from_the_command_line(project, capsys):
+    tmp, _, a, _ = project
+    out = tmp / "out"
+    argv = ["report", str(a), "--out", str(out), "--quick", "--jobs", "1"]
+    assert main(argv) == 0
+    assert main(argv) == 0
+    assert _runs(a) == 1 and "cache hit" in capsys.readouterr().out
+    assert main([*argv, "--no-cache"]) == 0
+    assert _runs(a) == 2 and "computed" in capsys.readouterr().out
+    assert main(argv) == 0  # the cold build refreshed the cache
+    assert _runs(a) == 2 and "cache hit" in capsys.readouterr().out
+
+
+def test_cached_helper(tmp_path):
+    calls = []
+
+    def f(x):
+        calls.append(x)
+        return {"value": x * 2}
+
+    assert cached(("double", 3), lambda: f(3)) == {"value": 6} and calls == [3]  # no build running: computed
+    assert cached(("double", 3), lambda: f(3)) == {"value": 6} and calls == [3, 3]
+    veh = gc.load_vehicle("rogue")
+    with recording(tmp_path) as rec:
+        assert cached(("double", 3, veh), lambda: f(3)) == {"value": 6}
+        assert cached(("double", 3, veh), lambda: f(3)) == {"value": 6}  # hit
+        assert cached(("double", 3, veh.with_overrides(K_M=-40.0)), lambda: f(3)) == {"value": 6}  # other vehicle
+        assert cached(("double", 3.0000001, veh), lambda: f(3)) == {"value": 6}  # other key
+    assert len(calls) == 5 and (rec.run.hits, rec.run.misses) == (1, 3)
+    for p in (tmp_path / "results").glob("*.pkl"):
+        p.write_bytes(b"\x80\x05garbage")  # corrupt: recomputed, never an error
+    with recording(tmp_path) as rec:
+        assert cached(("double", 3, veh), lambda: f(3)) == {"value": 6}
+    assert rec.run.misses == 1 and len(calls) == 6
+    with recording(tmp_path, refresh=True) as rec:  # --no-cache: computed again, entry overwritten
+        assert cached(("double", 3, veh), lambda: {"value": "new"}) == {"value": "new"}
+    with recording(tmp_path) as rec:
+        assert cached(("double", 3, veh), lambda: f(3)) == {"value": "new"}
+    assert rec.run.hits == 1
+    with pytest.raises(gc.ArgumentTypeError, match="callable"):
+        cached("k", 3)
+    with pytest.raises(gc.ArgumentTypeError, match="canonical"):
+        cached(object(), lambda: 1)

@@ -1,0 +1,183 @@
+"""Concurrent builds of ``glidectl report`` (issue 18 part 2): a process pool and a dask cluster give the files a
+serial build gives; errors and progress output."""
+
+from __future__ import annotations
+
+import io
+import multiprocessing
+import pickle
+import sys
+from pathlib import Path
+
+import pytest
+
+import glidectl as gc
+from glidectl.cli import main
+from glidectl.report import load_design
+from glidectl.report.parallel import DesignFailure, build_designs, build_one
+
+# The command's pool starts its workers with "spawn" (safe everywhere); each spawned worker imports glidectl anew,
+# which takes seconds on a loaded 2-core machine, so the tests fork where the platform can (same code path: the
+# jobs are the same picklable calls, checked below).
+FAST = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
+
+# two tiny designs with seeded random numbers and a figure (whose PNG must be identical too)
+DESIGN = '''
+import numpy as np
+import glidectl as gc
+from glidectl.report import Report, new_figure
+
+TITLE = "tiny {name}"
+
+
+def design(progress, quick=False):
+    rng = np.random.default_rng({seed})
+    veh = gc.load_vehicle("rogue")
+    progress("glides")
+    gammas = np.radians(-45.0 + 10.0 * rng.random(3))
+    glides = [gc.steady_glide(veh, 0.3, g, r_p3=0.05) for g in gammas]
+    rep = Report(TITLE, vehicle=veh)
+    rep.number("m0", [g.m0 for g in glides], "kg")
+    rep.number("alpha", [g.alpha for g in glides], "rad")
+    fig, ax = new_figure()
+    ax.plot(gammas, [g.m0 for g in glides], "o-")
+    rep.figure("m0", fig, "m0 versus gamma")
+    return rep
+'''
+
+
+def _designs(folder: Path) -> list[Path]:
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for name, seed in (("tiny_a", 1), ("tiny_b", 2)):
+        p = folder / f"{name}.py"
+        p.write_text(DESIGN.format(name=name, seed=seed))
+        paths.append(p)
+    return paths
+
+
+def _files(out: Path, names: list[str]) -> dict[str, bytes]:
+    return {f"{n}/{f}": (out / n / f).read_bytes() for n in names for f in ("numbers.json", "m0.png")}
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    """The two tiny designs built serially: (designs, their names, the files written)."""
+    tmp = tmp_path_factory.mktemp("serial")
+    designs = [load_design(p) for p in _designs(tmp / "designs")]
+    names = [d.name for d in designs]
+    build_designs(designs, tmp / "out", quick=True, jobs=1, use_cache=False, stream=io.StringIO())
+    files = _files(tmp / "out", names)
+    assert b'"m0"' in files["tiny_a/numbers.json"] and files["tiny_a/numbers.json"] != files["tiny_b/numbers.json"]
+    return designs, names, files
+
+
+def test_pool_builds_what_the_serial_build_builds(serial, tmp_path):
+    designs, names, files = serial
+    stream = io.StringIO()
+    res = build_designs(designs, tmp_path / "pool", quick=True, jobs=2, use_cache=False, stream=stream,
+                        mp_context=FAST)
+    assert [r.name for r in res] == names and not any(r.from_cache for r in res)
+    assert _files(tmp_path / "pool", names) == files
+    text = stream.getvalue()
+    assert text.count("done in") == 2 and "glides" in text  # progress messages come back from the workers
+
+
+def test_cluster_builds_what_the_serial_build_builds(serial, tmp_path):
+    distributed = pytest.importorskip("distributed")  # the dask extra (installed by .ci/run)
+    designs, names, files = serial
+    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None) as lc:
+        res = build_designs(designs, tmp_path / "cluster", quick=True, scheduler=lc.scheduler_address,
+                            use_cache=False, stream=io.StringIO())
+    assert [r.name for r in res] == names
+    assert _files(tmp_path / "cluster", names) == files
+
+
+def test_build_one_returns_files_and_failures_without_raising(tmp_path):
+    p = _designs(tmp_path)[0]
+    res = build_one("tiny_a", str(p), p.read_bytes(), True)
+    assert {"numbers.json", "m0.png", "report.pdf"} <= set(res.files)
+    assert res.provenance == (gc.load_vehicle("rogue").provenance,)
+    # a remote worker without the file loads the shipped source
+    moved = build_one("tiny_a", str(tmp_path / "elsewhere" / "tiny_a.py"), p.read_bytes(), True)
+    assert moved.files["numbers.json"] == res.files["numbers.json"]
+    bad = build_one("bad", str(tmp_path / "bad.py"), b"TITLE = 'x'\n\ndef design(progress, quick=False):\n"
+                                                     b"    return 1 / 0\n", True)
+    assert bad.name == "bad" and "ZeroDivisionError" in bad.message and "bad.py:4" in bad.message
+
+
+def test_the_jobs_are_spawn_safe(tmp_path):
+    """What the pool sends to a spawned worker pickles by reference to importable names, and comes back."""
+    p = _designs(tmp_path)[0]
+    job = pickle.loads(pickle.dumps((build_one, ("tiny_a", str(p), p.read_bytes(), True, None))))
+    assert job[0] is build_one
+    res = pickle.loads(pickle.dumps(job[0](*job[1])))
+    assert res.name == "tiny_a" and "numbers.json" in res.files
+    fail = pickle.loads(pickle.dumps(DesignFailure("x", "ZeroDivisionError: division by zero (x.py:4)")))
+    assert fail.message.endswith("(x.py:4)")
+
+
+RAISES = "TITLE = 'x'\n\ndef design(progress, quick=False):\n    return 1 / 0\n"
+
+
+def test_a_failing_design_is_one_line_and_the_others_are_built(tmp_path, capsys):
+    folder = tmp_path / "designs"
+    _designs(folder)
+    (folder / "raises.py").write_text(RAISES)
+    out = tmp_path / "out"
+    assert main(["report", "all", "--designs", str(folder), "--out", str(out), "--jobs", "1", "--quick"]) == 2
+    cap = capsys.readouterr()
+    assert cap.err.count("\n") == 1 and "ZeroDivisionError" in cap.err and "raises.py:4" in cap.err
+    assert (out / "tiny_a" / "numbers.json").exists() and (out / "tiny_b" / "numbers.json").exists()
+    designs = [load_design(p) for p in sorted(folder.glob("*.py"))]
+    with pytest.raises(gc.DesignError, match=r"ZeroDivisionError.*raises\.py:4"):  # the same from a pool
+        build_designs(designs, tmp_path / "pool", quick=True, jobs=2, use_cache=False, stream=io.StringIO(),
+                      mp_context=FAST)
+    assert (tmp_path / "pool" / "tiny_b" / "numbers.json").exists()
+
+
+def test_jobs_and_scheduler_errors(tmp_path, capsys, monkeypatch):
+    p = _designs(tmp_path)[0]
+    for bad in ("0", "-1", "two"):
+        with pytest.raises(SystemExit) as info:
+            main(["report", str(p), "--jobs", bad])
+        assert info.value.code == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "--jobs" in err
+    with pytest.raises(gc.ArgumentError, match="jobs"):
+        build_designs([load_design(p)], tmp_path / "o", jobs=0)
+    monkeypatch.setitem(sys.modules, "distributed", None)  # dask not installed
+    assert main(["report", str(p), "--out", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "dask" in err and "pip install" in err
+    assert not (tmp_path / "o" / "tiny_a" / "numbers.json").exists()  # refused before building
+
+
+def test_progress_is_plain_lines_without_a_terminal(tmp_path):
+    p = _designs(tmp_path)[0]
+    stream = io.StringIO()
+    build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)
+    lines = stream.getvalue().splitlines()
+    assert "\r" not in stream.getvalue() and "\x1b" not in stream.getvalue()  # no bar redraws in CI logs
+    assert lines[0].startswith("[1/1] tiny_a: tiny tiny_a (quick settings) (last build: ?)")
+    assert lines[-1].startswith("[1/1] tiny_a: done in") and "(computed)" in lines[-1]
+    stream = io.StringIO()
+    build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)
+    assert "(cache hit, built in " in stream.getvalue()
+    (tmp_path / "tiny_a.py").write_text(p.read_text() + "\n# edited\n")
+    stream = io.StringIO()
+    build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)
+    assert "(last build: " in stream.getvalue() and "(last build: ?)" not in stream.getvalue()  # estimate
+
+
+def test_progress_bars_on_a_terminal(tmp_path):
+    p = _designs(tmp_path)[0]
+
+    class Tty(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    stream = Tty()
+    build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)
+    text = stream.getvalue()
+    assert "\r" in text and "tiny_a" in text and "done in" in text  # a tqdm bar, then the summary line
