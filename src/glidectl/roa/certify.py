@@ -46,6 +46,8 @@ from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
 from .sos import GramCheck, LinPoly, SOSProgram
+from .scaling import resolve_box, scaled_lyapunov
+from .surrogate import _refine, abs_gradient_bounds, abs_gradient_constraints, skeleton, surrogate_system, t_degree
 from .systems import PolySystem, recast
 
 __all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "ROAVerification", "SOSSize",
@@ -206,8 +208,9 @@ def _V_of(V: Poly, ps: PolySystem, X: np.ndarray) -> np.ndarray:
 def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 33) -> np.ndarray:
     """``V(lift(t x)) <= rho`` and the cuts for ``t`` on a grid of ``[0, 1]`` (component of the equilibrium)."""
     ok = np.all(np.isfinite(X), axis=-1)
+    x0 = np.asarray(ps.equilibrium, dtype=float)
     for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
-        Y = np.where(ok[:, None], t * X, 0.0)
+        Y = np.where(ok[:, None], x0 + t * (X - x0), x0)
         ok &= (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
     return ok
 
@@ -322,10 +325,17 @@ def _fmt_bytes(b: float) -> str:
 def _size(ps: PolySystem, degree: int, extra: int) -> SOSSize:
     """The V-step program of :func:`_build` at ``degree`` (plus ``lambda`` of the level problem), counted."""
     nz, nc = ps.nz, len(ps.s_caps)
-    dg = _degrees(degree, ps.degree, extra)
+    degF, degT = ps.degree, t_degree(degree)
+    if ps.remainder:
+        degF = max(degF, max(r.degree for r in ps.remainder) + degT - degree + 1)
+    dg = _degrees(degree, degF, extra)
     gram = [("decrease", _n_monomials(nz, dg.D // 2, 1, nc))]
+    for i in range(len(ps.remainder)):      # t_i >= |dV/dz_i| on the cuts (surrogate route)
+        for tag in "+-":
+            gram.append((f"|dV/dz{i}|{tag}", _n_monomials(nz, degT // 2)))
+            gram += [(f"s{i}{tag}{k}", _n_monomials(nz, (degT - g.degree) // 2)) for k, g in enumerate(ps.cuts)]
     gram += [(f"tau{k}", _n_monomials(nz, (dg.D - g.degree) // 2)) for k, g in enumerate(ps.cuts + ps.valid)]
-    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam)
+    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam) + len(ps.remainder) * _n_monomials(nz, degT)
     free += sum(_n_monomials(nz, dg.D - h.degree) for h in ps.equalities)
     eqs = math.comb(nz + dg.D, dg.D)
     for k, g in enumerate(ps.cuts):
@@ -439,6 +449,10 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given."""
     nz = ps.nz
     degF = max(f.degree for f in F)
+    R = _remainder(ps, F)                                   # surrogate route (issue 17): |true - F| <= R
+    degT = t_degree(degV)
+    if R:
+        degF = max(degF, max(r.degree for r in R) + degT - degV + 1)
     dg = _degrees(degV, degF, extra)
     prog = SOSProgram(nz)
     out: dict[str, Any] = {}
@@ -449,11 +463,22 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         Vl = LinPoly(V)
         lam_u, lam_l = prog.free_poly("lambda", monomials(nz, dg.lam))
         out["lambda"] = lam_u
-        dec = Vl * N + lam_l * V.lie(F)
+        W = V.lie(F)
+        if R:   # robust decrease: dV/dt <= grad V . F + sum_i R_i t_i with t_i >= |dV/dz_i| on the cuts
+            T, out["abs_checks"] = abs_gradient_bounds(ps, V, R)
+            W = W + sum((r * t for r, t in zip(R, T, strict=True)), Poly({}, nz))
+        out["W"] = W
+        dec = Vl * N + lam_l * W
     else:
         V_u, Vl = prog.free_poly("V", monomials(nz, degV, 1))
         out["V"] = V_u
-        dec = Vl * N + Vl.lie(F) * lam
+        Vd = Vl.lie(F)
+        if R:
+            units = [[Poly.const(float(k == i), nz) for k in range(nz)] for i in range(nz)]
+            ts = abs_gradient_constraints(prog, ps, [Vl.lie(u) for u in units], degT)
+            for r, t in zip(R, ts, strict=True):
+                Vd = Vd + t * r
+        dec = Vl * N + Vd * lam
     if rho is None:
         rho_u, rho_l = prog.scalar("rho")
         out["rho"] = rho_u
@@ -484,6 +509,14 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     return prog, out
 
 
+def _remainder(ps: PolySystem, F: list[Poly]) -> list[Poly]:
+    """The remainder polynomials of a surrogate system divided by the factor ``F`` was divided by (``_scaled``)."""
+    if not ps.remainder:
+        return []
+    k = max(f.max_abs_coefficient() for f in ps.F) / max(max(f.max_abs_coefficient() for f in F), 1e-300)
+    return [r / k for r in ps.remainder]
+
+
 def _scaling(ps: PolySystem) -> np.ndarray:
     """Scale of each polynomial variable (largest ``|z_i|`` over the box; angle pairs keep 1)."""
     lo, hi = ps.box
@@ -503,6 +536,7 @@ def _rescale(ps: PolySystem, k: np.ndarray) -> PolySystem:
         ps, F=tuple(f.substitute(Kz) / float(k[i]) for i, f in enumerate(ps.F)), den=ps.den.substitute(Kz),
         equalities=tuple(h.substitute(Kz) for h in ps.equalities), cuts=tuple(g.substitute(Kz) for g in ps.cuts),
         valid=tuple(g.substitute(Kz) for g in ps.valid),
+        remainder=tuple(r.substitute(Kz) / float(k[i]) for i, r in enumerate(ps.remainder)),
         lift=lambda X: lift0(X) / k)
 
 
@@ -706,6 +740,13 @@ class ROACertificate:
         What ended the V-lambda alternation at the final degree: ``"iterations"`` (all ran), ``"no improvement"``
         (two V steps without a larger sampled volume), ``"solver failure"`` (a V step or level problem failed; the
         best V so far is kept) or ``"time_limit"`` (``on_budget="stop"``).
+    method : str
+        The route: ``"exact recast"`` (the SOS programs see the model itself) or ``"surrogate+remainder"`` (a
+        polynomial surrogate whose distance to the model is bounded on the box, :mod:`glidectl.roa.surrogate`;
+        the decrease condition holds for every field within that bound).
+    scale : ndarray or None
+        Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
+        surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
     """
 
     system: PolySystem = field(repr=False)
@@ -719,6 +760,89 @@ class ROACertificate:
     wall_time: float
     provenance: str = ""
     stopped_by: str = ""
+    method: str = "exact recast"
+    scale: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def box(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(lo, hi)``: the region of interest the certificate was computed in (state units); the certified set
+        lies inside it for the surrogate route (its cuts)."""
+        return self.system.box
+
+    def sample(self, n: int, seed: int = 0, *, boundary: bool = False) -> np.ndarray:
+        """Points of the certified set, in state units.
+
+        The set is star-shaped about the equilibrium (:meth:`contains` checks the segment from it), so directions
+        ``u`` are drawn uniformly in the box-scaled coordinates, the largest radius ``R(u)`` inside the set is found
+        by bisection (40 steps) and the point is ``x_e + R(u) U^(1/n) u`` with ``U`` uniform, the direction kept
+        with probability ``(R(u) / R_max)^n``: uniform in the set up to the largest radius seen.
+
+        Parameters
+        ----------
+        n : int
+            Number of points, >= 1.
+        seed : int
+            Seed (>= 0).
+        boundary : bool
+            Return the outermost points ``x_e + R(u) (1 - 1e-9) u`` instead (uniform directions): starting points
+            for convergence checks.
+
+        Returns
+        -------
+        ndarray (n, n_states)
+            Points with :meth:`contains` true (state units).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` or ``seed`` is not an integer, or ``boundary`` not a bool.
+        ArgumentError
+            If ``n < 1`` or ``seed < 0``.
+        SolverError
+            If the set is empty in every sampled direction (no certified set).
+        """
+        n = checks.integer("n", n, lo=1, hi=2**22)
+        seed = checks.integer("seed", seed, lo=0)
+        boundary = checks.boolean("boundary", boundary)
+        ps = self.system
+        x0 = np.asarray(ps.equilibrium, dtype=float)
+        lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+        w = np.maximum(x0 - lo, hi - x0)
+        rng = np.random.default_rng(seed)
+        out: list[np.ndarray] = []
+        got = 0
+        for _ in range(200):
+            m = max(2 * n, 256)
+            U = rng.standard_normal((m, ps.n))
+            U /= np.linalg.norm(U, axis=1, keepdims=True)
+            D = U * w                                   # directions in state units
+            with np.errstate(divide="ignore", invalid="ignore"):
+                tb = np.min(np.where(D > 0, (hi - x0) / D, np.where(D < 0, (lo - x0) / D, np.inf)), axis=1)
+            a, b = np.zeros(m), tb * (1 - 1e-12)
+            inside = self.contains(x0 + b[:, None] * D)
+            a[inside] = b[inside]
+            for _ in range(40):
+                mid = 0.5 * (a + b)
+                ok = self.contains(x0 + mid[:, None] * D) | inside
+                a, b = np.where(ok, mid, a), np.where(ok, b, mid)
+            R = a
+            if boundary:
+                keep = R > 0
+                pts = x0 + (R[keep] * (1 - 1e-9))[:, None] * D[keep]
+            else:
+                if not np.any(R > 0):
+                    continue
+                keep = rng.random(m) < (R / np.max(R)) ** ps.n
+                keep &= R > 0
+                rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / ps.n)
+                pts = x0 + rad[:, None] * D[keep]
+            out.append(pts)
+            got += len(pts)
+            if got >= n:
+                break
+        if got == 0:
+            raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
+        return np.concatenate(out)[:n]
 
     @property
     def certified(self) -> bool:
@@ -919,7 +1043,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
-                on_budget: str = "raise") -> ROACertificate:
+                on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
+                margin: float = 2.0) -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
@@ -1008,7 +1133,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     limit = _default_memory_limit() if memory_limit is None else checks.positive("memory_limit", memory_limit)
     deadline = checks.Deadline(time_limit, "certify_roa")
     checks.choice("on_budget", on_budget, ("raise", "stop"))
-    ps = system if isinstance(system, PolySystem) else recast(system, speed_floor=speed_floor)
+    # --- route (issue 17): exact recast, or a polynomial surrogate with a remainder bound
+    method = checks.choice("method", method, ("auto", "exact", "surrogate"))
+    surrogate_degree = checks.integer("surrogate_degree", surrogate_degree, lo=2, hi=5)
+    margin = checks.real("margin", margin, lo=1.0)
+    ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
+                speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
     if initial is not None:
         _check_V(initial, ps, "initial")
     ex = _auto_extra(ps, extra)
@@ -1026,7 +1156,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     pss = _rescale(ps, k)
     F = _scaled(pss)
     hz = horizon or _default_horizon(ps)
-    V = _to_scaled(initial if initial is not None else lyapunov_quadratic(ps), k)
+    V0 = initial if initial is not None else (
+        scaled_lyapunov(_linearization(ps), ps.scale) if ps.scale is not None else lyapunov_quadratic(ps))
+    V = _to_scaled(V0, k)
     history: list[dict[str, Any]] = []
     t_solve = 0.0
     lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex)
@@ -1101,7 +1233,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=rho_c, eps=0.0, extra=ex, margin=True)
         prog.solve(cp.Maximize(outf["margin"]), solver=solver)
         t_solve += prog.solve_time
-        gram = tuple(prog.check())
+        gram = tuple(prog.check()) + tuple(outf.get("abs_checks", ())) + _local_robust(outf.get("W"), pss)
         if all(c.passed for c in gram) or bo >= 0.25:
             break
         history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
@@ -1109,5 +1241,90 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         bo = min(3 * bo, 0.25) if bo > 0 else 0.01
     Vz = _from_scaled(V, k)
     ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
+    scale = k * (ps.scale if ps.scale is not None else 1.0)
     return ROACertificate(ps, Vz, rho_c, fin.rho, Vz.degree, tuple(history), ver, t_solve,
-                          time.perf_counter() - t_wall, ps.provenance, stopped_by)
+                          time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
+                          scale=np.asarray(scale, dtype=float))
+
+
+# --------------------------------------------------------------------------------------------- routes (issue 17)
+def _local_robust(W: Poly | None, ps: PolySystem) -> tuple[GramCheck, ...]:
+    """Surrogate route: the robust upper bound ``W`` of ``dV/dt`` must be negative definite at the equilibrium (its
+    quadratic part), else ``{W != 0}`` could be ``W > 0`` near it. An entry of the Gram checks."""
+    if W is None or not ps.remainder:
+        return ()
+    nz = ps.nz
+    Q = np.zeros((nz, nz))
+    for e, c in W.terms.items():
+        if sum(e) == 2:
+            idx = [i for i in range(nz) for _ in range(e[i])]
+            Q[idx[0], idx[1]] += c / (1.0 if idx[0] == idx[1] else 2.0)
+            if idx[0] != idx[1]:
+                Q[idx[1], idx[0]] += c / 2.0
+    return (GramCheck("local robust decrease (-quadratic part of the dV/dt bound)", 1,
+                      float(np.linalg.eigvalsh(-Q)[0]), 0.0),)
+
+
+class _Shifted:
+    """A closed loop in deviations ``x - x_e`` with its box, for :func:`recast` (equilibrium at 0)."""
+
+    def __init__(self, model: Any, xe: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> None:
+        self._f, self._xe = model.rhs, xe
+        self.state_names = tuple(model.state_names)
+        self.equilibrium = np.zeros(len(xe))
+        self.box = (box[0] - xe, box[1] - xe)
+        self.name = getattr(model, "name", type(model).__name__)
+        self.provenance = str(getattr(model, "provenance", ""))
+        self.time_unit = getattr(model, "time_unit", "s")
+        for a in ("angle_states", "mixed_angle_states", "positive_state"):
+            if hasattr(model, a):
+                setattr(self, a, getattr(model, a))
+
+    def rhs(self, X: Any) -> np.ndarray:
+        return np.asarray(self._f(np.asarray(X) + self._xe))
+
+
+def _is_roa_model(system: Any) -> bool:
+    """A model built for certification: equilibrium at 0 and its own box (``sp.reduced_model()``...)."""
+    eq = getattr(system, "equilibrium", None)
+    return (hasattr(system, "box") and eq is not None and not callable(getattr(system, "box"))
+            and np.all(np.asarray(eq, dtype=float) == 0.0))
+
+
+def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin: float, speed_floor: float, seed: int,
+           degree: int, max_degree: int, limit: float, extra: int | None) -> PolySystem:
+    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder. Budgets of the
+    surrogate route are checked before anything is sampled."""
+    if isinstance(system, PolySystem):
+        return system
+    names = getattr(system, "state_names", None)
+    if names is None or not callable(getattr(system, "rhs", None)):
+        raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "
+                                f"equilibrium), e.g. gc.closed_loop(controller); got {type(system).__name__}")
+    if tuple(getattr(system, "input_names", ())):
+        raise ArgumentTypeError(f"{type(system).__name__} has inputs {tuple(system.input_names)}: close the loop first "
+                                "(gc.closed_loop(controller) or gc.closed_loop(plant, law))")
+    if method != "exact":
+        sk = skeleton(len(tuple(names)), surrogate_degree)
+        _check_memory(sk, degree, _auto_extra(sk, extra), max_degree, limit,
+                      f"certify_roa(degree={degree}) of a {len(tuple(names))}-state surrogate of degree "
+                      f"{surrogate_degree}")
+    if method in ("auto", "exact"):
+        try:
+            if _is_roa_model(system) and box is None:
+                return recast(system, speed_floor=speed_floor)
+            xe0 = getattr(system, "equilibrium", None)
+            if xe0 is None:
+                raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a "
+                                 "region of attraction needs one")
+            xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
+            lo, hi = resolve_box(system, box, xe0)
+            xe = _refine(lambda X: np.asarray(system.rhs(X)), xe0)
+            ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor, max_degree=4, seed=seed)
+            lift0 = ps.lift
+            return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=system.rhs, equilibrium=xe,
+                                       box=(lo, hi))
+        except ModelError:
+            if method == "exact":
+                raise
+    return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed)
