@@ -66,6 +66,10 @@ _BYTES_PER_KKT_ENTRY = 100.0
 _BYTES_FIXED = 20e6
 _BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per Gram entry
 
+#: Largest monomial basis the automatic route tries to recast a closed loop with before using a surrogate (the
+#: least-squares recovery costs seconds per thousand monomials; ``method="exact"`` tries up to degree 4).
+_AUTO_RECAST_BASIS = 500
+
 #: SDP-capable solvers cvxpy may have installed.
 _SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
 
@@ -804,45 +808,7 @@ class ROACertificate:
         n = checks.integer("n", n, lo=1, hi=2**22)
         seed = checks.integer("seed", seed, lo=0)
         boundary = checks.boolean("boundary", boundary)
-        ps = self.system
-        x0 = np.asarray(ps.equilibrium, dtype=float)
-        lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
-        w = np.maximum(x0 - lo, hi - x0)
-        rng = np.random.default_rng(seed)
-        out: list[np.ndarray] = []
-        got = 0
-        for _ in range(200):
-            m = max(2 * n, 256)
-            U = rng.standard_normal((m, ps.n))
-            U /= np.linalg.norm(U, axis=1, keepdims=True)
-            D = U * w                                   # directions in state units
-            with np.errstate(divide="ignore", invalid="ignore"):
-                tb = np.min(np.where(D > 0, (hi - x0) / D, np.where(D < 0, (lo - x0) / D, np.inf)), axis=1)
-            a, b = np.zeros(m), tb * (1 - 1e-12)
-            inside = self.contains(x0 + b[:, None] * D)
-            a[inside] = b[inside]
-            for _ in range(40):
-                mid = 0.5 * (a + b)
-                ok = self.contains(x0 + mid[:, None] * D) | inside
-                a, b = np.where(ok, mid, a), np.where(ok, b, mid)
-            R = a
-            if boundary:
-                keep = R > 0
-                pts = x0 + (R[keep] * (1 - 1e-9))[:, None] * D[keep]
-            else:
-                if not np.any(R > 0):
-                    continue
-                keep = rng.random(m) < (R / np.max(R)) ** ps.n
-                keep &= R > 0
-                rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / ps.n)
-                pts = x0 + rad[:, None] * D[keep]
-            out.append(pts)
-            got += len(pts)
-            if got >= n:
-                break
-        if got == 0:
-            raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
-        return np.concatenate(out)[:n]
+        return _sample_set(self.system, self.V, self.rho, n, seed, boundary)
 
     @property
     def certified(self) -> bool:
@@ -995,6 +961,51 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
+def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool) -> np.ndarray:
+    """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample."""
+    x0 = np.asarray(ps.equilibrium, dtype=float)
+    lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+    w = np.maximum(x0 - lo, hi - x0)
+    rng = np.random.default_rng(seed)
+    out: list[np.ndarray] = []
+    got = 0
+
+    def contains(X: np.ndarray) -> np.ndarray:
+        return _contains(ps, V, rho, X)
+
+    for _ in range(200):
+        m = max(2 * n, 256)
+        U = rng.standard_normal((m, ps.n))
+        U /= np.linalg.norm(U, axis=1, keepdims=True)
+        D = U * w                                   # directions in state units
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tb = np.min(np.where(D > 0, (hi - x0) / D, np.where(D < 0, (lo - x0) / D, np.inf)), axis=1)
+        a, b = np.zeros(m), tb * (1 - 1e-12)
+        inside = contains(x0 + b[:, None] * D)
+        a[inside] = b[inside]
+        for _ in range(40):
+            mid = 0.5 * (a + b)
+            ok = contains(x0 + mid[:, None] * D) | inside
+            a, b = np.where(ok, mid, a), np.where(ok, b, mid)
+        R = a
+        if boundary:
+            keep = R > 0
+            pts = x0 + (R[keep] * (1 - 1e-9))[:, None] * D[keep]
+        else:
+            if not np.any(R > 0):
+                continue
+            keep = (rng.random(m) < (R / np.max(R)) ** ps.n) & (R > 0)
+            rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / ps.n)
+            pts = x0 + rad[:, None] * D[keep]
+        out.append(pts)
+        got += len(pts)
+        if got >= n:
+            break
+    if got == 0:
+        raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
+    return np.concatenate(out)[:n]
+
+
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
             n_simulate: int, horizon: float, seed: int) -> ROAVerification:
     x0 = ps.equilibrium
@@ -1007,6 +1018,13 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
     rng = np.random.default_rng(seed)
     X = lo + (hi - lo) * rng.random((n_verify, ps.n))
     Xs = X[_contains(ps, V, rho, X)]
+    if ps.remainder or Xs.shape[0] < n_verify // 20:
+        # a thin set in many states (or the surrogate route): add points drawn in the set and on its boundary
+        try:
+            Xs = np.concatenate([Xs, _sample_set(ps, V, rho, max(n_verify // 4, 1), seed, False),
+                                 _sample_set(ps, V, rho, max(n_verify // 4, 1), seed + 1, True)])
+        except SolverError:
+            pass
     max_vd = float("nan")
     if Xs.shape[0]:
         r2 = np.sum((Xs - x0) ** 2, axis=1)
@@ -1320,7 +1338,10 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
             xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
             lo, hi = resolve_box(system, box, xe0)
             xe = _refine(lambda X: np.asarray(system.rhs(X)), xe0)
-            ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor, max_degree=4, seed=seed)
+            n = len(xe)
+            dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
+            ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor,
+                        max_degree=4 if method == "exact" else dmax, seed=seed)
             lift0 = ps.lift
             return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=system.rhs, equilibrium=xe,
                                        box=(lo, hi))

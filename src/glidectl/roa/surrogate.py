@@ -134,6 +134,24 @@ def _hessians(g: Any, Y: np.ndarray, chunk: int = 4096) -> np.ndarray:
     return 0.5 * (H + np.swapaxes(H, -1, -2))
 
 
+def _poly_hessians(P: list[Poly], Y: np.ndarray) -> np.ndarray:
+    """Exact Hessians of polynomials ``P`` at points ``Y`` (N, n): ``(N, len(P), n, n)``."""
+    N, n = Y.shape
+    H = np.zeros((N, len(P), n, n))
+    for i, p in enumerate(P):
+        for j in range(n):
+            dj = p.diff(j)
+            for k in range(j, n):
+                djk = dj.diff(k)
+                if djk.is_zero:
+                    continue
+                E, c = djk.arrays()
+                v = monomial_matrix(Y, [tuple(e) for e in E]) @ c
+                H[:, i, j, k] = v
+                H[:, i, k, j] = v
+    return H
+
+
 def _refine(f: Any, xe: np.ndarray) -> np.ndarray:
     """Newton steps on ``f(x) = 0`` from ``x_e`` (the trim's tolerance would leave ``e(0) != 0``)."""
     x = xe.astype(float).copy()
@@ -260,10 +278,7 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
     axes = [np.linspace(ylo[j], yhi[j], gn) for j in range(n)]
     nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, n)
 
-    def e_field(Yq: np.ndarray) -> np.ndarray:
-        return g(Yq) - np.stack([p(Yq) for p in P], axis=-1)
-
-    H = _hessians(e_field, nodes)                                  # (N, n_out, n, n)
+    H = _hessians(g, nodes) - _poly_hessians(P, nodes)            # Hess e = Hess g - Hess p, (N, n_out, n, n)
     if not np.all(np.isfinite(H)):
         raise ModelError("the Hessian of the right-hand side is not finite on the box: shrink the box")
     norms = np.max(np.abs(np.linalg.eigvalsh(H)), axis=-1)          # (N, n_out) spectral norms

@@ -447,15 +447,15 @@ def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: i
     """The refusal message of :func:`recast`, naming which derivatives depend non-polynomially on which states.
 
     Probe: along lines through random points of the box, each derivative ``dx_i/dt`` (times the declared positive
-    denominator) is fitted by a polynomial of degree ``degree + 2`` in each non-angle state ``x_j`` alone; a relative
-    residual above ``1e-7`` marks ``dx_i/dt`` as non-polynomial in ``x_j`` (an ``atan2``, a state-dependent mass or
+    denominator) is fitted by a polynomial of degree ``degree`` in each non-angle state ``x_j`` alone; a relative
+    residual above ``1e-9`` (the threshold of the recast itself) marks ``dx_i/dt`` as non-polynomial in ``x_j`` (an ``atan2``, a state-dependent mass or
     a matrix inverse shows up this way).
     """
     what = getattr(model, "name", type(model).__name__)
     n = len(names)
     rng = np.random.default_rng(seed + 11)
     t = np.cos(np.pi * (np.arange(24) + 0.5) / 24)            # Chebyshev nodes in [-1, 1]
-    deg = max(degree, 1) + 2
+    deg = max(degree, 1)
     bad: dict[int, list[str]] = {}
     try:
         base = lo + (hi - lo) * rng.random((3, n))
@@ -473,7 +473,7 @@ def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: i
                     y = D[b * t.size:(b + 1) * t.size, i]
                     c, *_ = np.linalg.lstsq(V[:t.size], y, rcond=None)
                     r = np.max(np.abs(V[:t.size] @ c - y)) / max(np.max(np.abs(y)), 1e-300)
-                    if r > 1e-7:
+                    if r > 1e-9:
                         bad.setdefault(i, []).append(names[j])
                         break
     except Exception:  # noqa: BLE001 - the probe only improves the message; the refusal stands without it
