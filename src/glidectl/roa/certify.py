@@ -1290,7 +1290,9 @@ class _Shifted:
         self._f, self._xe = model.rhs, xe
         self.state_names = tuple(model.state_names)
         self.equilibrium = np.zeros(len(xe))
-        self.box = (box[0] - xe, box[1] - xe)
+        # the recast is sampled on the box widened 3x about the equilibrium: a smooth non-polynomial field is
+        # within 1e-9 of a low-degree polynomial on a small enough box, a polynomial one is polynomial everywhere
+        self.box = (3.0 * (box[0] - xe), 3.0 * (box[1] - xe))
         self.name = getattr(model, "name", type(model).__name__)
         self.provenance = str(getattr(model, "provenance", ""))
         self.time_unit = getattr(model, "time_unit", "s")
