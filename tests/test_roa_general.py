@@ -165,7 +165,7 @@ def test_box_defaults_to_actuator_limits():
     loop = gc.closed_loop(gc.lqr_glide(veh, glide))
     with pytest.raises(ArgumentError, match=r"no limits known for states \['z_prime', 'theta'.*'m0': \(-0.3, 0.9\)"):
         resolve_box(loop)
-    lo, hi = resolve_box(loop, {k: (x - 0.1, x + 0.1) for k, x in zip(loop.state_names, loop.equilibrium)
+    lo, hi = resolve_box(loop, {k: (x - 0.1, x + 0.1) for k, x in zip(loop.state_names, loop.equilibrium, strict=True)
                                 if k not in ("m0", "r_P1")})
     i = loop.state_names.index("m0")
     assert (lo[i], hi[i]) == (-0.3, 0.9)

@@ -118,6 +118,7 @@ from .models.torque_glider import TorqueControlledGlider
 from .params import Actuator, Vehicle, list_presets, load_vehicle
 from .roa import (
     PolySystem,
+    RemainderBound,
     ROACertificate,
     ROAVerification,
     SOSSize,
@@ -128,6 +129,8 @@ from .roa import (
     lyapunov_quadratic,
     max_level,
     recast,
+    surrogate_error,
+    surrogate_system,
     taylor_system,
 )
 from .sim import Ensemble, Simulation, simulate, simulate_many
@@ -189,6 +192,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate", "ROAVerification",
         "singular_perturbation", "SingularPerturbation", "SOSSize", "taylor_system", "unequal_mass_check",
         "UnequalMassCheck",
+        "RemainderBound", "surrogate_error", "surrogate_system",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
@@ -271,6 +275,7 @@ __all__ = [
     "RealizedTorqueComparison",
     "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
+    "RemainderBound",
     "SOSSize",
     "Simulation",
     "SingularPerturbation",
@@ -356,6 +361,8 @@ __all__ = [
     "stable_inversion",
     "steady_glide",
     "straight_glides",
+    "surrogate_error",
+    "surrogate_system",
     "taylor_system",
     "to_iosys",
     "torque_gain_family",

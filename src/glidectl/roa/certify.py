@@ -45,9 +45,16 @@ from ..analysis.jacobian import hessian, jacobians
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
-from .sos import GramCheck, LinPoly, SOSProgram
 from .scaling import resolve_box, scaled_lyapunov
-from .surrogate import _refine, abs_gradient_bounds, abs_gradient_constraints, skeleton, surrogate_system, t_degree
+from .sos import GramCheck, LinPoly, SOSProgram
+from .surrogate import (
+    abs_gradient_bounds,
+    abs_gradient_constraints,
+    refine_equilibrium,
+    skeleton,
+    surrogate_system,
+    t_degree,
+)
 from .systems import PolySystem, recast
 
 __all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "ROAVerification", "SOSSize",
@@ -1111,11 +1118,27 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         What hitting ``time_limit`` does: raise :class:`~glidectl.BudgetError` (default), or end the alternation and
         certify the best ``V`` found so far (the final certification SDPs and checks still run), with
         ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
+    box : (array_like, array_like) or mapping, optional
+        Region of interest in state units, ``(lo, hi)`` or ``{state name: (lo, hi)}``
+        (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the actuator limits of its
+        vehicle (``Vehicle.actuators``); a state with no limit is refused with a message asking for ``box=``. Needed
+        for any closed loop (``gc.closed_loop(...)``) whose states are not all actuator positions.
+    method : {"auto", "exact", "surrogate"}
+        Route (issue 17): ``"exact"`` recasts the model exactly (:func:`~glidectl.roa.systems.recast`; a closed loop
+        is shifted to its equilibrium and sampled on the box widened 3x); ``"surrogate"`` certifies a polynomial
+        surrogate with a remainder bound on the box (:func:`~glidectl.roa.surrogate.surrogate_system`), for every
+        right-hand side within that bound, the true one included; ``"auto"`` (default) tries the exact recast
+        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which.
+    surrogate_degree : int
+        Degree of the surrogate, 2 to 5 (default 3).
+    margin : float
+        Safety factor (>= 1) of the surrogate's remainder bound (:mod:`glidectl.roa.surrogate`).
 
     Returns
     -------
     ROACertificate
-        With ``stopped_by`` saying what ended the alternation at the final degree.
+        With ``stopped_by`` saying what ended the alternation at the final degree, ``method`` the route, ``box``
+        and ``scale`` what was used.
 
     Raises
     ------
@@ -1124,13 +1147,17 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         included: degrees are integers).
     ArgumentError
         If an argument is out of range: an odd or too small ``degree``, ``backoff`` or ``center`` outside
-        ``[0, 1)``, an unknown solver, a bad ``initial``.
+        ``[0, 1)``, an unknown solver, a bad ``initial``, an unknown ``method``; a box that is invalid, misses
+        limits for some states or does not contain the equilibrium.
     ModelError
-        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), or the
-        model cannot be recast exactly.
+        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), the model
+        cannot be recast exactly with ``method="exact"`` (the message names the derivatives that are not
+        polynomial in which states), the model has no equilibrium, or its right-hand side is not complex-safe or
+        not finite on the box (surrogate route).
     BudgetError
         If ``degree > max_degree`` or the program would need more than ``memory_limit`` (the message gives the
-        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``).
+        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``). For the surrogate route
+        the size is checked before the model is evaluated at all.
     SolverError
         If the first level problem fails (no certificate at all) or no simulated box point converges.
     """
@@ -1307,7 +1334,7 @@ class _Shifted:
 def _is_roa_model(system: Any) -> bool:
     """A model built for certification: equilibrium at 0 and its own box (``sp.reduced_model()``...)."""
     eq = getattr(system, "equilibrium", None)
-    return (hasattr(system, "box") and eq is not None and not callable(getattr(system, "box"))
+    return (hasattr(system, "box") and eq is not None and not callable(system.box)
             and np.all(np.asarray(eq, dtype=float) == 0.0))
 
 
@@ -1339,7 +1366,7 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
                                  "region of attraction needs one")
             xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
             lo, hi = resolve_box(system, box, xe0)
-            xe = _refine(lambda X: np.asarray(system.rhs(X)), xe0)
+            xe = refine_equilibrium(lambda X: np.asarray(system.rhs(X)), xe0)
             n = len(xe)
             dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
             ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor,

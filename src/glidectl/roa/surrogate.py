@@ -152,8 +152,9 @@ def _poly_hessians(P: list[Poly], Y: np.ndarray) -> np.ndarray:
     return H
 
 
-def _refine(f: Any, xe: np.ndarray) -> np.ndarray:
-    """Newton steps on ``f(x) = 0`` from ``x_e`` (the trim's tolerance would leave ``e(0) != 0``)."""
+def refine_equilibrium(f: Any, xe: np.ndarray) -> np.ndarray:
+    """Newton steps on ``f(x) = 0`` from ``x_e`` (the trim's tolerance would leave ``e(0) != 0``); steps larger than
+    ``1e-3 (1 + |x_e|)`` are not taken (then ``x_e`` is returned as it is and the caller's residual check decides)."""
     x = xe.astype(float).copy()
     for _ in range(4):
         r = np.real(f(x[None, :]))[0]
@@ -238,7 +239,7 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
     xe0 = checks.array("equilibrium", xe0, shape=(n,))
     lo, hi = resolve_box(model, box, xe0)
     f = _field(model)
-    xe = _refine(f, xe0)
+    xe = refine_equilibrium(f, xe0)
     if np.any(xe <= lo) or np.any(xe >= hi):
         raise ModelError(f"the refined equilibrium {xe.tolist()} left the box")
     f0 = float(np.max(np.abs(np.real(f(xe[None, :]))[0])))

@@ -448,8 +448,8 @@ def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: i
 
     Probe: along lines through random points of the box, each derivative ``dx_i/dt`` (times the declared positive
     denominator) is fitted by a polynomial of degree ``degree`` in each non-angle state ``x_j`` alone; a relative
-    residual above ``1e-9`` (the threshold of the recast itself) marks ``dx_i/dt`` as non-polynomial in ``x_j`` (an ``atan2``, a state-dependent mass or
-    a matrix inverse shows up this way).
+    residual above ``1e-9`` (the threshold of the recast itself) marks ``dx_i/dt`` as non-polynomial in ``x_j``
+    (an ``atan2``, a state-dependent mass or a matrix inverse shows up this way).
     """
     what = getattr(model, "name", type(model).__name__)
     n = len(names)
@@ -476,7 +476,7 @@ def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: i
                     if r > 1e-9:
                         bad.setdefault(i, []).append(names[j])
                         break
-    except Exception:  # noqa: BLE001 - the probe only improves the message; the refusal stands without it
+    except Exception:  # the probe only improves the message; the refusal stands without it
         bad = {}
     if bad:
         terms = "; ".join(f"d({names[i]})/dt in {', '.join(v)}" for i, v in sorted(bad.items()))

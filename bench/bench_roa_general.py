@@ -1,0 +1,108 @@
+"""Issue 17: certify_roa on closed loops that do not recast exactly (polynomial surrogate with remainder bound).
+
+Measures, for each loop: the route taken, the surrogate's remainder bound, the certified volume as a fraction of the
+box (quasi-MC), whether every a-posteriori check passed, and the wall / SDP time, at degree 2 (and 4 where the
+budget estimate says it fits):
+
+* ``rogue-lqr``: the LQR glide-path regulator of the rogue glider (``gc.lqr_glide``, 10 states, force form) at
+  V = 0.3 m/s, gamma = -25 deg, in the box ``x_e +- frac * dev`` (``dev`` below, SI units);
+* ``sphere-torque``: the torque law (6.5) of the sphere glider of chapter 5 (``gc.design_torque_control``, 4 states);
+* ``pendulum``: a damped pendulum at theta_e = 0.3 rad (the toy loop of tests/test_roa_general.py).
+
+Usage::
+
+    cd /work/main && python bench/bench_roa_general.py [--loops rogue-lqr,sphere-torque,pendulum] [--frac 0.2]
+        [--degrees 2,4] [--repeats 1]
+
+Writes ``bench/results/roa_general.json``. One repeat by default (a certification is minutes for the 10-state loop;
+the medians are over ``--repeats``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+import glidectl as gc
+from glidectl.errors import BudgetError, GlidectlError
+
+DEV = {"z_prime": 0.5, "theta": 0.1, "Omega2": 0.05, "v1": 0.05, "v3": 0.02, "r_P1": 0.01, "r_P3": 0.005,
+       "P_P1": 0.2, "P_P3": 0.05, "m0": 0.05}
+
+
+class Pendulum:
+    state_names = ("theta", "omega")
+    input_names = ()
+    name = "pendulum"
+    equilibrium = np.array([0.3, 0.0])
+
+    def rhs(self, X, u=None):
+        X = np.asarray(X)
+        return np.stack([X[..., 1], -np.sin(X[..., 0]) + math.sin(0.3) - X[..., 1]], axis=-1)
+
+
+def loops(frac: float) -> dict[str, tuple[object, tuple[np.ndarray, np.ndarray]]]:
+    out = {}
+    veh = gc.load_vehicle("rogue")
+    loop = gc.closed_loop(gc.lqr_glide(veh, gc.steady_glide(veh, 0.3, math.radians(-25), r_p3=0.005)))
+    d = frac * np.array([DEV[k] for k in loop.state_names])
+    out["rogue-lqr"] = (loop, (loop.equilibrium - d, loop.equilibrium + d))
+    sph = gc.load_vehicle("sphere_ch5")
+    tl = gc.closed_loop(gc.design_torque_control(sph, speed=1.5))
+    hw = np.array([0.1, 0.1, 0.03, 0.1])
+    out["sphere-torque"] = (tl, (tl.equilibrium - hw, tl.equilibrium + hw))
+    out["pendulum"] = (Pendulum(), (np.array([-0.7, -1.2]), np.array([1.3, 1.2])))
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--loops", default="pendulum,sphere-torque,rogue-lqr")
+    ap.add_argument("--frac", type=float, default=0.2)
+    ap.add_argument("--degrees", default="2,4")
+    ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--time-limit", type=float, default=1800.0)
+    args = ap.parse_args()
+    rows = []
+    all_loops = loops(args.frac)
+    for name in args.loops.split(","):
+        model, box = all_loops[name]
+        for deg in (int(d) for d in args.degrees.split(",")):
+            opts = {"iterations": 2, "n_truth": 256, "n_verify": 4000, "n_simulate": 32}
+            times, res = [], None
+            for _ in range(args.repeats):
+                t0 = time.perf_counter()
+                try:
+                    cert = gc.certify_roa(model, degree=deg, box=box, time_limit=args.time_limit, on_budget="stop",
+                                          **opts)
+                except BudgetError as exc:
+                    res = {"loop": name, "degree": deg, "refused": str(exc)[:400]}
+                    break
+                except GlidectlError as exc:
+                    res = {"loop": name, "degree": deg, "error": f"{type(exc).__name__}: {str(exc)[:400]}"}
+                    break
+                times.append(time.perf_counter() - t0)
+                lo, hi = cert.box
+                rb = cert.system.remainder_bound
+                res = {"loop": name, "degree": deg, "n_states": cert.system.n, "method": cert.method,
+                       "certified": cert.certified, "volume_fraction": cert.volume(n=2**14) / float(np.prod(hi - lo)),
+                       "rho": cert.rho, "sdp_time_s": cert.solve_time, "stopped_by": cert.stopped_by,
+                       "remainder": rb.summary() if rb is not None else "", "verification":
+                       cert.verification.summary(), "n_sdp_steps": len(cert.history)}
+            if times:
+                res["wall_time_s_median"] = statistics.median(times)
+            rows.append(res)
+            print(json.dumps(res), flush=True)
+    out = Path(__file__).parent / "results"
+    out.mkdir(exist_ok=True)
+    (out / "roa_general.json").write_text(json.dumps(rows, indent=2))
+
+
+if __name__ == "__main__":
+    main()
