@@ -191,3 +191,13 @@ def test_scaled_lyapunov_start_solves_the_scaled_equation():
     assert np.allclose(Qm / Qm[0, 0], np.eye(2), atol=1e-10) and Qm[0, 0] < 0
     with pytest.raises(ModelError, match="not Hurwitz"):
         scaled_lyapunov(-A, s)
+
+
+def test_estimate_sos_size_of_a_closed_loop_counts_the_surrogate_route():
+    m = Pendulum()
+    size = gc.estimate_sos_size(m, 4)
+    assert m.calls == 0 and size.n_vars == 2
+    names = [g for g, _ in size.gram]
+    # t_i >= |dV/dz_i| on the box: two SOS certificates per state, each with one multiplier per box cut
+    assert sum(nm.startswith("|dV/dz") for nm in names) == 4 and sum(nm.startswith("s") for nm in names) >= 8
+    assert gc.estimate_sos_size(m, 6).bytes > size.bytes

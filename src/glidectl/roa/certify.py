@@ -383,7 +383,8 @@ def _default_memory_limit() -> float:
     return MEMORY_FRACTION * total if total else 4e9
 
 
-def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, speed_floor: float = 0.1) -> SOSSize:
+def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, speed_floor: float = 0.1,
+                      surrogate_degree: int = 3) -> SOSSize:
     """Size and memory of the largest SOS program :func:`certify_roa` would build for a ``V`` of ``degree``, computed
     from monomial counts before anything is built (milliseconds, whatever the degree).
 
@@ -397,6 +398,10 @@ def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, spe
         Extra multiplier degree (steps of 2), as in :func:`certify_roa`.
     speed_floor : float
         ``delta`` of the denominator cut for recast models.
+    surrogate_degree : int
+        For a closed loop that is neither a PolySystem nor a model built for certification (``gc.closed_loop``):
+        the size of the surrogate route (:mod:`glidectl.roa.surrogate`) with a surrogate of this degree (2 to 5),
+        counted without evaluating the model (the route :func:`certify_roa` checks first).
 
     Returns
     -------
@@ -413,7 +418,12 @@ def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, spe
         If ``system`` cannot be recast exactly.
     """
     degree = _check_degree(degree)
-    ps = recast(system, speed_floor=speed_floor)
+    if (not isinstance(system, PolySystem) and not _is_roa_model(system) and hasattr(system, "state_names")
+            and callable(getattr(system, "rhs", None))):
+        sd = checks.integer("surrogate_degree", surrogate_degree, lo=2, hi=5)
+        ps = skeleton(len(tuple(system.state_names)), sd)
+    else:
+        ps = recast(system, speed_floor=speed_floor)
     return _size(ps, degree, _auto_extra(ps, extra))
 
 
@@ -1349,7 +1359,8 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
         raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "
                                 f"equilibrium), e.g. gc.closed_loop(controller); got {type(system).__name__}")
     if tuple(getattr(system, "input_names", ())):
-        raise ArgumentTypeError(f"{type(system).__name__} has inputs {tuple(system.input_names)}: close the loop first "
+        raise ArgumentTypeError(f"{type(system).__name__} has inputs {tuple(system.input_names)}: certify_roa needs "
+                                "an input-free model with an equilibrium; close the loop first "
                                 "(gc.closed_loop(controller) or gc.closed_loop(plant, law))")
     if method != "exact":
         sk = skeleton(len(tuple(names)), surrogate_degree)
