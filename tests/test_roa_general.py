@@ -201,3 +201,23 @@ def test_estimate_sos_size_of_a_closed_loop_counts_the_surrogate_route():
     # t_i >= |dV/dz_i| on the box: two SOS certificates per state, each with one multiplier per box cut
     assert sum(nm.startswith("|dV/dz") for nm in names) == 4 and sum(nm.startswith("s") for nm in names) >= 8
     assert gc.estimate_sos_size(m, 6).bytes > size.bytes
+
+
+def test_lqr_cost_to_go_start():
+    """With weight Q + K^T R K the start is the closed loop's cost-to-go: A_cl^T P + P A_cl = -(Q + K^T R K)."""
+    A = np.array([[0.0, 1.0], [0.0, 0.0]])
+    Bm = np.array([[0.0], [1.0]])
+    Q, R = np.diag([2.0, 1.0]), np.array([[0.5]])
+    from scipy.linalg import solve_continuous_are
+
+    S = solve_continuous_are(A, Bm, Q, R)
+    K = np.linalg.solve(R, Bm.T @ S)
+    s = np.array([2.0, 3.0])
+    V = scaled_lyapunov(A - Bm @ K, s, Q + K.T @ R @ K)
+    Py = np.array([[V.terms[(2, 0)], V.terms[(1, 1)] / 2], [V.terms[(1, 1)] / 2, V.terms[(0, 2)]]])
+    Px = Py / s[:, None] / s[None, :]
+    assert np.allclose(Px / Px[0, 0], S / S[0, 0], atol=1e-10)           # the Riccati solution, up to scale
+    with pytest.raises(ArgumentError, match="positive definite"):
+        scaled_lyapunov(A - Bm @ K, s, -np.eye(2))
+    cert = gc.certify_roa(Pendulum(), degree=2, box=BOX, initial=np.diag([1.0, 2.0]), **QUICK)
+    assert cert.certified and cert.method == "surrogate+remainder"

@@ -1074,7 +1074,7 @@ def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarr
 
 
 def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
-                initial: Poly | None = None, speed_floor: float = 0.1, extra: int | None = None,
+                initial: Poly | np.ndarray | None = None, speed_floor: float = 0.1, extra: int | None = None,
                 n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
@@ -1098,8 +1098,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         (recorded in ``history``).
     eps : float
         ``V - eps |z|^2`` must be SOS in the V step (strict positivity), ``eps > 0``.
-    initial : Poly, optional
-        Starting ``V`` in the system's polynomial variables, ``V(0) = 0`` (default :func:`lyapunov_quadratic`).
+    initial : Poly or array_like (n, n), optional
+        Starting ``V`` in the system's polynomial variables, ``V(0) = 0``; or a weight matrix ``W`` (state units,
+        e.g. ``Q + K^T R K`` of an LQR law): the start is then the cost-to-go ``(x - x_e)^T P (x - x_e)`` with
+        ``A^T P + P A = -W`` (:func:`~glidectl.roa.scaling.scaled_lyapunov`). Default: the Lyapunov equation with
+        ``W = I`` of the scaled linearization for the surrogate route (states scaled to the box), else
+        :func:`lyapunov_quadratic`.
     speed_floor : float
         ``delta`` of the denominator cut for recast models, in ``(0, 1)``.
     extra : int, optional
@@ -1194,6 +1198,14 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     margin = checks.real("margin", margin, lo=1.0)
     ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
+    weight = None
+    if initial is not None and not isinstance(initial, Poly):
+        # a weight matrix: the starting V is the quadratic cost-to-go (x - x_e)^T P (x - x_e), A'P + PA = -weight
+        weight = checks.array("initial (weight matrix)", initial, shape=(ps.n, ps.n))
+        if ps.nz != ps.n:
+            raise ArgumentError("initial as a weight matrix needs a system whose polynomial variables are its states "
+                                f"(no angle lift); '{ps.name}' has z = {ps.z_names}: give initial as a Poly")
+        initial = None
     if initial is not None:
         _check_V(initial, ps, "initial")
     ex = _auto_extra(ps, extra)
@@ -1211,8 +1223,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     pss = _rescale(ps, k)
     F = _scaled(pss)
     hz = horizon or _default_horizon(ps)
-    V0 = initial if initial is not None else (
-        scaled_lyapunov(_linearization(ps), ps.scale) if ps.scale is not None else lyapunov_quadratic(ps))
+    if initial is not None:
+        V0 = initial
+    elif ps.scale is not None or weight is not None:
+        V0 = scaled_lyapunov(_linearization(ps), ps.scale if ps.scale is not None else np.ones(ps.n), weight)
+    else:
+        V0 = lyapunov_quadratic(ps)
     V = _to_scaled(V0, k)
     history: list[dict[str, Any]] = []
     t_solve = 0.0

@@ -136,8 +136,12 @@ def box_scale(box: tuple[Any, Any], equilibrium: Any) -> np.ndarray:
     return np.maximum(xe - lo, hi - xe)
 
 
-def scaled_lyapunov(A: Any, scale: Any) -> Poly:
-    """Starting ``V(y) = y^T P y`` with ``A_y^T P + P A_y = -I``, ``A_y = S^-1 A S`` (``S = diag(scale)``).
+def scaled_lyapunov(A: Any, scale: Any, weight: Any = None) -> Poly:
+    """Starting ``V(y) = y^T P y`` with ``A_y^T P + P A_y = -W_y``, ``A_y = S^-1 A S`` (``S = diag(scale)``).
+
+    ``W_y = I`` by default; with ``weight = Q + K^T R K`` (state units) of an LQR law ``u = -K (x - x_e)``,
+    ``W_y = S weight S`` and ``V`` is the closed loop's quadratic cost-to-go ``(x - x_e)^T P_x (x - x_e)`` (the
+    Riccati solution when ``K`` is the LQR gain of ``A``), written in ``y``.
 
     Parameters
     ----------
@@ -145,6 +149,8 @@ def scaled_lyapunov(A: Any, scale: Any) -> Poly:
         Linearization in state units (per the model's time unit).
     scale : array_like (n,)
         State scale ``s`` of ``y = (x - x_e) / s``.
+    weight : array_like (n, n), optional
+        Symmetric positive definite weight in state units (default: ``W_y = I``).
 
     Returns
     -------
@@ -153,6 +159,8 @@ def scaled_lyapunov(A: Any, scale: Any) -> Poly:
 
     Raises
     ------
+    ArgumentError
+        If ``weight`` has the wrong shape or is not positive definite.
     ModelError
         If ``A`` is not Hurwitz (the equation has no positive definite solution).
     SolverError
@@ -161,11 +169,17 @@ def scaled_lyapunov(A: Any, scale: Any) -> Poly:
     A = checks.array("A", A, ndim=2)
     s = checks.array("scale", scale, shape=(A.shape[0],))
     Ay = A * s[None, :] / s[:, None]
+    Wy = np.eye(len(s))
+    if weight is not None:
+        Wx = checks.array("weight", weight, shape=(len(s), len(s)))
+        Wy = 0.5 * (Wx + Wx.T) * s[:, None] * s[None, :]
+        if np.linalg.eigvalsh(Wy)[0] <= 0:
+            raise ArgumentError("weight must be symmetric positive definite (e.g. Q + K^T R K of an LQR law)")
     if np.max(np.linalg.eigvals(Ay).real) >= 0:
         raise ModelError(f"the linearization is not Hurwitz (eigenvalues {np.round(np.linalg.eigvals(A), 6)}): no "
                          "quadratic Lyapunov function to start from")
     try:
-        P = solve_continuous_lyapunov(Ay.T, -np.eye(len(s)))
+        P = solve_continuous_lyapunov(Ay.T, -Wy)
     except (np.linalg.LinAlgError, ValueError) as exc:
         raise SolverError(f"the scaled Lyapunov equation failed: {exc}") from exc
     P = 0.5 * (P + P.T)
