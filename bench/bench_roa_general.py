@@ -5,7 +5,8 @@ box (quasi-MC), whether every a-posteriori check passed, and the wall / SDP time
 budget estimate says it fits):
 
 * ``rogue-lqr``: the LQR glide-path regulator of the rogue glider (``gc.lqr_glide``, 10 states, force form) at
-  V = 0.3 m/s, gamma = -25 deg, in the box ``x_e +- frac * dev`` (``dev`` below, SI units);
+  V = 0.3 m/s, gamma = -25 deg, in the box ``x_e +- frac * dev`` (``dev`` below, SI units), started from the
+  Lyapunov equation of the scaled linearization; ``rogue-lqr-ctg``: the same, started from the LQR cost-to-go;
 * ``sphere-torque``: the torque law (6.5) of the sphere glider of chapter 5 (``gc.design_torque_control``, 4 states);
 * ``pendulum``: a damped pendulum at theta_e = 0.3 rad (the toy loop of tests/test_roa_general.py).
 
@@ -47,23 +48,26 @@ class Pendulum:
         return np.stack([X[..., 1], -np.sin(X[..., 0]) + math.sin(0.3) - X[..., 1]], axis=-1)
 
 
-def loops(frac: float) -> dict[str, tuple[object, tuple[np.ndarray, np.ndarray]]]:
+def loops(frac: float) -> dict[str, tuple[object, tuple[np.ndarray, np.ndarray], object]]:
     out = {}
     veh = gc.load_vehicle("rogue")
-    loop = gc.closed_loop(gc.lqr_glide(veh, gc.steady_glide(veh, 0.3, math.radians(-25), r_p3=0.005)))
+    ctrl = gc.lqr_glide(veh, gc.steady_glide(veh, 0.3, math.radians(-25), r_p3=0.005))
+    loop = gc.closed_loop(ctrl)
     d = frac * np.array([DEV[k] for k in loop.state_names])
-    out["rogue-lqr"] = (loop, (loop.equilibrium - d, loop.equilibrium + d))
+    out["rogue-lqr"] = (loop, (loop.equilibrium - d, loop.equilibrium + d), None)
+    # the same loop started from its LQR cost-to-go (weight Q + K^T R K)
+    out["rogue-lqr-ctg"] = (loop, (loop.equilibrium - d, loop.equilibrium + d), ctrl.Q + ctrl.K.T @ ctrl.R @ ctrl.K)
     sph = gc.load_vehicle("sphere_ch5")
     tl = gc.closed_loop(gc.design_torque_control(sph, speed=1.5))
     hw = np.array([0.1, 0.1, 0.03, 0.1])
-    out["sphere-torque"] = (tl, (tl.equilibrium - hw, tl.equilibrium + hw))
-    out["pendulum"] = (Pendulum(), (np.array([-0.7, -1.2]), np.array([1.3, 1.2])))
+    out["sphere-torque"] = (tl, (tl.equilibrium - hw, tl.equilibrium + hw), None)
+    out["pendulum"] = (Pendulum(), (np.array([-0.7, -1.2]), np.array([1.3, 1.2])), None)
     return out
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--loops", default="pendulum,sphere-torque,rogue-lqr")
+    ap.add_argument("--loops", default="pendulum,sphere-torque,rogue-lqr,rogue-lqr-ctg")
     ap.add_argument("--frac", type=float, default=0.2)
     ap.add_argument("--degrees", default="2,4")
     ap.add_argument("--repeats", type=int, default=1)
@@ -72,7 +76,7 @@ def main() -> None:
     rows = []
     all_loops = loops(args.frac)
     for name in args.loops.split(","):
-        model, box = all_loops[name]
+        model, box, weight = all_loops[name]
         for deg in (int(d) for d in args.degrees.split(",")):
             opts = {"iterations": 2, "n_truth": 256, "n_verify": 4000, "n_simulate": 32}
             times, res = [], None
@@ -80,7 +84,7 @@ def main() -> None:
                 t0 = time.perf_counter()
                 try:
                     cert = gc.certify_roa(model, degree=deg, box=box, time_limit=args.time_limit, on_budget="stop",
-                                          **opts)
+                                          initial=weight, **opts)
                 except BudgetError as exc:
                     res = {"loop": name, "degree": deg, "refused": str(exc)[:400]}
                     break

@@ -487,5 +487,5 @@ def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: i
                "through sin/cos: declare it in mixed_angle_states (Taylor enclosure)")
     return (f"model '{what}' is not polynomial in the lift (angles {angles} -> (sin, 1 - cos), denominator "
             f"1 + x_{pos}) up to degree {degree}: relative residual {residual:.2e}; {why}. certify_roa(loop, box=...) "
-            "certifies such a model through a polynomial surrogate with a rigorous remainder bound "
+            "certifies such a model through a polynomial surrogate with a remainder bound "
             "(method='surrogate+remainder', glidectl.roa.surrogate)")
