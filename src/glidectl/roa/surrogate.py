@@ -179,8 +179,8 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
-def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: float = 2.0, n_hessian: int = 4096,
-                     n_fit: int | None = None, seed: int = 0) -> PolySystem:
+def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: float = 2.0,
+                     n_hessian: int | None = None, n_fit: int | None = None, seed: int = 0) -> PolySystem:
     """A polynomial surrogate of a closed loop with a remainder bound, as a :class:`PolySystem` for
     :func:`glidectl.certify_roa` (``method = "surrogate+remainder"``).
 
@@ -196,8 +196,9 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
         Degree of the surrogate, 2 to 5.
     margin : float
         Safety factor (>= 1) on the sampled Lipschitz quotients of the Hessians (module docstring).
-    n_hessian : int
-        Largest number of grid nodes (>= 2^n): ``grid = floor(n_hessian^(1/n))`` per axis.
+    n_hessian : int, optional
+        Largest number of grid nodes (>= 2^n; default ``max(4096, 2^n)``): ``grid = floor(n_hessian^(1/n))`` per
+        axis. Each node costs ``2 n^2`` evaluations of the right-hand side.
     n_fit : int, optional
         Least-squares points (default ``max(8 x basis size, 512)``).
     seed : int
@@ -231,7 +232,7 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
     seed = checks.integer("seed", seed, lo=0)
     names = tuple(model.state_names)
     n = len(names)
-    n_hessian = checks.integer("n_hessian", n_hessian, lo=2**n)
+    n_hessian = max(4096, 2**n) if n_hessian is None else checks.integer("n_hessian", n_hessian, lo=2**n)
     xe0 = getattr(model, "equilibrium", None)
     if xe0 is None:
         raise ModelError(f"'{getattr(model, 'name', type(model).__name__)}' has no equilibrium (None): a region of "
