@@ -86,7 +86,7 @@ def test_surrogate_certificate_is_sound_on_the_true_model(pend_cert):
     assert cert.method == "surrogate+remainder" and cert.certified
     ps = cert.system
     # sampled true dV/dt < 0 inside the set, many more points than the verification used, boundary included
-    X = np.concatenate([cert.sample(4000, seed=3), cert.sample(2000, seed=4, boundary=True)])
+    X = np.concatenate([cert.sample(1500, seed=3), cert.sample(1000, seed=4, boundary=True)])
     assert np.all(cert.contains(X))
     vd = dVdt(cert.V, ps.lift, ps.rhs, X)
     r2 = np.sum((X - ps.equilibrium) ** 2, axis=1)
