@@ -134,6 +134,7 @@ from .models.torque_glider import TorqueControlledGlider
 from .params import Actuator, Vehicle, list_presets, load_vehicle
 from .roa import (
     PolySystem,
+    RemainderBound,
     ROACertificate,
     ROAVerification,
     SOSSize,
@@ -144,6 +145,8 @@ from .roa import (
     lyapunov_quadratic,
     max_level,
     recast,
+    surrogate_error,
+    surrogate_system,
     taylor_system,
 )
 from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
@@ -212,6 +215,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "singular_perturbation", "SingularPerturbation", "SOSSize", "taylor_system", "unequal_mass_check",
         "UnequalMassCheck",
         "certify_roa_lmi", "EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "saturated_loop",
+        "RemainderBound", "surrogate_error", "surrogate_system",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
@@ -305,6 +309,7 @@ __all__ = [
     "RealizedTorqueComparison",
     "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
+    "RemainderBound",
     "SOSSize",
     "SaturatedLoop",
     "ScheduledGlideLQG",
@@ -402,6 +407,8 @@ __all__ = [
     "stable_inversion",
     "steady_glide",
     "straight_glides",
+    "surrogate_error",
+    "surrogate_system",
     "taylor_system",
     "to_iosys",
     "torque_gain_family",

@@ -680,6 +680,16 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
         if len(pts):
             (h,) = ax.plot(pts[:, 0], pts[:, 1], ".", color="C2", ms=2.5, label=f"{len(pts)} random points of the set")
             handles.append(h)
+    if samples and ps.n == 2 and hasattr(cert, "sample"):
+        # the verification's simulation starts: the outermost points of the set (issue 17)
+        try:
+            out = cert.sample(min(n, 64), seed=seed, boundary=True)
+        except GlidectlError:
+            out = np.empty((0, 2))
+        if len(out):
+            (h,) = ax.plot(out[:, i], out[:, j], "x", color="C3", ms=4,
+                           label=f"{len(out)} outermost points (simulation starts)")
+            handles.append(h)
     eq = np.asarray(ps.equilibrium, dtype=float)
     (h,) = ax.plot(eq[i], eq[j], "k+", ms=12, mew=2, label="equilibrium")
     handles.append(h)
@@ -690,7 +700,8 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
     rest = [f"{_LATEX.get(ps.state_names[k], ps.state_names[k])} = {base[k]:.3g}" for k in range(ps.n)
             if k not in (i, j)]
     status = "verified" if cert.verification.passed else "NOT verified"
-    ax.set_title(f"{ps.name}: certified region of attraction ({status})"
+    route = f", {cert.method}" if getattr(cert, "method", "exact recast") != "exact recast" else ""
+    ax.set_title(f"{ps.name}: certified region of attraction ({status}{route})"
                  + (f"\nslice {', '.join(rest)}" if rest else ""))
     ax.legend(handles=handles, loc="lower right", fontsize=7)
     ax.grid(True, alpha=0.3)

@@ -14,7 +14,9 @@ from .certify import (
     max_level,
 )
 from .polynomial import Poly, monomial_matrix, monomials
+from .scaling import box_scale, resolve_box, scaled_lyapunov
 from .sos import GramCheck, LinPoly, SOSProgram
+from .surrogate import RemainderBound, surrogate_error, surrogate_system
 from .systems import PolySystem, polynomial_system, recast, taylor_system
 
 __all__ = [
@@ -25,8 +27,10 @@ __all__ = [
     "PolySystem",
     "ROACertificate",
     "ROAVerification",
+    "RemainderBound",
     "SOSProgram",
     "SOSSize",
+    "box_scale",
     "certify_roa",
     "dVdt",
     "estimate_sos_size",
@@ -37,5 +41,9 @@ __all__ = [
     "monomials",
     "polynomial_system",
     "recast",
+    "resolve_box",
+    "scaled_lyapunov",
+    "surrogate_error",
+    "surrogate_system",
     "taylor_system",
 ]

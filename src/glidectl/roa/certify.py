@@ -46,7 +46,16 @@ from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
+from .scaling import resolve_box, scaled_lyapunov
 from .sos import GramCheck, LinPoly, SOSProgram
+from .surrogate import (
+    abs_gradient_bounds,
+    abs_gradient_constraints,
+    refine_equilibrium,
+    skeleton,
+    surrogate_system,
+    t_degree,
+)
 from .systems import PolySystem, recast
 
 __all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "ROAVerification", "SOSSize",
@@ -64,6 +73,10 @@ MEMORY_FRACTION = 0.5
 _BYTES_PER_KKT_ENTRY = 100.0
 _BYTES_FIXED = 20e6
 _BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per Gram entry
+
+#: Largest monomial basis the automatic route tries to recast a closed loop with before using a surrogate (the
+#: least-squares recovery costs seconds per thousand monomials; ``method="exact"`` tries up to degree 4).
+_AUTO_RECAST_BASIS = 500
 
 #: SDP-capable solvers cvxpy may have installed.
 _SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
@@ -207,8 +220,9 @@ def _V_of(V: Poly, ps: PolySystem, X: np.ndarray) -> np.ndarray:
 def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 33) -> np.ndarray:
     """``V(lift(t x)) <= rho`` and the cuts for ``t`` on a grid of ``[0, 1]`` (component of the equilibrium)."""
     ok = np.all(np.isfinite(X), axis=-1)
+    x0 = np.asarray(ps.equilibrium, dtype=float)
     for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
-        Y = np.where(ok[:, None], t * X, 0.0)
+        Y = np.where(ok[:, None], x0 + t * (X - x0), x0)
         ok &= (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
     return ok
 
@@ -323,10 +337,17 @@ def _fmt_bytes(b: float) -> str:
 def _size(ps: PolySystem, degree: int, extra: int) -> SOSSize:
     """The V-step program of :func:`_build` at ``degree`` (plus ``lambda`` of the level problem), counted."""
     nz, nc = ps.nz, len(ps.s_caps)
-    dg = _degrees(degree, ps.degree, extra)
+    degF, degT = ps.degree, t_degree(degree)
+    if ps.remainder:
+        degF = max(degF, max(r.degree for r in ps.remainder) + degT - degree + 1)
+    dg = _degrees(degree, degF, extra)
     gram = [("decrease", _n_monomials(nz, dg.D // 2, 1, nc))]
+    for i in range(len(ps.remainder)):      # t_i >= |dV/dz_i| on the cuts (surrogate route)
+        for tag in "+-":
+            gram.append((f"|dV/dz{i}|{tag}", _n_monomials(nz, degT // 2)))
+            gram += [(f"s{i}{tag}{k}", _n_monomials(nz, (degT - g.degree) // 2)) for k, g in enumerate(ps.cuts)]
     gram += [(f"tau{k}", _n_monomials(nz, (dg.D - g.degree) // 2)) for k, g in enumerate(ps.cuts + ps.valid)]
-    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam)
+    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam) + len(ps.remainder) * _n_monomials(nz, degT)
     free += sum(_n_monomials(nz, dg.D - h.degree) for h in ps.equalities)
     eqs = math.comb(nz + dg.D, dg.D)
     for k, g in enumerate(ps.cuts):
@@ -363,7 +384,8 @@ def _default_memory_limit() -> float:
     return MEMORY_FRACTION * total if total else 4e9
 
 
-def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, speed_floor: float = 0.1) -> SOSSize:
+def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, speed_floor: float = 0.1,
+                      surrogate_degree: int = 3) -> SOSSize:
     """Size and memory of the largest SOS program :func:`certify_roa` would build for a ``V`` of ``degree``, computed
     from monomial counts before anything is built (milliseconds, whatever the degree).
 
@@ -377,6 +399,10 @@ def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, spe
         Extra multiplier degree (steps of 2), as in :func:`certify_roa`.
     speed_floor : float
         ``delta`` of the denominator cut for recast models.
+    surrogate_degree : int
+        For a closed loop that is neither a PolySystem nor a model built for certification (``gc.closed_loop``):
+        the size of the surrogate route (:mod:`glidectl.roa.surrogate`) with a surrogate of this degree (2 to 5),
+        counted without evaluating the model (the route :func:`certify_roa` checks first).
 
     Returns
     -------
@@ -393,7 +419,12 @@ def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, spe
         If ``system`` cannot be recast exactly.
     """
     degree = _check_degree(degree)
-    ps = recast(system, speed_floor=speed_floor)
+    if (not isinstance(system, PolySystem) and not _is_roa_model(system) and hasattr(system, "state_names")
+            and callable(getattr(system, "rhs", None))):
+        sd = checks.integer("surrogate_degree", surrogate_degree, lo=2, hi=5)
+        ps = skeleton(len(tuple(system.state_names)), sd)
+    else:
+        ps = recast(system, speed_floor=speed_floor)
     return _size(ps, degree, _auto_extra(ps, extra))
 
 
@@ -440,6 +471,10 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given."""
     nz = ps.nz
     degF = max(f.degree for f in F)
+    R = _remainder(ps, F)                                   # surrogate route (issue 17): |true - F| <= R
+    degT = t_degree(degV)
+    if R:
+        degF = max(degF, max(r.degree for r in R) + degT - degV + 1)
     dg = _degrees(degV, degF, extra)
     prog = SOSProgram(nz)
     out: dict[str, Any] = {}
@@ -450,11 +485,22 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         Vl = LinPoly(V)
         lam_u, lam_l = prog.free_poly("lambda", monomials(nz, dg.lam))
         out["lambda"] = lam_u
-        dec = Vl * N + lam_l * V.lie(F)
+        W = V.lie(F)
+        if R:   # robust decrease: dV/dt <= grad V . F + sum_i R_i t_i with t_i >= |dV/dz_i| on the cuts
+            T, out["abs_checks"] = abs_gradient_bounds(ps, V, R)
+            W = W + sum((r * t for r, t in zip(R, T, strict=True)), Poly({}, nz))
+        out["W"] = W
+        dec = Vl * N + lam_l * W
     else:
         V_u, Vl = prog.free_poly("V", monomials(nz, degV, 1))
         out["V"] = V_u
-        dec = Vl * N + Vl.lie(F) * lam
+        Vd = Vl.lie(F)
+        if R:
+            units = [[Poly.const(float(k == i), nz) for k in range(nz)] for i in range(nz)]
+            ts = abs_gradient_constraints(prog, ps, [Vl.lie(u) for u in units], degT)
+            for r, t in zip(R, ts, strict=True):
+                Vd = Vd + t * r
+        dec = Vl * N + Vd * lam
     if rho is None:
         rho_u, rho_l = prog.scalar("rho")
         out["rho"] = rho_u
@@ -485,6 +531,14 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     return prog, out
 
 
+def _remainder(ps: PolySystem, F: list[Poly]) -> list[Poly]:
+    """The remainder polynomials of a surrogate system divided by the factor ``F`` was divided by (``_scaled``)."""
+    if not ps.remainder:
+        return []
+    k = max(f.max_abs_coefficient() for f in ps.F) / max(max(f.max_abs_coefficient() for f in F), 1e-300)
+    return [r / k for r in ps.remainder]
+
+
 def _scaling(ps: PolySystem) -> np.ndarray:
     """Scale of each polynomial variable (largest ``|z_i|`` over the box; angle pairs keep 1)."""
     lo, hi = ps.box
@@ -504,6 +558,7 @@ def _rescale(ps: PolySystem, k: np.ndarray) -> PolySystem:
         ps, F=tuple(f.substitute(Kz) / float(k[i]) for i, f in enumerate(ps.F)), den=ps.den.substitute(Kz),
         equalities=tuple(h.substitute(Kz) for h in ps.equalities), cuts=tuple(g.substitute(Kz) for g in ps.cuts),
         valid=tuple(g.substitute(Kz) for g in ps.valid),
+        remainder=tuple(r.substitute(Kz) / float(k[i]) for i, r in enumerate(ps.remainder)),
         lift=lambda X: lift0(X) / k)
 
 
@@ -707,6 +762,13 @@ class ROACertificate:
         What ended the V-lambda alternation at the final degree: ``"iterations"`` (all ran), ``"no improvement"``
         (two V steps without a larger sampled volume), ``"solver failure"`` (a V step or level problem failed; the
         best V so far is kept) or ``"time_limit"`` (``on_budget="stop"``).
+    method : str
+        The route: ``"exact recast"`` (the SOS programs see the model itself) or ``"surrogate+remainder"`` (a
+        polynomial surrogate whose distance to the model is bounded on the box, :mod:`glidectl.roa.surrogate`;
+        the decrease condition holds for every field within that bound).
+    scale : ndarray or None
+        Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
+        surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
     """
 
     system: PolySystem = field(repr=False)
@@ -720,6 +782,51 @@ class ROACertificate:
     wall_time: float
     provenance: str = ""
     stopped_by: str = ""
+    method: str = "exact recast"
+    scale: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def box(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(lo, hi)``: the region of interest the certificate was computed in (state units); the certified set
+        lies inside it for the surrogate route (its cuts)."""
+        return self.system.box
+
+    def sample(self, n: int, seed: int = 0, *, boundary: bool = False) -> np.ndarray:
+        """Points of the certified set, in state units.
+
+        The set is star-shaped about the equilibrium (:meth:`contains` checks the segment from it), so directions
+        ``u`` are drawn uniformly in the box-scaled coordinates, the largest radius ``R(u)`` inside the set is found
+        by bisection (40 steps) and the point is ``x_e + R(u) U^(1/n) u`` with ``U`` uniform, the direction kept
+        with probability ``(R(u) / R_max)^n``: uniform in the set up to the largest radius seen.
+
+        Parameters
+        ----------
+        n : int
+            Number of points, >= 1.
+        seed : int
+            Seed (>= 0).
+        boundary : bool
+            Return the outermost points ``x_e + R(u) (1 - 1e-9) u`` instead (uniform directions): starting points
+            for convergence checks.
+
+        Returns
+        -------
+        ndarray (n, n_states)
+            Points with :meth:`contains` true (state units).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` or ``seed`` is not an integer, or ``boundary`` not a bool.
+        ArgumentError
+            If ``n < 1`` or ``seed < 0``.
+        SolverError
+            If the set is empty in every sampled direction (no certified set).
+        """
+        n = checks.integer("n", n, lo=1, hi=2**22)
+        seed = checks.integer("seed", seed, lo=0)
+        boundary = checks.boolean("boundary", boundary)
+        return _sample_set(self.system, self.V, self.rho, n, seed, boundary)
 
     @property
     def certified(self) -> bool:
@@ -887,6 +994,51 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
+def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool) -> np.ndarray:
+    """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample."""
+    x0 = np.asarray(ps.equilibrium, dtype=float)
+    lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+    w = np.maximum(x0 - lo, hi - x0)
+    rng = np.random.default_rng(seed)
+    out: list[np.ndarray] = []
+    got = 0
+
+    def contains(X: np.ndarray) -> np.ndarray:
+        return _contains(ps, V, rho, X)
+
+    for _ in range(200):
+        m = max(2 * n, 256)
+        U = rng.standard_normal((m, ps.n))
+        U /= np.linalg.norm(U, axis=1, keepdims=True)
+        D = U * w                                   # directions in state units
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tb = np.min(np.where(D > 0, (hi - x0) / D, np.where(D < 0, (lo - x0) / D, np.inf)), axis=1)
+        a, b = np.zeros(m), tb * (1 - 1e-12)
+        inside = contains(x0 + b[:, None] * D)
+        a[inside] = b[inside]
+        for _ in range(40):
+            mid = 0.5 * (a + b)
+            ok = contains(x0 + mid[:, None] * D) | inside
+            a, b = np.where(ok, mid, a), np.where(ok, b, mid)
+        R = a
+        if boundary:
+            keep = R > 0
+            pts = x0 + (R[keep] * (1 - 1e-9))[:, None] * D[keep]
+        else:
+            if not np.any(R > 0):
+                continue
+            keep = (rng.random(m) < (R / np.max(R)) ** ps.n) & (R > 0)
+            rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / ps.n)
+            pts = x0 + rad[:, None] * D[keep]
+        out.append(pts)
+        got += len(pts)
+        if got >= n:
+            break
+    if got == 0:
+        raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
+    return np.concatenate(out)[:n]
+
+
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
             n_simulate: int, horizon: float, seed: int) -> ROAVerification:
     x0 = ps.equilibrium
@@ -899,6 +1051,13 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
     rng = np.random.default_rng(seed)
     X = lo + (hi - lo) * rng.random((n_verify, ps.n))
     Xs = X[_contains(ps, V, rho, X)]
+    if ps.remainder or Xs.shape[0] < n_verify // 20:
+        # a thin set in many states (or the surrogate route): add points drawn in the set and on its boundary
+        try:
+            Xs = np.concatenate([Xs, _sample_set(ps, V, rho, max(n_verify // 4, 1), seed, False),
+                                 _sample_set(ps, V, rho, max(n_verify // 4, 1), seed + 1, True)])
+        except SolverError:
+            pass
     max_vd = float("nan")
     if Xs.shape[0]:
         r2 = np.sum((Xs - x0) ** 2, axis=1)
@@ -931,11 +1090,12 @@ def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarr
 
 
 def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
-                initial: Poly | None = None, speed_floor: float = 0.1, extra: int | None = None,
+                initial: Poly | np.ndarray | None = None, speed_floor: float = 0.1, extra: int | None = None,
                 n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
-                on_budget: str = "raise") -> ROACertificate:
+                on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
+                margin: float = 2.0) -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
@@ -954,8 +1114,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         (recorded in ``history``).
     eps : float
         ``V - eps |z|^2`` must be SOS in the V step (strict positivity), ``eps > 0``.
-    initial : Poly, optional
-        Starting ``V`` in the system's polynomial variables, ``V(0) = 0`` (default :func:`lyapunov_quadratic`).
+    initial : Poly or array_like (n, n), optional
+        Starting ``V`` in the system's polynomial variables, ``V(0) = 0``; or a weight matrix ``W`` (state units,
+        e.g. ``Q + K^T R K`` of an LQR law): the start is then the cost-to-go ``(x - x_e)^T P (x - x_e)`` with
+        ``A^T P + P A = -W`` (:func:`~glidectl.roa.scaling.scaled_lyapunov`). Default: the Lyapunov equation with
+        ``W = I`` of the scaled linearization for the surrogate route (states scaled to the box), else
+        :func:`lyapunov_quadratic`.
     speed_floor : float
         ``delta`` of the denominator cut for recast models, in ``(0, 1)``.
     extra : int, optional
@@ -984,11 +1148,27 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         What hitting ``time_limit`` does: raise :class:`~glidectl.BudgetError` (default), or end the alternation and
         certify the best ``V`` found so far (the final certification SDPs and checks still run), with
         ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
+    box : (array_like, array_like) or mapping, optional
+        Region of interest in state units, ``(lo, hi)`` or ``{state name: (lo, hi)}``
+        (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the actuator limits of its
+        vehicle (``Vehicle.actuators``); a state with no limit is refused with a message asking for ``box=``. Needed
+        for any closed loop (``gc.closed_loop(...)``) whose states are not all actuator positions.
+    method : {"auto", "exact", "surrogate"}
+        Route (issue 17): ``"exact"`` recasts the model exactly (:func:`~glidectl.roa.systems.recast`; a closed loop
+        is shifted to its equilibrium and sampled on the box widened 3x); ``"surrogate"`` certifies a polynomial
+        surrogate with a remainder bound on the box (:func:`~glidectl.roa.surrogate.surrogate_system`), for every
+        right-hand side within that bound, the true one included; ``"auto"`` (default) tries the exact recast
+        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which.
+    surrogate_degree : int
+        Degree of the surrogate, 2 to 5 (default 3).
+    margin : float
+        Safety factor (>= 1) of the surrogate's remainder bound (:mod:`glidectl.roa.surrogate`).
 
     Returns
     -------
     ROACertificate
-        With ``stopped_by`` saying what ended the alternation at the final degree.
+        With ``stopped_by`` saying what ended the alternation at the final degree, ``method`` the route, ``box``
+        and ``scale`` what was used.
 
     Raises
     ------
@@ -997,13 +1177,17 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         included: degrees are integers).
     ArgumentError
         If an argument is out of range: an odd or too small ``degree``, ``backoff`` or ``center`` outside
-        ``[0, 1)``, an unknown solver, a bad ``initial``.
+        ``[0, 1)``, an unknown solver, a bad ``initial``, an unknown ``method``; a box that is invalid, misses
+        limits for some states or does not contain the equilibrium.
     ModelError
-        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), or the
-        model cannot be recast exactly.
+        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), the model
+        cannot be recast exactly with ``method="exact"`` (the message names the derivatives that are not
+        polynomial in which states), the model has no equilibrium, or its right-hand side is not complex-safe or
+        not finite on the box (surrogate route).
     BudgetError
         If ``degree > max_degree`` or the program would need more than ``memory_limit`` (the message gives the
-        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``).
+        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``). For the surrogate route
+        the size is checked before the model is evaluated at all.
     SolverError
         If the first level problem fails (no certificate at all) or no simulated box point converges.
     """
@@ -1024,7 +1208,20 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     limit = _default_memory_limit() if memory_limit is None else checks.positive("memory_limit", memory_limit)
     deadline = checks.Deadline(time_limit, "certify_roa")
     checks.choice("on_budget", on_budget, ("raise", "stop"))
-    ps = system if isinstance(system, PolySystem) else recast(system, speed_floor=speed_floor)
+    # --- route (issue 17): exact recast, or a polynomial surrogate with a remainder bound
+    method = checks.choice("method", method, ("auto", "exact", "surrogate"))
+    surrogate_degree = checks.integer("surrogate_degree", surrogate_degree, lo=2, hi=5)
+    margin = checks.real("margin", margin, lo=1.0)
+    ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
+                speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
+    weight = None
+    if initial is not None and not isinstance(initial, Poly):
+        # a weight matrix: the starting V is the quadratic cost-to-go (x - x_e)^T P (x - x_e), A'P + PA = -weight
+        weight = checks.array("initial (weight matrix)", initial, shape=(ps.n, ps.n))
+        if ps.nz != ps.n:
+            raise ArgumentError("initial as a weight matrix needs a system whose polynomial variables are its states "
+                                f"(no angle lift); '{ps.name}' has z = {ps.z_names}: give initial as a Poly")
+        initial = None
     if initial is not None:
         _check_V(initial, ps, "initial")
     ex = _auto_extra(ps, extra)
@@ -1042,7 +1239,13 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     pss = _rescale(ps, k)
     F = _scaled(pss)
     hz = horizon or _default_horizon(ps)
-    V = _to_scaled(initial if initial is not None else lyapunov_quadratic(ps), k)
+    if initial is not None:
+        V0 = initial
+    elif ps.scale is not None or weight is not None:
+        V0 = scaled_lyapunov(_linearization(ps), ps.scale if ps.scale is not None else np.ones(ps.n), weight)
+    else:
+        V0 = lyapunov_quadratic(ps)
+    V = _to_scaled(V0, k)
     history: list[dict[str, Any]] = []
     t_solve = 0.0
     lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex)
@@ -1117,7 +1320,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=rho_c, eps=0.0, extra=ex, margin=True)
         prog.solve(cp.Maximize(outf["margin"]), solver=solver)
         t_solve += prog.solve_time
-        gram = tuple(prog.check())
+        gram = tuple(prog.check()) + tuple(outf.get("abs_checks", ())) + _local_robust(outf.get("W"), pss)
         if all(c.passed for c in gram) or bo >= 0.25:
             break
         history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
@@ -1125,5 +1328,96 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         bo = min(3 * bo, 0.25) if bo > 0 else 0.01
     Vz = _from_scaled(V, k)
     ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
+    scale = k * (ps.scale if ps.scale is not None else 1.0)
     return ROACertificate(ps, Vz, rho_c, fin.rho, Vz.degree, tuple(history), ver, t_solve,
-                          time.perf_counter() - t_wall, ps.provenance, stopped_by)
+                          time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
+                          scale=np.asarray(scale, dtype=float))
+
+
+# --------------------------------------------------------------------------------------------- routes (issue 17)
+def _local_robust(W: Poly | None, ps: PolySystem) -> tuple[GramCheck, ...]:
+    """Surrogate route: the robust upper bound ``W`` of ``dV/dt`` must be negative definite at the equilibrium (its
+    quadratic part), else ``{W != 0}`` could be ``W > 0`` near it. An entry of the Gram checks."""
+    if W is None or not ps.remainder:
+        return ()
+    nz = ps.nz
+    Q = np.zeros((nz, nz))
+    for e, c in W.terms.items():
+        if sum(e) == 2:
+            idx = [i for i in range(nz) for _ in range(e[i])]
+            Q[idx[0], idx[1]] += c / (1.0 if idx[0] == idx[1] else 2.0)
+            if idx[0] != idx[1]:
+                Q[idx[1], idx[0]] += c / 2.0
+    return (GramCheck("local robust decrease (-quadratic part of the dV/dt bound)", 1,
+                      float(np.linalg.eigvalsh(-Q)[0]), 0.0),)
+
+
+class _Shifted:
+    """A closed loop in deviations ``x - x_e`` with its box, for :func:`recast` (equilibrium at 0)."""
+
+    def __init__(self, model: Any, xe: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> None:
+        self._f, self._xe = model.rhs, xe
+        self.state_names = tuple(model.state_names)
+        self.equilibrium = np.zeros(len(xe))
+        # the recast is sampled on the box widened 3x about the equilibrium: a smooth non-polynomial field is
+        # within 1e-9 of a low-degree polynomial on a small enough box, a polynomial one is polynomial everywhere
+        self.box = (3.0 * (box[0] - xe), 3.0 * (box[1] - xe))
+        self.name = getattr(model, "name", type(model).__name__)
+        self.provenance = str(getattr(model, "provenance", ""))
+        self.time_unit = getattr(model, "time_unit", "s")
+        for a in ("angle_states", "mixed_angle_states", "positive_state"):
+            if hasattr(model, a):
+                setattr(self, a, getattr(model, a))
+
+    def rhs(self, X: Any) -> np.ndarray:
+        return np.asarray(self._f(np.asarray(X) + self._xe))
+
+
+def _is_roa_model(system: Any) -> bool:
+    """A model built for certification: equilibrium at 0 and its own box (``sp.reduced_model()``...)."""
+    eq = getattr(system, "equilibrium", None)
+    return (hasattr(system, "box") and eq is not None and not callable(system.box)
+            and np.all(np.asarray(eq, dtype=float) == 0.0))
+
+
+def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin: float, speed_floor: float, seed: int,
+           degree: int, max_degree: int, limit: float, extra: int | None) -> PolySystem:
+    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder. Budgets of the
+    surrogate route are checked before anything is sampled."""
+    if isinstance(system, PolySystem):
+        return system
+    names = getattr(system, "state_names", None)
+    if names is None or not callable(getattr(system, "rhs", None)):
+        raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "
+                                f"equilibrium), e.g. gc.closed_loop(controller); got {type(system).__name__}")
+    if tuple(getattr(system, "input_names", ())):
+        raise ArgumentTypeError(f"{type(system).__name__} has inputs {tuple(system.input_names)}: certify_roa needs "
+                                "an input-free model with an equilibrium; close the loop first "
+                                "(gc.closed_loop(controller) or gc.closed_loop(plant, law))")
+    if method != "exact":
+        sk = skeleton(len(tuple(names)), surrogate_degree)
+        _check_memory(sk, degree, _auto_extra(sk, extra), max_degree, limit,
+                      f"certify_roa(degree={degree}) of a {len(tuple(names))}-state surrogate of degree "
+                      f"{surrogate_degree}")
+    if method in ("auto", "exact"):
+        try:
+            if _is_roa_model(system) and box is None:
+                return recast(system, speed_floor=speed_floor)
+            xe0 = getattr(system, "equilibrium", None)
+            if xe0 is None:
+                raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a "
+                                 "region of attraction needs one")
+            xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
+            lo, hi = resolve_box(system, box, xe0)
+            xe = refine_equilibrium(lambda X: np.asarray(system.rhs(X)), xe0)
+            n = len(xe)
+            dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
+            ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor,
+                        max_degree=4 if method == "exact" else dmax, seed=seed)
+            lift0 = ps.lift
+            return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=system.rhs, equilibrium=xe,
+                                       box=(lo, hi))
+        except ModelError:
+            if method == "exact":
+                raise
+    return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed)

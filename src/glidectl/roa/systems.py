@@ -24,6 +24,7 @@ contain). A certificate then holds for every ``(s, c)`` in the enclosure, the tr
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -35,6 +36,9 @@ from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from .polynomial import Poly, monomial_matrix, monomials
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
+
+#: Largest monomial basis :func:`recast` fits (a bigger least-squares fit would need gigabytes; issue 17).
+_MAX_RECAST_BASIS = 3000
 
 
 @dataclass(frozen=True)
@@ -66,6 +70,17 @@ class PolySystem:
         Indices of angle states in ``x`` (lifted to ``(s, c)``).
     mixed_states : tuple of int
         Indices of mixed angle states (kept and lifted: ``(x, s, c)``).
+    remainder : tuple of Poly
+        Surrogate systems only (:func:`~glidectl.roa.surrogate.surrogate_system`): polynomials ``r_i(z) >= 0`` with
+        ``|dz_i/dt - F_i(z)/den(z)| <= r_i(z)`` for every ``z`` in the cuts (the true right-hand side lies within
+        ``r`` of ``F``); empty for exact systems.
+    method : str
+        ``"exact recast"`` (``F`` is the model) or ``"surrogate+remainder"`` (``F`` is a polynomial surrogate and
+        ``remainder`` bounds the difference).
+    scale : ndarray or None
+        Surrogate systems: the state scale ``s`` of ``z = (x - x_e) / s`` (state units); None otherwise.
+    remainder_bound : object
+        Surrogate systems: the :class:`~glidectl.roa.surrogate.RemainderBound` (how ``remainder`` was bounded).
     slots : tuple of tuple of int
         For each state of ``x``, the indices of its variables in ``z``.
     s_caps : dict
@@ -97,6 +112,11 @@ class PolySystem:
     valid: tuple[Poly, ...] = field(default=(), repr=False)
     mixed_states: tuple[int, ...] = ()
     slots: tuple[tuple[int, ...], ...] = ()
+    # --- surrogate route (issue 17): remainder polynomials, route, scale, how the remainder was bounded
+    remainder: tuple[Poly, ...] = field(default=(), repr=False)
+    method: str = "exact recast"
+    scale: np.ndarray | None = field(default=None, repr=False)
+    remainder_bound: Any = field(default=None, repr=False)
 
     @property
     def n(self) -> int:
@@ -318,7 +338,11 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         return float(np.max(np.abs(Ft - Tt)) / max(np.max(np.abs(Tt)), 1e-300))
 
     last = np.inf
+    tried = 0
     for deg in range(1, max_degree + 1):
+        if math.comb(nz + deg, deg) > _MAX_RECAST_BASIS:    # the fit would not fit in memory: stop trying
+            break
+        tried = deg
         basis = monomials(nz, deg, 0, s_caps)
         X = slo + (shi - slo) * rng.random((max(4 * len(basis), 200), n))
         Zx, T = targets(X)
@@ -338,11 +362,8 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
                 F, last = Fs, res_s
         if last < 1e-9:
             break
-    else:
-        raise ModelError(f"model '{getattr(model, 'name', type(model).__name__)}' is not polynomial in the lift "
-                         f"(angles {angles} -> (sin, 1 - cos), denominator 1 + x_{pos}) up to degree {max_degree}: "
-                         f"relative residual {last:.2e}. An angle that also enters polynomially must be declared in "
-                         "mixed_angle_states (Taylor enclosure).")
+    if not last < 1e-9:
+        raise ModelError(_refusal(model, names, angles + mixed, pos, slo, shi, tried, last, seed))
     return PolySystem(name=getattr(model, "name", type(model).__name__), state_names=names,
                       z_names=tuple(z_names), F=tuple(F), den=den, equalities=equalities, cuts=cuts, lift=lift,
                       rhs=model.rhs, equilibrium=eq, angle_states=angles, s_caps=s_caps, box=(lo, hi),
@@ -418,3 +439,53 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
         Fx.append(trunc(trunc(num.substitute(subs)) * trunc(inv)))
     return polynomial_system(f"{ps.name} (Taylor order {order})", ps.state_names, Fx, box=ps.box,
                              time_unit=ps.time_unit, provenance=ps.provenance)
+
+
+# --------------------------------------------------------------------------------------------- refusal (issue 17)
+def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: int | None, lo: np.ndarray,
+             hi: np.ndarray, degree: int, residual: float, seed: int) -> str:
+    """The refusal message of :func:`recast`, naming which derivatives depend non-polynomially on which states.
+
+    Probe: along lines through random points of the box, each derivative ``dx_i/dt`` (times the declared positive
+    denominator) is fitted by a polynomial of degree ``degree`` in each non-angle state ``x_j`` alone; a relative
+    residual above ``1e-9`` (the threshold of the recast itself) marks ``dx_i/dt`` as non-polynomial in ``x_j``
+    (an ``atan2``, a state-dependent mass or a matrix inverse shows up this way).
+    """
+    what = getattr(model, "name", type(model).__name__)
+    n = len(names)
+    rng = np.random.default_rng(seed + 11)
+    t = np.cos(np.pi * (np.arange(24) + 0.5) / 24)            # Chebyshev nodes in [-1, 1]
+    deg = max(degree, 1)
+    bad: dict[int, list[str]] = {}
+    try:
+        base = lo + (hi - lo) * rng.random((3, n))
+        for j in range(n):
+            if j in angles:
+                continue
+            X = np.repeat(base, t.size, axis=0)
+            X[:, j] = np.tile(0.5 * (lo[j] + hi[j]) + 0.5 * (hi[j] - lo[j]) * t, base.shape[0])
+            D = np.real(np.asarray(model.rhs(X), dtype=complex))
+            if pos is not None:
+                D = D * (1.0 + X[:, [pos]])
+            V = np.vander(np.tile(t, base.shape[0]), deg + 1)
+            for i in range(n):
+                for b in range(base.shape[0]):
+                    y = D[b * t.size:(b + 1) * t.size, i]
+                    c, *_ = np.linalg.lstsq(V[:t.size], y, rcond=None)
+                    r = np.max(np.abs(V[:t.size] @ c - y)) / max(np.max(np.abs(y)), 1e-300)
+                    if r > 1e-9:
+                        bad.setdefault(i, []).append(names[j])
+                        break
+    except Exception:  # the probe only improves the message; the refusal stands without it
+        bad = {}
+    if bad:
+        terms = "; ".join(f"d({names[i]})/dt in {', '.join(v)}" for i, v in sorted(bad.items()))
+        why = (f"these derivatives are not polynomial in these states (e.g. an atan2 angle of attack, masses that "
+               f"depend on a state, a matrix inverse): {terms}")
+    else:
+        why = ("no single non-angle state makes it non-polynomial, so an angle state enters both polynomially and "
+               "through sin/cos: declare it in mixed_angle_states (Taylor enclosure)")
+    return (f"model '{what}' is not polynomial in the lift (angles {angles} -> (sin, 1 - cos), denominator "
+            f"1 + x_{pos}) up to degree {degree}: relative residual {residual:.2e}; {why}. certify_roa(loop, box=...) "
+            "certifies such a model through a polynomial surrogate with a remainder bound "
+            "(method='surrogate+remainder', glidectl.roa.surrogate)")

@@ -1,0 +1,255 @@
+"""Issue 17: certify_roa on any closed loop (exact recast or polynomial surrogate with a remainder bound), scaling,
+budgets before allocation, and the certificate API (sample, box, scale, method, plot)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import glidectl as gc
+from glidectl.batch import integrate_batch
+from glidectl.errors import ArgumentError, BudgetError, ModelError
+from glidectl.roa import dVdt, recast
+from glidectl.roa.scaling import box_scale, resolve_box, scaled_lyapunov
+from glidectl.roa.surrogate import surrogate_error, surrogate_system
+
+B = 1.0                                   # damping
+XE = np.array([0.3, 0.0])                 # equilibrium (theta_e = 0.3 rad under a constant torque sin(0.3))
+BOX = ([-0.7, -1.2], [1.3, 1.2])
+QUICK = {"iterations": 1, "n_truth": 256, "n_verify": 2000, "n_simulate": 32}
+
+
+class Pendulum:
+    """Damped pendulum held at theta_e = 0.3 by a constant torque: not polynomial (sin theta)."""
+
+    state_names = ("theta", "omega")
+    input_names = ()
+    name = "pendulum"
+    provenance = "test"
+
+    def __init__(self) -> None:
+        self.equilibrium = XE.copy()
+        self.calls = 0
+
+    def rhs(self, X, u=None):
+        self.calls += 1
+        X = np.asarray(X)
+        th, om = X[..., 0], X[..., 1]
+        return np.stack([om, -np.sin(th) + math.sin(0.3) - B * om], axis=-1)
+
+
+class Cubic:
+    """A polynomial closed loop with its equilibrium away from the origin: x' = -(x - 1) - (x - 1)^3 + y - 2,
+    y' = -2 (y - 2) + (x - 1)^2 (equilibrium (1, 2))."""
+
+    state_names = ("x", "y")
+    input_names = ()
+    name = "cubic"
+    equilibrium = np.array([1.0, 2.0])
+
+    def rhs(self, X, u=None):
+        X = np.asarray(X)
+        a, b = X[..., 0] - 1.0, X[..., 1] - 2.0
+        return np.stack([-a - a**3 + b, -2.0 * b + a**2], axis=-1)
+
+
+@pytest.fixture(scope="module")
+def pend_cert():
+    return gc.certify_roa(Pendulum(), degree=2, box=BOX, **QUICK)
+
+
+def test_remainder_bound_holds_on_dense_samples():
+    ps = surrogate_system(Pendulum(), BOX)
+    b = ps.remainder_bound
+    assert b.n_fit < 10_000
+    rng = np.random.default_rng(5)
+    lo, hi = np.array(BOX[0]), np.array(BOX[1])
+    X = lo + (hi - lo) * rng.random((200_000, 2))               # 20x more points than the fit and the grid
+    edges = np.array([[lo[0], t] for t in np.linspace(lo[1], hi[1], 501)]
+                     + [[t, hi[1]] for t in np.linspace(lo[0], hi[0], 501)])
+    E, R = surrogate_error(ps, np.concatenate([X, edges]))
+    assert np.all(E <= R)
+    # the bound is not vacuous: within a factor 100 of the worst sampled error/|y|^2
+    Y = ps.lift(X)
+    ratio = np.max(E[: len(X)] / np.sum(Y**2, axis=1, keepdims=True), axis=0)
+    assert np.all(b.coefficients >= ratio) and np.max(b.coefficients) < 100 * np.max(ratio)
+    # the surrogate matches the exact linearization at the equilibrium
+    A_true = gc.roa.certify._linearization(ps) * ps.scale[None, :] / ps.scale[:, None]
+    A_p = np.array([[p.terms.get(tuple(int(k == j) for k in range(2)), 0.0) for j in range(2)] for p in ps.F])
+    assert np.allclose(A_p, A_true, atol=1e-12)
+
+
+def test_surrogate_certificate_is_sound_on_the_true_model(pend_cert):
+    cert = pend_cert
+    assert cert.method == "surrogate+remainder" and cert.certified
+    ps = cert.system
+    # sampled true dV/dt < 0 inside the set, many more points than the verification used, boundary included
+    X = np.concatenate([cert.sample(1500, seed=3), cert.sample(1000, seed=4, boundary=True)])
+    assert np.all(cert.contains(X))
+    vd = dVdt(cert.V, ps.lift, ps.rhs, X)
+    r2 = np.sum((X - ps.equilibrium) ** 2, axis=1)
+    assert np.all(vd[r2 > 1e-12] < 0)
+    # the set lies in the box and is not trivial (more than 20 % of it)
+    lo, hi = cert.box
+    assert np.all(X >= lo) and np.all(X <= hi)
+    assert cert.volume(n=2**12) / np.prod(np.array(hi) - np.array(lo)) > 0.2
+
+
+def test_simulations_from_the_outermost_samples_converge(pend_cert):
+    X0 = pend_cert.sample(64, seed=9, boundary=True)
+    V0 = pend_cert.value(X0)
+    assert np.all(V0 > 0.98 * pend_cert.rho)                    # really the outermost points
+    res = integrate_batch(pend_cert.system.rhs, X0, 60.0, rtol=1e-8, atol=1e-10)
+    assert np.all(res.converged_to(XE, 1e-4))
+
+
+def test_certificate_api_fields(pend_cert, tmp_path):
+    cert = pend_cert
+    lo, hi = cert.box
+    assert np.allclose(lo, BOX[0]) and np.allclose(hi, BOX[1])
+    s = box_scale(cert.box, XE)
+    assert np.allclose(s, [1.0, 1.2])
+    assert cert.scale.shape == (2,) and np.all(cert.scale > 0) and np.all(cert.scale <= s * (1 + 1e-12))
+    P = cert.sample(300, seed=1)
+    assert P.shape == (300, 2) and np.all(cert.contains(P))
+    assert np.array_equal(P, cert.sample(300, seed=1))
+    with pytest.raises(ArgumentError):
+        cert.sample(0)
+    ax = cert.plot()
+    path = tmp_path / "roa_general.png"
+    ax.figure.savefig(path)
+    assert path.stat().st_size > 10_000
+
+
+def test_exact_recast_route_for_a_polynomial_loop():
+    cert = gc.certify_roa(Cubic(), degree=2, box=([0.0, 1.0], [2.0, 3.0]), **QUICK)
+    assert cert.method == "exact recast" and cert.certified
+    X = cert.sample(500, seed=2)
+    assert np.all(dVdt(cert.V, cert.system.lift, Cubic().rhs, X)[np.sum((X - [1, 2]) ** 2, axis=1) > 1e-12] < 0)
+    with pytest.raises(ModelError, match=r"d\(omega\)/dt in theta"):
+        gc.certify_roa(Pendulum(), degree=2, box=BOX, method="exact", **QUICK)
+
+
+def test_recast_refusal_names_the_non_polynomial_terms():
+    class Shifted:
+        state_names = ("theta", "omega")
+        equilibrium = np.zeros(2)
+        box = (np.array([-1.0, -1.0]), np.array([1.0, 1.0]))
+
+        def rhs(self, X):
+            X = np.asarray(X)
+            return np.stack([X[..., 1], -np.sin(X[..., 0] + 0.3) + math.sin(0.3) - X[..., 1]], axis=-1)
+
+    with pytest.raises(ModelError) as exc:
+        recast(Shifted(), max_degree=3)
+    msg = str(exc.value)
+    assert "d(omega)/dt in theta" in msg and "d(theta)/dt" not in msg and "surrogate" in msg
+    assert "mixed_angle_states" not in msg
+
+
+def test_missing_box_is_refused_clearly():
+    with pytest.raises(ArgumentError, match=r"no limits known for states \['theta', 'omega'\].*box="):
+        gc.certify_roa(Pendulum(), degree=2)
+    with pytest.raises(ArgumentError, match="not strictly inside"):
+        resolve_box(Pendulum(), ([0.5, -1.0], [1.0, 1.0]))
+    lo, hi = resolve_box(Pendulum(), {"theta": (-1.0, 1.0), "omega": (-2.0, 2.0)})
+    assert lo.tolist() == [-1.0, -2.0] and hi.tolist() == [1.0, 2.0]
+
+
+def test_box_defaults_to_actuator_limits():
+    veh = gc.load_vehicle("rogue").with_actuators(
+        m0={"min": -0.3, "max": 0.9, "rate": 0.01}, r_P1={"min": -0.05, "max": 0.05, "rate": 0.01})
+    glide = gc.steady_glide(veh, 0.3, math.radians(-25), r_p3=0.005)
+    loop = gc.closed_loop(gc.lqr_glide(veh, glide))
+    with pytest.raises(ArgumentError, match=r"no limits known for states \['z_prime', 'theta'.*'m0': \(-0.3, 0.9\)"):
+        resolve_box(loop)
+    lo, hi = resolve_box(loop, {k: (x - 0.1, x + 0.1) for k, x in zip(loop.state_names, loop.equilibrium, strict=True)
+                                if k not in ("m0", "r_P1")})
+    i = loop.state_names.index("m0")
+    assert (lo[i], hi[i]) == (-0.3, 0.9)
+
+
+def test_oversized_request_refused_before_any_allocation():
+    m = Pendulum()
+    with pytest.raises(BudgetError, match="refused before building anything"):
+        gc.certify_roa(m, degree=8, box=BOX, memory_limit=1e6)
+    assert m.calls == 0                       # the model was never evaluated: nothing sampled, fitted or built
+    with pytest.raises(BudgetError, match="max_degree"):
+        gc.certify_roa(m, degree=10, box=BOX, max_degree=8)
+    assert m.calls == 0
+
+
+def test_scaled_lyapunov_start_solves_the_scaled_equation():
+    A = np.array([[0.0, 1.0], [-math.cos(0.3), -B]])
+    s = np.array([1.0, 1.2])
+    V = scaled_lyapunov(A, s)
+    P = np.array([[V.terms[(2, 0)], V.terms[(1, 1)] / 2], [V.terms[(1, 1)] / 2, V.terms[(0, 2)]]])
+    Ay = A * s[None, :] / s[:, None]
+    Qm = Ay.T @ P + P @ Ay
+    assert np.allclose(Qm / Qm[0, 0], np.eye(2), atol=1e-10) and Qm[0, 0] < 0
+    with pytest.raises(ModelError, match="not Hurwitz"):
+        scaled_lyapunov(-A, s)
+
+
+def test_estimate_sos_size_of_a_closed_loop_counts_the_surrogate_route():
+    m = Pendulum()
+    size = gc.estimate_sos_size(m, 4)
+    assert m.calls == 0 and size.n_vars == 2
+    names = [g for g, _ in size.gram]
+    # t_i >= |dV/dz_i| on the box: two SOS certificates per state, each with one multiplier per box cut
+    assert sum(nm.startswith("|dV/dz") for nm in names) == 4 and sum(nm.startswith("s") for nm in names) >= 8
+    assert gc.estimate_sos_size(m, 6).bytes > size.bytes
+
+
+def test_lqr_cost_to_go_start():
+    """With weight Q + K^T R K the start is the closed loop's cost-to-go: A_cl^T P + P A_cl = -(Q + K^T R K)."""
+    A = np.array([[0.0, 1.0], [0.0, 0.0]])
+    Bm = np.array([[0.0], [1.0]])
+    Q, R = np.diag([2.0, 1.0]), np.array([[0.5]])
+    from scipy.linalg import solve_continuous_are
+
+    S = solve_continuous_are(A, Bm, Q, R)
+    K = np.linalg.solve(R, Bm.T @ S)
+    s = np.array([2.0, 3.0])
+    V = scaled_lyapunov(A - Bm @ K, s, Q + K.T @ R @ K)
+    Py = np.array([[V.terms[(2, 0)], V.terms[(1, 1)] / 2], [V.terms[(1, 1)] / 2, V.terms[(0, 2)]]])
+    Px = Py / s[:, None] / s[None, :]
+    assert np.allclose(Px / Px[0, 0], S / S[0, 0], atol=1e-10)           # the Riccati solution, up to scale
+    with pytest.raises(ArgumentError, match="positive definite"):
+        scaled_lyapunov(A - Bm @ K, s, -np.eye(2))
+    cert = gc.certify_roa(Pendulum(), degree=2, box=BOX, initial=np.diag([1.0, 2.0]), **QUICK)
+    assert cert.certified and cert.method == "surrogate+remainder"
+
+
+def _rogue_lqr_loop():
+    veh = gc.load_vehicle("rogue")
+    return gc.closed_loop(gc.lqr_glide(veh, gc.steady_glide(veh, 0.3, math.radians(-25), r_p3=0.005)))
+
+
+def test_glider_loop_refusal_names_the_non_polynomial_dependencies():
+    """The issue's user loop: the angle of attack atan2(v3, v1) and the body's rotation make the velocity and
+    rate equations non-polynomial in (theta, v1, v3); the message says so and points to the surrogate route."""
+    from glidectl.roa.certify import _Shifted
+
+    loop = _rogue_lqr_loop()
+    xe = loop.equilibrium
+    with pytest.raises(ModelError) as exc:
+        recast(_Shifted(loop, xe, (xe - 0.01, xe + 0.01)), max_degree=2)
+    msg = str(exc.value)
+    assert "d(v1)/dt in theta, v1, v3" in msg and "d(v3)/dt in theta, v1, v3" in msg
+    assert "d(r_P1)/dt" not in msg and "mixed_angle_states" not in msg and "surrogate" in msg
+
+
+def test_glider_torque_loop_remainder_bound_holds_on_dense_samples():
+    """The 4-state torque-law closed loop of the chapter-5 sphere glider (not polynomial: 1/V, sin/cos gamma)."""
+    loop = gc.closed_loop(gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=1.5))
+    xe = loop.equilibrium
+    hw = np.array([0.1, 0.1, 0.03, 0.1])
+    ps = surrogate_system(loop, (xe - hw, xe + hw))
+    assert ps.method == "surrogate+remainder" and ps.remainder_bound.grid ** 4 <= 4096
+    X = xe - hw + 2 * hw * np.random.default_rng(0).random((50_000, 4))      # 12x the grid, 20x the fit
+    E, R = surrogate_error(ps, X)
+    assert np.all(E <= R)
+    assert np.max(E / R) > 1e-3                                               # and not absurdly loose
