@@ -46,7 +46,7 @@ from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
-from .sos import GramCheck, LinPoly, SOSProgram
+from .sos import GramCheck, LinPoly, SOSProgram, parity_generators, sign_classes
 from .systems import PolySystem, recast
 
 __all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "ROAVerification", "SOSSize",
@@ -433,26 +433,78 @@ class LevelResult:
     checks: tuple[GramCheck, ...]
     solve_time: float
     status: str
+    compile_time: float = 0.0       # cvxpy compilation (s), part of solve_time
+    solver_time: float = 0.0        # time reported by the SDP solver (s)
+    n_sdp: int = 1                  # SDPs solved
+
+
+def _symmetry(ps: PolySystem, F: list[Poly], fixed: tuple[Poly, ...]) -> np.ndarray:
+    """Generators (over GF(2)) of the sign symmetries ``z -> D_s z`` of the program: ``F`` equivariant
+    (``F_i(D z) = (-1)^{s_i} F_i(z)``), the denominator, cuts, valid inequalities and the fixed polynomials
+    (``V`` of a level problem, ``lambda`` of a V step) invariant, each equality mapped to plus or minus itself. The
+    program is then invariant, and restricting every unknown to the invariant (or matching) monomials loses nothing:
+    averaging a feasible point over the group gives a feasible invariant one with the same level."""
+    nz = ps.nz
+    rows: list[tuple[int, ...]] = []
+    for i, f in enumerate(F):
+        rows += [tuple(a + (j == i) for j, a in enumerate(e)) for e in f.terms]
+    for q in (ps.den, *ps.cuts, *ps.valid, *fixed):
+        rows += list(q.terms)
+    for h in ps.equalities:
+        e0 = next(iter(h.terms), None)
+        rows += [tuple(a + b for a, b in zip(e, e0, strict=True)) for e in h.terms]
+    return parity_generators(rows, nz) if rows else np.eye(nz, dtype=int)
+
+
+def _char(G: np.ndarray, q: Poly | None) -> tuple[int, ...]:
+    """Parity class of ``q`` under ``G`` (constant over its support by construction of :func:`_symmetry`)."""
+    e = next(iter(q.terms), None) if q is not None else None
+    if e is None or G.size == 0:
+        return (0,) * G.shape[0]
+    return tuple(int(v) for v in (G @ np.asarray(e)) % 2)
+
+
+def _sym(basis: list[tuple[int, ...]], G: np.ndarray, char: tuple[int, ...]) -> list[tuple[int, ...]]:
+    """The monomials of ``basis`` in parity class ``char``."""
+    if G.size == 0:
+        return basis
+    want = np.asarray(char, dtype=int)
+    E = np.asarray(basis, dtype=int).reshape(len(basis), -1)
+    ok = np.all((E @ G.T) % 2 == want, axis=1)
+    return [b for b, k in zip(basis, ok, strict=True) if k]
+
+
+def _sym_blocks(basis: list[tuple[int, ...]], G: np.ndarray) -> list[list[tuple[int, ...]]]:
+    """Half basis of an invariant SOS multiplier: one Gram block per parity class (its square terms are then all
+    invariant)."""
+    return sign_classes(basis, G) if basis else []
 
 
 def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Poly | None, rho: float | None,
-           eps: float, extra: int = 0, margin: bool = False) -> tuple[SOSProgram, dict[str, Any]]:
-    """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given."""
+           eps: float, extra: int = 0, margin: bool = False, symmetry: bool = True,
+           ) -> tuple[SOSProgram, dict[str, Any]]:
+    """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given. With ``symmetry``, the
+    unknowns are restricted to the sign symmetries of the program (:func:`_symmetry`; exact), and every SOS
+    constraint's half basis is reduced exactly (:func:`~glidectl.roa.sos.reduce_basis`)."""
     nz = ps.nz
     degF = max(f.degree for f in F)
     dg = _degrees(degV, degF, extra)
-    prog = SOSProgram(nz)
+    prog = SOSProgram(nz, reduce=symmetry)
     out: dict[str, Any] = {}
+    fixed = tuple(p for p in (V, lam) if p is not None)
+    G = _symmetry(ps, F, fixed) if symmetry else np.zeros((0, nz), dtype=int)
+    out["symmetry"] = G
+    zero = (0,) * G.shape[0]
     if margin:
         out["margin"] = prog.enable_margin()
     N = _zsq(nz) ** dg.m
     if V is not None:
         Vl = LinPoly(V)
-        lam_u, lam_l = prog.free_poly("lambda", monomials(nz, dg.lam))
+        lam_u, lam_l = prog.free_poly("lambda", _sym(monomials(nz, dg.lam), G, zero))
         out["lambda"] = lam_u
         dec = Vl * N + lam_l * V.lie(F)
     else:
-        V_u, Vl = prog.free_poly("V", monomials(nz, degV, 1))
+        V_u, Vl = prog.free_poly("V", _sym(monomials(nz, degV, 1), G, zero))
         out["V"] = V_u
         dec = Vl * N + Vl.lie(F) * lam
     if rho is None:
@@ -462,24 +514,24 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         rho_l = LinPoly(Poly.const(rho, nz))
     dec = dec - rho_l * N
     for k, g in enumerate(ps.cuts + ps.valid):
-        _, tau = prog.sos_poly(f"tau{k}", monomials(nz, (dg.D - g.degree) // 2))
+        _, tau = prog.sos_poly_blocks(f"tau{k}", _sym_blocks(monomials(nz, (dg.D - g.degree) // 2), G))
         dec = dec - tau * g
     for j, h in enumerate(ps.equalities):
-        _, psi = prog.free_poly(f"psi{j}", monomials(nz, dg.D - h.degree))
+        _, psi = prog.free_poly(f"psi{j}", _sym(monomials(nz, dg.D - h.degree), G, _char(G, h)))
         dec = dec + psi * h
     prog.add_sos("decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
     for k, g in enumerate(ps.cuts):
         dk = _even_up(max(degV, g.degree))
-        _, sig = prog.sos_poly(f"sigma{k}", monomials(nz, (dk - g.degree) // 2))
+        _, sig = prog.sos_poly_blocks(f"sigma{k}", _sym_blocks(monomials(nz, (dk - g.degree) // 2), G))
         cont = Vl - rho_l + sig * g
         for j, h in enumerate(ps.equalities):
-            _, phi = prog.free_poly(f"phi{k}_{j}", monomials(nz, dk - h.degree))
+            _, phi = prog.free_poly(f"phi{k}_{j}", _sym(monomials(nz, dk - h.degree), G, _char(G, h)))
             cont = cont + phi * h
         prog.add_sos(f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
     if V is None:
         pos = Vl - _zsq(nz) * eps
         for j, h in enumerate(ps.equalities):
-            _, phi = prog.free_poly(f"chi{j}", monomials(nz, degV - h.degree))
+            _, phi = prog.free_poly(f"chi{j}", _sym(monomials(nz, degV - h.degree), G, _char(G, h)))
             pos = pos + phi * h
         prog.add_sos("positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
     return prog, out
@@ -519,18 +571,24 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
 
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
            extra: int) -> LevelResult:
+    """The level problem for a fixed ``V``: ``rho`` is a variable of the SDP (no bisection). With ``center > 0``
+    the same compiled program is re-solved with the cap ``rho <= (1 - center) rho*`` (a cvxpy ``Parameter``): its
+    optimal face is the feasible set at that level, whose relative interior the interior-point solver returns, so
+    ``lambda`` has slack for the V step."""
     degV = _even_up(V.degree)
     prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra)
-    prog.constraints.append(out["rho"].var <= rho_cap)
+    cap = cp.Parameter(nonneg=True, value=float(rho_cap))
+    prog.constraints.append(out["rho"].var <= cap)
     prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
     rho = float(out["rho"].value()[0])
-    checks, t, status, lam = tuple(prog.check()), prog.solve_time, prog.status, out["lambda"].poly()
+    checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
+    t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0:
-        # a multiplier with slack for the V step: feasibility at a lower level (interior-point solution)
-        prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra)
-        prog2.solve(cp.Minimize(0), solver=solver)
-        lam, t = out2["lambda"].poly(), t + prog2.solve_time
-    return LevelResult(rho, lam, checks, t, status)
+        cap.value = max((1 - center) * rho, 0.0)
+        prog.resolve(solver=solver)
+        lam = out["lambda"].poly()
+        t, tc, ts, n = t + prog.solve_time, tc + prog.compile_time, ts + prog.solver_time, 2
+    return LevelResult(rho, lam, checks, t, status, tc, ts, n)
 
 
 def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLARABEL",
@@ -1057,7 +1115,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     cur_vol = vol(V)
     best = (cur_vol, V)
     history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
-                    "sdp_time": lvl.solve_time})
+                    "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
     Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed))
     if Zt.shape[0] == 0:
         raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
@@ -1066,7 +1124,6 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     for degV in range(2, degree + 1, 2):
         if degV < _even_up(V.degree):
             continue
-        M = monomial_matrix(Zt, monomials(ps.nz, degV, 1))
         worse = 0
         stopped_by = "iterations"
         for _ in range(iterations):
@@ -1075,6 +1132,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 break
             try:
                 prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex)
+                M = monomial_matrix(Zt, out["V"].basis)
                 prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
                 t_solve += prog.solve_time
                 Vn = out["V"].poly()
@@ -1091,7 +1149,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             V, lam = Vn / lv.rho, lv.lam
             cur_vol = vol(V)
             history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
-                            "sdp_time": prog.solve_time + lv.solve_time})
+                            "sdp_time": prog.solve_time + lv.solve_time,
+                            "compile_time": prog.compile_time + lv.compile_time,
+                            "solver_time": prog.solver_time + lv.solver_time})
             if cur_vol > best[0]:
                 best, worse = (cur_vol, V), 0
             else:
