@@ -301,6 +301,7 @@ class SOSProgram:
     status: str = ""
     reduce: bool = True             # add_sos reduces its half basis exactly (reduce_basis)
     problem: Any = None             # the cvxpy Problem of the last solve (resolve() re-solves it)
+    full_bases: dict[str, list[Exp]] = field(default_factory=dict)   # add_sos half bases before reduction
     margin: Any = None      # optional cvxpy scalar t: Gram matrices of add_sos constraints satisfy Q >= t I
 
     def enable_margin(self, cap: float = 1.0) -> Any:
@@ -365,6 +366,7 @@ class SOSProgram:
         us, g = self.sos_poly_blocks(name + ".gram", blocks, margin=True)
         self.add_zero(expr - g)
         self.sos_constraints.append((name, expr, us))
+        self.full_bases[name] = [tuple(b) for b in half_basis]
         return us
 
     def gram_sizes(self) -> dict[str, list[int]]:
@@ -455,8 +457,9 @@ class SOSProgram:
         """Gram eigenvalues against coefficient residuals for every SOS constraint (:class:`GramCheck`).
 
         With a block-diagonal Gram matrix, ``min_eig`` is the smallest eigenvalue over the blocks and ``n_basis``
-        the size of the whole basis (the residual matrix ``R`` may couple blocks). A residual on a monomial that no
-        pair of basis monomials reaches cannot be absorbed: it counts as an infinite residual."""
+        the size of the whole basis (the residual matrix ``R`` may couple blocks). A residual on a monomial that the
+        unreduced basis reaches but the reduced one does not cannot be absorbed: it counts as an infinite residual
+        (the reduction never makes a certificate pass that the unreduced program would fail)."""
         out = []
         for name, expr, us in self.sos_constraints:
             nb = sum(len(u.basis) for u in us)
@@ -468,7 +471,9 @@ class SOSProgram:
                 mins.append(float(np.linalg.eigvalsh(Q)[0]))
                 res = res - u.poly()
             reach = _pair_sums([b for u in us for b in u.basis], distinct=False)
-            out_res = max((abs(c) for e, c in res.terms.items() if e not in reach), default=0.0)
+            full = self.full_bases.get(name)
+            lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
+            out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
             r = math.inf if out_res > 0 else res.max_abs_coefficient()
             out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r))
         return out
