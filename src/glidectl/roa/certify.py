@@ -1185,7 +1185,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         t_solve += prog.solve_time
         gram = tuple(prog.check())
         history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
-                        "volume": math.nan, "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
+                        "volume": float(np.prod(hi - lo) * np.mean(_contains(pss, V, rho_c, Xv))),
+                        "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
                         "solver_time": prog.solver_time})
         if all(c.passed for c in gram) or bo >= 0.25:
             break
