@@ -179,23 +179,17 @@ class Poly:
         if exps.shape[0] == 0:
             return np.zeros(Z.shape[:-1], dtype=Z.dtype if np.iscomplexobj(Z) else float)
         dmax = int(exps.max(initial=0))
-        # powers table (..., nvars, dmax + 1); the monomials are products of its entries, evaluated for all terms
-        # at once (chunks of points bound the (points x terms) work arrays)
+        # powers table (..., nvars, dmax + 1)
         pw = np.ones((*Z.shape, dmax + 1), dtype=np.result_type(Z, float))
         for k in range(1, dmax + 1):
             pw[..., k] = pw[..., k - 1] * Z
-        lead = Z.shape[:-1]
-        pw = pw.reshape(-1, self.nvars, dmax + 1)
-        used = [i for i in range(self.nvars) if np.any(exps[:, i])]
-        out = np.empty(pw.shape[0], dtype=pw.dtype)
-        step = max(1, 2**21 // max(1, exps.shape[0]))
-        for a in range(0, pw.shape[0], step):
-            blk = pw[a:a + step]
-            mono = np.ones((blk.shape[0], exps.shape[0]), dtype=pw.dtype)
-            for i in used:
-                mono *= blk[:, i, exps[:, i]]
-            out[a:a + step] = mono @ coef
-        return out.reshape(lead)
+        out = np.zeros(Z.shape[:-1], dtype=pw.dtype)
+        for e, c in zip(exps, coef, strict=True):
+            term = c
+            for i in np.flatnonzero(e):
+                term = term * pw[..., i, e[i]]
+            out = out + term
+        return out
 
     def diff(self, i: int) -> Poly:
         """``d/dz_i``."""
