@@ -21,6 +21,9 @@ Every case reports wall time, total SDP time, the certified volume (``cert.volum
 where the code records them, cvxpy compile and solver times summed over the history. ``--time-limit`` is passed to
 ``certify_roa`` with ``on_budget="stop"`` (the best V so far is certified; 0 = none).
 
+(D) ``--cases glider4_sdp``: one degree-4 level SDP of that glider with and without the exact basis reduction (the
+unreduced program is today's), sizes and times (printed only).
+
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
 ``bench/results/roa.json``.
 """
@@ -85,6 +88,36 @@ def worker(case: str, time_limit: float) -> dict:
     return out
 
 
+def glider4_sdp() -> dict:
+    """One degree-4 level SDP of the 4-state glider (the issue's "104 x 104 Gram matrix, 98 s"), with the exact basis
+    reduction and without it (today's program), in this process: sizes, compile and solver times, and levels."""
+    import glidectl as gc
+    from glidectl.roa import certify as C
+
+    fm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5", K_M=-50.0)).full_model()
+    ps = C.recast(fm)
+    k = C._scaling(ps)
+    pss = C._rescale(ps, k)
+    F = C._scaled(pss)
+    V2 = C._to_scaled(C.lyapunov_quadratic(ps), k)
+    V = V2 + V2 * V2 * 0.1
+    ex = C._auto_extra(ps, None)
+    out = {}
+    for tag, sym in (("reduced", True), ("today_program", False)):
+        t0 = time.perf_counter()
+        prog, o = C._build(pss, F, 4, V=V, lam=None, rho=None, eps=0.0, extra=ex, symmetry=sym)
+        prog.constraints.append(o["rho"].var <= 1e6)
+        build = time.perf_counter() - t0
+        import cvxpy as cp
+
+        rho = prog.solve(cp.Maximize(o["rho"].var[0]))
+        out[tag] = {"gram": prog.gram_sizes(), "build_s": build, "compile_s": prog.compile_time,
+                    "solver_s": prog.solver_time, "solve_s": prog.solve_time, "rho": rho, "status": prog.status}
+        print(json.dumps({tag: out[tag]}), flush=True)
+    out["solve_ratio_reduced_over_today"] = out["reduced"]["solve_s"] / out["today_program"]["solve_s"]
+    return out
+
+
 def run_case(case: str, src: str, time_limit: float, timeout: float) -> dict:
     env = dict(os.environ, PYTHONPATH=src)
     cmd = [sys.executable, __file__, "--worker", case, "--time-limit", str(time_limit)]
@@ -139,6 +172,9 @@ def main() -> None:
     args = ap.parse_args()
     if args.worker:
         print(json.dumps(worker(args.worker, args.time_limit)))
+        return
+    if args.cases == "glider4_sdp":
+        print(json.dumps(glider4_sdp(), indent=1))
         return
     here = str(Path(__file__).resolve().parents[1] / "src")
     out: dict = {"drake": drake_part(args.repeats), "cases": {}}

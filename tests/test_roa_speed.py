@@ -200,3 +200,31 @@ def test_level_center_resolve_reuses_program_and_records_times():
     prog, _out = C._build(pss, F, 2, V=None, lam=lv.lam, rho=0.9 * lv.rho, eps=1e-9, extra=ex)
     prog.solve(cp.Minimize(0))
     assert all(c.max_residual < 1e-6 for c in prog.check())
+
+
+def test_gram_check_refuses_residual_the_reduction_made_unreachable():
+    """A residual on a monomial that only the dropped basis monomials could produce cannot be absorbed: the check
+    reports an infinite residual (the reduction never lets a certificate pass that the full program would fail)."""
+    x, y = Poly.variables(2)
+    prog = SOSProgram(2)
+    prog.add_sos("p", LinPoly(x**2 + y**2), monomials(2, 2))
+    prog.solve(cp.Minimize(0))
+    (ok,) = prog.check()
+    assert ok.passed and ok.max_residual < 1e-8
+    # fake a residual on x^4: only x^2 (dropped: outside the half Newton polytope) reaches it
+    name, expr, us = prog.sos_constraints[0]
+    assert (2, 0) not in {b for u in us for b in u.basis}
+    prog.sos_constraints[0] = (name, expr + Poly({(4, 0): 1e-12}, 2), us)
+    (bad,) = prog.check()
+    assert bad.max_residual == float("inf") and not bad.passed
+
+
+def test_certificate_history_records_compile_and_solver_times():
+    x1, x2 = Poly.variables(2)
+    ps = polynomial_system("odd", ("x1", "x2"), [-x1 + x2, -x1 - x2 + x1**3], box=((-2, -2), (2, 2)))
+    c = gc.certify_roa(ps, degree=2, iterations=1, n_truth=64, n_verify=2000, n_simulate=8)
+    assert c.certified, c.verification.summary()
+    timed = [h for h in c.history if "compile_time" in h]
+    assert timed and all(h["compile_time"] >= 0 and h["solver_time"] > 0 for h in timed)
+    assert timed[-1]["step"].startswith("final margin")
+    assert sum(h["sdp_time"] for h in c.history) == pytest.approx(c.solve_time, rel=1e-6)

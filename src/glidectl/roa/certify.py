@@ -20,6 +20,14 @@ slack) and solves for ``V`` and every other multiplier at ``rho = 1`` with ``V -
 search, the certificate never depends on it. The previous ``V`` stays feasible, the best ``V`` by sampled volume is
 kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as the starting point.
 
+**Speed** (exact, no certificate is weakened): every SOS constraint's half basis is reduced by the Newton polytope,
+diagonal consistency and sign symmetry (:func:`~glidectl.roa.sos.reduce_basis`), and when the system has sign
+symmetries (odd Van der Pol: ``x -> -x``) every unknown is restricted to the matching monomials (:func:`_symmetry`);
+the level is a variable of one SDP (no bisection), its centred re-solve and the back-off re-solves reuse the compiled
+program through cvxpy ``Parameter``s, and the final level is not searched again (the kept ``V`` is normalized by its
+own optimal level). Each history entry records ``sdp_time`` and, split, ``compile_time`` (cvxpy) and
+``solver_time`` (the solver's own time).
+
 Every certificate is stated at a backed-off level ``rho_c = (1 - backoff) rho*``, re-solved at that fixed level
 with the largest Gram eigenvalue margin, and verified a posteriori (:class:`ROAVerification`): exact SOS by Gram
 eigenvalue margins against coefficient residuals, the local conditions at the equilibrium, ``dV/dt < 0`` of the
