@@ -23,8 +23,8 @@ kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as t
 **Speed** (exact, no certificate is weakened): every SOS constraint's half basis is reduced by the Newton polytope,
 diagonal consistency and sign symmetry (:func:`~glidectl.roa.sos.reduce_basis`), and when the system has sign
 symmetries (odd Van der Pol: ``x -> -x``) every unknown is restricted to the matching monomials (:func:`_symmetry`);
-the level is a variable of one SDP (no bisection), its centred re-solve and the back-off re-solves reuse the compiled
-program through cvxpy ``Parameter``s, and the final level is not searched again (the kept ``V`` is normalized by its
+the level is a variable of one SDP (no bisection), the back-off re-solves reuse the compiled program through a cvxpy
+``Parameter`` (the level), and the final level is not searched again (the kept ``V`` is normalized by its
 own optimal level). Each history entry records ``sdp_time`` and, split, ``compile_time`` (cvxpy) and
 ``solver_time`` (the solver's own time).
 
@@ -580,22 +580,20 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
            extra: int) -> LevelResult:
     """The level problem for a fixed ``V``: ``rho`` is a variable of the SDP (no bisection). With ``center > 0``
-    the same compiled program is re-solved with the cap ``rho <= (1 - center) rho*`` (a cvxpy ``Parameter``): its
-    optimal face is the feasible set at that level, whose relative interior the interior-point solver returns, so
-    ``lambda`` has slack for the V step."""
+    a multiplier with slack for the V step is found by a feasibility SDP at ``(1 - center) rho*`` (the
+    interior-point solution of the program built with that fixed level)."""
     degV = _even_up(V.degree)
     prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra)
-    cap = cp.Parameter(nonneg=True, value=float(rho_cap))
-    prog.constraints.append(out["rho"].var <= cap)
+    prog.constraints.append(out["rho"].var <= rho_cap)
     prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
     rho = float(out["rho"].value()[0])
     checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
     t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0:
-        cap.value = max((1 - center) * rho, 0.0)
-        prog.resolve(solver=solver)
-        lam = out["lambda"].poly()
-        t, tc, ts, n = t + prog.solve_time, tc + prog.compile_time, ts + prog.solver_time, 2
+        prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra)
+        prog2.solve(cp.Minimize(0), solver=solver)
+        lam = out2["lambda"].poly()
+        t, tc, ts, n = t + prog2.solve_time, tc + prog2.compile_time, ts + prog2.solver_time, 2
     return LevelResult(rho, lam, checks, t, status, tc, ts, n)
 
 
