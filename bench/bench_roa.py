@@ -24,6 +24,18 @@ where the code records them, cvxpy compile and solver times summed over the hist
 (D) ``--cases glider4_sdp``: one degree-4 level SDP of that glider with and without the exact basis reduction (the
 unreduced program is today's), sizes and times (printed only).
 
+Measured 2026-12-01 on the shared 2-core machine (load 4-10, so absolute times are inflated; ratios are from the
+same run), this branch against its base (``--baseline-src`` of a checkout of 5cf147f):
+
+- vdp: 4.46 s vs 11.54 s (ratio 0.39), SDP time 1.96 s vs 8.46 s (0.23), 96.5 % vs 96.4 % of the true area,
+  certified; the rest of the wall time is the simulated guidance (2048 simulations), the verification
+  (20000 samples, 256 simulations) and the sampled volumes, not SDPs. Target (< 3 s) not met.
+- glider2 (degree 2, 8 iterations): 124.6 s vs 134.2 s (separate runs), same volume 0.1585 (same V path; no basis
+  reduction applies at degree 2).
+- glider4 / ctol: not reached: the degree-4 glider level program has a dense support (no reduction: 104 x 104), one
+  such SDP took 546 s of Clarabel time under load; the CTOL degree-2 program (103 x 103) is unreduced too.
+- Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
+
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
 ``bench/results/roa.json``.
 """
