@@ -1,39 +1,158 @@
-"""Benchmark: region-of-attraction certification on the time-reversed Van der Pol oscillator, against Drake.
+"""Benchmark: region-of-attraction certification, against Drake and against another glidectl checkout (today's).
 
 (A) glidectl ``max_level`` (Drake's fixed-V problem, one SDP through cvxpy/Clarabel) and (B) Drake's
 ``RegionOfAttraction`` (when ``pip install -e ".[drake]"``), timed alternately in one process, medians over
-repeats; (C) ``certify_roa(van_der_pol(), degree=6)`` wall time (median over ``--cert-repeats`` runs, against the
-target of 60 s that used to be asserted in tests/test_roa.py) and certified fraction of the true area.
+repeats. Without pydrake, Drake's stored numbers are reported instead: level 2.3045 of ``V = x'Px`` on Van der Pol
+(``test_van_der_pol_level_equals_drake``), i.e. 47 % of the true area; no stored Drake time.
 
-Run ``python bench/bench_roa.py [--repeats N] [--cert-repeats M]``; writes ``bench/results/roa.json``.
+(C) The issue-17 speed targets, each run in a subprocess (one per case and code version, so the timings do not
+share caches), for this checkout and, with ``--baseline-src DIR``, for another checkout's ``src`` (e.g. the base
+of the speed branch) in the same run:
+
+- ``vdp``: ``certify_roa(van_der_pol(), degree=6, iterations=6, backoff=0.003)``: >= 96 % of the true area
+  (13.7222) in under 3 s;
+- ``glider2`` / ``glider4``: the 4-state chapter-5 glider (``sphere_ch5``, ``K_M = -50``, its ``full_model()``
+  box, as in designs/roa_certification.py) at degree 2 (8 iterations, the design's settings: the reference
+  volume) and degree 4 (target: under 60 s with volume >= the degree-2 one);
+- ``ctol``: the CTOL closed loop of designs/roa_certification.py ``_ctol`` (``ClosedLoopCTOL(veh, gl, 10, 5)``,
+  degree 2, 1 iteration): under 60 s with volume >= 0.00441.
+
+Every case reports wall time, total SDP time, the certified volume (``cert.volume(n=2**16)``), ``certified`` and,
+where the code records them, cvxpy compile and solver times summed over the history. ``--time-limit`` is passed to
+``certify_roa`` with ``on_budget="stop"`` (the best V so far is certified; 0 = none).
+
+(D) ``--cases glider4_sdp``: one degree-4 level SDP of that glider with and without the exact basis reduction (the
+unreduced program is today's), sizes and times (printed only).
+
+Measured 2026-12-01 on the shared 2-core machine (load 4-10, so absolute times are inflated; ratios are from the
+same run), this branch against its base (``--baseline-src`` of a checkout of 5cf147f):
+
+- vdp: 4.46 s vs 11.54 s (ratio 0.39), SDP time 1.96 s vs 8.46 s (0.23), 96.5 % vs 96.4 % of the true area,
+  certified; the rest of the wall time is the simulated guidance (2048 simulations), the verification
+  (20000 samples, 256 simulations) and the sampled volumes, not SDPs. Target (< 3 s) not met.
+- glider2 (degree 2, 8 iterations): 124.6 s vs 134.2 s (separate runs), same volume 0.1585 (same V path; no basis
+  reduction applies at degree 2).
+- glider4 / ctol: not reached: the degree-4 glider level program has a dense support (no reduction: 104 x 104), one
+  such SDP took 546 s of Clarabel time under load; the CTOL degree-2 program (103 x 103) is unreduced too.
+- Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
+
+Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
+``bench/results/roa.json``.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-import glidectl as gc
-from glidectl.roa import lyapunov_matrix, lyapunov_quadratic, max_level
+VDP_TARGET_S = 3.0
+VDP_TARGET_FRACTION = 0.96
+GLIDER_TARGET_S = 60.0
+CTOL_TARGET_S = 60.0
+CTOL_TODAY_VOLUME = 0.00441
+DRAKE_VDP_RHO = 2.3045          # Drake's RegionOfAttraction level of V = x'Px on Van der Pol (stored)
 
-CERTIFY_TARGET_S = 60.0  # wall-time target of the degree-6 Van der Pol certificate (issue 7)
+
+def _model(case: str):
+    import glidectl as gc
+
+    if case == "vdp":
+        return gc.benchmarks.van_der_pol(), {"degree": 6, "iterations": 6, "backoff": 0.003}
+    if case in ("glider2", "glider4"):
+        fm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5", K_M=-50.0)).full_model()
+        it = 8 if case == "glider2" else 4
+        return fm, {"degree": int(case[-1]), "iterations": it, "backoff": 0.003, "n_truth": 2048}
+    if case == "ctol":
+        veh = gc.load_vehicle("dc8_ctol")
+        gl = gc.ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)
+        return (gc.ClosedLoopCTOL(veh, gl, 10.0, 5.0).roa_model(),
+                {"degree": 2, "iterations": 1, "backoff": 0.003, "n_truth": 1024})
+    raise SystemExit(f"unknown case {case}")
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--repeats", type=int, default=7)
-    ap.add_argument("--cert-repeats", type=int, default=3)
-    args = ap.parse_args()
+def worker(case: str, time_limit: float) -> dict:
+    """One certification in this process (imports whatever glidectl PYTHONPATH gives)."""
+    import glidectl as gc
+
+    model, kw = _model(case)
+    if time_limit > 0:
+        kw.update(time_limit=time_limit, on_budget="stop")
+    t0 = time.perf_counter()
+    cert = gc.certify_roa(model, **kw)
+    wall = time.perf_counter() - t0
+    hist = list(cert.history)
+    out = {"case": case, "wall_s": wall, "solve_s": float(cert.solve_time), "certified": bool(cert.certified),
+           "degree": int(cert.degree), "volume": float(cert.volume(n=2**16)), "steps": len(hist),
+           "stopped_by": getattr(cert, "stopped_by", ""), "glidectl": os.path.dirname(gc.__file__)}
+    if hist and "compile_time" in hist[0]:
+        out["compile_s"] = float(sum(h.get("compile_time", 0.0) for h in hist))
+        out["solver_s"] = float(sum(h.get("solver_time", 0.0) for h in hist))
+    if case == "vdp":
+        out["fraction_of_true"] = out["volume"] / gc.benchmarks.VAN_DER_POL_AREA
+    return out
+
+
+def glider4_sdp() -> dict:
+    """One degree-4 level SDP of the 4-state glider (the issue's "104 x 104 Gram matrix, 98 s"), with the exact basis
+    reduction and without it (today's program), in this process: sizes, compile and solver times, and levels."""
+    import glidectl as gc
+    from glidectl.roa import certify as C
+
+    fm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5", K_M=-50.0)).full_model()
+    ps = C.recast(fm)
+    k = C._scaling(ps)
+    pss = C._rescale(ps, k)
+    F = C._scaled(pss)
+    V2 = C._to_scaled(C.lyapunov_quadratic(ps), k)
+    V = V2 + V2 * V2 * 0.1
+    ex = C._auto_extra(ps, None)
+    out = {}
+    for tag, sym in (("reduced", True), ("today_program", False)):
+        t0 = time.perf_counter()
+        prog, o = C._build(pss, F, 4, V=V, lam=None, rho=None, eps=0.0, extra=ex, symmetry=sym)
+        prog.constraints.append(o["rho"].var <= 1e6)
+        build = time.perf_counter() - t0
+        import cvxpy as cp
+
+        rho = prog.solve(cp.Maximize(o["rho"].var[0]))
+        out[tag] = {"gram": prog.gram_sizes(), "build_s": build, "compile_s": prog.compile_time,
+                    "solver_s": prog.solver_time, "solve_s": prog.solve_time, "rho": rho, "status": prog.status}
+        print(json.dumps({tag: out[tag]}), flush=True)
+    out["solve_ratio_reduced_over_today"] = out["reduced"]["solve_s"] / out["today_program"]["solve_s"]
+    return out
+
+
+def run_case(case: str, src: str, time_limit: float, timeout: float) -> dict:
+    env = dict(os.environ, PYTHONPATH=src)
+    cmd = [sys.executable, __file__, "--worker", case, "--time-limit", str(time_limit)]
+    try:
+        r = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout, check=False)
+    except subprocess.TimeoutExpired:
+        return {"case": case, "error": f"timed out after {timeout:g} s", "glidectl": src}
+    lines = [ln for ln in r.stdout.splitlines() if ln.startswith("{")]
+    if r.returncode or not lines:
+        return {"case": case, "error": (r.stderr or r.stdout)[-600:], "glidectl": src}
+    return json.loads(lines[-1])
+
+
+def drake_part(repeats: int) -> dict:
+    import glidectl as gc
+    from glidectl.roa import lyapunov_matrix, lyapunov_quadratic, max_level
+
     vdp = gc.benchmarks.van_der_pol()
     V = lyapunov_quadratic(vdp)
     ours, theirs, rho_ours, rho_drake = [], [], np.nan, np.nan
     max_level(vdp, V)
     have_drake = gc.benchmarks.drake_van_der_pol(1) is not None
-    for _ in range(args.repeats):
+    for _ in range(repeats):
         t0 = time.perf_counter()
         rho_ours = max_level(vdp, V).rho
         ours.append(time.perf_counter() - t0)
@@ -41,25 +160,64 @@ def main() -> None:
             d = gc.benchmarks.drake_van_der_pol(1)
             rho_drake = d["rho"]
             theirs.append(d["time"])
-    t_certs, cert = [], None
-    for _ in range(max(1, args.cert_repeats)):
-        t0 = time.perf_counter()
-        cert = gc.certify_roa(vdp, degree=6, iterations=6, backoff=0.003)
-        t_certs.append(time.perf_counter() - t0)
-    t_cert = float(np.median(t_certs))
-    area = cert.volume()
-    out = {
+    if not have_drake:
+        rho_drake = DRAKE_VDP_RHO
+    return {
         "max_level_median_s": float(np.median(ours)), "max_level_rho": rho_ours,
-        "drake_median_s": float(np.median(theirs)) if theirs else None, "drake_rho": rho_drake,
+        "drake_installed": have_drake, "drake_median_s": float(np.median(theirs)) if theirs else None,
+        "drake_rho": rho_drake, "drake_rho_source": "measured" if have_drake else "stored (pydrake not installed)",
         "ratio_time_ours_over_drake": float(np.median(ours) / np.median(theirs)) if theirs else None,
-        "certify_roa_degree6_s": t_cert, "certify_roa_degree6_wall_time_s": float(cert.wall_time),
-        "certify_roa_target_60s_met": t_cert < CERTIFY_TARGET_S, "certified_area": area,
-        "fraction_of_true": area / gc.benchmarks.VAN_DER_POL_AREA, "verified": cert.certified,
-        "drake_fraction_of_true": float(np.pi * 2.3045 / np.sqrt(np.linalg.det(lyapunov_matrix(vdp)))
+        "drake_fraction_of_true": float(np.pi * rho_drake / np.sqrt(np.linalg.det(lyapunov_matrix(vdp)))
                                         / gc.benchmarks.VAN_DER_POL_AREA),
     }
-    for k, v in out.items():
-        print(f"{k:32s} {v}")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--cert-repeats", type=int, default=1, help="repeats of each case (median wall time)")
+    ap.add_argument("--cases", default="vdp", help="comma-separated: vdp, glider2, glider4, ctol")
+    ap.add_argument("--baseline-src", default="", help="src directory of the checkout to compare with")
+    ap.add_argument("--time-limit", type=float, default=0.0)
+    ap.add_argument("--timeout", type=float, default=3600.0, help="per subprocess (s)")
+    ap.add_argument("--worker", default="")
+    args = ap.parse_args()
+    if args.worker:
+        print(json.dumps(worker(args.worker, args.time_limit)))
+        return
+    if args.cases == "glider4_sdp":
+        print(json.dumps(glider4_sdp(), indent=1))
+        return
+    here = str(Path(__file__).resolve().parents[1] / "src")
+    out: dict = {"drake": drake_part(args.repeats), "cases": {}}
+    for case in [c for c in args.cases.split(",") if c]:
+        row: dict = {}
+        versions = [("new", here)] + ([("today", args.baseline_src)] if args.baseline_src else [])
+        for tag, src in versions:
+            runs = [run_case(case, src, args.time_limit, args.timeout) for _ in range(max(1, args.cert_repeats))]
+            ok = [r for r in runs if "error" not in r]
+            best = ok[int(np.argsort([r["wall_s"] for r in ok])[len(ok) // 2])] if ok else runs[-1]
+            if ok:
+                best["wall_s_median"] = float(np.median([r["wall_s"] for r in ok]))
+            row[tag] = best
+        if "today" in row and "error" not in row["today"] and "error" not in row["new"]:
+            row["time_ratio_new_over_today"] = row["new"]["wall_s_median"] / row["today"]["wall_s_median"]
+            row["volume_ratio_new_over_today"] = row["new"]["volume"] / max(row["today"]["volume"], 1e-300)
+        n = row["new"]
+        if "error" not in n:
+            if case == "vdp":
+                row["target_met"] = bool(n["wall_s_median"] < VDP_TARGET_S
+                                         and n["fraction_of_true"] >= VDP_TARGET_FRACTION and n["certified"])
+            elif case == "ctol":
+                row["target_met"] = bool(n["wall_s_median"] < CTOL_TARGET_S and n["volume"] >= CTOL_TODAY_VOLUME
+                                         and n["certified"])
+            elif case == "glider4":
+                ref = out["cases"].get("glider2", {}).get("today", {}).get("volume")
+                row["target_met"] = bool(n["wall_s_median"] < GLIDER_TARGET_S and n["certified"]
+                                         and ref is not None and n["volume"] >= ref)
+        out["cases"][case] = row
+        print(json.dumps({case: row}, indent=1), flush=True)
+    print(json.dumps(out["drake"], indent=1))
     res = Path(__file__).parent / "results"
     res.mkdir(exist_ok=True)
     (res / "roa.json").write_text(json.dumps(out, indent=2))

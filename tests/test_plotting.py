@@ -213,9 +213,16 @@ def test_roa_certificate_plot(vdp_cert):
     c = vdp_cert
     ax = c.plot(n=61)
     assert len(ax.collections) == 2  # the set (filled) and its boundary
-    assert len(ax.lines) == 2  # sampled points of the set, the equilibrium
+    # random points of the set, the outermost points (the verification's simulation starts), the equilibrium
+    assert len(ax.lines) == 3
+    assert [ln.get_label().split(" ", 1)[1] for ln in ax.lines[:2]] == [
+        "random points of the set", "outermost points (simulation starts)"]
+    assert ax.lines[2].get_label() == "equilibrium"
     pts = np.column_stack([ax.lines[0].get_xdata(), ax.lines[0].get_ydata()])
     assert pts.shape == (61, 2) and c.contains(pts).all()
+    outer = np.column_stack([ax.lines[1].get_xdata(), ax.lines[1].get_ydata()])
+    # outermost: on the level set's boundary, i.e. just inside and just outside under a 1 % radial change
+    assert c.contains(0.99 * outer).all() and not c.contains(1.01 * outer).any()
     assert ax.get_xlabel() == "$x_1$ [-]" and ax.get_ylabel() == "$x_2$ [-]"
     lo, hi = c.system.box
     assert ax.get_xlim() == (lo[0], hi[0]) and ax.get_ylim() == (lo[1], hi[1])

@@ -250,9 +250,13 @@ def test_estimate_sos_size_counts_what_is_built():
         size = gc.estimate_sos_size(system, degree)
         ex = _auto_extra(system, None)
         F = _scaled(system)
-        prog, _ = _build(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex)
+        prog, _ = _build(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex,
+                         symmetry=False)
         built = sorted(u.var.shape[0] for u in prog.unknowns if u.gram)
         assert built == sorted(k for _, k in size.gram), (system.name, size.gram)
+        # the exact basis reduction only shrinks the program: the estimate is an upper bound of what is solved
+        red, _ = _build(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex)
+        assert sum(u.var.shape[0] ** 2 for u in red.unknowns if u.gram) <= sum(k * k for k in built)
         assert size.n_gram_entries == sum(k * (k + 1) // 2 for k in built)
         assert len(prog.constraints) > 0 and size.n_constraints > 0 and size.bytes > 0
     big = gc.estimate_sos_size(VDP, 100)
@@ -269,7 +273,8 @@ def test_time_limit_raises_or_certifies_the_best_so_far():
         gc.certify_roa(VDP, degree=4, time_limit=0.01, **cheap)
     c = gc.certify_roa(VDP, degree=4, time_limit=0.01, on_budget="stop", **cheap)
     assert c.stopped_by == "time_limit" and c.certified and c.degree == 2
-    assert "time limit" in c.history[-1]["step"]
+    steps = [h["step"] for h in c.history]
+    assert "time limit" in steps[-1] or ("time limit" in steps[-2] and steps[-1].startswith("final margin"))
 
 
 def test_contains_checks_n_path_and_shapes(vdp_cert):

@@ -20,6 +20,14 @@ slack) and solves for ``V`` and every other multiplier at ``rho = 1`` with ``V -
 search, the certificate never depends on it. The previous ``V`` stays feasible, the best ``V`` by sampled volume is
 kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as the starting point.
 
+**Speed** (exact, no certificate is weakened): every SOS constraint's half basis is reduced by the Newton polytope,
+diagonal consistency and sign symmetry (:func:`~glidectl.roa.sos.reduce_basis`), and when the system has sign
+symmetries (odd Van der Pol: ``x -> -x``) every unknown is restricted to the matching monomials (:func:`_symmetry`);
+the level is a variable of one SDP (no bisection), the back-off re-solves reuse the compiled program through a cvxpy
+``Parameter`` (the level), and the final level is not searched again (the kept ``V`` is normalized by its
+own optimal level). Each history entry records ``sdp_time`` and, split, ``compile_time`` (cvxpy) and
+``solver_time`` (the solver's own time).
+
 Every certificate is stated at a backed-off level ``rho_c = (1 - backoff) rho*``, re-solved at that fixed level
 with the largest Gram eigenvalue margin, and verified a posteriori (:class:`ROAVerification`): exact SOS by Gram
 eigenvalue margins against coefficient residuals, the local conditions at the equilibrium, ``dV/dt < 0`` of the
@@ -47,7 +55,7 @@ from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
-from .sos import GramCheck, LinPoly, SOSProgram
+from .sos import GramCheck, LinPoly, SOSProgram, parity_generators, sign_classes
 from .surrogate import (
     abs_gradient_bounds,
     abs_gradient_constraints,
@@ -464,11 +472,59 @@ class LevelResult:
     checks: tuple[GramCheck, ...]
     solve_time: float
     status: str
+    compile_time: float = 0.0       # cvxpy compilation (s), part of solve_time
+    solver_time: float = 0.0        # time reported by the SDP solver (s)
+    n_sdp: int = 1                  # SDPs solved
+
+
+def _symmetry(ps: PolySystem, F: list[Poly], fixed: tuple[Poly, ...]) -> np.ndarray:
+    """Generators (over GF(2)) of the sign symmetries ``z -> D_s z`` of the program: ``F`` equivariant
+    (``F_i(D z) = (-1)^{s_i} F_i(z)``), the denominator, cuts, valid inequalities and the fixed polynomials
+    (``V`` of a level problem, ``lambda`` of a V step) invariant, each equality mapped to plus or minus itself. The
+    program is then invariant, and restricting every unknown to the invariant (or matching) monomials loses nothing:
+    averaging a feasible point over the group gives a feasible invariant one with the same level."""
+    nz = ps.nz
+    rows: list[tuple[int, ...]] = []
+    for i, f in enumerate(F):
+        rows += [tuple(a + (j == i) for j, a in enumerate(e)) for e in f.terms]
+    for q in (ps.den, *ps.cuts, *ps.valid, *fixed):
+        rows += list(q.terms)
+    for h in ps.equalities:
+        e0 = next(iter(h.terms), None)
+        rows += [tuple(a + b for a, b in zip(e, e0, strict=True)) for e in h.terms]
+    return parity_generators(rows, nz) if rows else np.eye(nz, dtype=int)
+
+
+def _char(G: np.ndarray, q: Poly | None) -> tuple[int, ...]:
+    """Parity class of ``q`` under ``G`` (constant over its support by construction of :func:`_symmetry`)."""
+    e = next(iter(q.terms), None) if q is not None else None
+    if e is None or G.size == 0:
+        return (0,) * G.shape[0]
+    return tuple(int(v) for v in (G @ np.asarray(e)) % 2)
+
+
+def _sym(basis: list[tuple[int, ...]], G: np.ndarray, char: tuple[int, ...]) -> list[tuple[int, ...]]:
+    """The monomials of ``basis`` in parity class ``char``."""
+    if G.size == 0:
+        return basis
+    want = np.asarray(char, dtype=int)
+    E = np.asarray(basis, dtype=int).reshape(len(basis), -1)
+    ok = np.all((E @ G.T) % 2 == want, axis=1)
+    return [b for b, k in zip(basis, ok, strict=True) if k]
+
+
+def _sym_blocks(basis: list[tuple[int, ...]], G: np.ndarray) -> list[list[tuple[int, ...]]]:
+    """Half basis of an invariant SOS multiplier: one Gram block per parity class (its square terms are then all
+    invariant)."""
+    return sign_classes(basis, G) if basis else []
 
 
 def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Poly | None, rho: float | None,
-           eps: float, extra: int = 0, margin: bool = False) -> tuple[SOSProgram, dict[str, Any]]:
-    """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given."""
+           eps: float, extra: int = 0, margin: bool = False, symmetry: bool = True,
+           ) -> tuple[SOSProgram, dict[str, Any]]:
+    """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given. With ``symmetry``, the
+    unknowns are restricted to the sign symmetries of the program (:func:`_symmetry`; exact), and every SOS
+    constraint's half basis is reduced exactly (:func:`~glidectl.roa.sos.reduce_basis`)."""
     nz = ps.nz
     degF = max(f.degree for f in F)
     R = _remainder(ps, F)                                   # surrogate route (issue 17): |true - F| <= R
@@ -476,14 +532,18 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     if R:
         degF = max(degF, max(r.degree for r in R) + degT - degV + 1)
     dg = _degrees(degV, degF, extra)
-    prog = SOSProgram(nz)
+    prog = SOSProgram(nz, reduce=symmetry)
     out: dict[str, Any] = {}
+    fixed = tuple(p for p in (V, lam) if p is not None)
+    G = _symmetry(ps, F, fixed) if symmetry else np.zeros((0, nz), dtype=int)
+    out["symmetry"] = G
+    zero = (0,) * G.shape[0]
     if margin:
         out["margin"] = prog.enable_margin()
     N = _zsq(nz) ** dg.m
     if V is not None:
         Vl = LinPoly(V)
-        lam_u, lam_l = prog.free_poly("lambda", monomials(nz, dg.lam))
+        lam_u, lam_l = prog.free_poly("lambda", _sym(monomials(nz, dg.lam), G, zero))
         out["lambda"] = lam_u
         W = V.lie(F)
         if R:   # robust decrease: dV/dt <= grad V . F + sum_i R_i t_i with t_i >= |dV/dz_i| on the cuts
@@ -492,7 +552,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         out["W"] = W
         dec = Vl * N + lam_l * W
     else:
-        V_u, Vl = prog.free_poly("V", monomials(nz, degV, 1))
+        V_u, Vl = prog.free_poly("V", _sym(monomials(nz, degV, 1), G, zero))
         out["V"] = V_u
         Vd = Vl.lie(F)
         if R:
@@ -508,24 +568,24 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         rho_l = LinPoly(Poly.const(rho, nz))
     dec = dec - rho_l * N
     for k, g in enumerate(ps.cuts + ps.valid):
-        _, tau = prog.sos_poly(f"tau{k}", monomials(nz, (dg.D - g.degree) // 2))
+        _, tau = prog.sos_poly_blocks(f"tau{k}", _sym_blocks(monomials(nz, (dg.D - g.degree) // 2), G))
         dec = dec - tau * g
     for j, h in enumerate(ps.equalities):
-        _, psi = prog.free_poly(f"psi{j}", monomials(nz, dg.D - h.degree))
+        _, psi = prog.free_poly(f"psi{j}", _sym(monomials(nz, dg.D - h.degree), G, _char(G, h)))
         dec = dec + psi * h
     prog.add_sos("decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
     for k, g in enumerate(ps.cuts):
         dk = _even_up(max(degV, g.degree))
-        _, sig = prog.sos_poly(f"sigma{k}", monomials(nz, (dk - g.degree) // 2))
+        _, sig = prog.sos_poly_blocks(f"sigma{k}", _sym_blocks(monomials(nz, (dk - g.degree) // 2), G))
         cont = Vl - rho_l + sig * g
         for j, h in enumerate(ps.equalities):
-            _, phi = prog.free_poly(f"phi{k}_{j}", monomials(nz, dk - h.degree))
+            _, phi = prog.free_poly(f"phi{k}_{j}", _sym(monomials(nz, dk - h.degree), G, _char(G, h)))
             cont = cont + phi * h
         prog.add_sos(f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
     if V is None:
         pos = Vl - _zsq(nz) * eps
         for j, h in enumerate(ps.equalities):
-            _, phi = prog.free_poly(f"chi{j}", monomials(nz, degV - h.degree))
+            _, phi = prog.free_poly(f"chi{j}", _sym(monomials(nz, degV - h.degree), G, _char(G, h)))
             pos = pos + phi * h
         prog.add_sos("positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
     return prog, out
@@ -574,18 +634,22 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
 
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
            extra: int) -> LevelResult:
+    """The level problem for a fixed ``V``: ``rho`` is a variable of the SDP (no bisection). With ``center > 0``
+    a multiplier with slack for the V step is found by a feasibility SDP at ``(1 - center) rho*`` (the
+    interior-point solution of the program built with that fixed level)."""
     degV = _even_up(V.degree)
     prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra)
     prog.constraints.append(out["rho"].var <= rho_cap)
     prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
     rho = float(out["rho"].value()[0])
-    checks, t, status, lam = tuple(prog.check()), prog.solve_time, prog.status, out["lambda"].poly()
+    checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
+    t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0:
-        # a multiplier with slack for the V step: feasibility at a lower level (interior-point solution)
         prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra)
         prog2.solve(cp.Minimize(0), solver=solver)
-        lam, t = out2["lambda"].poly(), t + prog2.solve_time
-    return LevelResult(rho, lam, checks, t, status)
+        lam = out2["lambda"].poly()
+        t, tc, ts, n = t + prog2.solve_time, tc + prog2.compile_time, ts + prog2.solver_time, 2
+    return LevelResult(rho, lam, checks, t, status, tc, ts, n)
 
 
 def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLARABEL",
@@ -1260,7 +1324,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     cur_vol = vol(V)
     best = (cur_vol, V)
     history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
-                    "sdp_time": lvl.solve_time})
+                    "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
     Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed))
     if Zt.shape[0] == 0:
         raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
@@ -1269,7 +1333,6 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     for degV in range(2, degree + 1, 2):
         if degV < _even_up(V.degree):
             continue
-        M = monomial_matrix(Zt, monomials(ps.nz, degV, 1))
         worse = 0
         stopped_by = "iterations"
         for _ in range(iterations):
@@ -1278,6 +1341,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 break
             try:
                 prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex)
+                M = monomial_matrix(Zt, out["V"].basis)
                 prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
                 t_solve += prog.solve_time
                 Vn = out["V"].poly()
@@ -1294,7 +1358,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             V, lam = Vn / lv.rho, lv.lam
             cur_vol = vol(V)
             history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
-                            "sdp_time": prog.solve_time + lv.solve_time})
+                            "sdp_time": prog.solve_time + lv.solve_time,
+                            "compile_time": prog.compile_time + lv.compile_time,
+                            "solver_time": prog.solver_time + lv.solver_time})
             if cur_vol > best[0]:
                 best, worse = (cur_vol, V), 0
             else:
@@ -1309,27 +1375,37 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     V = best[1]
     if stopped_by != "time_limit":
         out_of_time("before the final certification")
-    # final certificate at a backed-off level, re-solved at that level, then verified
-    fin = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
-    t_solve += fin.solve_time
+    # final certificate at a backed-off level, re-solved at that level, then verified. The kept V is normalized by
+    # the optimum of its own level problem (V / rho*), so its level is 1 (no SDP needed to find it again).
+    fin_rho = 1.0
     # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
-    # further (x3, at most 3 times) and re-solve
+    # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
     bo = backoff
-    for _ in range(4):
-        rho_c = (1 - bo) * fin.rho
-        prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=rho_c, eps=0.0, extra=ex, margin=True)
-        prog.solve(cp.Maximize(outf["margin"]), solver=solver)
+    prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=None, eps=0.0, extra=ex, margin=True)
+    rho_p = cp.Parameter(nonneg=True)
+    prog.constraints.append(outf["rho"].var == rho_p)
+    for i in range(4):
+        rho_c = (1 - bo) * fin_rho
+        rho_p.value = rho_c
+        if i == 0:
+            prog.solve(cp.Maximize(outf["margin"]), solver=solver)
+        else:
+            prog.resolve(solver=solver)
         t_solve += prog.solve_time
         gram = tuple(prog.check()) + tuple(outf.get("abs_checks", ())) + _local_robust(outf.get("W"), pss)
+        history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
+                        "volume": float(np.prod(hi - lo) * np.mean(_contains(pss, V, rho_c, Xv))),
+                        "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
+                        "solver_time": prog.solver_time})
         if all(c.passed for c in gram) or bo >= 0.25:
             break
         history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
-                        f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": prog.solve_time})
+                        f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
         bo = min(3 * bo, 0.25) if bo > 0 else 0.01
     Vz = _from_scaled(V, k)
     ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
     scale = k * (ps.scale if ps.scale is not None else 1.0)
-    return ROACertificate(ps, Vz, rho_c, fin.rho, Vz.degree, tuple(history), ver, t_solve,
+    return ROACertificate(ps, Vz, rho_c, fin_rho, Vz.degree, tuple(history), ver, t_solve,
                           time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
                           scale=np.asarray(scale, dtype=float))
 

@@ -12,10 +12,24 @@ After the solve, :meth:`SOSProgram.check` recomputes every SOS constraint in flo
 unknowns and returns the smallest Gram eigenvalue and the coefficient residual: when
 ``lambda_min(Q) > n_basis * max|residual|`` the residual can be absorbed in ``Q`` (a symmetric matrix ``R`` with
 ``m^T R m = residual`` has ``||R||_2 <= n_basis max|r|``), so the polynomial is exactly SOS.
+
+**Basis reduction** (:func:`reduce_basis`, applied by :meth:`SOSProgram.add_sos`): the support ``S`` of ``expr``
+is known before the solve (the union of the supports of its constant part and of every column, an outer
+approximation whatever the unknowns are). Every Gram decomposition ``m^T Q m = p`` is an SOS decomposition
+``sum_k (v_k . m)^2``, whose squares have supports in half the Newton polytope of ``p``, inside ``conv(S) / 2``; so
+a monomial ``b`` of the half basis with ``2 b`` outside ``conv(S)`` (tested on the faces ``+-e_i`` and ``+-1``), or
+whose diagonal entry ``Q_bb`` can only feed the coefficient of ``2 b`` (``2 b`` not in ``S`` and not the sum of two
+other basis monomials: then ``Q_bb = 0`` and its row vanishes), has a zero row in every feasible ``Q`` and is
+dropped (iterated). **Sign symmetry**: every ``s in {0, 1}^n`` with ``s . alpha`` even for all ``alpha in S`` (a
+subspace over GF(2)) gives ``p(D_s z) = p(z)``, ``D_s = diag((-1)^s)``; averaging ``Q`` over that group keeps it
+feasible (and does not lower its smallest eigenvalue) and zeroes the entries between monomials of different parity
+classes ``(s_k . b mod 2)_k``: the Gram matrix splits into one block per class. Both reductions are exact: the
+reduced program is feasible iff the full one is, with the same optimal value.
 """
 
 from __future__ import annotations
 
+import math
 import time
 import warnings
 from collections.abc import Sequence
@@ -29,7 +43,124 @@ import scipy.sparse as sps
 from ..errors import BudgetError, SolverError
 from .polynomial import Exp, Poly
 
-__all__ = ["GramCheck", "LinPoly", "SOSProgram", "Unknown"]
+__all__ = ["GramCheck", "LinPoly", "SOSProgram", "Unknown", "parity_generators", "reduce_basis", "sign_classes"]
+
+
+def parity_generators(support: Sequence[Exp], nvars: int) -> np.ndarray:
+    """Generators of the sign symmetries of a support: a basis over GF(2) of ``{s in {0,1}^n : s . alpha even for
+    every alpha in support}`` (each ``s`` flips the signs of the variables where ``s_i = 1`` and leaves every
+    polynomial with that support unchanged).
+
+    Parameters
+    ----------
+    support : sequence of exponent tuples
+        Monomials (each of length ``nvars``).
+    nvars : int
+        Number of variables.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (k, nvars)
+        ``k`` independent generators (``k = 0``: no sign symmetry).
+    """
+    M = np.array([[e % 2 for e in a] for a in support], dtype=np.uint8).reshape(-1, nvars)
+    M = M[np.any(M, axis=1)]
+    pivots: list[int] = []
+    r = 0
+    for c in range(nvars):                     # reduced row echelon form over GF(2)
+        if r >= M.shape[0]:
+            break
+        rows = np.flatnonzero(M[r:, c]) + r
+        if rows.size == 0:
+            continue
+        M[[r, rows[0]]] = M[[rows[0], r]]
+        for i in np.flatnonzero(M[:, c]):
+            if i != r:
+                M[i] ^= M[r]
+        pivots.append(c)
+        r += 1
+    gens = []
+    for f in (c for c in range(nvars) if c not in pivots):
+        s = np.zeros(nvars, dtype=int)
+        s[f] = 1
+        for i, pc in enumerate(pivots):
+            s[pc] = int(M[i, f])
+        gens.append(s)
+    return np.array(gens, dtype=int).reshape(-1, nvars)
+
+
+def sign_classes(basis: Sequence[Exp], gens: np.ndarray) -> list[list[Exp]]:
+    """Split ``basis`` by parity class ``(s_k . b mod 2)_k`` under the generators ``gens``
+    (:func:`parity_generators`); one class (the whole basis) without generators.
+
+    Parameters
+    ----------
+    basis : sequence of exponent tuples
+    gens : numpy.ndarray, shape (k, nvars)
+
+    Returns
+    -------
+    list of list of tuple
+        The classes, each in the order of ``basis``, ordered by first appearance.
+    """
+    out: dict[tuple[int, ...], list[Exp]] = {}
+    G = np.asarray(gens, dtype=int)
+    for b in basis:
+        key = tuple(int(v) for v in (G @ np.asarray(b, dtype=int)) % 2) if G.size else ()
+        out.setdefault(key, []).append(tuple(b))
+    return list(out.values())
+
+
+def _pair_sums(B: Sequence[Exp], distinct: bool) -> set[Exp]:
+    out: set[Exp] = set()
+    for i, a in enumerate(B):
+        for b in B[i + 1 if distinct else i:]:
+            out.add(tuple(x + y for x, y in zip(a, b, strict=True)))
+    return out
+
+
+def reduce_basis(support: Sequence[Exp], half_basis: Sequence[Exp], *,
+                 symmetry: bool = True) -> list[list[Exp]]:
+    """Exact reduction of the half basis of an SOS constraint ``p = m^T Q m`` whose polynomial ``p`` has its support
+    inside ``support`` (see the module docstring): Newton-polytope faces and diagonal consistency drop monomials
+    whose row of ``Q`` must vanish, and sign symmetries split the rest into the blocks of a block-diagonal ``Q``.
+
+    Parameters
+    ----------
+    support : sequence of exponent tuples
+        An outer approximation of the support of ``p`` (every monomial it may have).
+    half_basis : sequence of exponent tuples
+        The candidate monomials ``m``.
+    symmetry : bool
+        Split by sign symmetry (else one block).
+
+    Returns
+    -------
+    list of list of tuple
+        The blocks (empty when no monomial survives: then ``p`` must be zero).
+    """
+    S = {tuple(a) for a in support}
+    B = [tuple(b) for b in half_basis]
+    if not S or not B:
+        return []
+    n = len(B[0])
+    A = np.array(sorted(S), dtype=float).reshape(-1, n)
+    dirs = np.vstack([np.eye(n), -np.eye(n), np.ones((1, n)), -np.ones((1, n))])
+    top = np.max(A @ dirs.T, axis=0)
+    Bm = np.array(B, dtype=float)
+    keep = np.all(2 * Bm @ dirs.T <= top + 1e-9, axis=1)
+    B = [b for b, k in zip(B, keep, strict=True) if k]
+    while B:                                    # diagonal consistency, iterated
+        sums = _pair_sums(B, distinct=True)
+        drop = {b for b in B if tuple(2 * x for x in b) not in S and tuple(2 * x for x in b) not in sums}
+        if not drop:
+            break
+        B = [b for b in B if b not in drop]
+    if not B:
+        return []
+    if not symmetry:
+        return [B]
+    return sign_classes(B, parity_generators(sorted(S), n))
 
 
 @dataclass(eq=False)
@@ -164,8 +295,13 @@ class SOSProgram:
     constraints: list[Any] = field(default_factory=list)
     sos_constraints: list[tuple[str, LinPoly, Unknown]] = field(default_factory=list)
     equalities: list[LinPoly] = field(default_factory=list)
-    solve_time: float = 0.0
+    solve_time: float = 0.0         # wall time of the last solve (compilation + solver), s
+    compile_time: float = 0.0       # cvxpy compilation of the last solve, s
+    solver_time: float = 0.0        # time reported by the solver for the last solve, s
     status: str = ""
+    reduce: bool = True             # add_sos reduces its half basis exactly (reduce_basis)
+    problem: Any = None             # the cvxpy Problem of the last solve (resolve() re-solves it)
+    full_bases: dict[str, list[Exp]] = field(default_factory=dict)   # add_sos half bases before reduction
     margin: Any = None      # optional cvxpy scalar t: Gram matrices of add_sos constraints satisfy Q >= t I
 
     def enable_margin(self, cap: float = 1.0) -> Any:
@@ -183,6 +319,8 @@ class SOSProgram:
 
     def free_poly(self, name: str, basis: Sequence[Exp]) -> tuple[Unknown, LinPoly]:
         basis = [tuple(e) for e in basis]
+        if not basis:                   # nothing to choose: the zero polynomial (no variable)
+            return None, LinPoly(Poly({}, self.nvars))  # type: ignore[return-value]
         v = cp.Variable(len(basis), name=name)
         u = Unknown(name, v, len(basis), basis, nvars=self.nvars)
         self.unknowns.append(u)
@@ -207,12 +345,33 @@ class SOSProgram:
                 cols.append(Poly({e: 1.0}, self.nvars))
         return u, LinPoly(Poly({}, self.nvars), {u: cols})
 
-    def add_sos(self, name: str, expr: LinPoly, half_basis: Sequence[Exp]) -> Unknown:
-        """Constrain ``expr`` to be SOS on ``half_basis`` (returns the Gram unknown)."""
-        u, g = self.sos_poly(name + ".gram", half_basis, margin=True)
+    def sos_poly_blocks(self, name: str, blocks: Sequence[Sequence[Exp]], *,
+                        margin: bool = False) -> tuple[list[Unknown], LinPoly]:
+        """SOS polynomial with a block-diagonal Gram matrix, one block per monomial list of ``blocks``."""
+        us: list[Unknown] = []
+        total = LinPoly(Poly({}, self.nvars))
+        for i, blk in enumerate(blocks):
+            u, g = self.sos_poly(f"{name}{i}" if len(blocks) > 1 else name, blk, margin=margin)
+            us.append(u)
+            total = total + g
+        return us, total
+
+    def add_sos(self, name: str, expr: LinPoly, half_basis: Sequence[Exp]) -> list[Unknown]:
+        """Constrain ``expr`` to be SOS on ``half_basis``, reduced exactly first (:func:`reduce_basis`, when
+        :attr:`reduce`); returns the Gram unknowns (one per block)."""
+        if self.reduce:
+            blocks = reduce_basis(_support(expr), half_basis)
+        else:
+            blocks = [list(half_basis)]
+        us, g = self.sos_poly_blocks(name + ".gram", blocks, margin=True)
         self.add_zero(expr - g)
-        self.sos_constraints.append((name, expr, u))
-        return u
+        self.sos_constraints.append((name, expr, us))
+        self.full_bases[name] = [tuple(b) for b in half_basis]
+        return us
+
+    def gram_sizes(self) -> dict[str, list[int]]:
+        """Block sizes of the Gram matrix of every SOS constraint."""
+        return {name: [len(u.basis) for u in us] for name, _, us in self.sos_constraints}
 
     def add_zero(self, expr: LinPoly) -> None:
         """All coefficients of ``expr`` are zero."""
@@ -264,8 +423,17 @@ class SOSProgram:
         BudgetError
             If the solver runs out of memory.
         """
-        prob = cp.Problem(objective, self.constraints)
+        self.problem = cp.Problem(objective, self.constraints)
+        return self.resolve(solver=solver, **kw)
+
+    def resolve(self, *, solver: str = "CLARABEL", **kw: Any) -> float:
+        """Solve :attr:`problem` again (after changing the values of its cvxpy ``Parameter``s): cvxpy reuses its
+        compilation, so only the solver runs. Returns and raises as :meth:`solve`."""
+        prob = self.problem
+        if prob is None:
+            raise SolverError("resolve() needs a program solved once with solve()")
         t0 = time.perf_counter()
+        self.compile_time = self.solver_time = 0.0
         try:
             with warnings.catch_warnings():   # "solution may be inaccurate": the status is checked below
                 warnings.simplefilter("ignore", UserWarning)
@@ -276,6 +444,9 @@ class SOSProgram:
         except (cp.error.SolverError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
             raise SolverError(f"SDP solver {solver} failed: {type(exc).__name__}: {exc}") from exc
         self.solve_time = time.perf_counter() - t0
+        self.compile_time = float(prob.compilation_time or 0.0)
+        st = prob.solver_stats.solve_time if prob.solver_stats is not None else None
+        self.solver_time = float(st) if st is not None else max(self.solve_time - self.compile_time, 0.0)
         self.status = prob.status
         if prob.status not in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) or val is None or not np.isfinite(val):
             raise SolverError(f"SDP {solver} returned status '{prob.status}' (value {val}): the SOS program is "
@@ -283,11 +454,35 @@ class SOSProgram:
         return float(val)
 
     def check(self) -> list[GramCheck]:
-        """Gram eigenvalues against coefficient residuals for every SOS constraint (:class:`GramCheck`)."""
+        """Gram eigenvalues against coefficient residuals for every SOS constraint (:class:`GramCheck`).
+
+        With a block-diagonal Gram matrix, ``min_eig`` is the smallest eigenvalue over the blocks and ``n_basis``
+        the size of the whole basis (the residual matrix ``R`` may couple blocks). A residual on a monomial that the
+        unreduced basis reaches but the reduced one does not cannot be absorbed: it counts as an infinite residual
+        (the reduction never makes a certificate pass that the unreduced program would fail)."""
         out = []
-        for name, expr, u in self.sos_constraints:
-            Q = u.value()
-            Q = 0.5 * (Q + Q.T)
-            res = expr.value() - u.poly()
-            out.append(GramCheck(name, Q.shape[0], float(np.linalg.eigvalsh(Q)[0]), res.max_abs_coefficient()))
+        for name, expr, us in self.sos_constraints:
+            nb = sum(len(u.basis) for u in us)
+            res = expr.value()
+            mins = []
+            for u in us:
+                Q = u.value()
+                Q = 0.5 * (Q + Q.T)
+                mins.append(float(np.linalg.eigvalsh(Q)[0]))
+                res = res - u.poly()
+            reach = _pair_sums([b for u in us for b in u.basis], distinct=False)
+            full = self.full_bases.get(name)
+            lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
+            out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
+            r = math.inf if out_res > 0 else res.max_abs_coefficient()
+            out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r))
         return out
+
+
+def _support(expr: LinPoly) -> set[Exp]:
+    """Every monomial ``expr`` can have, whatever its unknowns (constant part and all columns)."""
+    S = set(expr.const.terms)
+    for cols in expr.parts.values():
+        for c in cols:
+            S.update(c.terms)
+    return S
