@@ -14,7 +14,7 @@ budget estimate says it fits):
 
 Usage::
 
-    cd /work/main && python bench/bench_roa_general.py [--loops rogue-lqr,sphere-torque,pendulum] [--frac 0.2]
+    python bench/bench_roa_general.py [--loops rogue-lqr,sphere-torque,pendulum] [--frac 0.2]
         [--degrees 2,4] [--repeats 1]
 
 Writes ``bench/results/roa_general.json``. One repeat by default (a certification is minutes for the 10-state loop;
