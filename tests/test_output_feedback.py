@@ -290,3 +290,27 @@ def test_to_iosys_matches_simulate_on_the_open_loop_glider():
     np.testing.assert_allclose(r.states[:, -1], run.x[-1], atol=1e-7)
     with pytest.raises(gc.ArgumentTypeError, match="glidectl model"):
         gc.to_iosys(object())
+
+
+def test_longitudinal_models_export_to_python_control():
+    """``LongitudinalGlider.to_iosys()`` (and the acceleration and glide-path forms) are python-control systems with
+    the model's names whose ``input_output_response`` follows ``gc.simulate`` at the trim with a constant input."""
+    import control
+
+    veh = gc.load_vehicle("rogue")
+    g = gc.steady_glide(veh, 0.3, -np.pi / 4, r_p3=0.05)
+    model = gc.LongitudinalGlider(veh)
+    sys = model.to_iosys()
+    assert isinstance(sys, control.NonlinearIOSystem)
+    assert tuple(sys.state_labels) == tuple(model.state_names) and tuple(sys.input_labels) == tuple(model.input_names)
+    for m in (gc.AccelerationControlledGlider(veh), gc.GlidePathModel(model, g.gamma)):
+        s2 = m.to_iosys(name="x")
+        assert tuple(s2.state_labels) == tuple(m.state_names) and s2.name == "x"
+    x0 = g.force_state()
+    x0[2] += 0.01
+    t = np.linspace(0.0, 5.0, 51)
+    u = np.zeros(len(model.input_names))
+    resp = control.input_output_response(sys, t, np.tile(u[:, None], (1, len(t))), x0,
+                                         solve_ivp_kwargs={"rtol": 1e-9, "atol": 1e-12})
+    sim = gc.simulate(model, x0, 5.0, lambda tt, x: u, t_eval=t, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(resp.states.T, sim.x, rtol=1e-6, atol=1e-8)

@@ -110,6 +110,28 @@ class LongitudinalGlider:
         Y = (m3 - m1) * v1 * v3 - mbar * g * (rP1 * c + rP3 * s) + M - Om * (rP1 * PP1 + rP3 * PP3)
         return X1, X3, Y, {"m1": m1, "m3": m3, "alpha": alpha, "L": L, "D": D, "M": M}
 
+    def to_iosys(self, name: str | None = None) -> Any:
+        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
+        that :func:`control.input_output_response` and interconnections work on it (:func:`glidectl.to_iosys`).
+
+        Parameters
+        ----------
+        name : str, optional
+            System name; default the class name.
+
+        Returns
+        -------
+        control.NonlinearIOSystem
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``name`` is not a string.
+        """
+        from ..iosys import to_iosys
+
+        return to_iosys(self, name=name)
+
     def rhs(self, x: Any, u: Any) -> Any:
         """Time derivative of the state, equations (2.15)-(2.25).
 
@@ -236,6 +258,28 @@ class AccelerationControlledGlider:
         u3 = (-F[..., 1, 0] * rhs[..., 0] + F[..., 0, 0] * rhs[..., 1]) / det
         return _stack(u1, u3, w[..., 2])
 
+    def to_iosys(self, name: str | None = None) -> Any:
+        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
+        that :func:`control.input_output_response` and interconnections work on it (:func:`glidectl.to_iosys`).
+
+        Parameters
+        ----------
+        name : str, optional
+            System name; default the class name.
+
+        Returns
+        -------
+        control.NonlinearIOSystem
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``name`` is not a string.
+        """
+        from ..iosys import to_iosys
+
+        return to_iosys(self, name=name)
+
     def rhs(self, xa: Any, w: Any) -> Any:
         """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side.
 
@@ -343,6 +387,28 @@ class GlidePathModel:
     @property
     def vehicle(self) -> Vehicle:
         return self.base.vehicle
+
+    def to_iosys(self, name: str | None = None) -> Any:
+        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
+        that :func:`control.input_output_response` and interconnections work on it (:func:`glidectl.to_iosys`).
+
+        Parameters
+        ----------
+        name : str, optional
+            System name; default the class name.
+
+        Returns
+        -------
+        control.NonlinearIOSystem
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``name`` is not a string.
+        """
+        from ..iosys import to_iosys
+
+        return to_iosys(self, name=name)
 
     def rhs(self, xr: Any, u: Any) -> Any:
         """Derivative of ``(z', theta, ...)`` (shape ``(..., 10)``): (2.30) and the base model's equations without
