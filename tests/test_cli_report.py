@@ -186,18 +186,19 @@ def test_library_never_selects_a_backend(python_output):
     assert python_output(code) == "svg"
 
 
-def test_batch_builds_fall_back_to_agg_only_without_a_display(python_output):
-    code = ("import matplotlib; matplotlib.use('svg'); from glidectl.report.designs import use_agg_without_display "
-            "as f; r = [f({'DISPLAY': ':0'}, 'linux'), f({'WAYLAND_DISPLAY': 'w'}, 'linux'), "
-            "f({'MPLBACKEND': 'svg'}, 'linux'), f({}, 'darwin'), f({}, 'win32'), matplotlib.get_backend()]; "
-            "r += [f({}, 'linux'), matplotlib.get_backend().lower()]; print(r)")
-    assert python_output(code) == "[False, False, False, False, False, 'svg', True, 'agg']"
-    from glidectl.report.designs import use_agg_without_display
-
-    with pytest.raises(gc.ArgumentTypeError, match="mapping"):
-        use_agg_without_display(["DISPLAY"])
-    with pytest.raises(gc.ArgumentTypeError, match="platform"):
-        use_agg_without_display({}, 3)
+def test_the_command_and_batch_builds_leave_the_backend_alone(python_output, tmp_path):
+    """The CLI and :func:`run_script` never select a backend (DESIGN: the library never calls matplotlib.use): a
+    user's backend survives a build, and without a display matplotlib itself falls back to a non-interactive one."""
+    design = tmp_path / "tiny.py"
+    design.write_text(
+        'import glidectl as gc\nfrom glidectl.report import Report, new_figure\nTITLE = "tiny"\n'
+        'def design(progress, quick=False):\n    rep = Report(TITLE)\n    fig, ax = new_figure()\n'
+        '    ax.plot([0, 1], [0, 1])\n    rep.figure("line", fig, "a line")\n    return rep\n', encoding="utf-8")
+    code = ("import matplotlib; matplotlib.use('svg'); from glidectl import cli; "
+            f"rc = cli.main(['report', {str(design)!r}, '--out', {str(tmp_path / 'out')!r}, '--jobs', '1']); "
+            "print(rc, matplotlib.get_backend())")
+    assert python_output(code).splitlines()[-1] == "0 svg"
+    assert (tmp_path / "out" / "tiny" / "line.png").is_file()
 
 
 # ------------------------------------------------------------------------------------------ issue 15

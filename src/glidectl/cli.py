@@ -20,7 +20,7 @@ from typing import NoReturn
 
 from .errors import GlidectlError
 from .params import list_presets, load_vehicle
-from .report.designs import check_writable, find_designs, load_design, use_agg_without_display
+from .report.designs import check_writable, find_designs, load_design
 from .report.parallel import build_designs, require_dask
 
 __all__ = ["main"]
@@ -104,7 +104,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     SystemExit
         With status 2 on a usage error (one line on stderr), or 0 after ``--help``.
     """
-    use_agg_without_display()  # the command builds files; without a display it must not try to open windows
     parser = _Parser(prog="glidectl", description="Control design for gliding vehicles.")
     sub = parser.add_subparsers(dest="cmd", required=True)
     lp = sub.add_parser("list", help="list vehicle presets and designs")

@@ -21,19 +21,18 @@ import os
 import sys
 import tempfile
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
 
-from ..errors import ArgumentTypeError, DesignError, OutputError
+from ..errors import DesignError, OutputError
 
 if TYPE_CHECKING:
     from .document import Report
 
-__all__ = ["Design", "build_design", "check_writable", "find_designs", "load_design", "run_script",
-           "use_agg_without_display"]
+__all__ = ["Design", "build_design", "check_writable", "find_designs", "load_design", "run_script"]
 
 Progress = Callable[[str], None]
 
@@ -258,47 +257,6 @@ def build_design(spec: str | Path, out: str | Path = "reports", *, designs: str 
     return load_design(spec, designs).build(out, progress, quick)
 
 
-def use_agg_without_display(environ: Mapping[str, str] | None = None, platform: str | None = None) -> bool:
-    """Select matplotlib's non-interactive Agg backend when there is no display, for batch builds (the
-    ``glidectl`` command and :func:`run_script`); with a display, or when the user chose a backend through
-    ``MPLBACKEND``, the backend is left alone (glidectl's library code never selects one).
-
-    There is no display on a Linux or BSD system without ``DISPLAY`` and ``WAYLAND_DISPLAY`` (a headless CI runner
-    or an SSH session); macOS and Windows always have one.
-
-    Parameters
-    ----------
-    environ : mapping of str to str, optional
-        The environment to inspect (default ``os.environ``).
-    platform : str, optional
-        The platform (default ``sys.platform``).
-
-    Returns
-    -------
-    bool
-        True when Agg was selected.
-
-    Raises
-    ------
-    ArgumentTypeError
-        If ``environ`` is not a mapping or ``platform`` is not a string.
-    """
-    env = os.environ if environ is None else environ
-    plat = sys.platform if platform is None else platform
-    if not isinstance(env, Mapping):
-        raise ArgumentTypeError(f"environ must be a mapping of environment variables, got {type(env).__name__}")
-    if not isinstance(plat, str):
-        raise ArgumentTypeError(f"platform must be a string such as sys.platform, got {type(plat).__name__}")
-    if env.get("MPLBACKEND"):
-        return False  # the user's explicit choice
-    if plat.startswith(("darwin", "win32", "cygwin")) or env.get("DISPLAY") or env.get("WAYLAND_DISPLAY"):
-        return False
-    import matplotlib
-
-    matplotlib.use("Agg")  # no display: a batch build must not try to open windows
-    return True
-
-
 def run_script(path: str | Path, argv: Sequence[str] | None = None) -> Path:
     """Entry point for ``python designs/NAME.py [OUTDIR] [--quick]``: build that design (default ``reports``).
 
@@ -319,7 +277,6 @@ def run_script(path: str | Path, argv: Sequence[str] | None = None) -> Path:
     DesignError, OutputError
         As :func:`build_design`.
     """
-    use_agg_without_display()
     args = list(sys.argv[1:] if argv is None else argv)
     quick = "--quick" in args
     rest = [a for a in args if a != "--quick"]

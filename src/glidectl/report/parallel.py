@@ -72,9 +72,6 @@ _WORKER_QUEUE: Any = None
 def _init_worker(queue: Any) -> None:
     global _WORKER_QUEUE
     _WORKER_QUEUE = queue
-    from .designs import use_agg_without_display
-
-    use_agg_without_display()
 
 
 def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str | None = None,
