@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["to_iosys"]
+__all__ = ["IOSysExport", "to_iosys"]
 
 
 def to_iosys(model: Any, *, name: str | None = None) -> control.NonlinearIOSystem:
@@ -62,3 +62,27 @@ def to_iosys(model: Any, *, name: str | None = None) -> control.NonlinearIOSyste
 
     return control.NonlinearIOSystem(update, None, states=list(states), inputs=list(inputs) if m else 0,
                                      outputs=list(states), name=name)
+
+
+class IOSysExport:
+    """Mixin giving a glidectl model a ``to_iosys()`` method (the one :func:`to_iosys`, bound to the model)."""
+
+    def to_iosys(self, name: str | None = None) -> control.NonlinearIOSystem:
+        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
+        that :func:`control.input_output_response` and interconnections work on it (see :func:`to_iosys`).
+
+        Parameters
+        ----------
+        name : str, optional
+            System name; default the model's ``name`` attribute, else its class name.
+
+        Returns
+        -------
+        control.NonlinearIOSystem
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``name`` is not a string.
+        """
+        return to_iosys(self, name=name)

@@ -18,6 +18,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError
+from ..iosys import IOSysExport
 from ..params import Vehicle
 from ._validate import numeric_array, trailing_array
 
@@ -25,7 +26,7 @@ __all__ = ["ClosedLoop"]
 
 
 @dataclass(frozen=True, eq=False)
-class ClosedLoop:
+class ClosedLoop(IOSysExport):
     """Input-free closed loop ``x' = plant.rhs(x, law(x))``.
 
     Parameters
@@ -114,18 +115,6 @@ class ClosedLoop:
     @property
     def provenance(self) -> str:
         return str(getattr(getattr(self.plant, "vehicle", None), "provenance", ""))
-
-    def to_iosys(self) -> Any:
-        """This closed loop as an input-free :class:`control.NonlinearIOSystem` (see :func:`glidectl.to_iosys`).
-
-        Returns
-        -------
-        control.NonlinearIOSystem
-            States and outputs named as :attr:`state_names`, no inputs.
-        """
-        from ..iosys import to_iosys
-
-        return to_iosys(self)
 
     def rhs(self, x: Any, u: Any = None) -> np.ndarray:
         """Closed-loop ``x'`` for states ``x`` of shape ``(..., n)`` (``u`` is ignored: the loop is input-free).

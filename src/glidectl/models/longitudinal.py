@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..hydro import loads_at, longitudinal_loads
+from ..iosys import IOSysExport
 from ..params import Vehicle
 from ._validate import angle_arg, require_glider, require_instance, trailing_array
 
@@ -50,7 +51,7 @@ def _stack(*cols: Any) -> Any:
 
 
 @dataclass(frozen=True)
-class LongitudinalGlider:
+class LongitudinalGlider(IOSysExport):
     """Force-controlled longitudinal glider (2.15)-(2.25).
 
     State ``x = (x, z, theta, Omega2, v1, v3, r_P1, r_P3, P_P1, P_P3, m0)`` in (m, m, rad, rad/s, m/s, m/s, m, m,
@@ -110,28 +111,6 @@ class LongitudinalGlider:
         Y = (m3 - m1) * v1 * v3 - mbar * g * (rP1 * c + rP3 * s) + M - Om * (rP1 * PP1 + rP3 * PP3)
         return X1, X3, Y, {"m1": m1, "m3": m3, "alpha": alpha, "L": L, "D": D, "M": M}
 
-    def to_iosys(self, name: str | None = None) -> Any:
-        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
-        that :func:`control.input_output_response` and interconnections work on it (:func:`glidectl.to_iosys`).
-
-        Parameters
-        ----------
-        name : str, optional
-            System name; default the class name.
-
-        Returns
-        -------
-        control.NonlinearIOSystem
-
-        Raises
-        ------
-        ArgumentTypeError
-            If ``name`` is not a string.
-        """
-        from ..iosys import to_iosys
-
-        return to_iosys(self, name=name)
-
     def rhs(self, x: Any, u: Any) -> Any:
         """Time derivative of the state, equations (2.15)-(2.25).
 
@@ -174,7 +153,7 @@ class LongitudinalGlider:
 
 
 @dataclass(frozen=True)
-class AccelerationControlledGlider:
+class AccelerationControlledGlider(IOSysExport):
     """Longitudinal glider under the force-to-acceleration feedback (2.31)-(2.34).
 
     State ``(x, z, theta, Omega2, v1, v3, r_P1, rdot_P1, r_P3, rdot_P3, m0)`` (eta, zeta of §2.3.2); input
@@ -258,28 +237,6 @@ class AccelerationControlledGlider:
         u3 = (-F[..., 1, 0] * rhs[..., 0] + F[..., 0, 0] * rhs[..., 1]) / det
         return _stack(u1, u3, w[..., 2])
 
-    def to_iosys(self, name: str | None = None) -> Any:
-        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
-        that :func:`control.input_output_response` and interconnections work on it (:func:`glidectl.to_iosys`).
-
-        Parameters
-        ----------
-        name : str, optional
-            System name; default the class name.
-
-        Returns
-        -------
-        control.NonlinearIOSystem
-
-        Raises
-        ------
-        ArgumentTypeError
-            If ``name`` is not a string.
-        """
-        from ..iosys import to_iosys
-
-        return to_iosys(self, name=name)
-
     def rhs(self, xa: Any, w: Any) -> Any:
         """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side.
 
@@ -346,7 +303,7 @@ class AccelerationControlledGlider:
 
 
 @dataclass(frozen=True)
-class GlidePathModel:
+class GlidePathModel(IOSysExport):
     """A longitudinal model with (x, z) replaced by the glide-path deviation z' of (2.30).
 
     ``z'' = sin(gamma_e) x' + cos(gamma_e) z'`` is the rate of the distance (m, positive below-right of the path,
@@ -387,28 +344,6 @@ class GlidePathModel:
     @property
     def vehicle(self) -> Vehicle:
         return self.base.vehicle
-
-    def to_iosys(self, name: str | None = None) -> Any:
-        """This model as a :class:`control.NonlinearIOSystem` with named states and inputs (outputs = states), so
-        that :func:`control.input_output_response` and interconnections work on it (:func:`glidectl.to_iosys`).
-
-        Parameters
-        ----------
-        name : str, optional
-            System name; default the class name.
-
-        Returns
-        -------
-        control.NonlinearIOSystem
-
-        Raises
-        ------
-        ArgumentTypeError
-            If ``name`` is not a string.
-        """
-        from ..iosys import to_iosys
-
-        return to_iosys(self, name=name)
 
     def rhs(self, xr: Any, u: Any) -> Any:
         """Derivative of ``(z', theta, ...)`` (shape ``(..., 10)``): (2.30) and the base model's equations without
