@@ -82,7 +82,7 @@ def test_damping_moment_bad_arguments():
         damping_moment(SLOCUM, 0.1, 0.1, "2")
     with pytest.raises(ArgumentTypeError, match="Omega"):
         damping_moment(SLOCUM, 0.1, "0.1", 2)
-    with pytest.raises(ModelError, match="underwater_glider"):
+    with pytest.raises(ModelError, match="not an underwater glider"):
         damping_moment(gc.load_vehicle("dc8_ctol"), 0.1, 0.1, 2)
 
 

@@ -352,7 +352,7 @@ def vehicle(name: str, value: Any, kind: str | Sequence[str] | None = None) -> A
     value : Any
         What the caller passed.
     kind : str or sequence of str, optional
-        Accepted vehicle kinds (``"underwater_glider"``, ``"ctol_aircraft"``).
+        Accepted vehicle kinds (``"underwater_glider"``, ``"ctol"``).
 
     Returns
     -------
@@ -373,8 +373,13 @@ def vehicle(name: str, value: Any, kind: str | Sequence[str] | None = None) -> A
         raise ArgumentTypeError(f"{name} must be a glidectl Vehicle, got {type(value).__name__}{hint}")
     kinds = (kind,) if isinstance(kind, str) else tuple(kind or ())
     if kinds and value.kind not in kinds:
-        raise ModelError(f"{name} '{value.name}' is a {value.kind}; this needs a {' or '.join(kinds)}")
+        wanted = " or ".join(_KIND_NAMES.get(k, f"a '{k}' vehicle") for k in kinds)
+        raise ModelError(f"{name} '{value.name}' is of kind '{value.kind}', not {wanted}")
     return value
+
+
+#: Readable names of the vehicle kinds, for messages.
+_KIND_NAMES = {"underwater_glider": "an underwater glider", "ctol": 'a CTOL aircraft (kind = "ctol")'}
 
 
 def same_vehicle(what: str, result: Any, veh: Any) -> None:

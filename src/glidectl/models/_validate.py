@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from ..errors import ArgumentError, ArgumentTypeError
 from ..params import Vehicle
 
 __all__ = ["SPEED_MAX", "angle_arg", "numeric_array", "require_ctol_vehicle", "require_glider",
@@ -34,10 +34,7 @@ def require_glider(veh: Any, name: str = "vehicle") -> Vehicle:
     ModelError
         If it is a vehicle of another kind.
     """
-    checks.vehicle(name, veh)
-    if veh.kind != "underwater_glider":
-        raise ModelError(f"vehicle '{veh.name}' is of kind '{veh.kind}', not an underwater glider")
-    return veh
+    return checks.vehicle(name, veh, "underwater_glider")
 
 
 def require_ctol_vehicle(veh: Any, name: str = "vehicle") -> Vehicle:
@@ -50,10 +47,7 @@ def require_ctol_vehicle(veh: Any, name: str = "vehicle") -> Vehicle:
     ModelError
         If it is a vehicle of another kind.
     """
-    checks.vehicle(name, veh)
-    if veh.kind != "ctol":
-        raise ModelError(f"vehicle '{veh.name}' is of kind '{veh.kind}', not a CTOL aircraft (kind = \"ctol\")")
-    return veh
+    return checks.vehicle(name, veh, "ctol")
 
 
 def require_instance(name: str, value: Any, cls: type | tuple[type, ...], hint: str = "") -> Any:
