@@ -264,18 +264,3 @@ def test_nonlinear_leg_design_holds_its_glide():
         assert leg.m0e == pytest.approx(g.m0, rel=1e-9)
         cmd = leg(0.0, g.accel_state())
         assert cmd["r_P1"] == pytest.approx(g.r_p1, rel=1e-9) and cmd["m0"] == pytest.approx(g.m0, rel=1e-12)
-
-
-def test_point_right_hand_side_equals_the_array_path():
-    # the simulations' one-point fast path computes the same equations as the batch (array) path
-    from glidectl.models.longitudinal import AccelerationControlledGlider
-
-    v = gc.load_vehicle("slocum_shallow")
-    rng = np.random.default_rng(0)
-    X = rng.normal(size=(50, 11)) * [1, 1, 0.5, 0.1, 0.3, 0.1, 0.02, 0.005, 0.05, 0.001, 0.2]
-    X[:, 4] += 0.4
-    W = rng.normal(size=(50, 3)) * 0.01
-    for model in (AccelerationControlledGlider(v), gc.ActuatedGlider(v)):
-        batch = model.rhs(X, W)
-        point = np.array([model.rhs(x, w) for x, w in zip(X, W, strict=True)])
-        np.testing.assert_allclose(point, batch, rtol=1e-12, atol=1e-14)

@@ -137,8 +137,6 @@ class ActuatedGlider:
         object.__setattr__(self, "upper", np.array([a.bounds[1] for a in acts]))
         object.__setattr__(self, "rate_limit", np.array([0.0 if a.fixed is not None else a.rate for a in acts]))
         object.__setattr__(self, "gain", np.array([0.25 / tau, 0.25 / tau, kp]))
-        object.__setattr__(self, "_limits", tuple(a.tolist() for a in (self.lower, self.upper, self.rate_limit,
-                                                                       self.gain)))
 
     def positions(self, x: Any) -> np.ndarray:
         """Actuator positions ``(r_P1, r_P3, m0)`` (m, m, kg) of states ``x`` (shape ``(..., 11)``)."""
@@ -169,9 +167,6 @@ class ActuatedGlider:
         """Requested rates realizing the thesis inputs ``w = (w1, w3, w4)`` of (2.33) inside the limits:
         ``(rdot_P1 + tau w1, rdot_P3 + tau w3, w4)``."""
         tau = self.servo_time
-        if type(x) is np.ndarray and type(w) is np.ndarray and x.shape == (11,) and w.shape == (3,) \
-                and x.dtype == np.float64 and w.dtype == np.float64:  # one point (simulations)
-            return np.array([x[7] + tau * w[0], x[9] + tau * w[1], w[2]])
         x = trailing_array("x", x, 11, self.state_names)
         w = trailing_array("w", w, 3, ("w1", "w3", "w4"))
         return np.stack([x[..., 7] + tau * w[..., 0], x[..., 9] + tau * w[..., 1], w[..., 2]], axis=-1)
@@ -201,9 +196,6 @@ class ActuatedGlider:
         ArgumentTypeError, ArgumentError
             If ``x`` or ``u`` is not an array of numbers with that trailing dimension.
         """
-        if type(x) is np.ndarray and type(u) is np.ndarray and x.shape == (11,) and u.shape == (3,) \
-                and x.dtype == np.float64 and u.dtype == np.float64:
-            return self._rhs_point(x, u)
         x = trailing_array("x", x, 11, self.state_names)
         u = trailing_array("u", u, 3, self.input_names)
         p = x[..., _POS]
@@ -213,21 +205,6 @@ class ActuatedGlider:
         s = np.minimum(np.maximum(u, lo), hi)
         tau = self.servo_time
         w = np.stack([(s[..., 0] - x[..., 7]) / tau, (s[..., 1] - x[..., 9]) / tau, s[..., 2]], axis=-1)
-        return self.accel_model.rhs(x, w)
-
-    def _rhs_point(self, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        """:meth:`rhs` at one real state, in Python floats (the same limiter; the array path's ``nan`` of a
-        ``0 * inf`` taper cannot occur: the gains are finite and positive). Simulations call it point by point."""
-        lo_, hi_, R_, k_ = self._limits
-        xl = x.tolist()
-        s = []
-        for i, (j, ui) in enumerate(zip((6, 8, 10), u.tolist(), strict=True)):
-            pi = xl[j]
-            lo = max(-R_[i], k_[i] * (lo_[i] - pi))
-            hi = min(R_[i], k_[i] * (hi_[i] - pi))
-            s.append(min(max(ui, lo), hi))
-        tau = self.servo_time
-        w = np.array([(s[0] - xl[7]) / tau, (s[1] - xl[9]) / tau, s[2]])
         return self.accel_model.rhs(x, w)
 
     def check_state(self, x: Any, what: str = "x0") -> np.ndarray:

@@ -11,14 +11,13 @@ complex (for exact complex-step Jacobians).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ..errors import ModelError
-from ..hydro import loads_at, longitudinal_loads
+from ..hydro import longitudinal_loads
 from ..iosys import IOSysExport
 from ..params import Vehicle
 from ._validate import angle_arg, require_glider, require_instance, trailing_array
@@ -246,60 +245,11 @@ class AccelerationControlledGlider(IOSysExport):
             If ``xa`` (shape ``(..., 11)``) or ``w`` (shape ``(..., 3)``) is not an array of numbers with that
             trailing dimension.
         """
-        if type(xa) is np.ndarray and type(w) is np.ndarray and xa.shape == (11,) and w.shape == (3,) \
-                and xa.dtype == np.float64 and w.dtype == np.float64:
-            try:
-                return self._rhs_point(xa.tolist(), w.tolist())
-            except ZeroDivisionError:
-                pass  # a singular point: the array path below gives numpy's inf/nan
         xa = trailing_array("xa", xa, 11, self.state_names)
         w = trailing_array("w", w, 3, self.input_names)
         xf = self.to_force_state(xa)
         fdot = self.force_model.rhs(xf, self.force_input(xa, w))
         return _stack(*(fdot[..., i] for i in range(6)), xa[..., 7], w[..., 0], xa[..., 9], w[..., 1], w[..., 2])
-
-    def _rhs_point(self, xa: list[float], w: list[float]) -> np.ndarray:
-        """:meth:`rhs` at one real state (the same equations in Python floats: simulations call the right-hand
-        side at one point at a time, where array stacking dominates the cost). The loads come from
-        :func:`glidectl.hydro.loads_at`, as in the array path; ``tests/test_dive_cycle.py`` checks that both paths
-        agree. Raises ZeroDivisionError at a singular point (the caller falls back to the array path)."""
-        veh = self.vehicle
-        p = veh.params
-        g, mbar, J2 = p["g"], p["mbar"], p["J2"]
-        _, _, th, Om, v1, v3, rP1, rdP1, rP3, rdP3, m0 = xa
-        w1, w3, w4 = w
-        # (2.31) inverted: the force-form momenta of the moving mass
-        PP1 = mbar * (rdP1 + v1 + rP3 * Om)
-        PP3 = mbar * (rdP3 + v3 - rP1 * Om)
-        # generalized forces (LongitudinalGlider.generalized_forces)
-        m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
-        alpha = math.atan2(v3, v1)
-        L, D, M = loads_at(veh, v1 * v1 + v3 * v3, alpha, Om)
-        L, D, M = float(L), float(D), float(M)
-        s, c = math.sin(th), math.cos(th)
-        sa, ca = math.sin(alpha), math.cos(alpha)
-        X1 = -m3 * v3 * Om - PP3 * Om - m0 * g * s + L * sa - D * ca
-        X3 = m1 * v1 * Om + PP1 * Om + m0 * g * c - L * ca - D * sa
-        Y = (m3 - m1) * v1 * v3 - mbar * g * (rP1 * c + rP3 * s) + M - Om * (rP1 * PP1 + rP3 * PP3)
-        # (2.32)-(2.34): force input realizing w (AccelerationControlledGlider.transform / force_input)
-        Z1 = -(X1 / m1 + rdP3 * Om + rP3 * Y / J2)
-        Z3 = -(X3 / m3 - rdP1 * Om - rP1 * Y / J2)
-        F11 = 1 / mbar + 1 / m1 + rP3 * rP3 / J2
-        F33 = 1 / mbar + 1 / m3 + rP1 * rP1 / J2
-        F13 = -rP1 * rP3 / J2
-        r1, r3 = w1 - Z1, w3 - Z3
-        det = F11 * F33 - F13 * F13
-        u1 = (F33 * r1 - F13 * r3) / det
-        u3 = (-F13 * r1 + F11 * r3) / det
-        # (2.15)-(2.20) (LongitudinalGlider.rhs) and the mass/pump rows
-        return np.array([
-            v1 * c + v3 * s,
-            -v1 * s + v3 * c,
-            Om,
-            (Y + rP1 * u3 - rP3 * u1) / J2,
-            (X1 - u1) / m1,
-            (X3 - u3) / m3,
-            rdP1, w1, rdP3, w3, w4])
 
 
 @dataclass(frozen=True)
