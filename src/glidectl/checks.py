@@ -40,6 +40,7 @@ __all__ = [
     "function",
     "integer",
     "nonnegative",
+    "numeric",
     "positive",
     "real",
     "same_vehicle",
@@ -250,6 +251,38 @@ def choice(name: str, value: Any, options: Iterable[Any]) -> Any:
     if not ok:
         raise ArgumentError(f"{name} must be one of {', '.join(repr(o) for o in opts)}; got {value!r}")
     return value
+
+
+def numeric(name: str, value: Any) -> np.ndarray:
+    """``np.asarray(value)`` for a number or an array of real or complex numbers, any shape (the inputs of
+    vectorized, complex-step-safe model functions); no finiteness check.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, used in the message.
+    value : Any
+        What the caller passed.
+
+    Returns
+    -------
+    ndarray
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``value`` is None, a string, ragged, or holds booleans or objects.
+    """
+    if value is None or isinstance(value, str | bytes):
+        raise ArgumentTypeError(f"{name} must be a number or an array of numbers, got {type(value).__name__} "
+                                f"{value!r}")
+    try:
+        a = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ArgumentTypeError(f"{name} must be a number or an array of numbers: {exc}") from exc
+    if a.dtype.kind not in "iufc":
+        raise ArgumentTypeError(f"{name} must hold numbers, got {type(value).__name__} of dtype {a.dtype}")
+    return a
 
 
 def array(name: str, value: Any, *, shape: Sequence[int | None] | None = None, ndim: int | None = None,

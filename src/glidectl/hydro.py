@@ -31,19 +31,11 @@ DAMPING_KEYS = {1: ("K_q1", "K_Omega1_1", "K_Omega2_1"), 2: ("K_q", "K_Omega1_2"
 
 
 def _numeric(name: str, value: Any) -> Any:
-    """``value`` as a number or an array of real or complex numbers (any shape); ArgumentTypeError otherwise."""
+    """``value`` as a number (returned as is: the scalar calls of simulations) or an array of real or complex
+    numbers (:func:`glidectl.checks.numeric`); ArgumentTypeError otherwise."""
     if isinstance(value, float | int | complex) and not isinstance(value, bool):
         return value
-    if value is None or isinstance(value, str | bytes):
-        raise ArgumentTypeError(f"{name} must be a number or an array of numbers, got {type(value).__name__} "
-                                f"{value!r}")
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError) as exc:
-        raise ArgumentTypeError(f"{name} must be a number or an array of numbers: {exc}") from exc
-    if a.dtype.kind not in "iufc":
-        raise ArgumentTypeError(f"{name} must hold numbers, got {type(value).__name__} of dtype {a.dtype}")
-    return a
+    return checks.numeric(name, value)
 
 
 def _vector3(name: str, value: Any) -> np.ndarray:

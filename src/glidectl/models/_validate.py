@@ -66,22 +66,14 @@ def require_instance(name: str, value: Any, cls: type | tuple[type, ...], hint: 
 
 
 def numeric_array(name: str, value: Any) -> np.ndarray:
-    """``np.asarray(value)`` for an array of real or complex numbers (any shape).
+    """``np.asarray(value)`` for an array of real or complex numbers (any shape): :func:`glidectl.checks.numeric`.
 
     Raises
     ------
     ArgumentTypeError
         If ``value`` is None, a string, ragged, or holds booleans or objects.
     """
-    if value is None or isinstance(value, str | bytes):
-        raise ArgumentTypeError(f"{name} must be an array of numbers, got {type(value).__name__} {value!r}")
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError) as exc:
-        raise ArgumentTypeError(f"{name} must be an array of numbers: {exc}") from exc
-    if a.dtype.kind not in "iufc":
-        raise ArgumentTypeError(f"{name} must hold numbers, got an array of dtype {a.dtype}")
-    return a
+    return checks.numeric(name, value)
 
 
 def trailing_array(name: str, value: Any, n: int, names: tuple[str, ...] = ()) -> np.ndarray:

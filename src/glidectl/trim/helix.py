@@ -57,22 +57,8 @@ MAX_CONTINUATION_STEPS = 1000
 MAX_RANDOM_STARTS = 1000
 
 
-def _numeric(name: str, value: Any) -> np.ndarray:
-    """An array of real or complex numbers (any shape); ArgumentTypeError otherwise."""
-    if value is None or isinstance(value, str | bytes):
-        raise ArgumentTypeError(f"{name} must be a number or an array of numbers, got {type(value).__name__} "
-                                f"{value!r}")
-    try:
-        a = np.asarray(value)
-    except (TypeError, ValueError) as exc:
-        raise ArgumentTypeError(f"{name} must be a number or an array of numbers: {exc}") from exc
-    if a.dtype.kind not in "iufc":
-        raise ArgumentTypeError(f"{name} must hold numbers, got {type(value).__name__} of dtype {a.dtype}")
-    return a
-
-
 def _trailing(name: str, value: Any, n: int) -> np.ndarray:
-    a = _numeric(name, value)
+    a = checks.numeric(name, value)
     if a.ndim == 0 or a.shape[-1] != n:
         raise ArgumentError(f"{name} must have a trailing dimension {n}, got shape {a.shape}")
     return a
@@ -105,7 +91,7 @@ def zeta_of(theta: Any, phi: Any) -> Any:
     ArgumentError
         If their shapes do not broadcast.
     """
-    theta, phi = _numeric("theta", theta), _numeric("phi", phi)
+    theta, phi = checks.numeric("theta", theta), checks.numeric("phi", phi)
     try:
         np.broadcast_shapes(theta.shape, phi.shape)
     except ValueError as exc:
