@@ -18,6 +18,7 @@ from .cache import cached
 from .designs import Design, build_design, check_writable, find_designs, load_design, run_script
 from .document import BHATTA_2006, Number, Report
 from .figures import STYLE, label, new_figure, style
+from .parts import map_parts
 
 __all__ = [
     "BHATTA_2006",
@@ -31,6 +32,7 @@ __all__ = [
     "find_designs",
     "label",
     "load_design",
+    "map_parts",
     "new_figure",
     "run_script",
     "style",

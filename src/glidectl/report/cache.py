@@ -35,7 +35,8 @@ from typing import Any, TypeVar
 
 from ..errors import ArgumentTypeError
 
-__all__ = ["CACHE_FORMAT", "BuildResult", "DesignCache", "cached", "code_fingerprint", "design_key"]
+__all__ = ["CACHE_FORMAT", "BuildResult", "DesignCache", "cached", "code_fingerprint", "design_key", "merge_run",
+           "recording"]
 
 #: format tag of every cache entry; entries with another tag are ignored
 CACHE_FORMAT = "glidectl-cache-1"
@@ -338,6 +339,28 @@ def _install_hook() -> None:
     if not _hook_installed:
         sys.addaudithook(_audit)
         _hook_installed = True
+
+
+def merge_run(reads: Iterable[str], hits: int, misses: int) -> None:
+    """Add what a part of the design run in another process read and hit to this process's active recording.
+
+    Parameters
+    ----------
+    reads : iterable of str
+        Absolute paths of the files the part opened for reading.
+    hits, misses : int
+        The part's :func:`cached` hits and misses.
+
+    Raises
+    ------
+    None
+        Outside a recording nothing happens.
+    """
+    run = _ACTIVE.get()
+    if run is not None:
+        run.reads.update(reads)
+        run.hits += int(hits)
+        run.misses += int(misses)
 
 
 def _is_data_file(p: str, skip: tuple[str, ...], package: str) -> bool:

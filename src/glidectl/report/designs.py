@@ -225,6 +225,41 @@ def check_writable(folder: str | Path) -> Path:
     return d
 
 
+def load_design_source(name: str, path: str | Path, source: bytes) -> Design:
+    """Load a design from its file when the file is there with this content, else from ``source`` (remote workers).
+
+    Parameters
+    ----------
+    name : str
+        The design's name (file stem), used for the temporary copy.
+    path : str or Path
+        Where the design file was when the build started.
+    source : bytes
+        The content the build is running.
+
+    Returns
+    -------
+    Design
+        The loaded design (module name ``glidectl_design_<stem>`` either way).
+
+    Raises
+    ------
+    DesignError
+        If the design cannot be loaded.
+    """
+    p = Path(path)
+    try:
+        same = p.is_file() and p.read_bytes() == source
+    except OSError:
+        same = False
+    if same:
+        return load_design(p)
+    folder = Path(tempfile.mkdtemp(prefix="glidectl-design-"))
+    f = folder / f"{name}.py"
+    f.write_bytes(source)
+    return load_design(f)
+
+
 def build_design(spec: str | Path, out: str | Path = "reports", *, designs: str | Path = "designs",
                  quick: bool = False, progress: Progress = _quiet) -> Path:
     """Load a design (name or path) and write its report to ``<out>/<name>/``.

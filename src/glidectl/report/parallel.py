@@ -25,7 +25,8 @@ from typing import Any, TextIO
 
 from ..errors import ArgumentError, DesignError, GlidectlError
 from .cache import BuildResult, DesignCache, design_key, recording, settings_of
-from .designs import Design, load_design
+from .designs import Design, load_design_source
+from .parts import parts_context
 
 __all__ = ["DesignFailure", "build_designs", "build_one", "dask_client", "require_dask"]
 
@@ -50,21 +51,6 @@ def _one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}{_where(exc)}"
 
 
-def _load(name: str, path: str, source: bytes) -> Design:
-    """Load the design from its file when it is there with this content, else from ``source`` (remote workers)."""
-    p = Path(path)
-    try:
-        same = p.is_file() and p.read_bytes() == source
-    except OSError:
-        same = False
-    if same:
-        return load_design(p)
-    folder = Path(tempfile.mkdtemp(prefix="glidectl-design-"))
-    f = folder / f"{name}.py"
-    f.write_bytes(source)
-    return load_design(f)
-
-
 # a queue for progress messages, given to pool workers when they start (queues are inherited, not pickled)
 _WORKER_QUEUE: Any = None
 
@@ -75,7 +61,8 @@ def _init_worker(queue: Any) -> None:
 
 
 def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str | None = None,
-              progress: Callable[[str], None] | None = None, refresh: bool = False) -> BuildResult | DesignFailure:
+              progress: Callable[[str], None] | None = None, refresh: bool = False, jobs: int = 1,
+              dask: bool = False, start_method: str = "spawn") -> BuildResult | DesignFailure:
     """Run one design and return the files its report consists of (nothing is written outside a temporary folder).
 
     Parameters
@@ -94,6 +81,12 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
         ``progress(message)``; in a pool worker, messages go to the parent's display.
     refresh : bool
         Sub-results are computed again (and the cache overwritten) instead of looked up.
+    jobs : int
+        Worker processes the design's :func:`~glidectl.report.map_parts` calls may use (1: serial).
+    dask : bool
+        The design runs on a dask worker: its parts are submitted to the same cluster.
+    start_method : str
+        Start method of the parts' process pool (``"spawn"`` by default).
 
     Returns
     -------
@@ -110,9 +103,10 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
     if progress is None:
         progress = (lambda m: queue.put((name, m))) if queue is not None else (lambda m: None)
     try:
-        design = _load(name, path, source)
+        design = load_design_source(name, path, source)
         with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
-            with recording(None if cache_root is None else Path(cache_root), refresh) as rec:
+            with recording(None if cache_root is None else Path(cache_root), refresh) as rec, \
+                    parts_context(name, path, source, jobs, cache_root, refresh, dask, start_method):
                 t0 = time.perf_counter()
                 rep = design.report(progress, quick)
                 progress("writing the report")
@@ -312,7 +306,8 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     bars : bool, optional
         Progress bars (default: when ``stream`` is a terminal); plain lines otherwise.
     mp_context : multiprocessing context, optional
-        Start method of the pool (default ``spawn``, safe with threads and on every platform).
+        Start method of the pool and of the designs' part pools (default ``spawn``, safe with threads and on every
+        platform).
 
     Returns
     -------
@@ -370,15 +365,17 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
             except OSError as exc:
                 display.line(f"  {res.name}: not cached ({exc})")
 
+        method = mp_context.get_start_method() if mp_context is not None else "spawn"
         if scheduler is not None:
             _run_dask(todo, scheduler, quick, cache_root, refresh, display, finish)
         elif jobs == 1 or len(todo) <= 1:
             for d, _, source in todo:
                 display.start(d.name)
                 finish(build_one(d.name, str(d.path), source, quick, cache_root,
-                                 progress=lambda m, n=d.name: display.message(n, m), refresh=refresh))
+                                 progress=lambda m, n=d.name: display.message(n, m), refresh=refresh, jobs=jobs,
+                                 start_method=method))
         else:
-            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context)
+            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context, jobs)
     finally:
         display.close()
     if failures:
@@ -407,14 +404,15 @@ def _drain(queue: Any, display: _Display) -> None:
 
 
 def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str, refresh: bool,
-              display: _Display, finish: Callable[[Any], None], mp_context: Any) -> None:
+              display: _Display, finish: Callable[[Any], None], mp_context: Any, jobs: int) -> None:
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                              initargs=(queue,)) as ex:
         pending = {}
         for d, _, source in todo:
-            pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh)] = d.name
+            pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
+                              jobs=jobs, start_method=ctx.get_start_method())] = d.name
         started: set[str] = set()
         while pending:
             _drain(queue, display)
@@ -442,7 +440,7 @@ def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool
         for d, _, source in todo:
             display.start(d.name)
             pending[client.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
-                                  pure=False)] = d.name
+                                  jobs=2, dask=True, pure=False)] = d.name
         while pending:
             for f in [f for f in pending if f.done()]:
                 finish(_result(f, pending.pop(f)))
