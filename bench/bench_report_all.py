@@ -15,6 +15,7 @@ Run from the project root::
     python bench/bench_report_all.py                       # quick settings, every design
     python bench/bench_report_all.py --full                # the reports' full settings
     python bench/bench_report_all.py --designs ch6_controllers,ch7_ctol --profile --no-total
+    python bench/bench_report_all.py --full --no-total --baseline-src ../base/src   # before/after, same run
 
 Writes ``bench/results/report_all.json`` (``--tag`` adds a suffix: ``report_all_<tag>.json``).
 """
@@ -38,12 +39,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def _one(name: str, quick: bool, profile: bool) -> dict:
     """Child process: cold, warm and (optionally) profiled build of one design."""
+    import matplotlib
+
+    import glidectl
     from glidectl.report import load_design
-    from glidectl.report.designs import use_agg_without_display
     from glidectl.report.parallel import build_designs
 
-    use_agg_without_display()
-    d = load_design(name, ROOT / "designs")
+    matplotlib.use("Agg")  # the benchmark (not the library) picks the backend
+    d = load_design(name, Path(glidectl.__file__).resolve().parents[2] / "designs")
     out: dict = {"design": name, "settings": "quick" if quick else "full"}
     with tempfile.TemporaryDirectory(prefix="bench-report-") as tmp:
         t0 = time.perf_counter()
@@ -74,10 +77,14 @@ def _one(name: str, quick: bool, profile: bool) -> dict:
     return out
 
 
-def _run_child(name: str, quick: bool, profile: bool) -> dict:
+def _run_child(name: str, quick: bool, profile: bool, src: Path | None = None) -> dict:
+    """One design in a fresh process, with this checkout's glidectl or the one in ``src`` (its designs too)."""
     cmd = [sys.executable, __file__, "--child", name] + ([] if quick else ["--full"]) + (["--profile"] if profile
                                                                                           else [])
-    proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+    env = dict(os.environ)
+    if src is not None:
+        env["PYTHONPATH"] = str(src)
+    proc = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, env=env)
     if proc.returncode != 0:
         return {"design": name, "error": proc.stderr.strip().splitlines()[-1:] or ["?"]}
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -105,6 +112,9 @@ def main() -> None:
     ap.add_argument("--no-total", action="store_true", help="skip the `glidectl report all` runs")
     ap.add_argument("--total-only", action="store_true", help="only the `glidectl report all` runs")
     ap.add_argument("--tag", default="", help="suffix of the results file")
+    ap.add_argument("--baseline-src", default=None,
+                    help="another checkout's src folder: each design is built with it too (its own designs/), "
+                         "alternating with this checkout's, in the same run")
     ap.add_argument("--child", default=None, help=argparse.SUPPRESS)
     args = ap.parse_args()
     quick = not args.full
@@ -115,17 +125,26 @@ def main() -> None:
 
     names = [] if args.total_only else [n for n in args.designs.split(",") if n] or list(find_designs(ROOT / "designs"))
     results = []
+    base = Path(args.baseline_src).resolve() if args.baseline_src else None
     for name in names:
-        r = _run_child(name, quick, args.profile)
+        if base is not None:
+            b = _run_child(name, quick, False, base)
+            b["design"] = f"{name} [baseline]"
+            results.append(b)
+            print(f"{name + ' [baseline]':<40} " + (f"ERROR {b['error']}" if "error" in b else
+                                                    f"cold {b['cold_s']:8.1f} s  warm {b['warm_s']:6.2f} s"),
+                  flush=True)
+        r = _run_child(name, quick, args.profile, ROOT / "src")
         results.append(r)
         if "error" in r:
-            print(f"{name:<28} ERROR {r['error']}", flush=True)
+            print(f"{name:<40} ERROR {r['error']}", flush=True)
             continue
-        print(f"{name:<28} cold {r['cold_s']:8.1f} s  warm {r['warm_s']:6.2f} s (hit: {r['warm_was_hit']})"
+        print(f"{name:<40} cold {r['cold_s']:8.1f} s  warm {r['warm_s']:6.2f} s (hit: {r['warm_was_hit']})"
               + (f"  profiled {r['profiled_s']:8.1f} s" if "profiled_s" in r else ""), flush=True)
         for row in r.get("top_cumulative", []):
             print(f"    {row['cumtime_s']:8.2f} s  {row['calls']:>8}  {row['function']}")
     doc = {"settings": "quick" if quick else "full", "cpus": os.cpu_count(), "load_avg": os.getloadavg(),
+           "baseline_src": str(base) if base else None,
            "python": sys.version.split()[0], "designs": results}
     if not args.no_total:
         doc["report_all"] = _total(quick)
