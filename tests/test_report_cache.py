@@ -215,6 +215,11 @@ def test_cached_helper(tmp_path):
     with recording(tmp_path) as rec:
         assert cached(("double", 3, veh), lambda: f(3)) == {"value": "new"}
     assert rec.run.hits == 1
+    with recording(tmp_path) as rec:  # results holding closures (certificates, models) are cached too
+        for _ in range(2):
+            g = cached(("closure", 2), lambda: {"f": (lambda k: (lambda x: k * x))(2.5)})
+            assert g["f"](4.0) == 10.0
+    assert (rec.run.hits, rec.run.misses) == (1, 1)
     with pytest.raises(gc.ArgumentTypeError, match="callable"):
         cached("k", 3)
     with pytest.raises(gc.ArgumentTypeError, match="canonical"):

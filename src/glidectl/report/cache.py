@@ -33,6 +33,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any, TypeVar
 
+import cloudpickle
+
 from ..errors import ArgumentTypeError
 
 __all__ = ["CACHE_FORMAT", "BuildResult", "DesignCache", "cached", "code_fingerprint", "design_key", "merge_run",
@@ -160,7 +162,7 @@ def _atomic_pickle(path: Path, obj: Any) -> None:
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tmp-", suffix=".pkl")
     try:
         with os.fdopen(fd, "wb") as f:
-            pickle.dump(obj, f, protocol=pickle.HIGHEST_PROTOCOL)
+            cloudpickle.dump(obj, f, protocol=pickle.HIGHEST_PROTOCOL)  # closures and lambdas in results too
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)

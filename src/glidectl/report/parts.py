@@ -10,7 +10,9 @@ so the data files a part reads (vehicle files) become dependencies of the design
 ``items``. So the three ways give the same results (tested in ``tests/test_report_parts.py``).
 
 ``fn`` must be a module-level function of the design file (or of an importable module) and ``items`` picklable: a
-worker loads the design file the build is running (the same bytes), then calls ``fn(item)``.
+worker loads the design file the build is running (the same bytes), then calls ``fn(item)``. Items and results go
+through ``cloudpickle``, so results may hold closures (certificates, models with lambdas), as with
+:func:`~glidectl.report.cached`.
 """
 
 from __future__ import annotations
@@ -26,6 +28,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
+
+import cloudpickle
 
 from ..errors import ArgumentError, ArgumentTypeError
 from .cache import merge_run, recording
@@ -116,7 +120,7 @@ def _run_part(module: str, qualname: str, ctx: tuple[str, str, bytes], item: byt
     fn = _resolve(module, qualname, ctx)
     with recording(None if cache_root is None else Path(cache_root), refresh) as rec:
         value = fn(pickle.loads(item))
-    return pickle.dumps((value, sorted(rec.run.reads), rec.run.hits, rec.run.misses))
+    return cloudpickle.dumps((value, sorted(rec.run.reads), rec.run.hits, rec.run.misses))
 
 
 def _merge(blob: bytes) -> Any:
@@ -167,7 +171,7 @@ def map_parts(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
     if ctx is None or ctx.jobs <= 1 or len(items) <= 1:
         return [fn(x) for x in items]
     where = (ctx.name, ctx.path, ctx.source)
-    args = [(module, qualname, where, pickle.dumps(x), ctx.cache_root, ctx.refresh) for x in items]
+    args = [(module, qualname, where, cloudpickle.dumps(x), ctx.cache_root, ctx.refresh) for x in items]
     if ctx.dask:
         from distributed import worker_client
 
