@@ -32,7 +32,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentTypeError, ModelError
-from .lmi import SaturatedLoop, _sat
+from .lmi import SaturatedLoop
 from .polynomial import Poly
 from .systems import PolySystem, recast
 
@@ -153,7 +153,6 @@ def sector_system(system: Any, *, box_cuts: bool = True, max_degree: int = 4, se
     if box_cuts:
         cuts += [(xs[k] - float(dlo[k])) * (float(dhi[k]) - xs[k]) for k in range(nf)]
     lift0 = ps.lift
-    Ks = sl.K[sat]
 
     def X_of(Y: np.ndarray) -> np.ndarray:
         X = np.broadcast_to(xe, (*Y.shape[:-1], sl.n)).astype(Y.dtype).copy()
@@ -162,8 +161,8 @@ def sector_system(system: Any, *, box_cuts: bool = True, max_degree: int = 4, se
 
     def lift(Y: Any) -> np.ndarray:
         Y = np.asarray(Y)
-        V = _sat((X_of(Y) - xe) @ Ks.T, sl.u_lo[sat], sl.u_hi[sat])
-        return lift0(np.concatenate([Y - xe[f], V], axis=-1))
+        W = sl.input(X_of(Y))[..., sat]            # sat(K (X - X_e)), complex-safe
+        return lift0(np.concatenate([Y - xe[f], W], axis=-1))
 
     def rhs(Y: Any) -> np.ndarray:
         X = X_of(np.asarray(Y))
