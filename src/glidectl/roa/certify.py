@@ -847,7 +847,9 @@ class ROACertificate:
     method : str
         The route: ``"exact recast"`` (the SOS programs see the model itself) or ``"surrogate+remainder"`` (a
         polynomial surrogate whose distance to the model is bounded on the box, :mod:`glidectl.roa.surrogate`;
-        the decrease condition holds for every field within that bound).
+        the decrease condition holds for every field within that bound) or ``"sos-sector"`` (a saturated loop:
+        the saturated inputs are extra variables on the exact graph of the saturation,
+        :mod:`glidectl.roa.sector`).
     scale : ndarray or None
         Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
         surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
@@ -1185,7 +1187,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     system : PolySystem or glidectl model
         A polynomial system (e.g. :func:`glidectl.benchmarks.van_der_pol`) or a model at an equilibrium with the
         attributes :func:`~glidectl.roa.systems.recast` needs (``sp.reduced_model()``, ``sp.full_model()``). Its
-        equilibrium must be exponentially stable.
+        equilibrium must be exponentially stable. A :class:`~glidectl.roa.lmi.SaturatedLoop`
+        (:func:`glidectl.saturated_loop`) with a polynomial plant is certified with its saturation as S-procedure
+        terms (:func:`~glidectl.roa.sector.sector_system`, ``method = "sos-sector"``; the states are its free
+        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`.
     degree : int
         Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
     iterations : int
@@ -1240,7 +1245,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         is shifted to its equilibrium and sampled on the box widened 3x); ``"surrogate"`` certifies a polynomial
         surrogate with a remainder bound on the box (:func:`~glidectl.roa.surrogate.surrogate_system`), for every
         right-hand side within that bound, the true one included; ``"auto"`` (default) tries the exact recast
-        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which.
+        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which. A
+        SaturatedLoop takes the ``"sos-sector"`` route with ``"auto"`` or ``"exact"``.
     surrogate_degree : int
         Degree of the surrogate, 2 to 5 (default 3).
     margin : float
@@ -1259,7 +1265,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         included: degrees are integers).
     ArgumentError
         If an argument is out of range: an odd or too small ``degree``, ``backoff`` or ``center`` outside
-        ``[0, 1)``, an unknown solver, a bad ``initial``, an unknown ``method``; a box that is invalid, misses
+        ``[0, 1)``, an unknown solver, a bad ``initial``, an unknown ``method`` (or ``"surrogate"`` for a
+        SaturatedLoop); a box that is invalid, misses
         limits for some states or does not contain the equilibrium.
     ModelError
         If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), the model
