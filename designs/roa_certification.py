@@ -442,8 +442,7 @@ def _user_glider_loop() -> Any:
     return gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
 
 
-def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tuple[str, str],
-              truth_loop: Any = None) -> dict[str, Any]:
+def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tuple[str, str]) -> dict[str, Any]:
     """One LMI certificate with its diagnostics: fraction of the box, extents, which constraint binds, how far the
     same V could go (first scale of the ellipsoid with a sampled dV/dt >= 0), the simulated converging fraction."""
     t0 = time.perf_counter()
@@ -467,8 +466,7 @@ def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tu
     lo, hi = sl.box
     X = np.tile(sl.equilibrium, (s.sat_n_truth, 1))
     X[:, f] = lo[f] + (hi[f] - lo[f]) * qmc.Sobol(len(f), seed=s.seed_truth).random(s.sat_n_truth)
-    rhs = (truth_loop or sl).rhs
-    res = gc.integrate_batch(rhs, X, cert.verification.horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
+    res = gc.integrate_batch(sl.rhs, X, cert.verification.horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
                              bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
     conv = res.converged_to(sl.equilibrium, 1e-3 * float(np.linalg.norm(half)))
     fig = cert.plot(dims=dims)

@@ -84,8 +84,7 @@ def test_saturated_unstable_loop_certificate_is_sound(lin2):
     assert np.all(vd < 0)
     res = integrate_batch(sl.rhs, X[-8:], 30.0, rtol=1e-6, atol=1e-10)          # outermost samples
     assert np.all(res.converged_to(np.zeros(2), 1e-4))
-    # never beyond the true region: x = (t, -t) has K x = 0 and x' = (-t, t) (no decrease of |x| possible beyond
-    # the saturation-free linear flow); points outside where simulations diverge are not certified
+    # never beyond the true region: box points whose simulations diverge are not in the certified set
     far = np.array([[2.9, 2.9], [-2.9, -2.9], [2.5, 1.5]])
     diverge = ~integrate_batch(sl.rhs, far, 30.0, rtol=1e-8, atol=1e-11, bound=1e3).converged_to(np.zeros(2), 1e-3)
     assert not np.any(cert.contains(far[diverge]))
