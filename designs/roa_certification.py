@@ -7,6 +7,13 @@ Run ``glidectl report roa_certification`` or ``python designs/roa_certification.
 writes ``OUTDIR/roa_certification/`` (default ``reports/``) with report.pdf, the figures and numbers.json.
 The FULL build takes about 28 minutes on 2 cores, 16 of them in the CTOL closed-loop certificate
 (``Settings(ctol=False)`` skips it).
+
+Saturated loops (issue 17, ``Settings(saturated=False)`` skips them): the user glider's LQR dive-cycle loop
+(slocum_shallow, unsaturated and saturated at the pump rate) and the chapter-6 buoyancy and elevator loops by the LMI
+path (``gc.certify_roa_lmi``), the SOS path with the saturation graph (``gc.certify_roa`` of a SaturatedLoop,
+method ``"sos-sector"``) on a polynomial saturated loop. Measured: about 440 s at load average 26-28 on the 2 shared
+cores (2026-12-01); the single certificates took 12-14 s (chapter 6) and 48 s (user glider, 6 rounds) at load 1.9,
+so the user glider runs 2 rounds of the remainder-box search (``sat_user_rounds``).
 """
 
 from __future__ import annotations
