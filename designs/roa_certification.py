@@ -492,8 +492,9 @@ def _binding(case: dict[str, Any]) -> str:
     if v.box_max >= 0.98:
         why.append("the loop's box (the ellipsoid touches it)")
     if rem >= 0.95 and np.any(c.remainder_box < 0.999 * c.scale):
+        r = c.remainder_box / c.scale
         why.append(f"the remainder bound (the ellipsoid fills its remainder box, {rem:.2f}, which is "
-                   f"{np.max(c.remainder_box / c.scale):.2g} of the box at most)")
+                   f"{np.min(r):.2g} to {np.max(r):.2g} of the box per state)")
     reach = _saturation_reach(c)
     if reach is not None:
         why.append(f"not the saturation: the ellipsoid reaches {reach:.2g} x the saturation level in K x"
