@@ -26,6 +26,8 @@ def test_settings_presets(design):
                                                                                                   (-100.0,))
     assert (Q.n_volume, Q.n_truth_2d, Q.n_truth_4d, Q.n_guide, Q.ctol) == (2**12, 21, 64, 256, False)
     assert m.DRAKE_RHO == 2.3045 and m.VDP_TRUE_AREA == 13.72
+    assert F.saturated and (F.sat_rounds, F.sat_user_rounds, F.sat_n_truth, F.sat_sos_degree) == (6, 2, 256, 2)
+    assert Q.saturated and (Q.sat_rounds, Q.sat_user_rounds, Q.sat_n_truth) == (2, 1, 32)
 
 
 def test_roa_report_builds_with_required_numbers(quick_build):
@@ -50,4 +52,19 @@ def test_roa_report_builds_with_required_numbers(quick_build):
     assert not any(name.startswith("ctol_") for name in nums)      # quick: no CTOL closed loop
     assert all(math.isfinite(nums[n]["value"]) for n in nums if n.endswith("_volume"))
     pngs = {p.name for p in pdf.parent.glob("*.png")}
-    assert pngs == {"vdp_roa.png", "reduced_roa.png", "full_roa_slices.png"}
+    assert pngs == {"vdp_roa.png", "reduced_roa.png", "full_roa_slices.png", "sat_user_unsat.png", "sat_user_sat.png",
+                    "sat_buoyancy.png", "sat_elevator.png", "sat_poly_sos_sector.png"}
+
+
+def test_roa_report_saturated_loops(quick_build):
+    # issue 17 part 7: the user glider's LQR loop (unsaturated, saturated) and the chapter-6 loops by the LMI path,
+    # the SOS path with the saturation graph on a polynomial loop (it refuses the non-polynomial glider plants)
+    nums = quick_build[3]
+    for key in ("user_unsat", "user_sat", "buoyancy", "elevator"):
+        assert nums[f"sat_{key}_verified"]["value"] is True
+        assert 0 < nums[f"sat_{key}_fraction_of_box"]["value"] < 1
+        assert 0 < nums[f"sat_{key}_true_fraction"]["value"] <= 1
+        assert nums[f"sat_{key}_tightness_scale"]["value"] > 1       # the certified set is not beyond its own V
+    assert nums["sat_buoyancy_sos_path"]["value"] is False and "polynomial" in nums["sat_buoyancy_sos_path"]["note"]
+    assert "sos-sector" in nums["sat_poly_sos_sector_fraction"]["source"]
+    assert nums["sat_poly_sos_sector_fraction"]["value"] > nums["sat_poly_lmi_fraction"]["value"] > 0

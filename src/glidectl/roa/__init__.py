@@ -15,6 +15,7 @@ from .certify import (
 )
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import box_scale, resolve_box, scaled_lyapunov
+from .sector import sector_system
 from .sos import GramCheck, LinPoly, SOSProgram
 from .surrogate import RemainderBound, surrogate_error, surrogate_system
 from .systems import PolySystem, polynomial_system, recast, taylor_system
@@ -43,6 +44,7 @@ __all__ = [
     "recast",
     "resolve_box",
     "scaled_lyapunov",
+    "sector_system",
     "surrogate_error",
     "surrogate_system",
     "taylor_system",

@@ -53,8 +53,10 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
+from .lmi import SaturatedLoop
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
+from .sector import sector_system
 from .sos import GramCheck, LinPoly, SOSProgram, parity_generators, sign_classes
 from .surrogate import (
     abs_gradient_bounds,
@@ -552,7 +554,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         out["W"] = W
         dec = Vl * N + lam_l * W
     else:
-        V_u, Vl = prog.free_poly("V", _sym(monomials(nz, degV, 1), G, zero))
+        V_u, Vl = prog.free_poly("V", _sym(_state_monomials(ps, degV), G, zero))
         out["V"] = V_u
         Vd = Vl.lie(F)
         if R:
@@ -571,6 +573,8 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         _, tau = prog.sos_poly_blocks(f"tau{k}", _sym_blocks(monomials(nz, (dg.D - g.degree) // 2), G))
         dec = dec - tau * g
     for j, h in enumerate(ps.equalities):
+        if h.degree > dg.D:     # (a cubic graph equality of a saturated loop with a low-degree program)
+            continue
         _, psi = prog.free_poly(f"psi{j}", _sym(monomials(nz, dg.D - h.degree), G, _char(G, h)))
         dec = dec + psi * h
     prog.add_sos("decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
@@ -579,16 +583,30 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         _, sig = prog.sos_poly_blocks(f"sigma{k}", _sym_blocks(monomials(nz, (dk - g.degree) // 2), G))
         cont = Vl - rho_l + sig * g
         for j, h in enumerate(ps.equalities):
+            if h.degree > dk:
+                continue
             _, phi = prog.free_poly(f"phi{k}_{j}", _sym(monomials(nz, dk - h.degree), G, _char(G, h)))
             cont = cont + phi * h
         prog.add_sos(f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
     if V is None:
-        pos = Vl - _zsq(nz) * eps
+        pos = Vl - _state_zsq(ps) * eps
         for j, h in enumerate(ps.equalities):
+            if h.degree > degV:
+                continue
             _, phi = prog.free_poly(f"chi{j}", _sym(monomials(nz, degV - h.degree), G, _char(G, h)))
             pos = pos + phi * h
         prog.add_sos("positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
     return prog, out
+
+
+def _state_monomials(ps: PolySystem, degree: int) -> list[tuple[int, ...]]:
+    """Monomials of ``V`` (degrees 1 to ``degree``): none in the saturated-input variables ``ps.inputs``."""
+    return [e for e in monomials(ps.nz, degree, 1) if not any(e[i] for i in ps.inputs)]
+
+
+def _state_zsq(ps: PolySystem) -> Poly:
+    """``|z|^2`` over the variables of the states (all but the saturated-input variables ``ps.inputs``)."""
+    return sum((Poly.var(i, ps.nz) ** 2 for i in range(ps.nz) if i not in ps.inputs), Poly({}, ps.nz))
 
 
 def _remainder(ps: PolySystem, F: list[Poly]) -> list[Poly]:
@@ -829,7 +847,9 @@ class ROACertificate:
     method : str
         The route: ``"exact recast"`` (the SOS programs see the model itself) or ``"surrogate+remainder"`` (a
         polynomial surrogate whose distance to the model is bounded on the box, :mod:`glidectl.roa.surrogate`;
-        the decrease condition holds for every field within that bound).
+        the decrease condition holds for every field within that bound) or ``"sos-sector"`` (a saturated loop:
+        the saturated inputs are extra variables on the exact graph of the saturation,
+        :mod:`glidectl.roa.sector`).
     scale : ndarray or None
         Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
         surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
@@ -1167,7 +1187,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     system : PolySystem or glidectl model
         A polynomial system (e.g. :func:`glidectl.benchmarks.van_der_pol`) or a model at an equilibrium with the
         attributes :func:`~glidectl.roa.systems.recast` needs (``sp.reduced_model()``, ``sp.full_model()``). Its
-        equilibrium must be exponentially stable.
+        equilibrium must be exponentially stable. A :class:`~glidectl.roa.lmi.SaturatedLoop`
+        (:func:`glidectl.saturated_loop`) with a polynomial plant is certified with its saturation as S-procedure
+        terms (:func:`~glidectl.roa.sector.sector_system`, ``method = "sos-sector"``; the states are its free
+        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`.
     degree : int
         Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
     iterations : int
@@ -1222,7 +1245,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         is shifted to its equilibrium and sampled on the box widened 3x); ``"surrogate"`` certifies a polynomial
         surrogate with a remainder bound on the box (:func:`~glidectl.roa.surrogate.surrogate_system`), for every
         right-hand side within that bound, the true one included; ``"auto"`` (default) tries the exact recast
-        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which.
+        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which. A
+        SaturatedLoop takes the ``"sos-sector"`` route with ``"auto"`` or ``"exact"``.
     surrogate_degree : int
         Degree of the surrogate, 2 to 5 (default 3).
     margin : float
@@ -1241,7 +1265,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         included: degrees are integers).
     ArgumentError
         If an argument is out of range: an odd or too small ``degree``, ``backoff`` or ``center`` outside
-        ``[0, 1)``, an unknown solver, a bad ``initial``, an unknown ``method``; a box that is invalid, misses
+        ``[0, 1)``, an unknown solver, a bad ``initial``, an unknown ``method`` (or ``"surrogate"`` for a
+        SaturatedLoop); a box that is invalid, misses
         limits for some states or does not contain the equilibrium.
     ModelError
         If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), the model
@@ -1462,6 +1487,11 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
     surrogate route are checked before anything is sampled."""
     if isinstance(system, PolySystem):
         return system
+    if isinstance(system, SaturatedLoop):            # saturation in the SOS path: graph of sat as S-procedure terms
+        if method not in ("auto", "exact"):
+            raise ArgumentError(f"a SaturatedLoop is certified by the SOS path with its saturation as S-procedure "
+                                f"terms (method 'auto' or 'exact'), not method={method!r}")
+        return sector_system(system, seed=seed)
     names = getattr(system, "state_names", None)
     if names is None or not callable(getattr(system, "rhs", None)):
         raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "

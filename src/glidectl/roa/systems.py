@@ -81,6 +81,9 @@ class PolySystem:
         Surrogate systems: the state scale ``s`` of ``z = (x - x_e) / s`` (state units); None otherwise.
     remainder_bound : object
         Surrogate systems: the :class:`~glidectl.roa.surrogate.RemainderBound` (how ``remainder`` was bounded).
+    inputs : tuple of int
+        Saturated loops (:func:`~glidectl.roa.sector.sector_system`): indices in ``z`` of the saturated-input
+        variables ``v``; ``V`` and its positivity condition do not involve them. Empty otherwise.
     slots : tuple of tuple of int
         For each state of ``x``, the indices of its variables in ``z``.
     s_caps : dict
@@ -117,6 +120,8 @@ class PolySystem:
     method: str = "exact recast"
     scale: np.ndarray | None = field(default=None, repr=False)
     remainder_bound: Any = field(default=None, repr=False)
+    # --- SOS path with saturation (issue 17): z-indices of the saturated-input variables (V does not use them)
+    inputs: tuple[int, ...] = ()
 
     @property
     def n(self) -> int:
