@@ -29,7 +29,7 @@ import numpy as np
 from scipy.stats import qmc
 
 import glidectl as gc
-from glidectl.report import BHATTA_2006, Report, new_figure, run_script
+from glidectl.report import BHATTA_2006, Report, map_parts, new_figure, run_script
 
 TITLE = "Region-of-attraction certification by SOS programs: Van der Pol and the chapter-5 glider"
 
@@ -130,9 +130,51 @@ def _converged(s: Settings, rhs: Any, X: np.ndarray, horizon: float) -> np.ndarr
 
 
 def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
-    """Run every certification and comparison of the study."""
-    progress("Van der Pol: fixed-V level (Drake's problem), Drake itself if installed, degree-"
-             f"{s.vdp_degree} certificate")
+    """Run every certification and comparison of the study: independent parts, on the build's workers
+    (``glidectl report --jobs N``; serially otherwise), the longest first."""
+    tasks: list[tuple[Settings, str, Any]] = []
+    if s.ctol:
+        tasks.append((s, "ctol", None))
+    tasks += [(s, "full", KM) for KM in s.full_KM]
+    if s.torque_speed is not None:
+        tasks.append((s, "torque", s.torque_speed))
+    tasks += [(s, "reduced", None), (s, "vdp", None)]
+    progress(f"{len(tasks)} independent parts: Van der Pol (degree {s.vdp_degree}, Drake's fixed-V level), the "
+             f"reduced glider (degree {s.reduced_degree}, Phi < 2/3, Taylor trap), the full glider for K_M in "
+             f"{s.full_KM} (degree {s.full_degree}, L*)"
+             + (f", the chapter-6 torque loop at {s.torque_speed} m/s" if s.torque_speed is not None else "")
+             + (f", the CTOL closed loop (degree {s.ctol_degree}, Theorem 5)" if s.ctol else ""))
+    out = dict(zip([(k, a) for _, k, a in tasks], map_parts(_part, tasks), strict=True))
+    vprob, lvl_rho, t_lvl, drake, cycle = out[("vdp", None)]
+    rprob, sp, truth2d, trap = out[("reduced", None)]
+    full: dict[str, _Problem] = {}
+    comp: dict[str, gc.CompositeCertificate] = {}
+    for kind, arg in out:
+        if kind in ("full", "torque"):
+            key, prob, cl = out[(kind, arg)]
+            full[key], comp[key] = prob, cl
+    return _Results(s, vprob, lvl_rho, t_lvl, drake, cycle, rprob, sp, truth2d, trap, full, comp,
+                    out.get(("ctol", None)))
+
+
+def _part(task: tuple[Settings, str, Any]) -> Any:
+    """One independent part of the study (a module-level function: ``map_parts`` runs it in a worker)."""
+    s, kind, arg = task
+    if kind == "vdp":
+        return _vdp(s)
+    if kind == "reduced":
+        return _reduced(s)
+    if kind == "full":
+        return _full(s, f"KM{abs(int(arg))}", gc.load_vehicle("sphere_ch5", K_M=arg), f"glider K_M = {arg:g}")
+    if kind == "torque":
+        td = gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=arg, Vbar=s.torque_Vbar,
+                                      alphabar=s.torque_alphabar)
+        return _full(s, "ch6_torque", td.closed_loop_vehicle, f"torque law (6.5), V_e = {arg} m/s")
+    return _ctol(s, lambda msg: None)
+
+
+def _vdp(s: Settings) -> tuple[_Problem, float, float, dict[str, float] | None, np.ndarray]:
+    """Van der Pol: the fixed-V level (Drake's problem), Drake itself if installed, the certificate."""
     vdp = gc.benchmarks.van_der_pol()
     t0 = time.perf_counter()
     lvl = gc.max_level(vdp, gc.lyapunov_quadratic(vdp))
@@ -145,8 +187,12 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
     lo, hi = vdp.box
     vprob = _Problem("van_der_pol", vc, vc.volume(n=s.n_volume), area, drake_area, "Drake (fixed quadratic V)",
                      float(np.prod(hi - lo)), {})
-    progress(f"reduced 2-state glider (K_M = -50): degree-{s.reduced_degree} certificate, Phi < 2/3, "
-             "simulated region")
+    return vprob, lvl.rho, t_lvl, drake, cycle
+
+
+def _reduced(s: Settings) -> tuple[_Problem, gc.SingularPerturbation, tuple[np.ndarray, np.ndarray, np.ndarray],
+                                   dict[str, Any]]:
+    """The reduced 2-state glider (K_M = -50): certificate, Phi < 2/3, simulated region, Taylor trap."""
     sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
     rm = sp.reduced_model()
     rc = gc.certify_roa(rm, backoff=s.backoff, n_truth=s.n_guide, degree=s.reduced_degree,
@@ -162,36 +208,25 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
     rprob = _Problem("reduced", rc, rc.volume(n=s.n_volume), box * float(np.mean(conv)),
                      gc.CompositeCertificate.phi_area(), "thesis Phi < 2/3 (5.35)", box,
                      {"phi_area_in_box": phi_in_box})
-    progress(f"Taylor trap: Drake's problem on the degree-{s.taylor_order} Taylor model of the reduced glider, "
-             "checked on the truth")
-    trap = _taylor_trap(s, rm)
-    full: dict[str, _Problem] = {}
-    comp: dict[str, gc.CompositeCertificate] = {}
-    cases: list[tuple[str, Any, str]] = [(f"KM{abs(int(KM))}", gc.load_vehicle("sphere_ch5", K_M=KM),
-                                          f"glider K_M = {KM:g}") for KM in s.full_KM]
-    if s.torque_speed is not None:
-        progress(f"chapter-6 torque design for V_e = {s.torque_speed} m/s (closed loop = glider with new moments)")
-        td = gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=s.torque_speed, Vbar=s.torque_Vbar,
-                                      alphabar=s.torque_alphabar)
-        cases.append(("ch6_torque", td.closed_loop_vehicle, f"torque law (6.5), V_e = {s.torque_speed} m/s"))
-    for key, veh, label in cases:
-        progress(f"full 4-state model, {label}: degree-{s.full_degree} certificate, L* (5.85), simulations")
-        spk = gc.singular_perturbation(veh)
-        fm = spk.full_model()
-        cl = gc.composite_lyapunov(veh)
-        lo, hi = fm.box
-        bvol = float(np.prod(hi - lo))
-        lstar = cl.estimate_volume((lo, hi), n=s.n_volume, seed=s.seed_volume)
-        fc = gc.certify_roa(fm, backoff=s.backoff, n_truth=s.n_guide, degree=s.full_degree,
-                            iterations=s.full_iterations)
-        truth = gc.box_measure(lambda X, rhs=fm.rhs: _converged(s, rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
-                               seed=s.seed_truth)
-        full[key] = _Problem(label, fc, fc.volume(n=s.n_volume), truth, lstar, "thesis L* (5.85)", bvol,
-                             {"mu": spk.mu, "mu_d": cl.mu_d, "thesis_certified": cl.certified, "K_M": veh.K_M,
-                              "K_q": veh.K_q, "K_M0": veh.K_M0})
-        comp[key] = cl
-    ctol = _ctol(s, progress) if s.ctol else None
-    return _Results(s, vprob, lvl.rho, t_lvl, drake, cycle, rprob, sp, (VV, GG, conv), trap, full, comp, ctol)
+    return rprob, sp, (VV, GG, conv), _taylor_trap(s, rm)
+
+
+def _full(s: Settings, key: str, veh: gc.Vehicle, label: str) -> tuple[str, _Problem, gc.CompositeCertificate]:
+    """The full 4-state model of ``veh``: certificate, the thesis's L* (5.85), simulated region."""
+    spk = gc.singular_perturbation(veh)
+    fm = spk.full_model()
+    cl = gc.composite_lyapunov(veh)
+    lo, hi = fm.box
+    bvol = float(np.prod(hi - lo))
+    lstar = cl.estimate_volume((lo, hi), n=s.n_volume, seed=s.seed_volume)
+    fc = gc.certify_roa(fm, backoff=s.backoff, n_truth=s.n_guide, degree=s.full_degree,
+                        iterations=s.full_iterations)
+    truth = gc.box_measure(lambda X, rhs=fm.rhs: _converged(s, rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
+                           seed=s.seed_truth)
+    prob = _Problem(label, fc, fc.volume(n=s.n_volume), truth, lstar, "thesis L* (5.85)", bvol,
+                    {"mu": spk.mu, "mu_d": cl.mu_d, "thesis_certified": cl.certified, "K_M": veh.K_M,
+                     "K_q": veh.K_q, "K_M0": veh.K_M0})
+    return key, prob, cl
 
 
 def _ctol(s: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
