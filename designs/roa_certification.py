@@ -121,6 +121,7 @@ class _Results:
     full: dict[str, _Problem]
     full_composite: dict[str, gc.CompositeCertificate]
     ctol: dict[str, Any] | None
+    sat: dict[str, Any] | None
 
 
 def _converged(s: Settings, rhs: Any, X: np.ndarray, horizon: float) -> np.ndarray:
@@ -138,12 +139,17 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
     tasks += [(s, "full", KM) for KM in s.full_KM]
     if s.torque_speed is not None:
         tasks.append((s, "torque", s.torque_speed))
+    if s.saturated:
+        tasks += [(s, "sat", "user"), (s, "sat", "ch6")]
     tasks += [(s, "reduced", None), (s, "vdp", None)]
+    if s.saturated:
+        tasks.append((s, "sat", "poly"))
     progress(f"{len(tasks)} independent parts: Van der Pol (degree {s.vdp_degree}, Drake's fixed-V level), the "
              f"reduced glider (degree {s.reduced_degree}, Phi < 2/3, Taylor trap), the full glider for K_M in "
              f"{s.full_KM} (degree {s.full_degree}, L*)"
              + (f", the chapter-6 torque loop at {s.torque_speed} m/s" if s.torque_speed is not None else "")
-             + (f", the CTOL closed loop (degree {s.ctol_degree}, Theorem 5)" if s.ctol else ""))
+             + (f", the CTOL closed loop (degree {s.ctol_degree}, Theorem 5)" if s.ctol else "")
+             + (", the saturated loops (user glider, chapter-6 loops, the SOS sector path)" if s.saturated else ""))
     out = dict(zip([(k, a) for _, k, a in tasks], map_parts(_part, tasks), strict=True))
     vprob, lvl_rho, t_lvl, drake, cycle = out[("vdp", None)]
     rprob, sp, truth2d, trap = out[("reduced", None)]
@@ -153,8 +159,9 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
         if kind in ("full", "torque"):
             key, prob, cl = out[(kind, arg)]
             full[key], comp[key] = prob, cl
+    sat = _saturated([v for (k, _), v in out.items() if k == "sat"]) if s.saturated else None
     return _Results(s, vprob, lvl_rho, t_lvl, drake, cycle, rprob, sp, truth2d, trap, full, comp,
-                    out.get(("ctol", None)))
+                    out.get(("ctol", None)), sat)
 
 
 def _part(task: tuple[Settings, str, Any]) -> Any:
@@ -166,6 +173,8 @@ def _part(task: tuple[Settings, str, Any]) -> Any:
         return _reduced(s)
     if kind == "full":
         return _full(s, f"KM{abs(int(arg))}", gc.load_vehicle("sphere_ch5", K_M=arg), f"glider K_M = {arg:g}")
+    if kind == "sat":
+        return _saturated_part(s, arg)
     if kind == "torque":
         td = gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=arg, Vbar=s.torque_Vbar,
                                       alphabar=s.torque_alphabar)
@@ -511,9 +520,8 @@ def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tu
     res = gc.integrate_batch(sl.rhs, X, cert.verification.horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
                              bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
     conv = res.converged_to(sl.equilibrium, 1e-3 * float(np.linalg.norm(half)))
-    fig = cert.plot(dims=dims)
     return {"label": label, "loop": sl, "cert": cert, "wall": wall, "extent": ext / half, "tight": tight,
-            "true_fraction": float(np.mean(conv)), "n_truth": int(X.shape[0]), "fig": fig, "dims": dims,
+            "true_fraction": float(np.mean(conv)), "n_truth": int(X.shape[0]), "dims": dims,
             "names": [sl.state_names[i] for i in f]}
 
 
@@ -548,57 +556,65 @@ def _saturation_reach(cert: Any) -> float | None:
     return float(np.max(np.sqrt(np.einsum("ij,jk,ik->i", Kf, np.linalg.inv(cert.P), Kf)) / u0))
 
 
-def _saturated(s: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
-    """The user glider's LQR loop (unsaturated and saturated) and the chapter-6 buoyancy and elevator loops
-    (saturated at the pump rate), certified by the LMI path; the SOS path with the saturation graph where the plant is
-    polynomial (a saturated, open-loop unstable polynomial example), and its refusal of the glider loops."""
+def _saturated_part(s: Settings, which: str) -> tuple[str, Any, float]:
+    """One part of the saturated-loop section: ``"user"`` (the user glider's LQR dive-cycle loop, unsaturated and
+    saturated), ``"ch6"`` (the chapter-6 buoyancy and elevator loops, LMI path) or ``"poly"`` (the SOS path with the
+    saturation graph against the LMI path on a polynomial loop). Returns ``(which, result, wall time)``."""
     kw = dict(rounds=s.sat_rounds, n_radii=s.sat_n_radii, refine=s.sat_refine)
-    out: dict[str, Any] = {"cases": {}, "timing": {}}
-    progress("saturated loops: the user glider's LQR dive-cycle loop (slocum_shallow), unsaturated and saturated")
     t0 = time.perf_counter()
-    loop = _user_glider_loop()
-    inf = [math.inf] * len(loop.plant.input_names)
-    ukw = dict(kw, rounds=s.sat_user_rounds)
-    out["cases"]["user_unsat"] = _sat_case("user glider LQR, unsaturated", gc.saturated_loop(
-        loop, u_min=[-x for x in inf], u_max=inf), ukw, s, ("theta", "m0"))
-    out["cases"]["user_sat"] = _sat_case("user glider LQR, pump saturated", gc.saturated_loop(loop), ukw, s,
-                                         ("theta", "m0"))
-    out["timing"]["user"] = time.perf_counter() - t0
-    progress("saturated loops: chapter-6 buoyancy (6.9) and elevator (6.21)-(6.22) loops, LMI path")
-    t0 = time.perf_counter()
-    sph = gc.load_vehicle("sphere_ch5")
-    beq = gc.buoyancy_equilibrium(sph, 1.5)
-    ev = gc.load_vehicle("elevator_ch6")
-    eeq = gc.elevator_equilibrium(ev, 1.0, -math.pi / 4)
-    for key, cl, dims in (("buoyancy", gc.closed_loop(gc.BuoyancyController(beq, sph, 5.0)), ("V", "m0")),
-                          ("elevator", gc.closed_loop(gc.ElevatorBuoyancyController(eeq, ev, 1.0)), ("gamma", "m0"))):
-        sl = gc.saturated_loop(cl)
-        out["cases"][key] = _sat_case(f"chapter-6 {key} loop, pump rate saturated", sl, kw, s, dims)
-        if key == "buoyancy":       # the SOS path needs a polynomial plant: its refusal (~3 s of recast attempts)
-            try:
-                gc.certify_roa(sl, degree=s.sat_sos_degree)
-                out["cases"][key]["sos"] = "certified"
-            except gc.ModelError as exc:
-                out["cases"][key]["sos"] = f"refused: {str(exc)[:300]}..."
-    out["timing"]["ch6"] = time.perf_counter() - t0
-    progress("saturated loops: SOS path with the saturation graph (sos-sector) against the LMI path on a "
-             "polynomial loop")
-    t0 = time.perf_counter()
-    K = np.array([[-2.0, -2.0]])
-
-    def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
-        return np.stack([X[..., 1], X[..., 0] + 0.3 * X[..., 0] ** 2], -1) + W @ np.array([[0.0, 1.0]])
-
-    poly = gc.SaturatedLoop("x1' = x2, x2' = x1 + 0.3 x1^2 + sat(-2 x1 - 2 x2)", ("x1", "x2"), ("u",), F,
-                            np.zeros(2), K, np.array([-1.0]), np.array([1.0]), (-2.0 * np.ones(2), 2.0 * np.ones(2)))
+    cases: dict[str, Any] = {}
+    if which == "user":
+        loop = _user_glider_loop()
+        inf = [math.inf] * len(loop.plant.input_names)
+        ukw = dict(kw, rounds=s.sat_user_rounds)
+        cases["user_unsat"] = _sat_case("user glider LQR, unsaturated", gc.saturated_loop(
+            loop, u_min=[-x for x in inf], u_max=inf), ukw, s, ("theta", "m0"))
+        cases["user_sat"] = _sat_case("user glider LQR, pump saturated", gc.saturated_loop(loop), ukw, s,
+                                      ("theta", "m0"))
+        return which, cases, time.perf_counter() - t0
+    if which == "ch6":
+        sph = gc.load_vehicle("sphere_ch5")
+        beq = gc.buoyancy_equilibrium(sph, 1.5)
+        ev = gc.load_vehicle("elevator_ch6")
+        eeq = gc.elevator_equilibrium(ev, 1.0, -math.pi / 4)
+        for key, cl, dims in (("buoyancy", gc.closed_loop(gc.BuoyancyController(beq, sph, 5.0)), ("V", "m0")),
+                              ("elevator", gc.closed_loop(gc.ElevatorBuoyancyController(eeq, ev, 1.0)),
+                               ("gamma", "m0"))):
+            sl = gc.saturated_loop(cl)
+            cases[key] = _sat_case(f"chapter-6 {key} loop, pump rate saturated", sl, kw, s, dims)
+            if key == "buoyancy":       # the SOS path needs a polynomial plant: its refusal (~3 s of recast attempts)
+                try:
+                    gc.certify_roa(sl, degree=s.sat_sos_degree)
+                    cases[key]["sos"] = "certified"
+                except gc.ModelError as exc:
+                    cases[key]["sos"] = f"refused: {str(exc)[:300]}..."
+        return which, cases, time.perf_counter() - t0
+    poly = gc.SaturatedLoop("x1' = x2, x2' = x1 + 0.3 x1^2 + sat(-2 x1 - 2 x2)", ("x1", "x2"), ("u",), _poly_field,
+                            np.zeros(2), np.array([[-2.0, -2.0]]), np.array([-1.0]), np.array([1.0]),
+                            (-2.0 * np.ones(2), 2.0 * np.ones(2)))
     sos = gc.certify_roa(poly, degree=s.sat_sos_degree, iterations=2, extra=0, n_truth=s.n_guide // 8,
                          backoff=s.backoff)
     t_sos = time.perf_counter() - t0
     t1 = time.perf_counter()
     lmi = gc.certify_roa_lmi(poly, n_verify=s.sat_n_verify, n_simulate=s.sat_n_simulate, **kw)
-    out["poly"] = {"loop": poly, "sos": sos, "sos_wall": t_sos, "lmi": lmi, "lmi_wall": time.perf_counter() - t1,
-                   "sos_volume": sos.volume(n=s.n_volume), "box_volume": 16.0}
-    out["timing"]["poly"] = time.perf_counter() - t0
+    return which, {"loop": poly, "sos": sos, "sos_wall": t_sos, "lmi": lmi, "lmi_wall": time.perf_counter() - t1,
+                   "sos_volume": sos.volume(n=s.n_volume), "box_volume": 16.0}, time.perf_counter() - t0
+
+
+def _poly_field(X: np.ndarray, W: np.ndarray) -> np.ndarray:
+    """The polynomial saturated example: ``x1' = x2``, ``x2' = x1 + 0.3 x1^2 + w``."""
+    return np.stack([X[..., 1], X[..., 0] + 0.3 * X[..., 0] ** 2], -1) + W @ np.array([[0.0, 1.0]])
+
+
+def _saturated(parts: list[tuple[str, Any, float]]) -> dict[str, Any]:
+    """The saturated-loop section's results from its parts (:func:`_saturated_part`)."""
+    out: dict[str, Any] = {"cases": {}, "timing": {}}
+    for which, value, wall in parts:
+        out["timing"][which] = wall
+        if which == "poly":
+            out["poly"] = value
+        else:
+            out["cases"].update(value)
     return out
 
 
@@ -647,8 +663,9 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
               ["loop", "method", "certified", "simulated", "V scale", "verified", "s", "limited by"], rows)
     for key, c in sat["cases"].items():
         d = c["dims"]
-        rep.figure(f"sat_{key}", c["fig"], f"{c['label']}: slice of the certified ellipsoid in ({d[0]}, {d[1]}) "
-                                           "through the equilibrium, within the loop's box.")
+        rep.figure(f"sat_{key}", c["cert"].plot(dims=d),
+                   f"{c['label']}: slice of the certified ellipsoid in ({d[0]}, {d[1]}) through the equilibrium, "
+                   "within the loop's box.")
     fig = p["sos"].plot()
     rep.figure("sat_poly_sos_sector", getattr(fig, "figure", fig),
                f"{p['loop'].name}: certified set of the SOS path with the saturation graph (degree "
@@ -682,11 +699,10 @@ def design(progress: Callable[[str], None] = lambda msg: None, quick: bool = Fal
     """Build the report with ``QUICK`` or ``FULL`` settings."""
     s = QUICK if quick else FULL
     res = _compute(s, progress)
-    sat = _saturated(s, progress) if s.saturated else None
     progress("figures and report")
     rep = _report(res)
-    if sat is not None:
-        _report_saturated(rep, s, sat)
+    if res.sat is not None:
+        _report_saturated(rep, s, res.sat)
     return rep
 
 
