@@ -230,9 +230,38 @@ def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 
     ok = np.all(np.isfinite(X), axis=-1)
     x0 = np.asarray(ps.equilibrium, dtype=float)
     for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
-        Y = np.where(ok[:, None], x0 + t * (X - x0), x0)
-        ok &= (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
+        idx = np.flatnonzero(ok)        # a point that failed once stays out: only the others are evaluated
+        if idx.size == 0:
+            break
+        Y = x0 + t * (X[idx] - x0)
+        ok[idx] = (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
     return ok
+
+
+class _PathPoints:
+    """Fixed points ``X`` with the lifted segment points ``lift(x_e + t (x - x_e))`` and their cut masks cached for
+    every ``t`` of :func:`_contains` (they do not depend on ``V``): :meth:`contains` then evaluates only ``V``, on the
+    points still inside, and gives exactly :func:`_contains` ``(ps, V, rho, X, n_path)``."""
+
+    def __init__(self, ps: PolySystem, X: np.ndarray, n_path: int = 33) -> None:
+        X = np.asarray(X, dtype=float)
+        self.finite = np.all(np.isfinite(X), axis=-1)
+        x0 = np.asarray(ps.equilibrium, dtype=float)
+        Xf = np.where(self.finite[:, None], X, x0)
+        self.Z, self.cut = [], []
+        for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
+            Y = x0 + t * (Xf - x0)
+            self.Z.append(ps.lift(Y))
+            self.cut.append(ps.in_cuts(Y))
+
+    def contains(self, V: Poly, rho: float) -> np.ndarray:
+        ok = self.finite.copy()
+        for Z, cut in zip(self.Z, self.cut, strict=True):
+            idx = np.flatnonzero(ok)
+            if idx.size == 0:
+                break
+            ok[idx] = (V(Z[idx]) <= rho) & cut[idx]
+        return ok
 
 
 def dVdt(V: Poly, lift: Any, rhs: Any, X: Any) -> np.ndarray:
@@ -1318,8 +1347,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     lo, hi = ps.box
     Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
 
+    Pv = _PathPoints(pss, Xv)
+
     def vol(Vc: Poly) -> float:
-        return float(np.prod(hi - lo) * np.mean(_contains(pss, Vc, 1.0, Xv)))
+        return float(np.prod(hi - lo) * np.mean(Pv.contains(Vc, 1.0)))
 
     cur_vol = vol(V)
     best = (cur_vol, V)
@@ -1394,7 +1425,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         t_solve += prog.solve_time
         gram = tuple(prog.check()) + tuple(outf.get("abs_checks", ())) + _local_robust(outf.get("W"), pss)
         history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
-                        "volume": float(np.prod(hi - lo) * np.mean(_contains(pss, V, rho_c, Xv))),
+                        "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
                         "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
                         "solver_time": prog.solver_time})
         if all(c.passed for c in gram) or bo >= 0.25:
