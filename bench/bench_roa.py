@@ -193,8 +193,12 @@ def main() -> None:
     for case in [c for c in args.cases.split(",") if c]:
         row: dict = {}
         versions = [("new", here)] + ([("today", args.baseline_src)] if args.baseline_src else [])
-        for tag, src in versions:
-            runs = [run_case(case, src, args.time_limit, args.timeout) for _ in range(max(1, args.cert_repeats))]
+        by_tag: dict = {tag: [] for tag, _ in versions}
+        for _ in range(max(1, args.cert_repeats)):      # the versions alternate: same load for both
+            for tag, src in versions:
+                by_tag[tag].append(run_case(case, src, args.time_limit, args.timeout))
+        for tag, _src in versions:
+            runs = by_tag[tag]
             ok = [r for r in runs if "error" not in r]
             best = ok[int(np.argsort([r["wall_s"] for r in ok])[len(ok) // 2])] if ok else runs[-1]
             if ok:
