@@ -85,13 +85,14 @@ def worker(case: str, time_limit: float) -> dict:
     model, kw = _model(case)
     if time_limit > 0:
         kw.update(time_limit=time_limit, on_budget="stop")
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     cert = gc.certify_roa(model, **kw)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     hist = list(cert.history)
     out = {"case": case, "wall_s": wall, "solve_s": float(cert.solve_time), "certified": bool(cert.certified),
            "degree": int(cert.degree), "volume": float(cert.volume(n=2**16)), "steps": len(hist),
            "stopped_by": getattr(cert, "stopped_by", ""), "glidectl": os.path.dirname(gc.__file__)}
+    out["cpu_s"] = cpu
     if hist and "compile_time" in hist[0]:
         out["compile_s"] = float(sum(h.get("compile_time", 0.0) for h in hist))
         out["solver_s"] = float(sum(h.get("solver_time", 0.0) for h in hist))
@@ -203,9 +204,12 @@ def main() -> None:
             best = ok[int(np.argsort([r["wall_s"] for r in ok])[len(ok) // 2])] if ok else runs[-1]
             if ok:
                 best["wall_s_median"] = float(np.median([r["wall_s"] for r in ok]))
+                best["cpu_s_median"] = float(np.median([r.get("cpu_s", np.nan) for r in ok]))
+                best["wall_s_all"] = [round(r["wall_s"], 3) for r in ok]
             row[tag] = best
         if "today" in row and "error" not in row["today"] and "error" not in row["new"]:
             row["time_ratio_new_over_today"] = row["new"]["wall_s_median"] / row["today"]["wall_s_median"]
+            row["cpu_ratio_new_over_today"] = row["new"]["cpu_s_median"] / row["today"]["cpu_s_median"]
             row["volume_ratio_new_over_today"] = row["new"]["volume"] / max(row["today"]["volume"], 1e-300)
         n = row["new"]
         if "error" not in n:
