@@ -838,6 +838,7 @@ def _level_reused(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, sol
     the centering level) as cvxpy Parameters: the same SOS conditions, compiled once and re-solved. None if ``V``
     has a term outside ``basis``."""
     degV = _even_up(V.degree)
+    basis = sorted(basis)
     key = ("level", degV, tuple(basis), float(rho_cap))
     if key not in cache:
         Vp = _Fixed.on(basis, ps.nz)
@@ -1586,8 +1587,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             continue
         worse = 0
         stopped_by = "iterations"
-        if cache is not None:
-            cache.clear()       # programs of a lower degree are not used again
+        if cache is not None:       # programs of a lower degree are not used again
+            for old in [k for k in cache if k[1] < degV]:
+                del cache[old]
         for _ in range(iterations):
             if out_of_time(f"degree {degV}, before a V step"):
                 stopped_by = "time_limit"
