@@ -77,7 +77,7 @@ def test_reuse_option_gives_the_same_certificate_and_fewer_builds(monkeypatch):
     reuse the programs are built once per degree instead of once per SDP."""
     x1, x2 = Poly.variables(2)
     ps = polynomial_system("odd", ("x1", "x2"), [-x1 + x2, -x1 - x2 + x1**3], box=((-2, -2), (2, 2)))
-    kw = dict(degree=2, iterations=3, n_truth=64, n_verify=2000, n_simulate=8)
+    kw = dict(degree=2, iterations=2, n_truth=64, n_verify=2000, n_simulate=8)
     builds = []
     build = C._build
 
