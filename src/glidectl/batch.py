@@ -234,6 +234,12 @@ def _check_tol(tol: Any, name: str, n: int) -> np.ndarray:
 
 def _inverse(W: np.ndarray) -> np.ndarray:
     """Inverses of a stack of matrices; a singular one gives NaN (its step is rejected and retried smaller)."""
+    if W.shape[-1] == 2:                # closed form (LAPACK's per-matrix overhead dominates at this size)
+        a, b, c, d = W[:, 0, 0], W[:, 0, 1], W[:, 1, 0], W[:, 1, 1]
+        det = a * d - b * c
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = np.where(det != 0, 1.0 / det, np.nan)
+        return np.stack([np.stack([d * r, -b * r], axis=-1), np.stack([-c * r, a * r], axis=-1)], axis=-2)
     try:
         return np.linalg.inv(W)
     except np.linalg.LinAlgError:

@@ -45,6 +45,7 @@ from typing import Any, ClassVar
 
 import cvxpy as cp
 import numpy as np
+import scipy.sparse as sps
 from scipy.linalg import solve_continuous_lyapunov
 from scipy.stats import qmc
 
@@ -53,6 +54,7 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
+from . import sos as _sos_module
 from .lmi import SaturatedLoop
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
@@ -232,9 +234,38 @@ def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 
     ok = np.all(np.isfinite(X), axis=-1)
     x0 = np.asarray(ps.equilibrium, dtype=float)
     for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
-        Y = np.where(ok[:, None], x0 + t * (X - x0), x0)
-        ok &= (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
+        idx = np.flatnonzero(ok)        # a point that failed once stays out: only the others are evaluated
+        if idx.size == 0:
+            break
+        Y = x0 + t * (X[idx] - x0)
+        ok[idx] = (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
     return ok
+
+
+class _PathPoints:
+    """Fixed points ``X`` with the lifted segment points ``lift(x_e + t (x - x_e))`` and their cut masks cached for
+    every ``t`` of :func:`_contains` (they do not depend on ``V``): :meth:`contains` then evaluates only ``V``, on the
+    points still inside, and gives exactly :func:`_contains` ``(ps, V, rho, X, n_path)``."""
+
+    def __init__(self, ps: PolySystem, X: np.ndarray, n_path: int = 33) -> None:
+        X = np.asarray(X, dtype=float)
+        self.finite = np.all(np.isfinite(X), axis=-1)
+        x0 = np.asarray(ps.equilibrium, dtype=float)
+        Xf = np.where(self.finite[:, None], X, x0)
+        self.Z, self.cut = [], []
+        for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
+            Y = x0 + t * (Xf - x0)
+            self.Z.append(ps.lift(Y))
+            self.cut.append(ps.in_cuts(Y))
+
+    def contains(self, V: Poly, rho: float) -> np.ndarray:
+        ok = self.finite.copy()
+        for Z, cut in zip(self.Z, self.cut, strict=True):
+            idx = np.flatnonzero(ok)
+            if idx.size == 0:
+                break
+            ok[idx] = (V(Z[idx]) <= rho) & cut[idx]
+        return ok
 
 
 def dVdt(V: Poly, lift: Any, rhs: Any, X: Any) -> np.ndarray:
@@ -544,7 +575,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         out["margin"] = prog.enable_margin()
     N = _zsq(nz) ** dg.m
     if V is not None:
-        Vl = LinPoly(V)
+        Vl = _lin(V)
         lam_u, lam_l = prog.free_poly("lambda", _sym(monomials(nz, dg.lam), G, zero))
         out["lambda"] = lam_u
         W = V.lie(F)
@@ -552,7 +583,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
             T, out["abs_checks"] = abs_gradient_bounds(ps, V, R)
             W = W + sum((r * t for r, t in zip(R, T, strict=True)), Poly({}, nz))
         out["W"] = W
-        dec = Vl * N + lam_l * W
+        dec = Vl * N + _times(lam_l, W)
     else:
         V_u, Vl = prog.free_poly("V", _sym(_state_monomials(ps, degV), G, zero))
         out["V"] = V_u
@@ -562,12 +593,12 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
             ts = abs_gradient_constraints(prog, ps, [Vl.lie(u) for u in units], degT)
             for r, t in zip(R, ts, strict=True):
                 Vd = Vd + t * r
-        dec = Vl * N + Vd * lam
+        dec = _plus(Vl * N, _times(Vd, lam))
     if rho is None:
         rho_u, rho_l = prog.scalar("rho")
         out["rho"] = rho_u
     else:
-        rho_l = LinPoly(Poly.const(rho, nz))
+        rho_l = _lin(rho if isinstance(rho, _Fixed) else Poly.const(rho, nz))
     dec = dec - rho_l * N
     for k, g in enumerate(ps.cuts + ps.valid):
         _, tau = prog.sos_poly_blocks(f"tau{k}", _sym_blocks(monomials(nz, (dg.D - g.degree) // 2), G))
@@ -577,7 +608,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
             continue
         _, psi = prog.free_poly(f"psi{j}", _sym(monomials(nz, dg.D - h.degree), G, _char(G, h)))
         dec = dec + psi * h
-    prog.add_sos("decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
+    _add_sos(prog, "decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
     for k, g in enumerate(ps.cuts):
         dk = _even_up(max(degV, g.degree))
         _, sig = prog.sos_poly_blocks(f"sigma{k}", _sym_blocks(monomials(nz, (dk - g.degree) // 2), G))
@@ -587,7 +618,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
                 continue
             _, phi = prog.free_poly(f"phi{k}_{j}", _sym(monomials(nz, dk - h.degree), G, _char(G, h)))
             cont = cont + phi * h
-        prog.add_sos(f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
+        _add_sos(prog, f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
     if V is None:
         pos = Vl - _state_zsq(ps) * eps
         for j, h in enumerate(ps.equalities):
@@ -595,7 +626,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
                 continue
             _, phi = prog.free_poly(f"chi{j}", _sym(monomials(nz, degV - h.degree), G, _char(G, h)))
             pos = pos + phi * h
-        prog.add_sos("positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
+        _add_sos(prog, "positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
     return prog, out
 
 
@@ -607,6 +638,148 @@ def _state_monomials(ps: PolySystem, degree: int) -> list[tuple[int, ...]]:
 def _state_zsq(ps: PolySystem) -> Poly:
     """``|z|^2`` over the variables of the states (all but the saturated-input variables ``ps.inputs``)."""
     return sum((Poly.var(i, ps.nz) ** 2 for i in range(ps.nz) if i not in ps.inputs), Poly({}, ps.nz))
+
+
+class _Fixed:
+    """A fixed polynomial of a program given as cvxpy ``Parameter``s: ``sum_j p[j] q_j`` (``q_j`` known
+    polynomials, ``p`` one Parameter vector), so that the same compiled program is re-solved for new coefficients
+    (``V`` of the level problems, ``lambda`` of the V steps, the level of the centering problem). ``terms`` is the
+    generic support (every ``q_j``), which :func:`_symmetry` and the basis reduction see: an outer approximation of
+    the support of every instance, so both stay exact."""
+
+    def __init__(self, q: list[Poly]) -> None:
+        self.q = q
+        self.nvars = q[0].nvars
+        self.p = cp.Parameter(len(q))
+        self.terms = {e: 1.0 for qj in q for e in qj.terms}
+
+    @classmethod
+    def on(cls, basis: list[tuple[int, ...]], nvars: int) -> _Fixed:
+        return cls([Poly({e: 1.0}, nvars) for e in basis])
+
+    @property
+    def degree(self) -> int:
+        return max(qj.degree for qj in self.q)
+
+    def lie(self, F: list[Poly]) -> _Fixed:
+        out = _Fixed.__new__(_Fixed)
+        out.q, out.nvars, out.p = [qj.lie(F) for qj in self.q], self.nvars, self.p
+        out.terms = {e: 1.0 for qj in out.q for e in qj.terms}
+        return out
+
+    def set(self, P: Poly) -> bool:
+        """Set the Parameters to the coefficients of ``P`` on monomial ``q_j``; False if ``P`` has a term outside."""
+        pos = {next(iter(qj.terms)): j for j, qj in enumerate(self.q)}
+        if any(e not in pos for e in P.terms):
+            return False
+        v = np.zeros(len(self.q))
+        for e, c in P.terms.items():
+            v[pos[e]] = c
+        self.p.value = v
+        return True
+
+
+class _PLin:
+    """``L_0 + sum_(p, j) p[j] L_pj``: a :class:`~glidectl.roa.sos.LinPoly` plus Parameter-weighted ones (the
+    expressions of a program with :class:`_Fixed` polynomials; affine in the unknowns for fixed Parameters).
+    ``parts`` maps ``(id(p), j)`` to ``(p, L_pj)``."""
+
+    def __init__(self, L0: LinPoly, parts: dict[tuple[int, int], tuple[Any, LinPoly]]) -> None:
+        self.L0, self.parts = L0, parts
+
+    def __add__(self, other: Any) -> _PLin:
+        if isinstance(other, _PLin):
+            parts = dict(self.parts)
+            for k, (p, L) in other.parts.items():
+                parts[k] = (p, parts[k][1] + L) if k in parts else (p, L)
+            return _PLin(self.L0 + other.L0, parts)
+        return _PLin(self.L0 + other, dict(self.parts))
+
+    __radd__ = __add__
+
+    def __neg__(self) -> _PLin:
+        return self * -1.0
+
+    def __sub__(self, other: Any) -> _PLin:
+        return self + (-other)
+
+    def __rsub__(self, other: Any) -> _PLin:
+        return (-self) + other
+
+    def __mul__(self, k: Any) -> _PLin:
+        return _PLin(self.L0 * k, {key: (p, L * k) for key, (p, L) in self.parts.items()})
+
+    __rmul__ = __mul__
+
+    def lie(self, F: list[Poly]) -> _PLin:
+        return _PLin(self.L0.lie(F), {key: (p, L.lie(F)) for key, (p, L) in self.parts.items()})
+
+    def value(self) -> Poly:
+        """The polynomial at the solved unknowns and the current Parameter values."""
+        out = self.L0.value()
+        for (_, j), (p, L) in self.parts.items():
+            out = out + L.value() * float(p.value[j])
+        return out
+
+
+def _lin(P: Any) -> Any:
+    """``LinPoly(P)`` of a known polynomial, or the :class:`_PLin` of a :class:`_Fixed` one."""
+    if isinstance(P, _Fixed):
+        return _PLin(LinPoly(Poly({}, P.nvars)), {(id(P.p), j): (P.p, LinPoly(qj)) for j, qj in enumerate(P.q)})
+    return LinPoly(P)
+
+
+def _times(L: LinPoly, P: Any) -> Any:
+    """``L * P`` for a :class:`~glidectl.roa.sos.LinPoly` ``L`` and a known or :class:`_Fixed` polynomial ``P``."""
+    if isinstance(P, _Fixed):
+        return _PLin(LinPoly(Poly({}, P.nvars)), {(id(P.p), j): (P.p, L * qj) for j, qj in enumerate(P.q)})
+    return L * P
+
+
+def _plus(a: Any, b: Any) -> Any:
+    """``a + b`` where ``b`` may be a :class:`_PLin` and ``a`` a LinPoly (LinPoly does not know _PLin)."""
+    return b + a if isinstance(b, _PLin) and not isinstance(a, _PLin) else a + b
+
+
+def _add_sos(prog: SOSProgram, name: str, expr: Any, half_basis: list[tuple[int, ...]]) -> None:
+    """:meth:`SOSProgram.add_sos`, also for a :class:`_PLin` ``expr``: the half basis is reduced on the union of
+    the supports of all its parts (an outer approximation of the support for any Parameter values: exact), and the
+    coefficient equalities are ``A_0 x + b_0 + sum p[j] (A_pj x + b_pj) = 0`` (DPP: compiled once)."""
+    if not isinstance(expr, _PLin):
+        prog.add_sos(name, expr, half_basis)
+        return
+    support = _sos_module._support(expr.L0)
+    for _, L in expr.parts.values():
+        support |= _sos_module._support(L)
+    blocks = _sos_module.reduce_basis(support, half_basis) if prog.reduce else [list(half_basis)]
+    us, g = prog.sos_poly_blocks(name + ".gram", blocks, margin=True)
+    monos: dict[tuple[int, ...], int] = {}
+    for e in sorted(support | _sos_module._support(g)):
+        monos[e] = len(monos)
+    lhs = _coefficient_map(expr.L0 - g, monos)
+    for (_, j), (p, L) in expr.parts.items():
+        lhs = lhs + p[j] * _coefficient_map(L, monos)
+    prog.constraints.append(lhs == 0)
+    prog.sos_constraints.append((name, expr, us))
+    prog.full_bases[name] = [tuple(b) for b in half_basis]
+
+
+def _coefficient_map(L: LinPoly, monos: dict[tuple[int, ...], int]) -> Any:
+    """The coefficients of ``L`` on ``monos`` as a cvxpy expression ``sum_u A_u x_u + b``."""
+    m = len(monos)
+    b = np.zeros(m)
+    for e, c in L.const.terms.items():
+        b[monos[e]] = c
+    out: Any = b
+    for u, cols in L.parts.items():
+        rows, cidx, vals = [], [], []
+        for k, c in enumerate(cols):
+            for e, x in c.terms.items():
+                rows.append(monos[e])
+                cidx.append(k)
+                vals.append(x)
+        out = out + sps.csr_matrix((vals, (rows, cidx)), shape=(m, u.size)) @ u.flat
+    return out
 
 
 def _remainder(ps: PolySystem, F: list[Poly]) -> list[Poly]:
@@ -651,10 +824,17 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
 
 
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
-           extra: int) -> LevelResult:
+           extra: int, cache: dict | None = None, basis: Any = None) -> LevelResult:
     """The level problem for a fixed ``V``: ``rho`` is a variable of the SDP (no bisection). With ``center > 0``
     a multiplier with slack for the V step is found by a feasibility SDP at ``(1 - center) rho*`` (the
-    interior-point solution of the program built with that fixed level)."""
+    interior-point solution of the program built with that fixed level). With a ``cache`` (exact route), both
+    programs are built once per monomial ``basis`` of ``V`` with ``V`` and the level as cvxpy Parameters and
+    re-solved (:func:`_level_reused`)."""
+    if cache is not None and not ps.remainder:
+        res = _level_reused(ps, F, V, rho_cap=rho_cap, solver=solver, center=center, extra=extra, cache=cache,
+                            basis=sorted(V.terms) if basis is None else list(basis))
+        if res is not None:
+            return res
     degV = _even_up(V.degree)
     prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra)
     prog.constraints.append(out["rho"].var <= rho_cap)
@@ -668,6 +848,70 @@ def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: st
         lam = out2["lambda"].poly()
         t, tc, ts, n = t + prog2.solve_time, tc + prog2.compile_time, ts + prog2.solver_time, 2
     return LevelResult(rho, lam, checks, t, status, tc, ts, n)
+
+
+def _level_reused(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
+                  extra: int, cache: dict, basis: list[tuple[int, ...]]) -> LevelResult | None:
+    """:func:`_level` through programs built once per (degree, basis of ``V``) with the coefficients of ``V`` (and
+    the centering level) as cvxpy Parameters: the same SOS conditions, compiled once and re-solved. None if ``V``
+    has a term outside ``basis``."""
+    degV = _even_up(V.degree)
+    basis = sorted(basis)
+    key = ("level", degV, tuple(basis), float(rho_cap))
+    if key not in cache:
+        Vp = _Fixed.on(basis, ps.nz)
+        prog, out = _build(ps, F, degV, V=Vp, lam=None, rho=None, eps=0.0, extra=extra)
+        prog.constraints.append(out["rho"].var <= rho_cap)
+        cache[key] = (prog, out, Vp)
+    prog, out, Vp = cache[key]
+    if not Vp.set(V):
+        return None
+    if prog.problem is None:
+        prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
+    else:
+        prog.resolve(solver=solver)
+    rho = float(out["rho"].value()[0])
+    checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
+    t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
+    if center > 0:
+        key2 = ("center", degV, tuple(basis))
+        if key2 not in cache:
+            Vc, rp = _Fixed.on(basis, ps.nz), _Fixed([Poly.const(1.0, ps.nz)])
+            prog2, out2 = _build(ps, F, degV, V=Vc, lam=None, rho=rp, eps=0.0, extra=extra)
+            cache[key2] = (prog2, out2, Vc, rp)
+        prog2, out2, Vc, rp = cache[key2]
+        Vc.set(V)
+        rp.p.value = np.array([(1 - center) * rho])
+        if prog2.problem is None:
+            prog2.solve(cp.Minimize(0), solver=solver)
+        else:
+            prog2.resolve(solver=solver)
+        lam = out2["lambda"].poly()
+        t, tc, ts, n = t + prog2.solve_time, tc + prog2.compile_time, ts + prog2.solver_time, 2
+    return LevelResult(rho, lam, checks, t, status, tc, ts, n)
+
+
+def _v_step(ps: PolySystem, F: list[Poly], degV: int, lam: Poly, Zt: np.ndarray, *, eps: float, extra: int,
+            solver: str, cache: dict | None) -> tuple[SOSProgram, dict[str, Any]]:
+    """The V step for the multiplier ``lam`` (solved): ``V`` of degree ``degV`` minimizing ``mean(max(V - 1, 0))``
+    over the simulated points ``Zt``. With a ``cache`` (exact route) the program is built once per (degree, support
+    of ``lam``) with the coefficients of ``lam`` as cvxpy Parameters and re-solved."""
+    key = ("V step", degV, tuple(sorted(lam.terms)))
+    if cache is None or ps.remainder or lam.is_zero:
+        prog, out = _build(ps, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=extra)
+    elif key not in cache:
+        lp = _Fixed.on(list(key[2]), ps.nz)
+        prog, out = _build(ps, F, degV, V=None, lam=lp, rho=1.0, eps=eps, extra=extra)
+        cache[key] = (prog, out, lp)
+    if cache is not None and key in cache:
+        prog, out, lp = cache[key]
+        lp.set(lam)
+        if prog.problem is not None:
+            prog.resolve(solver=solver)
+            return prog, out
+    M = monomial_matrix(Zt, out["V"].basis)
+    prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
+    return prog, out
 
 
 def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLARABEL",
@@ -1179,7 +1423,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
                 on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
-                margin: float = 2.0) -> ROACertificate:
+                margin: float = 2.0, reuse: bool = True) -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
@@ -1251,6 +1495,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Degree of the surrogate, 2 to 5 (default 3).
     margin : float
         Safety factor (>= 1) of the surrogate's remainder bound (:mod:`glidectl.roa.surrogate`).
+    reuse : bool
+        Exact route: build the V step, level and centering programs once per degree (and monomial support) with
+        the fixed polynomials (the multiplier, ``V``, the centering level) as cvxpy Parameters, and re-solve them
+        across alternations instead of rebuilding and recompiling (same SOS conditions; default True).
 
     Returns
     -------
@@ -1301,6 +1549,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     method = checks.choice("method", method, ("auto", "exact", "surrogate"))
     surrogate_degree = checks.integer("surrogate_degree", surrogate_degree, lo=2, hi=5)
     margin = checks.real("margin", margin, lo=1.0)
+    reuse = checks.boolean("reuse", reuse)
     ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
     weight = None
@@ -1337,14 +1586,17 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     V = _to_scaled(V0, k)
     history: list[dict[str, Any]] = []
     t_solve = 0.0
-    lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex)
+    cache: dict | None = {} if reuse else None      # programs re-solved with new Parameter values (per degree)
+    lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache)
     t_solve += lvl.solve_time
     V, lam = V / lvl.rho, lvl.lam
     lo, hi = ps.box
     Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
 
+    Pv = _PathPoints(pss, Xv)
+
     def vol(Vc: Poly) -> float:
-        return float(np.prod(hi - lo) * np.mean(_contains(pss, Vc, 1.0, Xv)))
+        return float(np.prod(hi - lo) * np.mean(Pv.contains(Vc, 1.0)))
 
     cur_vol = vol(V)
     best = (cur_vol, V)
@@ -1360,20 +1612,22 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             continue
         worse = 0
         stopped_by = "iterations"
+        if cache is not None:       # programs of a lower degree are not used again
+            for old in [k for k in cache if k[1] < degV]:
+                del cache[old]
         for _ in range(iterations):
             if out_of_time(f"degree {degV}, before a V step"):
                 stopped_by = "time_limit"
                 break
             try:
-                prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex)
-                M = monomial_matrix(Zt, out["V"].basis)
-                prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
+                prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache)
                 t_solve += prog.solve_time
                 Vn = out["V"].poly()
                 if out_of_time(f"degree {degV}, after a V step"):
                     stopped_by = "time_limit"
                     break
-                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex)
+                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache,
+                            basis=out["V"].basis)
                 t_solve += lv.solve_time
             except SolverError as exc:
                 history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
@@ -1419,7 +1673,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         t_solve += prog.solve_time
         gram = tuple(prog.check()) + tuple(outf.get("abs_checks", ())) + _local_robust(outf.get("W"), pss)
         history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
-                        "volume": float(np.prod(hi - lo) * np.mean(_contains(pss, V, rho_c, Xv))),
+                        "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
                         "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
                         "solver_time": prog.solver_time})
         if all(c.passed for c in gram) or bo >= 0.25:

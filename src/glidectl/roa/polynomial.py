@@ -318,3 +318,31 @@ def monomial_matrix(Z: Any, basis: Sequence[Exp]) -> np.ndarray:
     except (TypeError, ValueError) as exc:
         raise ArgumentError(f"basis must hold exponent tuples of length {Z.shape[-1]}: {exc}") from exc
     return np.prod(Z[:, None, :] ** E[None, :, :], axis=2)
+
+
+def _field_evaluator(F: Sequence[Poly]) -> Any:
+    """``X (..., n) -> (F_1(X), ..., F_m(X))`` stacked on the last axis, for polynomials ``F`` in ``n`` common
+    variables: one powers table (by repeated multiplication, so complex steps stay exact), one gather of every
+    monomial of the union of supports, and one matrix product with the coefficient matrix, whatever the number of
+    terms (the per-term loop of :meth:`Poly.__call__` costs one array operation per term and factor)."""
+    F = tuple(F)
+    n = F[0].nvars if F else 0
+    monos = sorted({e for f in F for e in f.terms})
+    E = np.array(monos, dtype=int).reshape(len(monos), n)
+    C = np.zeros((len(monos), len(F)))
+    pos = {e: k for k, e in enumerate(monos)}
+    for j, f in enumerate(F):
+        for e, c in f.terms.items():
+            C[pos[e], j] = c
+    dmax = int(E.max(initial=0))
+    cols = np.arange(n)
+
+    def evaluate(X: Any) -> np.ndarray:
+        X = np.asarray(X)
+        pw = np.ones((*X.shape, dmax + 1), dtype=np.result_type(X, float))
+        for k in range(1, dmax + 1):
+            pw[..., k] = pw[..., k - 1] * X
+        P = np.prod(pw[..., cols, E], axis=-1)        # (..., n_monomials)
+        return P @ C
+
+    return evaluate
