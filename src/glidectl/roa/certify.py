@@ -54,12 +54,11 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
-from . import sos as _sos_module
 from .lmi import SaturatedLoop
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
 from .sector import sector_system
-from .sos import GramCheck, LinPoly, SOSProgram, parity_generators, sign_classes
+from .sos import GramCheck, LinPoly, SOSProgram, linear_support, parity_generators, reduce_basis, sign_classes
 from .surrogate import (
     abs_gradient_bounds,
     abs_gradient_constraints,
@@ -748,13 +747,13 @@ def _add_sos(prog: SOSProgram, name: str, expr: Any, half_basis: list[tuple[int,
     if not isinstance(expr, _PLin):
         prog.add_sos(name, expr, half_basis)
         return
-    support = _sos_module._support(expr.L0)
+    support = linear_support(expr.L0)
     for _, L in expr.parts.values():
-        support |= _sos_module._support(L)
-    blocks = _sos_module.reduce_basis(support, half_basis) if prog.reduce else [list(half_basis)]
+        support |= linear_support(L)
+    blocks = reduce_basis(support, half_basis) if prog.reduce else [list(half_basis)]
     us, g = prog.sos_poly_blocks(name + ".gram", blocks, margin=True)
     monos: dict[tuple[int, ...], int] = {}
-    for e in sorted(support | _sos_module._support(g)):
+    for e in sorted(support | linear_support(g)):
         monos[e] = len(monos)
     lhs = _coefficient_map(expr.L0 - g, monos)
     for (_, j), (p, L) in expr.parts.items():

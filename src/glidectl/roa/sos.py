@@ -43,7 +43,8 @@ import scipy.sparse as sps
 from ..errors import BudgetError, SolverError
 from .polynomial import Exp, Poly
 
-__all__ = ["GramCheck", "LinPoly", "SOSProgram", "Unknown", "parity_generators", "reduce_basis", "sign_classes"]
+__all__ = ["GramCheck", "LinPoly", "SOSProgram", "Unknown", "linear_support", "parity_generators", "reduce_basis",
+           "sign_classes"]
 
 
 def parity_generators(support: Sequence[Exp], nvars: int) -> np.ndarray:
@@ -360,7 +361,7 @@ class SOSProgram:
         """Constrain ``expr`` to be SOS on ``half_basis``, reduced exactly first (:func:`reduce_basis`, when
         :attr:`reduce`); returns the Gram unknowns (one per block)."""
         if self.reduce:
-            blocks = reduce_basis(_support(expr), half_basis)
+            blocks = reduce_basis(linear_support(expr), half_basis)
         else:
             blocks = [list(half_basis)]
         us, g = self.sos_poly_blocks(name + ".gram", blocks, margin=True)
@@ -479,8 +480,23 @@ class SOSProgram:
         return out
 
 
-def _support(expr: LinPoly) -> set[Exp]:
-    """Every monomial ``expr`` can have, whatever its unknowns (constant part and all columns)."""
+def linear_support(expr: LinPoly) -> set[Exp]:
+    """Every monomial ``expr`` can have, whatever its unknowns (constant part and all columns).
+
+    Parameters
+    ----------
+    expr : LinPoly
+        A polynomial affine in the program's unknowns.
+
+    Returns
+    -------
+    set of tuple of int
+        Exponents of the monomials that some value of the unknowns gives a nonzero coefficient.
+
+    Raises
+    ------
+    None
+    """
     S = set(expr.const.terms)
     for cols in expr.parts.values():
         for c in cols:
