@@ -110,7 +110,7 @@ def _cubic_system():
 def test_certify_with_inner_approximation_is_sos_and_verified(inner):
     """With an inner approximation the final certificate is still a full SOS one: the final SOS level of the kept V
     is >= its inner level (1), every Gram check is exact, the sampled true dV/dt < 0 inside and the simulations
-    converge; the certified set is no larger than ... nothing is assumed about volumes except positivity."""
+    converge (``certified``), and the certified set is not empty."""
     ps = _cubic_system()
     kw = dict(degree=2, iterations=1, backoff=0.01, n_truth=64, n_verify=2000, n_simulate=16)
     cert = gc.certify_roa(ps, inner=inner, **kw)
