@@ -39,9 +39,20 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   steps. An earlier run (load 35): wall 25.7 s vs 42.3 s, CPU 3.82 s vs 5.13 s (0.74). Scaled to the 4.46 s
   above, ~2.9-3.3 s idle: the < 3 s target is not shown on this machine.
 - glider2 (degree 2, 8 iterations): 124.6 s vs 134.2 s (separate runs), same volume 0.1585 (same V path; no basis
-  reduction applies at degree 2).
+  reduction applies at degree 2). Re-measured 2026-12-01 23:00-23:31 (branch s-g4 against c6c3172, load 19-35):
+  1402.5 s vs 730.0 s wall, SDP 1142.7 s vs 596.5 s (cvxpy compile 12.9 s vs 7.6 s), both certified, volume 0.15853
+  in both: the same programs (the default ``inner="sos"`` is today's path), so the ratio 1.92 is the load (the new
+  run overlapped other jobs); one degree-2 level SDP alternated 3 times: 14.9 s vs 11.9 s (medians), 24 Clarabel
+  iterations each, identical level. Compile is ~1 % of the SDP time: Parameter reuse cannot help, the time is
+  Clarabel's factorization of the dense 1225-entry PSD block (49 x 49 Gram matrix).
 - glider4 / ctol: not reached: the degree-4 glider level program has a dense support (no reduction: 104 x 104), one
   such SDP took 546 s of Clarabel time under load; the CTOL degree-2 program (103 x 103) is unreduced too.
+  Re-measured (one level SDP, V = V2 + 0.1 V2^2, load 25-35): 7772 variables, 8701 constraints, PSD blocks of
+  5460/1596/210/21 entries, build 3.7 s, compile 0.5 s, Clarabel (faer) 2341 s in 37 iterations. The inner
+  approximations of the same program (``SOSProgram(cone=...)``): SDSOS 22.8 s (61 iterations) but level -0.0036
+  (cannot certify the V), DSOS infeasible; at degree 2 SDSOS gives level -0.58 against SOS 2.0e-5. So
+  ``certify_roa(inner="sdsos")`` does not apply to this glider, and with the final certificate a full SOS program
+  the degree-4 target (< 60 s) is out of reach while the decrease Gram matrix stays 104 x 104.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes

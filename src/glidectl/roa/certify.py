@@ -58,7 +58,16 @@ from .lmi import SaturatedLoop
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
 from .sector import sector_system
-from .sos import GramCheck, LinPoly, SOSProgram, linear_support, parity_generators, reduce_basis, sign_classes
+from .sos import (
+    GRAM_CONES,
+    GramCheck,
+    LinPoly,
+    SOSProgram,
+    linear_support,
+    parity_generators,
+    reduce_basis,
+    sign_classes,
+)
 from .surrogate import (
     abs_gradient_bounds,
     abs_gradient_constraints,
@@ -552,7 +561,7 @@ def _sym_blocks(basis: list[tuple[int, ...]], G: np.ndarray) -> list[list[tuple[
 
 
 def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Poly | None, rho: float | None,
-           eps: float, extra: int = 0, margin: bool = False, symmetry: bool = True,
+           eps: float, extra: int = 0, margin: bool = False, symmetry: bool = True, cone: str = "sos",
            ) -> tuple[SOSProgram, dict[str, Any]]:
     """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given. With ``symmetry``, the
     unknowns are restricted to the sign symmetries of the program (:func:`_symmetry`; exact), and every SOS
@@ -564,7 +573,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     if R:
         degF = max(degF, max(r.degree for r in R) + degT - degV + 1)
     dg = _degrees(degV, degF, extra)
-    prog = SOSProgram(nz, reduce=symmetry)
+    prog = SOSProgram(nz, reduce=symmetry, cone=cone)
     out: dict[str, Any] = {}
     fixed = tuple(p for p in (V, lam) if p is not None)
     G = _symmetry(ps, F, fixed) if symmetry else np.zeros((0, nz), dtype=int)
@@ -823,26 +832,26 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
 
 
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
-           extra: int, cache: dict | None = None, basis: Any = None) -> LevelResult:
+           extra: int, cache: dict | None = None, basis: Any = None, cone: str = "sos") -> LevelResult:
     """The level problem for a fixed ``V``: ``rho`` is a variable of the SDP (no bisection). With ``center > 0``
     a multiplier with slack for the V step is found by a feasibility SDP at ``(1 - center) rho*`` (the
     interior-point solution of the program built with that fixed level). With a ``cache`` (exact route), both
     programs are built once per monomial ``basis`` of ``V`` with ``V`` and the level as cvxpy Parameters and
     re-solved (:func:`_level_reused`)."""
-    if cache is not None and not ps.remainder:
+    if cache is not None and not ps.remainder and cone == "sos":
         res = _level_reused(ps, F, V, rho_cap=rho_cap, solver=solver, center=center, extra=extra, cache=cache,
                             basis=sorted(V.terms) if basis is None else list(basis))
         if res is not None:
             return res
     degV = _even_up(V.degree)
-    prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra)
+    prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra, cone=cone)
     prog.constraints.append(out["rho"].var <= rho_cap)
     prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
     rho = float(out["rho"].value()[0])
     checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
     t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0:
-        prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra)
+        prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra, cone=cone)
         prog2.solve(cp.Minimize(0), solver=solver)
         lam = out2["lambda"].poly()
         t, tc, ts, n = t + prog2.solve_time, tc + prog2.compile_time, ts + prog2.solver_time, 2
@@ -1422,7 +1431,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
                 on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
-                margin: float = 2.0, reuse: bool = True) -> ROACertificate:
+                margin: float = 2.0, reuse: bool = True, inner: str = "sos") -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
@@ -1498,6 +1507,13 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Exact route: build the V step, level and centering programs once per degree (and monomial support) with
         the fixed polynomials (the multiplier, ``V``, the centering level) as cvxpy Parameters, and re-solve them
         across alternations instead of rebuilding and recompiling (same SOS conditions; default True).
+    inner : {"sos", "sdsos", "dsos"}
+        Cone of the Gram matrices of the alternation's inner programs (first level, V steps, level problems;
+        :data:`~glidectl.roa.sos.GRAM_CONES`): ``"sos"`` (default, SDPs), or the inner approximations ``"sdsos"``
+        (SOCPs) and ``"dsos"`` (LPs) of Ahmadi and Majumdar (2019), cheaper but more conservative. The final
+        certificate is always a full SOS one: with an inner approximation the kept ``V`` first gets its full SOS
+        level (one more SDP, recorded in ``history`` as ``"final SOS level"``), then the backed-off margin SDP and
+        the verification run as with ``"sos"``.
 
     Returns
     -------
@@ -1549,6 +1565,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     surrogate_degree = checks.integer("surrogate_degree", surrogate_degree, lo=2, hi=5)
     margin = checks.real("margin", margin, lo=1.0)
     reuse = checks.boolean("reuse", reuse)
+    inner = checks.choice("inner", inner, GRAM_CONES)
     ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
     weight = None
@@ -1585,8 +1602,18 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     V = _to_scaled(V0, k)
     history: list[dict[str, Any]] = []
     t_solve = 0.0
-    cache: dict | None = {} if reuse else None      # programs re-solved with new Parameter values (per degree)
-    lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache)
+    # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
+    cache: dict | None = {} if reuse and inner == "sos" else None
+    try:
+        lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache, cone=inner)
+    except SolverError as exc:
+        if inner == "sos":
+            raise
+        raise SolverError(f"the first level problem with inner='{inner}' failed ({exc}): the {inner.upper()} inner "
+                          "approximation cannot certify the starting V; use inner='sos'") from exc
+    if lvl.rho <= 0:
+        raise SolverError(f"the first level problem with inner='{inner}' gives level {lvl.rho:.3g} <= 0: the "
+                          f"{inner.upper()} inner approximation cannot certify the starting V; use inner='sos'")
     t_solve += lvl.solve_time
     V, lam = V / lvl.rho, lvl.lam
     lo, hi = ps.box
@@ -1619,14 +1646,19 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 stopped_by = "time_limit"
                 break
             try:
-                prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache)
+                if inner == "sos":
+                    prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache)
+                else:
+                    prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner)
+                    M = monomial_matrix(Zt, out["V"].basis)
+                    prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
                 t_solve += prog.solve_time
                 Vn = out["V"].poly()
                 if out_of_time(f"degree {degV}, after a V step"):
                     stopped_by = "time_limit"
                     break
                 lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache,
-                            basis=out["V"].basis)
+                            basis=out["V"].basis, cone=inner)
                 t_solve += lv.solve_time
             except SolverError as exc:
                 history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
@@ -1656,6 +1688,14 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     # final certificate at a backed-off level, re-solved at that level, then verified. The kept V is normalized by
     # the optimum of its own level problem (V / rho*), so its level is 1 (no SDP needed to find it again).
     fin_rho = 1.0
+    if inner != "sos":          # the kept V's level is an inner-approximation one: its full SOS level is >= 1
+        lvs = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
+        t_solve += lvs.solve_time
+        if lvs.rho > 1.0:
+            V = V / lvs.rho
+        history.append({"degree": V.degree, "step": f"final SOS level ({inner} level 1)", "rho": lvs.rho,
+                        "volume": vol(V), "sdp_time": lvs.solve_time, "compile_time": lvs.compile_time,
+                        "solver_time": lvs.solver_time})
     # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
     # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
     bo = backoff

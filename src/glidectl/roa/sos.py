@@ -40,11 +40,16 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sps
 
-from ..errors import BudgetError, SolverError
+from ..errors import ArgumentError, BudgetError, SolverError
 from .polynomial import Exp, Poly
 
-__all__ = ["GramCheck", "LinPoly", "SOSProgram", "Unknown", "linear_support", "parity_generators", "reduce_basis",
-           "sign_classes"]
+__all__ = ["GRAM_CONES", "GramCheck", "LinPoly", "SOSProgram", "Unknown", "dd_gram", "linear_support",
+           "parity_generators", "reduce_basis", "sign_classes"]
+
+#: Cones of a Gram matrix (:attr:`SOSProgram.cone`): ``"sos"`` positive semidefinite (SDP), ``"sdsos"`` scaled
+#: diagonally dominant (SOCP), ``"dsos"`` diagonally dominant (LP) (Ahmadi and Majumdar 2019). SDD and DD matrices are
+#: positive semidefinite, so an SDSOS/DSOS certificate is an SOS one (an inner approximation: a smaller feasible set).
+GRAM_CONES = ("sos", "sdsos", "dsos")
 
 
 def parity_generators(support: Sequence[Exp], nvars: int) -> np.ndarray:
@@ -162,6 +167,60 @@ def reduce_basis(support: Sequence[Exp], half_basis: Sequence[Exp], *,
     if not symmetry:
         return [B]
     return sign_classes(B, parity_generators(sorted(S), n))
+
+
+def dd_gram(n: int, name: str, cone: str) -> tuple[Any, list[Any]]:
+    """A symmetric ``n x n`` Gram matrix in an inner approximation of the PSD cone, as an affine cvxpy expression of
+    new variables and the constraints on them (Ahmadi and Majumdar, "DSOS and SDSOS optimization", 2019).
+
+    ``cone="sdsos"``: ``Q = diag(d) + sum_{i<j} E_ij^T M_ij E_ij`` with ``d >= 0`` and every ``2 x 2`` block
+    ``M_ij = [[a, b], [b, c]]`` positive semidefinite (``||(2 b, a - c)|| <= a + c``, one 3-dimensional second-order
+    cone per pair): ``Q`` is scaled diagonally dominant. ``cone="dsos"``: the same with ``a = c >= |b|`` (linear
+    inequalities): ``Q`` is diagonally dominant with a nonnegative diagonal. Both are sums of PSD matrices, hence PSD.
+
+    Parameters
+    ----------
+    n : int
+        Size of the Gram matrix (>= 1).
+    name : str
+        Prefix of the cvxpy variable names.
+    cone : {"sdsos", "dsos"}
+        The cone.
+
+    Returns
+    -------
+    (cvxpy.Expression of shape (n, n), list of cvxpy constraints)
+
+    Raises
+    ------
+    ArgumentError
+        If ``cone`` is not ``"sdsos"`` or ``"dsos"`` or ``n < 1``.
+    """
+    if cone not in ("sdsos", "dsos") or n < 1:
+        raise ArgumentError(f"dd_gram needs cone 'sdsos' or 'dsos' and n >= 1, got cone={cone!r}, n={n}")
+    d = cp.Variable(n, nonneg=True, name=f"{name}.d")
+    diag = np.arange(n) * (n + 1)                               # column-major index of (i, i)
+    Sd = sps.csr_matrix((np.ones(n), (diag, np.arange(n))), shape=(n * n, n))
+    vec: Any = Sd @ d
+    cons: list[Any] = []
+    if n > 1:
+        I, J = np.triu_indices(n, 1)
+        P = len(I)
+        k = np.arange(P)
+        b = cp.Variable(P, name=f"{name}.b")
+        a = cp.Variable(P, name=f"{name}.a")
+        Sa = sps.csr_matrix((np.ones(P), (I * (n + 1), k)), shape=(n * n, P))
+        Sc = sps.csr_matrix((np.ones(P), (J * (n + 1), k)), shape=(n * n, P))
+        Sb = sps.csr_matrix((np.ones(2 * P), (np.concatenate([I + n * J, J + n * I]), np.concatenate([k, k]))),
+                            shape=(n * n, P))
+        if cone == "sdsos":
+            c = cp.Variable(P, name=f"{name}.c")
+            cons.append(cp.SOC(a + c, cp.vstack([2 * b, a - c]), axis=0))
+            vec = vec + Sa @ a + Sc @ c + Sb @ b
+        else:
+            cons += [a >= b, a >= -b]
+            vec = vec + (Sa + Sc) @ a + Sb @ b
+    return cp.reshape(vec, (n, n), order="F"), cons
 
 
 @dataclass(eq=False)
@@ -304,6 +363,7 @@ class SOSProgram:
     problem: Any = None             # the cvxpy Problem of the last solve (resolve() re-solves it)
     full_bases: dict[str, list[Exp]] = field(default_factory=dict)   # add_sos half bases before reduction
     margin: Any = None      # optional cvxpy scalar t: Gram matrices of add_sos constraints satisfy Q >= t I
+    cone: str = "sos"       # Gram matrices PSD ("sos"), or SDD ("sdsos") / DD ("dsos") inner approximations
 
     def enable_margin(self, cap: float = 1.0) -> Any:
         """Make every later :meth:`add_sos` Gram matrix satisfy ``Q >= t I`` for a new scalar ``t <= cap``
@@ -332,6 +392,14 @@ class SOSProgram:
         monomials ``half_basis``."""
         hb = [tuple(e) for e in half_basis]
         n = len(hb)
+        if self.cone != "sos" and n > 0:        # Q (- t I) scaled diagonally dominant / diagonally dominant
+            Q, cons = dd_gram(n, name, self.cone)
+            if margin and self.margin is not None:
+                Q = Q + self.margin * np.eye(n)
+            self.constraints.extend(cons)
+            u = Unknown(name, Q, n * n, hb, gram=True, nvars=self.nvars)
+            self.unknowns.append(u)
+            return u, self._gram_poly(u, hb)
         Q = cp.Variable((n, n), symmetric=True, name=name)
         u = Unknown(name, Q, n * n, hb, gram=True, nvars=self.nvars)
         self.unknowns.append(u)
@@ -339,12 +407,17 @@ class SOSProgram:
             self.constraints.append(Q - self.margin * np.eye(n) >> 0)
         else:
             self.constraints.append(Q >> 0)
+        return u, self._gram_poly(u, hb)
+
+    def _gram_poly(self, u: Unknown, hb: list[Exp]) -> LinPoly:
+        """``m^T Q m`` of a Gram unknown as a LinPoly (one column per entry, column-major)."""
+        n = len(hb)
         cols = []
         for j in range(n):          # column-major: index i + n j
             for i in range(n):
                 e = tuple(a + b for a, b in zip(hb[i], hb[j], strict=True))
                 cols.append(Poly({e: 1.0}, self.nvars))
-        return u, LinPoly(Poly({}, self.nvars), {u: cols})
+        return LinPoly(Poly({}, self.nvars), {u: cols})
 
     def sos_poly_blocks(self, name: str, blocks: Sequence[Sequence[Exp]], *,
                         margin: bool = False) -> tuple[list[Unknown], LinPoly]:
