@@ -9,8 +9,14 @@ from the last solution); the residual is the relative error in the two targets, 
 than targets). Several starting points are tried; the result is polished on the targets alone and accepted only if
 the targets are met to ``tol``, the helix is stable and the controls are inside the bounds.
 
+Jacobian: by the implicit function theorem at the trimmed helix, ``dy/dc = -F_y^-1 F_c`` for the trim unknowns ``y``
+of ``F(y, c) = 0`` (:func:`helix_equations`), ``F_y`` exact (complex step), ``F_c`` and the stability margin's
+derivative by central differences of the model in ``c`` (no trims). One trim per least-squares iteration instead of
+``1 + (free controls)`` with finite differences through trims, and the derivatives are free of the trims' solver
+noise. At a fold (``F_y`` singular) it falls back to forward differences through trims.
+
 Budget: at most ``n_starts <=`` :data:`MAX_STARTS` starting points, each with at most 60 + 100 least-squares
-residual evaluations (plus their finite-difference Jacobians), each a warm-started :func:`helix_trim`; an optional
+residual evaluations (plus one Jacobian per accepted step), each a warm-started :func:`helix_trim`; an optional
 ``time_limit`` (s) stops the search with :class:`~glidectl.BudgetError`. Plausibility limits: ``radius`` and
 ``|pitch|`` at most :data:`LENGTH_MAX` (10 km), ``speed`` in (0, 100] m/s, moving-mass bounds inside ``R_P_MAX``
 (10 m).
