@@ -453,3 +453,20 @@ def test_certificate_methods_check_their_arguments() -> None:
     h = 1e-30
     g = np.imag(c.nu(np.array([1j * h, 0.1, 0.05, 0.0]))) / h
     assert np.isfinite(g)
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(-0.9, 1.5), st.floats(-math.pi, math.pi), st.floats(-0.5, 0.5), st.floats(-3.0, 3.0),
+       st.sampled_from([{}, {"K_M": -100.0}, {"J2": 0.01}]))
+def test_f_and_g_equal_the_separate_fields_exactly(Vb, gb, ab, ob, ov):
+    """verify() takes f, g and g(eps = 0) from one right-hand-side evaluation: the same numbers, bit for bit, as the
+    three separate calls (and the boundary layer as g(eps = 0) times diag(r1, r2))."""
+    sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5", **ov))
+    p = np.array([[Vb, gb], [0.5 * Vb, -gb]])
+    q = np.array([[ab, ob], [-ab, 0.1 * ob]])
+    f, g_eps, g_0 = sp.scaling.f_and_g(p, q)
+    assert np.array_equal(f, sp.f(p, q))
+    assert np.array_equal(g_eps, sp.g(p, q))
+    assert np.array_equal(g_0, sp.g(p, q, eps=False))
+    assert np.array_equal(g_0 * np.array([sp.scaling.r1, sp.scaling.r2]), sp.boundary_layer_rhs(p, q))
+    assert not np.array_equal(g_eps, g_0) or gb == 0  # eps1 f2 is a real term: the two g differ off gamma = 0

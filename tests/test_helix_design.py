@@ -151,3 +151,27 @@ def test_resolved_crossing_refuses_a_branch_jump():
     """With coarse steps the walk jumps across the fold near r_bh = -0.008 m: reported, not taken for a crossing."""
     with pytest.raises(gc.SolverError, match="jumps"):
         gc.resolved_crossing(SLOCUM, NOMINAL_83, 0.25, step=2e-3)
+
+
+@pytest.mark.parametrize(("r_p", "m0", "key"), [((0.02, 0.02, 0.04), 0.25, "pitch"),
+                                                 ((0.0088, 0.0242, 0.0412), 0.28, "speed"),
+                                                 ((-0.02, 0.0088, 0.0426), -0.2436, "pitch")])
+def test_design_sensitivities_match_central_differences_of_retrims(r_p, m0, key):
+    """The implicit-function-theorem Jacobian design_helix gives least_squares (d(radius, pitch or speed)/dc and
+    d max Re(lambda)/dc, c = (r_P1, r_P2, r_P3, m0)) equals central differences through independent re-trims."""
+    from glidectl.trim.helix_design import _control_sensitivity
+
+    h = gc.helix_trim(SLOCUM, r_p, m0)
+    dq, dmax = _control_sensitivity(SLOCUM, h, key, True)
+    c = np.r_[r_p, m0]
+    for j, step in enumerate((1e-5, 1e-5, 1e-5, 1e-4)):
+        hs = []
+        for sgn in (1, -1):
+            cc = c.copy()
+            cc[j] += sgn * step
+            hs.append(gc.helix_trim(SLOCUM, cc[:3], cc[3], guess=h, n_random=0))
+        second = [x.pitch if key == "pitch" else x.speed for x in hs]
+        fd_q = np.array([hs[0].radius - hs[1].radius, second[0] - second[1]]) / (2 * step)
+        fd_max = (np.max(hs[0].eigenvalues.real) - np.max(hs[1].eigenvalues.real)) / (2 * step)
+        np.testing.assert_allclose(dq[:, j], fd_q, rtol=1e-4, atol=1e-6 * np.abs(dq).max())
+        assert dmax[j] == pytest.approx(fd_max, rel=1e-3, abs=1e-6 * np.abs(dmax).max())

@@ -240,8 +240,13 @@ def _qdot(q: Any, Om: Any) -> Any:
 
 
 def _cross(a: Any, b: Any) -> Any:
-    return np.stack([a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
-                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]], -1)
+    # the components written into one output array (no np.stack): the same products, less overhead
+    c0 = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
+    out = np.empty((*np.shape(c0), 3), dtype=np.result_type(c0))
+    out[..., 0] = c0
+    out[..., 1] = a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2]
+    out[..., 2] = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    return out
 
 
 def _check_3d(veh: Vehicle) -> None:
@@ -366,6 +371,7 @@ class FixedMassGlider3D:
     state_names: tuple[str, ...] = FIXED_STATES
     input_names: tuple[str, ...] = ()
     _Minv: np.ndarray = field(init=False, repr=False, compare=False)
+    _consts: tuple[np.ndarray, np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         _check_3d(self.vehicle)
@@ -395,6 +401,9 @@ class FixedMassGlider3D:
             raise ModelError(f"the generalized mass matrix of (8.23) is singular to working precision (condition "
                              f"number {cond:.3g}) for r_p = {self.r_p} m, m0 = {m0:g} kg on vehicle '{veh.name}'")
         object.__setattr__(self, "_Minv", np.linalg.inv(big))
+        # (M, J, r_P) as arrays, built once: forces() is called thousands of times per trim sweep
+        object.__setattr__(self, "_consts", (np.array(masses, dtype=float), np.array([veh.J1, veh.J2, veh.J3]),
+                                             np.asarray(self.r_p, dtype=float)))
 
     @property
     def generalized_mass(self) -> np.ndarray:
@@ -413,10 +422,8 @@ class FixedMassGlider3D:
         zeta = trailing_array("zeta", zeta, 3)
         veh = self.vehicle
         g, mbar = veh.g, veh.mbar
-        rP = np.asarray(self.r_p, dtype=float)
-        M = np.array([veh.mass(i, self.m0) for i in (1, 2, 3)])
+        M, J, rP = self._consts
         F, T, _, _, _ = loads_3d(veh, v, Om)
-        J = np.array([veh.J1, veh.J2, veh.J3])
         w = v + _cross(Om, np.broadcast_to(rP, np.shape(v)))
         rPb = np.broadcast_to(rP, np.shape(v))
         Fp = _cross(M * v + mbar * w, Om) + self.m0 * g * zeta + F

@@ -149,10 +149,27 @@ class NondimensionalScaling:
         d = self.glider.rhs(self.to_dimensional(z))
         return d[..., 0], d[..., 1], d[..., 2], d[..., 3]
 
+    def _f_of(self, Vd: Any, gd: Any) -> np.ndarray:
+        return np.stack([self.tau_s * Vd / self.speed, self.tau_s * gd], axis=-1)
+
+    def _g_of(self, gd: Any, ad: Any, Od: Any, eps: bool) -> np.ndarray:
+        g1 = self.eps1 * self.tau_s * ad
+        if not eps:
+            g1 = g1 + self.eps1 * self.tau_s * gd
+        g2 = self.eps2 * self.tau_s * self.omega_scale * Od
+        return np.stack([g1, g2], axis=-1)
+
     def f(self, p: Any, q: Any) -> np.ndarray:
         """Slow vector field ``dp/dt_n = f(p, q)`` of (5.28), ``p = (Vbar, gammabar)``."""
         Vd, gd, _, _ = self._rates(p, q)
-        return np.stack([self.tau_s * Vd / self.speed, self.tau_s * gd], axis=-1)
+        return self._f_of(Vd, gd)
+
+    def f_and_g(self, p: Any, q: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(f(p, q), g(p, q), g(p, q, 0))`` of (5.28)-(5.29) from one evaluation of the right-hand side (equal to
+        the three separate calls of :meth:`f` and :meth:`g`, which each evaluate it); ``p``, ``q`` of shape
+        ``(..., 2)``."""
+        Vd, gd, ad, Od = self._rates(p, q)
+        return self._f_of(Vd, gd), self._g_of(gd, ad, Od, True), self._g_of(gd, ad, Od, False)
 
     def g(self, p: Any, q: Any, eps: bool = True) -> np.ndarray:
         """Fast vector field ``g(p, q, eps)`` of (5.29) (``mu dq/dt_n = A g``); ``eps=False`` gives ``g(p, q, 0)``.
@@ -161,11 +178,7 @@ class NondimensionalScaling:
         the ``eps1 f2`` term is dropped (the only place the small parameters enter once ``p, q`` are fixed).
         """
         _, gd, ad, Od = self._rates(p, q)
-        g1 = self.eps1 * self.tau_s * ad
-        if not eps:
-            g1 = g1 + self.eps1 * self.tau_s * gd
-        g2 = self.eps2 * self.tau_s * self.omega_scale * Od
-        return np.stack([g1, g2], axis=-1)
+        return self._g_of(gd, ad, Od, eps)
 
     def A(self) -> np.ndarray:
         """``diag(r1, r2)`` of (5.29)."""

@@ -650,11 +650,12 @@ class CompositeCertificate:
         Phi, W = self.Phi(p), self.W(p, q)
         psi, sig = self.psi(p), self.sigma(z)
         q0 = np.zeros_like(q)
-        f_pq, f_p0 = sp.f(p, q), sp.f(p, q0)
+        sc = sp.scaling
+        f_pq, g_eps, g_0 = sc.f_and_g(p, q)  # one right-hand-side evaluation for f, g and g(eps = 0) at (p, q)
+        f_p0 = sp.f(p, q0)
         dPhi = np.stack([-np.cos(p[:, 1]) + (1 + V) ** 2, (1 + V) * np.sin(p[:, 1])], axis=1)
         dWV, dWa, dWO = self._grad_W(p, q)
         Ar = np.array([sp.r1, sp.r2])
-        g_eps, g_0 = sp.g(p, q), sp.g(p, q, eps=False)
         tiny = 1e-300
 
         def worst(lhs: np.ndarray, rhs: np.ndarray, mask: np.ndarray | None = None) -> float:
@@ -671,7 +672,7 @@ class CompositeCertificate:
         r["Prop2.2: a1 psi^2 >= b1 |p|^2"] = worst(self.b1 * P2, self.a1 * psi**2)
         r["Prop1.1 lower: k3|q|^2 <= W"] = worst(self.k3 * Q2, W)
         r["Prop1.1 upper: W <= k4|q|^2"] = worst(W, self.k4 * Q2)
-        bl = sp.boundary_layer_rhs(p, q)
+        bl = g_0 * np.array([sc.r1, sc.r2])  # sp.boundary_layer_rhs(p, q), from the evaluation above
         dWdtau = dWa * bl[:, 0] + dWO * bl[:, 1]
         r["Prop1.2: dW/dtau <= -a2 sigma^2"] = worst(self.a2 * sig**2, -dWdtau, dWdtau < 0) \
             if self.a2 > 0 and np.all(dWdtau < 0) else float("inf")

@@ -426,6 +426,13 @@ def helix_newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, 
     """
     _model(model)
     y0 = checks.array("y0 (v1, v2, v3, psidot, theta, phi)", y0, shape=(6,))
+    y, res, ok, _ = _newton(model, y0)
+    return y, res, ok
+
+
+def _newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, float, bool, float]:
+    """:func:`helix_newton` on checked arguments, also returning the relative residual of the final iterate (``inf``
+    when it was not evaluated: a non-finite, backward or overturned iterate), so callers need not recompute it."""
 
     def fun(y: np.ndarray) -> np.ndarray:
         return np.asarray(helix_equations(model, y), float)
@@ -437,12 +444,13 @@ def helix_newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, 
         try:
             sol = root(fun, y0, jac=jac, method="hybr", options={"xtol": 1e-13})
         except (ValueError, FloatingPointError, OverflowError, ZeroDivisionError, np.linalg.LinAlgError):
-            return y0, float("inf"), False
+            return y0, float("inf"), False, float("inf")
         y = sol.x
         res = float(np.max(np.abs(fun(y)))) if np.all(np.isfinite(y)) else float("inf")
     if not (math.isfinite(res) and y[0] > 0 and abs(y[4]) < math.pi / 2):
-        return y, res, False
-    return y, res, bool(_relative_residual(model, y) < RESIDUAL_TOL)
+        return y, res, False, float("inf")
+    rel = _relative_residual(model, y)
+    return y, res, bool(rel < RESIDUAL_TOL), rel
 
 
 def _straight_guesses(veh: Vehicle, r_p: np.ndarray, m0: float) -> list[np.ndarray]:
@@ -615,12 +623,14 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
                          f"m0 = {m0:g} kg on vehicle '{veh.name}'") from exc
     tried: list[str] = []
     y = None
+    on_model: tuple[np.ndarray, float, float] | None = None  # (y, residual, relative residual) evaluated on `model`
     if guess is not None:
         y0 = guess.unknowns if isinstance(guess, Helix) else guess
-        y1, res, ok = helix_newton(model, y0)
+        y1, res, ok, rel = _newton(model, np.asarray(y0, dtype=float))
         tried.append("warm start")
         if ok:
             y = y1
+            on_model = (y1, res, rel)
     if y is None:
         starts = _straight_guesses(veh, r, m0)
         tried.append(f"{len(starts)} longitudinal straight glide(s) continued in r_P2")
@@ -643,23 +653,25 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
             a, b = rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)
             y0 = np.array([V * math.cos(a) * math.cos(b), V * math.sin(b), V * math.sin(a) * math.cos(b),
                            rng.uniform(-0.05, 0.05), rng.uniform(-1.2, 1.2), rng.uniform(-1.2, 1.2)])
-            y1, res, ok = helix_newton(model, y0)
+            y1, res, ok, rel = _newton(model, y0)
             if ok:
                 y = y1
+                on_model = (y1, res, rel)
                 break
     if y is None:
         raise InfeasibleGlideError(
             f"no steady helix or glide found for r_P = {tuple(round(float(x), 5) for x in r)} m, m0 = {m0:g} kg on "
             f"vehicle '{veh.name}' (tried: {'; '.join(tried)}). Try a warm start from a nearby solution "
             "(glidectl.helix_sweep continues along a parameter) or more random starts")
-    rel = _relative_residual(model, y)
+    known = on_model is not None and on_model[0] is y
+    rel = on_model[2] if known else _relative_residual(model, y)  # type: ignore[index]
     if abs(y[3]) < 1e-13:  # a straight glide: snap the rounding-level yaw rate to zero if the trim still holds
         ys = y.copy()
         ys[3] = 0.0
         rel_s = _relative_residual(model, ys)
         if rel_s < RESIDUAL_TOL:
-            y, rel = ys, rel_s
-    res = float(np.max(np.abs(helix_equations(model, y))))
+            y, rel, known = ys, rel_s, False
+    res = on_model[1] if known else float(np.max(np.abs(helix_equations(model, y))))  # type: ignore[index]
     z = zeta_of(y[4], y[5])
     return Helix((float(r[0]), float(r[1]), float(r[2])), m0, y[0:3].copy(), y[3] * z, float(y[4]), float(y[5]),
                  float(y[3]), res, helix_eigenvalues(model, y), veh, veh.provenance, model, rel)

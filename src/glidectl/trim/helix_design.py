@@ -9,8 +9,14 @@ from the last solution); the residual is the relative error in the two targets, 
 than targets). Several starting points are tried; the result is polished on the targets alone and accepted only if
 the targets are met to ``tol``, the helix is stable and the controls are inside the bounds.
 
+Jacobian: by the implicit function theorem at the trimmed helix, ``dy/dc = -F_y^-1 F_c`` for the trim unknowns ``y``
+of ``F(y, c) = 0`` (:func:`helix_equations`), ``F_y`` exact (complex step), ``F_c`` and the stability margin's
+derivative by central differences of the model in ``c`` (no trims). One trim per least-squares iteration instead of
+``1 + (free controls)`` with finite differences through trims, and the derivatives are free of the trims' solver
+noise. At a fold (``F_y`` singular) it falls back to forward differences through trims.
+
 Budget: at most ``n_starts <=`` :data:`MAX_STARTS` starting points, each with at most 60 + 100 least-squares
-residual evaluations (plus their finite-difference Jacobians), each a warm-started :func:`helix_trim`; an optional
+residual evaluations (plus one Jacobian per accepted step), each a warm-started :func:`helix_trim`; an optional
 ``time_limit`` (s) stops the search with :class:`~glidectl.BudgetError`. Plausibility limits: ``radius`` and
 ``|pitch|`` at most :data:`LENGTH_MAX` (10 km), ``speed`` in (0, 100] m/s, moving-mass bounds inside ``R_P_MAX``
 (10 m).
@@ -26,11 +32,12 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .. import checks
+from ..analysis.jacobian import jacobians
 from ..errors import ArgumentError, GlidectlError, InfeasibleGlideError, ModelError, SolverError
 from ..models.glider3d import R_P_MAX, FixedMassGlider3D
 from ..params import Vehicle
 from .glide import SPEED_MAX
-from .helix import Helix, helix_trim
+from .helix import Helix, helix_eigenvalues, helix_equations, helix_trim, zeta_of
 
 __all__ = ["DEFAULT_M0_BOUNDS", "DEFAULT_R_P_BOUNDS", "LENGTH_MAX", "MAX_STARTS", "HelixDesign", "design_helix"]
 
@@ -42,6 +49,59 @@ LENGTH_MAX = 1e4
 #: Budget: largest number of starting points of the multistart search.
 MAX_STARTS = 64
 _SCALE = np.array([0.01, 0.01, 0.01, 0.1])  # m, m, m, kg
+_FD_STEP = 1e-5 * _SCALE  # central-difference steps in the controls for dF/dc and d max Re(lambda)/dc (m, m, m, kg)
+
+
+def _target_values(y: Any, key: str) -> Any:
+    """``(radius, pitch or speed)`` of the steady motion with trim unknowns ``y`` (shape (..., 6)), complex-safe
+    (for complex-step derivatives); the formulas of :attr:`Helix.radius`, :attr:`Helix.pitch`, :attr:`Helix.speed`
+    (``|psidot|`` taken with the sign of the real part)."""
+    v, w, th, ph = y[..., 0:3], y[..., 3], y[..., 4], y[..., 5]
+    z = zeta_of(th, ph)
+    V2 = np.sum(v * v, axis=-1)
+    vz = np.sum(z * v, axis=-1)
+    aw = np.where(np.real(w) < 0, -w, w)
+    second = vz * (2 * math.pi) / aw if key == "pitch" else np.sqrt(V2)
+    return np.stack([np.sqrt(V2 - vz * vz) / aw, second], -1)
+
+
+def _control_sensitivity(veh: Vehicle, h: Helix, key: str,
+                         penalty: bool) -> tuple[np.ndarray, np.ndarray | None] | None:
+    """Derivatives of the helix targets (and of ``max Re(lambda)``) with respect to the controls
+    ``c = (r_P1, r_P2, r_P3, m0)`` at the trimmed helix ``h``, by the implicit function theorem: the trim unknowns
+    ``y(c)`` solve ``F(y, c) = 0`` (:func:`helix_equations`), so ``dy/dc = -F_y^-1 F_c`` with ``F_y`` exact
+    (complex step) and ``F_c`` by central differences of the model in ``c`` (steps :data:`_FD_STEP`). Returns
+    ``(dq/dc (2, 4), d max Re(lambda)/dc (4,) or None)``, or None when ``F_y`` is singular (a fold)."""
+    y = h.unknowns
+    c = np.r_[h.r_p, h.m0]
+    model = h.model if h.model is not None else FixedMassGlider3D(veh, h.r_p, h.m0)
+
+    def model_at(dc: np.ndarray) -> FixedMassGlider3D:
+        cc = c + dc
+        return FixedMassGlider3D(veh, (float(cc[0]), float(cc[1]), float(cc[2])), float(cc[3]))
+
+    with np.errstate(all="ignore"):
+        Fy = jacobians(lambda yy, u: helix_equations(model, yy), y, np.zeros(0))[0]
+        Fc = np.empty((6, 4))
+        steps = np.diag(_FD_STEP)
+        for j in range(4):
+            Fc[:, j] = (np.asarray(helix_equations(model_at(steps[j]), y), float)
+                        - np.asarray(helix_equations(model_at(-steps[j]), y), float)) / (2 * _FD_STEP[j])
+        try:
+            dy = -np.linalg.solve(Fy, Fc)
+        except np.linalg.LinAlgError:
+            return None
+        if not np.all(np.isfinite(dy)):
+            return None
+        dq = jacobians(lambda yy, u: _target_values(yy, key), y, np.zeros(0))[0] @ dy
+        dmax = None
+        if penalty:  # along the branch: y(c +- h e_j) = y +- h dy/dc_j to first order
+            dmax = np.empty(4)
+            for j in range(4):
+                hi = helix_eigenvalues(model_at(steps[j]), y + _FD_STEP[j] * dy[:, j])
+                lo = helix_eigenvalues(model_at(-steps[j]), y - _FD_STEP[j] * dy[:, j])
+                dmax[j] = (np.max(hi.real) - np.max(lo.real)) / (2 * _FD_STEP[j])
+    return dq, dmax
 
 
 @dataclass(frozen=True)
@@ -235,10 +295,37 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
 
     def residual(x: np.ndarray, x0: np.ndarray, reg: float) -> np.ndarray:
         h = trim(full(x))
+        state["x"], state["h"] = np.array(x, float), h
         if h is None:
             return np.r_[10.0, 10.0, 10.0, reg * (x - x0) / _SCALE[free]]
         pen = 10.0 * max(0.0, float(np.max(h.eigenvalues.real)) + stability_margin)
         return np.r_[target_err(h), pen, reg * (x - x0) / _SCALE[free]]
+
+    n_free = int(np.count_nonzero(free))
+    targets = np.array([radius, abs(val)])
+
+    def jacobian(x: np.ndarray, x0: np.ndarray, reg: float) -> np.ndarray:
+        """Exact-to-rounding Jacobian of :func:`residual` by the implicit function theorem (no extra trims at
+        the point least_squares just evaluated), instead of finite differences through one trim per control."""
+        h = state["h"] if state.get("x") is not None and np.array_equal(state["x"], x) else trim(full(x))
+        J = np.zeros((3 + n_free, n_free))
+        J[3:] = np.diag(reg / _SCALE[free])
+        if h is None or not np.all(np.isfinite(target_err(h))) or not math.isfinite(h.radius):
+            return J
+        active = float(np.max(h.eigenvalues.real)) + stability_margin > 0
+        sens = _control_sensitivity(veh, h, key, active)
+        if sens is None:  # singular trim Jacobian (a fold): fall back to forward differences through trims
+            f0 = residual(x, x0, reg)
+            for j in range(n_free):
+                dx = np.zeros(n_free)
+                dx[j] = 1.49e-8 * max(1.0, abs(float(x[j])))
+                J[:, j] = (residual(x + dx, x0, reg) - f0) / dx[j]
+            return J
+        dq, dmax = sens
+        J[0:2] = dq[:, free] / targets[:, None]
+        if dmax is not None:
+            J[2] = 10.0 * dmax[free]
+        return J
 
     rng = np.random.default_rng(seed)
     m0s = np.clip(sign * np.array([0.25, 0.1, 0.4]), lo[3], hi[3])
@@ -259,8 +346,8 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
         if trim(full(x0)) is None:
             continue
         try:
-            sol = least_squares(residual, x0, args=(x0, 1e-3), bounds=(lo_f, hi_f), x_scale=_SCALE[free],
-                                xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=60)
+            sol = least_squares(residual, x0, jac=jacobian, args=(x0, 1e-3), bounds=(lo_f, hi_f),
+                                x_scale=_SCALE[free], xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=60)
             if np.max(np.abs(sol.fun[:3])) > 0.05:  # far from the targets: not worth polishing this start
                 if np.max(np.abs(sol.fun[:2])) < best[0]:
                     hb = trim(full(sol.x))
@@ -268,7 +355,8 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
                         best = (float(np.max(np.abs(target_err(hb)))), full(sol.x), hb)
                 continue
             # polish on the targets (and stability) alone
-            sol = least_squares(residual, sol.x, args=(sol.x, 0.0), bounds=(lo_f, hi_f), x_scale=_SCALE[free],
+            sol = least_squares(residual, sol.x, jac=jacobian, args=(sol.x, 0.0), bounds=(lo_f, hi_f),
+                                x_scale=_SCALE[free],
                                 xtol=1e-14, ftol=1e-14, gtol=1e-14, max_nfev=100)
         except GlidectlError:
             raise
