@@ -387,27 +387,29 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     th7 = [("steady helix of 8.2.2", *_cls(v, Om)), ("Omega = 0", *_cls(v, 0 * Om)),
            ("v = 0", *_cls(0 * v, Om)), ("Omega parallel to v", *_cls(v, 0.01 * v / np.linalg.norm(v)))]
 
-    progress("stability versus bottom-heaviness (Fig 8.13-8.14): frozen and re-solved equilibria")
-    rbh_grid = _linspace(s.rbh_grid)
-    fro = gc.helix_rbh_locus(veh, s.rbh_r_p, s.m0, rbh_grid, frozen=True)
-    res = gc.helix_rbh_locus(veh, s.rbh_r_p, s.m0, rbh_grid, frozen=False)
-    rc, rh = gc.resolved_crossing(veh, s.rbh_r_p, s.m0, step=s.resolved_step)
-
-    progress("inverse helix design")
-    designs: list[tuple[dict[str, float], gc.HelixDesign | None, str]] = []
-    for target in s.design_targets:
-        tgt = dict(target)
-        try:
-            designs.append((tgt, gc.design_helix(veh, **tgt), ""))
-        except gc.InfeasibleGlideError as exc:
-            designs.append((tgt, None, str(exc)))
-    # the sweeps submit library functions, the vehicle and plain data to the pool: nothing of this file is pickled
+    # the sweeps submit library functions, the vehicle and plain data to the pool: nothing of this file is pickled.
+    # The r_bh loci and the inverse designs are independent of the maps: they go to the pool first.
     with ProcessPoolExecutor(max_workers=max(1, min(s.workers, os.cpu_count() or 1))) as ex:
+        progress("stability versus bottom-heaviness (Fig 8.13-8.14): frozen and re-solved equilibria; inverse "
+                 "helix design (on the pool)")
+        rbh_grid = _linspace(s.rbh_grid)
+        f_fro = ex.submit(gc.helix_rbh_locus, veh, s.rbh_r_p, s.m0, rbh_grid, frozen=True)
+        f_res = ex.submit(gc.helix_rbh_locus, veh, s.rbh_r_p, s.m0, rbh_grid, frozen=False)
+        f_rc = ex.submit(gc.resolved_crossing, veh, s.rbh_r_p, s.m0, step=s.resolved_step)
+        f_designs = [(dict(target), ex.submit(gc.design_helix, veh, **dict(target))) for target in s.design_targets]
         progress("helix maps versus r_P1, r_P2, r_P3, m0 (Fig 8.5-8.12)")
         maps = compute_maps(veh, s, ex)
         progress("existence scan of the (m0, r_P1) sign claim of 8.2.2")
         scan = gc.existence_scan(veh, _linspace(s.scan_r_p1), np.array(s.scan_m0), n_starts=s.scan_starts,
                                  executor=ex)
+        fro, res = f_fro.result(), f_res.result()
+        rc, rh = f_rc.result()
+        designs: list[tuple[dict[str, float], gc.HelixDesign | None, str]] = []
+        for tgt, fut in f_designs:
+            try:
+                designs.append((tgt, fut.result(), ""))
+            except gc.InfeasibleGlideError as exc:
+                designs.append((tgt, None, str(exc)))
     progress("claims of 8.2.2 about the maps")
     claims = (existence_claim(scan), *r_p1_claims(veh, maps["fig8_5"], maps["fig8_6"]),
               *r_p2_claims(maps["fig8_7"], maps["fig8_8"]),
