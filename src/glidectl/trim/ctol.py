@@ -37,7 +37,7 @@ from scipy.optimize import brentq
 
 from .. import checks
 from ..errors import ArgumentError, InfeasibleGlideError, SolverError
-from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
+from ..models.ctol import _drag, _lift, drag_coefficient, lift_coefficient, require_ctol
 from ..params import Vehicle
 
 __all__ = ["ALPHA_MAX", "RESIDUAL_TOL", "SPEED_MAX_REF", "CTOLGlide", "angle_equation", "ctol_glide"]
@@ -64,7 +64,7 @@ def _speed_gamma(veh: Vehicle, speed: Any, gamma: Any) -> tuple[float, float]:
 
 def _F(veh: Vehicle, speed: float, gamma: float, a: Any) -> Any:
     return (veh.m * veh.g * np.cos(gamma + a)
-            - (drag_coefficient(veh, a) * np.sin(a) + lift_coefficient(veh, a) * np.cos(a)) * speed**2)
+            - (_drag(veh, a) * np.sin(a) + _lift(veh, a) * np.cos(a)) * speed**2)
 
 
 def angle_equation(veh: Vehicle, speed: float, gamma: float, alpha: np.ndarray | float) -> np.ndarray | float:
@@ -177,10 +177,11 @@ def _roots(veh: Vehicle, speed: float, gamma: float, n: int = 4001) -> list[floa
     a = np.linspace(-math.pi, math.pi, n)
     f = _F(veh, speed, gamma, a)
     out = []
-    for i in range(n - 1):
+    # the grid intervals that hold a root, found at once (same order and test as a loop over i < n - 1)
+    for i in np.flatnonzero((f[:-1] == 0) | (f[:-1] * f[1:] < 0)):
         if f[i] == 0:
             out.append(float(a[i]))
-        elif f[i] * f[i + 1] < 0:
+        else:
             out.append(float(brentq(lambda x: float(_F(veh, speed, gamma, x)), a[i], a[i + 1],
                                     xtol=1e-15, rtol=1e-15)))
     return out
