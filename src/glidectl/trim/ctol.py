@@ -37,7 +37,7 @@ from scipy.optimize import brentq
 
 from .. import checks
 from ..errors import ArgumentError, InfeasibleGlideError, SolverError
-from ..models.ctol import _drag, _lift, drag_coefficient, lift_coefficient, require_ctol
+from ..models.ctol import drag_coefficient, lift_coefficient, require_ctol
 from ..params import Vehicle
 
 __all__ = ["ALPHA_MAX", "RESIDUAL_TOL", "SPEED_MAX_REF", "CTOLGlide", "angle_equation", "ctol_glide"]
@@ -64,7 +64,7 @@ def _speed_gamma(veh: Vehicle, speed: Any, gamma: Any) -> tuple[float, float]:
 
 def _F(veh: Vehicle, speed: float, gamma: float, a: Any) -> Any:
     return (veh.m * veh.g * np.cos(gamma + a)
-            - (_drag(veh, a) * np.sin(a) + _lift(veh, a) * np.cos(a)) * speed**2)
+            - (drag_coefficient(veh, a) * np.sin(a) + lift_coefficient(veh, a) * np.cos(a)) * speed**2)
 
 
 def angle_equation(veh: Vehicle, speed: float, gamma: float, alpha: np.ndarray | float) -> np.ndarray | float:
