@@ -82,7 +82,7 @@ class SteadyGlideController:
         :class:`~glidectl.models.ctol_closed_loop.ClosedLoopCTOL` (``s`` of shape ``(..., 4)``)."""
         s = trailing_array("s", s, 4)
         return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, s[..., 2] + self.glide.theta,
-                                  s[..., 3] / self.T)
+                                   s[..., 3] / self.T)
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
         return self.u(x)
