@@ -68,7 +68,7 @@ def lift_coefficient(veh: Vehicle, alpha: Any) -> Any:
         If it is not a CTOL aircraft.
     """
     require_ctol(veh)
-    return veh.rho_AW_half * veh.a_L * (1 + veh.c * alpha)
+    return _lift(veh, alpha)
 
 
 def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
@@ -82,6 +82,16 @@ def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
         If it is not a CTOL aircraft.
     """
     require_ctol(veh)
+    return _drag(veh, alpha)
+
+
+def _lift(veh: Vehicle, alpha: Any) -> Any:
+    """:func:`lift_coefficient` of a vehicle already checked to be a CTOL aircraft (the right-hand sides' hot path)."""
+    return veh.rho_AW_half * veh.a_L * (1 + veh.c * alpha)
+
+
+def _drag(veh: Vehicle, alpha: Any) -> Any:
+    """:func:`drag_coefficient` of a vehicle already checked to be a CTOL aircraft."""
     return veh.rho_AW_half * veh.a_D * (1 + veh.b * (1 + veh.c * alpha) ** 2)
 
 
@@ -136,8 +146,8 @@ class CTOLAircraft:
         # gamma by the half-angle formula (complex-step safe, exact except at gamma = pi); alpha wrapped to (-pi, pi]
         alpha = th - 2 * np.arctan(yd / (V + xd))
         alpha = alpha - 2 * np.pi * np.round(np.real(alpha) / (2 * np.pi))
-        L = lift_coefficient(veh, alpha) * V2
-        D = drag_coefficient(veh, alpha) * V2
+        L = _lift(veh, alpha) * V2  # the vehicle was checked in __post_init__
+        D = _drag(veh, alpha) * V2
         eps, m = veh.epsilon, veh.m
         xdd = (-D * cg - L * sg + u1 * np.cos(th) + eps * u2 * np.sin(th)) / m
         ydd = (-D * sg + L * cg + u1 * np.sin(th) - eps * u2 * np.cos(th)) / m - veh.g
@@ -224,9 +234,9 @@ class CTOLReduced:
         alpha = tb + self.theta - gam
         V = self.speed * (1 + Vb)
         m, g, eps = veh.m, veh.g, veh.epsilon
-        Vbd = (-m * g * np.sin(gam) - drag_coefficient(veh, alpha) * V * V + u1 * np.cos(alpha)
+        Vbd = (-m * g * np.sin(gam) - _drag(veh, alpha) * V * V + u1 * np.cos(alpha)
                + eps * u2 * np.sin(alpha)) / (m * self.speed)
-        gbd = (-m * g * np.cos(gam) + lift_coefficient(veh, alpha) * V * V + u1 * np.sin(alpha)
+        gbd = (-m * g * np.cos(gam) + _lift(veh, alpha) * V * V + u1 * np.sin(alpha)
                - eps * u2 * np.cos(alpha)) / (m * V)
         return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / veh.J), axis=-1)
 

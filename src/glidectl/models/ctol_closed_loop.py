@@ -102,9 +102,16 @@ def steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T:
         If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     """
     require_ctol_vehicle(veh)
+    if not veh.epsilon > 0:
+        raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law divides by eps")
+    return _steady_glide_inputs(veh, glide, k3, k4, T, theta, Omega2)
+
+
+def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float, theta: Any,
+                         Omega2: Any) -> Any:
+    """:func:`steady_glide_inputs` for data already checked (:func:`check_steady_glide_law`): the hot path of the
+    closed-loop right-hand sides."""
     eps = veh.epsilon
-    if not eps > 0:
-        raise ModelError(f"vehicle '{veh.name}' has epsilon = {eps:g}: the steady-glide law divides by eps")
     k1, k2 = glide.k1, glide.k2
     u1 = -k1 * np.sin(theta) - k2 * np.cos(theta)
     u2 = (k1 * np.cos(theta) - k2 * np.sin(theta)) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
@@ -175,7 +182,7 @@ class ClosedLoopCTOL:
         """
         s = trailing_array("s", s, 4, self.state_names)
         th = s[..., 2] + self.glide.theta
-        uu = steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, s[..., 3] / self.T)
+        uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, s[..., 3] / self.T)
         return self.reduced.rhs(s, uu)
 
     def jacobian(self) -> np.ndarray:
