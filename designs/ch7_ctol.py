@@ -438,7 +438,9 @@ def report(res: Ch7Results) -> Report:
                     "this error and the peak thrust arise at t = 0.3-0.4 s, where the pitch flips over; on [0, 1] s "
                     "LSODA, Radau and BDF with the exact closed-loop Jacobian agree to 7 digits on a common sampling "
                     "grid (bench/bench_ch7_integrators.py). An earlier BDF figure of 0.138 m was a run that stopped "
-                    "early: max |e| over [0, 0.3] s is 0.1376 m.")
+                    "early: max |e| over [0, 0.3] s is 0.1376 m. After the flip the aircraft keeps rotating (theta = "
+                    "-21 rad at t = 1 s in the converged run), so 'period-2 cycle' describes the alternating chord "
+                    "speeds of the replanning, not a periodic attitude.")
     rep.number("printed_peak_u1", p.peak_u1, "N", "7.3.3, Fig 7.4")
     rep.number("printed_peak_u2", p.peak_u2, "N m", "7.3.3, Fig 7.4")
     rep.number("printed_rms_u1", p.rms_u1, "N", "7.3.3")
