@@ -1335,7 +1335,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             continue
         worse = 0
         stopped_by = "iterations"
-        for _ in range(iterations):
+        for it in range(iterations):
             if out_of_time(f"degree {degV}, before a V step"):
                 stopped_by = "time_limit"
                 break
@@ -1348,7 +1348,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 if out_of_time(f"degree {degV}, after a V step"):
                     stopped_by = "time_limit"
                     break
-                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex)
+                # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
+                last = degV == degree and it == iterations - 1
+                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center, extra=ex)
                 t_solve += lv.solve_time
             except SolverError as exc:
                 history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
