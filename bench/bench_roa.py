@@ -34,6 +34,10 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   reduction applies at degree 2).
 - glider4 / ctol: not reached: the degree-4 glider level program has a dense support (no reduction: 104 x 104), one
   such SDP took 546 s of Clarabel time under load; the CTOL degree-2 program (103 x 103) is unreduced too.
+- ctol (2026-12-01 evening, load 12-36): not timed end to end (one 103 x 103 level SDP took 3-4 min per
+  interior-point iteration at load 28; the baseline run did not finish). The run now solves 5 programs of that size
+  instead of 6 (the last level problem is not centred; same certificate); ``bench/bench_roa_ctol_sizes.py`` prints
+  what is built and why nothing reduces (full support of degree 6 in 7 lifted variables; a recast of 40-136 s).
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
