@@ -53,6 +53,10 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   (cannot certify the V), DSOS infeasible; at degree 2 SDSOS gives level -0.58 against SOS 2.0e-5. So
   ``certify_roa(inner="sdsos")`` does not apply to this glider, and with the final certificate a full SOS program
   the degree-4 target (< 60 s) is out of reach while the decrease Gram matrix stays 104 x 104.
+- ctol (2026-12-01 evening, load 12-36): not timed end to end (one 103 x 103 level SDP took 3-4 min per
+  interior-point iteration at load 28; the baseline run did not finish). The run now solves 5 programs of that size
+  instead of 6 (the last level problem is not centred; same certificate); ``bench/bench_roa_ctol_sizes.py`` prints
+  what is built and why nothing reduces (full support of degree 6 in 7 lifted variables; a recast of 40-136 s).
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes

@@ -1641,7 +1641,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         if cache is not None:       # programs of a lower degree are not used again
             for old in [k for k in cache if k[1] < degV]:
                 del cache[old]
-        for _ in range(iterations):
+        for it in range(iterations):
             if out_of_time(f"degree {degV}, before a V step"):
                 stopped_by = "time_limit"
                 break
@@ -1657,8 +1657,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 if out_of_time(f"degree {degV}, after a V step"):
                     stopped_by = "time_limit"
                     break
-                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache,
-                            basis=out["V"].basis, cone=inner)
+                # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
+                last = degV == degree and it == iterations - 1
+                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center, extra=ex,
+                            cache=cache, basis=out["V"].basis, cone=inner)
                 t_solve += lv.solve_time
             except SolverError as exc:
                 history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
