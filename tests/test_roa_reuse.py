@@ -13,7 +13,7 @@ import glidectl as gc
 from glidectl.batch import _inverse
 from glidectl.roa import Poly, polynomial_system
 from glidectl.roa import certify as C
-from glidectl.roa.polynomial import _field_evaluator
+from glidectl.roa.polynomial import field_evaluator
 
 
 def _prepared(ps):
@@ -114,14 +114,14 @@ def _fields(draw):
 
 @settings(max_examples=25, deadline=None)
 @given(_fields(), st.integers(0, 2**16))
-def test_field_evaluator_equals_the_per_term_loop(nF, seed):
+def testfield_evaluator_equals_the_per_term_loop(nF, seed):
     """One gather and one matmul give every component of ``Poly.__call__`` (to rounding), for real points and for
     complex steps (the imaginary part is the exact directional derivative)."""
     n, F = nF
     rng = np.random.default_rng(seed)
     X = rng.normal(size=(17, n))
     D = rng.normal(size=(17, n))
-    ev = _field_evaluator(F)
+    ev = field_evaluator(F)
     ref = np.stack([f(X) for f in F], axis=-1)
     scale = 1.0 + np.abs(ref)
     assert np.all(np.abs(ev(X) - ref) <= 1e-12 * scale * (1 + sum(len(f.terms) for f in F)))

@@ -24,7 +24,7 @@ from ..errors import ArgumentError, ArgumentTypeError, BudgetError
 #: Largest monomial basis :func:`monomials` enumerates (a bigger one would not fit any SDP anyway).
 MAX_BASIS = 10_000_000
 
-__all__ = ["Poly", "monomial_matrix", "monomials"]
+__all__ = ["Poly", "field_evaluator", "monomial_matrix", "monomials"]
 
 Exp = tuple[int, ...]
 
@@ -320,11 +320,26 @@ def monomial_matrix(Z: Any, basis: Sequence[Exp]) -> np.ndarray:
     return np.prod(Z[:, None, :] ** E[None, :, :], axis=2)
 
 
-def _field_evaluator(F: Sequence[Poly]) -> Any:
+def field_evaluator(F: Sequence[Poly]) -> Any:
     """``X (..., n) -> (F_1(X), ..., F_m(X))`` stacked on the last axis, for polynomials ``F`` in ``n`` common
     variables: one powers table (by repeated multiplication, so complex steps stay exact), one gather of every
     monomial of the union of supports, and one matrix product with the coefficient matrix, whatever the number of
-    terms (the per-term loop of :meth:`Poly.__call__` costs one array operation per term and factor)."""
+    terms (the per-term loop of :meth:`Poly.__call__` costs one array operation per term and factor).
+
+    Parameters
+    ----------
+    F : sequence of Poly
+        Polynomials in the same ``n`` variables.
+
+    Returns
+    -------
+    callable
+        ``evaluate(X)`` for ``X`` of shape ``(..., n)`` (real or complex), returning shape ``(..., len(F))``.
+
+    Raises
+    ------
+    None
+    """
     F = tuple(F)
     n = F[0].nvars if F else 0
     monos = sorted({e for f in F for e in f.terms})

@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
-from .polynomial import Poly, _field_evaluator, monomial_matrix, monomials
+from .polynomial import Poly, field_evaluator, monomial_matrix, monomials
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
 
@@ -194,7 +194,7 @@ def polynomial_system(name: str, state_names: tuple[str, ...], F: list[Poly], *,
     if np.max(np.abs(F0)) > 1e-12:
         raise ArgumentError(f"the origin is not an equilibrium of '{name}': F(0) = {F0}")
     Ft = tuple(F)
-    field = _field_evaluator(Ft)        # one gather and one matrix product per call (hot in the simulations)
+    field = field_evaluator(Ft)        # one gather and one matrix product per call (hot in the simulations)
 
     def rhs(X: np.ndarray) -> np.ndarray:
         return field(X)
