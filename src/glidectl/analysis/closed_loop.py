@@ -222,7 +222,7 @@ class ControllerRecord:
     settling_time : ndarray (N,)
         First output time after which the scaled error stays below ``settle`` (s); ``inf`` if never.
     evaluations : int
-        Right-hand-side evaluations the batch integration used (capped by ``max_evaluations`` of
+        Right-hand-side calls the batch integration used (capped by ``max_evaluations`` of
         :func:`compare_controllers`).
     """
 
@@ -556,7 +556,8 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         glidectl model with inputs; ``rhs`` batch-capable.
     controllers : mapping name -> controller
         Time-invariant feedback ``controller(t, X)`` accepting a batch ``X`` of shape (N, n) and returning shape
-        (N, m); at least one.
+        (N, m); at least one. With ``method="batch"`` the runs advance at their own times and ``t`` is passed as
+        0 during the integration (the output times afterwards).
     x0 : array_like (N, n)
         Initial states, finite, ``N >= 1``.
     x_e, u_e : array_like
@@ -570,17 +571,23 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
     n_out : int
         Number of evenly spaced output times on which peaks and settling are evaluated, in ``[2, 100000]``.
     method : str
-        Integrator of :func:`scipy.integrate.solve_ivp` (:data:`METHODS`); default ``"BDF"`` (with the
-        block-diagonal Jacobian sparsity of the independent runs for ``"BDF"`` and ``"Radau"``).
+        Integrator (:data:`METHODS`). Default ``"batch"``: :func:`glidectl.integrate_batch` (4th-order Rosenbrock,
+        A-stable) on the state ``(x, int |u - u_e| dt)``, every run with its own step size and its own error test
+        (RMS over that run's components), output times hit exactly, Jacobians by central differences in the
+        states; a run flagged by ``diverged`` stops at the first accepted state where it is flagged. Otherwise a
+        method of :func:`scipy.integrate.solve_ivp` on one stacked ODE (one step size and one error norm for all
+        runs; block-diagonal Jacobian sparsity for ``"BDF"`` and ``"Radau"``; ``diverged`` is checked at every
+        evaluation).
     rtol, atol : float
         Integrator tolerances (relative, nondimensional; absolute, in state and integrated-input units), ``> 0``.
     diverged : callable, optional
         ``X (N, n) -> bool (N,)``: runs that leave the model's domain (e.g. speed near zero) are frozen there and
         count as not converged.
     max_evaluations : int
-        Budget of right-hand-side evaluations per controller (each evaluates the whole batch), ``>= 1``. The
-        default is about 8 times what the stiffest comparison of the chapter-6 design needs (elevator control,
-        300 runs over 150 s: 2.6e5 with BDF).
+        Budget of right-hand-side calls per controller (each evaluates a batch of runs; with ``"batch"`` a
+        Jacobian counts as one call), ``>= 1``. The default is about 8 times what the stiffest comparison of the
+        chapter-6 design needs with ``"BDF"`` (elevator control, 300 runs over 150 s: 2.6e5); ``"batch"`` needs
+        about 4e3 there.
     time_limit : float, optional
         Wall-time budget (s) of the whole comparison; default none.
 
@@ -600,7 +607,8 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         Bad shapes, non-finite or non-positive values, an unknown ``method``, no controllers, or a controller (or
         ``diverged``) returning the wrong number of values.
     SolverError
-        If the batch integration of a controller fails, or a run that is not frozen by ``diverged`` gets a
+        If the batch integration of a controller fails (with ``"batch"``: a run that is not flagged by ``diverged``
+        stops on step-size underflow), or a run that is not frozen by ``diverged`` gets a
         non-finite derivative or input (it left the model's or the controller's domain: pass ``diverged`` to
         freeze such runs). Non-finite derivatives are never zeroed silently.
     BudgetError
