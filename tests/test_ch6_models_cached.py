@@ -60,3 +60,10 @@ def test_laws_use_the_vehicle_limits():
     U2 = gc.ElevatorBuoyancyController(eq, ev, 1.0)(0.0, X)
     np.testing.assert_array_equal(U2[:, 1], actuator_limits(ev).elevator(eq.u2e))
     assert np.all(np.abs(U2[:, 0]) <= actuator_limits(ev).u4_max)
+
+
+def test_model_loaded_rates_equal_the_function():
+    sph = gc.load_vehicle("sphere_ch5")
+    f3, M2 = RNG.uniform(-1.0, 1.0, 64), RNG.uniform(-0.5, 0.5, 64)
+    np.testing.assert_allclose(gc.BuoyancyGlider(sph).loaded_rates(X, f3, M2), loaded_rates(sph, X, f3, M2),
+                               rtol=1e-12, atol=0.0)

@@ -242,6 +242,31 @@ class BuoyancyGlider:
         """Pump and elevator limits of the vehicle (:func:`actuator_limits`)."""
         return actuator_limits(self.vehicle)
 
+    def loaded_rates(self, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
+        """:func:`loaded_rates` of this vehicle, with its chapter-5 model built once (for right-hand sides called
+        many times, e.g. the elevator model of §6.3).
+
+        Parameters
+        ----------
+        x : array_like, shape (..., 5)
+            ``(V, gamma, alpha, Omega2, m0)`` in m/s, rad, rad, rad/s, kg (may be complex).
+        f3, M2 : array_like, broadcastable to ``x[..., 0]``
+            Extra body-3 force (N) and pitch moment (N m).
+
+        Returns
+        -------
+        ndarray, shape (..., 4)
+            ``(V', gamma', alpha', Omega2')`` (m/s^2, rad/s, rad/s, rad/s^2).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If ``x`` does not have a trailing dimension 5.
+        """
+        return _loaded_rates(self._reduced, x, f3, M2)
+
     def rhs(self, x: Any, u: Any) -> np.ndarray:
         """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s, shape
         (..., 1)).
@@ -253,5 +278,5 @@ class BuoyancyGlider:
         """
         x = trailing_array("x", x, 5, self.state_names)
         u1 = trailing_array("u", u, 1, self.input_names)[..., 0]
-        r = _loaded_rates(self._reduced, x)
+        r = self.loaded_rates(x)
         return np.concatenate([r, self.limits.pump(x[..., 4], u1)[..., None]], axis=-1)

@@ -50,8 +50,7 @@ import numpy as np
 
 from ..params import Vehicle
 from ._validate import numeric_array, require_glider, trailing_array
-from .buoyancy_glider import BUOYANCY_STATES, ActuatorLimits, BuoyancyGlider, _loaded_rates, actuator_limits
-from .reduced import ReducedLongitudinalGlider
+from .buoyancy_glider import BUOYANCY_STATES, ActuatorLimits, BuoyancyGlider, actuator_limits
 
 __all__ = ["ElevatorBuoyancyGlider", "effective_coefficients", "elevator_loads"]
 
@@ -133,13 +132,13 @@ class ElevatorBuoyancyGlider:
     input_names: tuple[str, ...] = ("u1", "u2")
 
     def __post_init__(self) -> None:
-        self._reduced  # noqa: B018 - the same validity conditions as BuoyancyGlider
+        self._buoyancy  # noqa: B018 - the same validity conditions as BuoyancyGlider
         self.vehicle.delta  # noqa: B018 - raises ModelError naming the file when the coupling factor is missing
 
     @cached_property
-    def _reduced(self) -> ReducedLongitudinalGlider:
-        """The chapter-5 model of the vehicle (built once: the right-hand side is called many times)."""
-        return BuoyancyGlider(require_glider(self.vehicle))._reduced
+    def _buoyancy(self) -> BuoyancyGlider:
+        """The buoyancy-only model of the vehicle (built once: the right-hand side is called many times)."""
+        return BuoyancyGlider(require_glider(self.vehicle))
 
     @cached_property
     def limits(self) -> ActuatorLimits:
@@ -161,5 +160,5 @@ class ElevatorBuoyancyGlider:
         u2 = lim.elevator(u[..., 1])
         V = x[..., 0]
         f3, M = elevator_loads(self.vehicle, V * V, u2)
-        r = _loaded_rates(self._reduced, x, f3, M)
+        r = self._buoyancy.loaded_rates(x, f3, M)
         return np.concatenate([r, lim.pump(x[..., 4], u[..., 0])[..., None]], axis=-1)
