@@ -193,3 +193,75 @@ def test_table_rows_compare_on_the_common_runs():
     assert len(cmp.table_rows()[0]) == len(BatchComparison.TABLE_HEADER)
     none = BatchComparison(np.zeros((4, 2)), np.zeros(2), np.ones(2), 10.0, 0.02, 0.05, {"A": a, "C": never})
     assert none.table_rows() == [["A", "75.0%", "-", "-", "-", "-"], ["C", "0.0%", "-", "-", "-", "-"]]
+
+
+# ------------------------------------------------------------------------------------------ method="batch"
+@pytest.mark.parametrize("method", ["batch", "RK45"])
+def test_non_finite_derivatives_raise_or_freeze_with_either_integrator(method):
+    zero = lambda t, X: np.zeros((len(X), 1))  # noqa: E731
+    X0 = np.array([[0.9], [-5.0]])
+    with pytest.raises(gc.SolverError, match="non-finite"):
+        compare_controllers(_Blowup(), {"none": zero}, X0, [0.0], [0.0], 1.0, method=method)
+    rec = compare_controllers(_Blowup(), {"none": zero}, X0, [0.0], [0.0], 1.0, method=method,
+                              diverged=lambda X: X[:, 0] > 0.95).records["none"]
+    assert not rec.converged.any()
+
+
+def test_batch_freezes_a_run_where_it_is_flagged():
+    # x' = 1 from x0 = 0 and 0.5: the second run crosses x = 1 at t = 0.5 and is frozen there (held, not converged)
+    class _Drift:
+        state_names = ("x",)
+        input_names = ("u",)
+
+        def rhs(self, x, u):
+            return np.ones_like(np.asarray(x, dtype=float)) + np.asarray(u)
+
+    zero = lambda t, X: np.zeros((len(X), 1))  # noqa: E731
+    out = compare_controllers(_Drift(), {"none": zero}, np.array([[0.0], [0.5]]), [0.2], [0.0], 0.2, tol=1e-6,
+                              diverged=lambda X: X[:, 0] > 0.6, n_out=5)
+    rec = out.records["none"]
+    np.testing.assert_array_equal(rec.converged, [True, False])  # run 0 ends at x = 0.2 exactly (x' = 1)
+    np.testing.assert_allclose(rec.integrated_u, 0.0)
+    assert rec.settling_time[1] == np.inf
+
+
+def test_batch_budget_and_bad_diverged():
+    c = lqr_state_feedback(_Linear(), [0.0, 0.0], [0.0])
+    X0 = np.array([[0.5, 0.0]])
+    with pytest.raises(gc.BudgetError, match="max_evaluations"):
+        compare_controllers(_Linear(), {"lqr": c}, X0, [0.0, 0.0], [0.0], 1e6, max_evaluations=50)
+    with pytest.raises(gc.ArgumentError, match="one flag per run"):
+        compare_controllers(_Linear(), {"lqr": c}, X0, [0.0, 0.0], [0.0], 1.0,
+                            diverged=lambda X: np.zeros(len(X) + 1, bool))
+
+
+def test_batch_equals_stacked_solve_ivp_with_saturation():
+    """The per-run integrator (default) and one stacked BDF ODE give the same comparison to their tolerances."""
+    m = _Linear()
+    X0 = np.random.default_rng(3).uniform(-1.0, 1.0, (16, 2))
+    sat = lqr_state_feedback(m, [0.0, 0.0], [0.0], u_min=[-1.0], u_max=[1.0], name="sat")
+    kw = {"diverged": lambda X: np.abs(X).max(axis=1) > 50, "rtol": 1e-8, "atol": 1e-10, "n_out": 25}
+    a = compare_controllers(m, {"sat": sat}, X0, [0.0, 0.0], [0.0], 12.0, **kw).records["sat"]
+    b = compare_controllers(m, {"sat": sat}, X0, [0.0, 0.0], [0.0], 12.0, method="BDF", **kw).records["sat"]
+    np.testing.assert_array_equal(a.converged, b.converged)
+    assert 0 < a.fraction < 1
+    c = a.converged
+    np.testing.assert_allclose(a.peak_u[c], b.peak_u[c], rtol=1e-6)
+    np.testing.assert_allclose(a.integrated_u[c], b.integrated_u[c], rtol=1e-6)
+    np.testing.assert_array_equal(a.settling_time, b.settling_time)
+
+
+def test_batch_equals_stacked_solve_ivp_on_the_elevator_glider():
+    ev = gc.load_vehicle("elevator_ch6")
+    eq = gc.elevator_equilibrium(ev, 1.0, -np.pi / 4)
+    model = gc.ElevatorBuoyancyGlider(ev)
+    box = np.array([0.6, 0.8, 0.3, 1.0, 1.3])
+    X0 = eq.state + np.random.default_rng(7).uniform(-1.0, 1.0, (3, 5)) * box
+    ctrl = {"nl": gc.ElevatorBuoyancyController(eq, ev, 1.0)}
+    kw = {"scale": box, "diverged": lambda X: X[:, 0] < 0.1, "rtol": 1e-8, "atol": 1e-10, "n_out": 11}
+    ue = np.array([0.0, eq.u2e])
+    a = compare_controllers(model, ctrl, X0, eq.state, ue, 8.0, **kw).records["nl"]
+    b = compare_controllers(model, ctrl, X0, eq.state, ue, 8.0, method="LSODA", **kw).records["nl"]
+    np.testing.assert_array_equal(a.converged, b.converged)
+    np.testing.assert_allclose(a.integrated_u, b.integrated_u, rtol=1e-5, atol=1e-9)
+    np.testing.assert_allclose(a.peak_u, b.peak_u, rtol=1e-5, atol=1e-9)

@@ -18,11 +18,13 @@ from scipy import sparse
 from scipy.integrate import solve_ivp
 
 from .. import checks
+from ..batch import DIVERGED, FINISHED, integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .jacobian import jacobians
 
-#: integrators of :func:`scipy.integrate.solve_ivp` accepted by :func:`compare_controllers`
-METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+#: integrators accepted by :func:`compare_controllers`: ``"batch"`` (:func:`glidectl.integrate_batch`, every run with
+#: its own step size) or a method of :func:`scipy.integrate.solve_ivp` (one stacked ODE, one step size for all runs)
+METHODS = ("batch", "RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 #: largest stacked ODE (runs x (states + inputs)) and largest output array (that times ``n_out``) of one comparison
 MAX_STACKED_STATES = 1_000_000
 MAX_OUTPUT_VALUES = 50_000_000
@@ -220,7 +222,7 @@ class ControllerRecord:
     settling_time : ndarray (N,)
         First output time after which the scaled error stays below ``settle`` (s); ``inf`` if never.
     evaluations : int
-        Right-hand-side evaluations the batch integration used (capped by ``max_evaluations`` of
+        Right-hand-side calls the batch integration used (capped by ``max_evaluations`` of
         :func:`compare_controllers`).
     """
 
@@ -413,9 +415,137 @@ def _inputs(name: str, raw: Any, N: int, m: int) -> np.ndarray:
     return U.reshape(N, m)
 
 
+def _budget_message(name: str, where: str, max_evaluations: int) -> str:
+    return (f"batch simulation of '{name}' stopped {where} after max_evaluations = {max_evaluations} right-hand-side "
+            "evaluations; raise max_evaluations, loosen rtol/atol, or shorten t_final")
+
+
+def _diverged_mask(diverged: Callable[[np.ndarray], np.ndarray], X: np.ndarray) -> np.ndarray:
+    """``diverged(X)`` as one bool per row; ArgumentError otherwise."""
+    flag = np.asarray(diverged(X))
+    if flag.size != X.shape[0]:
+        raise ArgumentError(f"diverged must return one flag per run (shape ({X.shape[0]},)), got {flag.shape}")
+    return flag.reshape(X.shape[0]).astype(bool)
+
+
+def _non_finite(name: str, bad: np.ndarray, X: np.ndarray, U: np.ndarray, where: str) -> SolverError:
+    k = int(np.flatnonzero(bad)[0])
+    what = "input" if not np.all(np.isfinite(U[k])) else "state derivative"
+    return SolverError(f"batch simulation of '{name}': {where} has a non-finite {what} at x = {X[k]} "
+                       f"({int(np.sum(bad))} run(s) affected): it left the domain of the model or the controller; "
+                       "pass diverged=lambda X: ... to freeze runs that leave it")
+
+
+def _run_solve_ivp(model: Any, name: str, ctrl: Callable[[float, Any], Any], X0: np.ndarray, n: int, m: int,
+                   u_e: np.ndarray, te: np.ndarray, rtol: float, atol: float,
+                   diverged: Callable[[np.ndarray], np.ndarray] | None, max_evaluations: int,
+                   deadline: checks.Deadline, method: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """One controller as a single stacked :func:`scipy.integrate.solve_ivp` ODE (one step size for all runs).
+
+    Returns the output times, the states and input integrals ``(N, n + m, T)`` there, the frozen mask and the number
+    of right-hand-side evaluations.
+    """
+    N = X0.shape[0]
+    t_final = float(te[-1])
+    frozen = np.zeros(N, dtype=bool)
+    count = [0]
+
+    def f(t: float, y: np.ndarray) -> np.ndarray:
+        count[0] += 1
+        if count[0] > max_evaluations:
+            raise BudgetError(_budget_message(name, f"at t = {t:.4g} s (of t_final = {t_final:g} s)",
+                                              max_evaluations))
+        deadline.check(f"controller '{name}' at t = {t:.4g} s")
+        Y = y.reshape(N, n + m)
+        X = Y[:, :n]
+        if diverged is not None:
+            frozen[:] |= _diverged_mask(diverged, X)
+        U = _inputs(name, ctrl(t, X), N, m)
+        d = np.empty_like(Y)
+        with np.errstate(all="ignore"):
+            d[:, :n] = np.asarray(model.rhs(X, U), dtype=float)
+            d[:, n:] = np.abs(U - u_e)
+        d[frozen] = 0.0
+        bad = ~np.all(np.isfinite(d), axis=1)
+        if np.any(bad):
+            k = int(np.flatnonzero(bad)[0])
+            raise _non_finite(name, bad, X, U, f"run {k} (x0 = {X0[k]}) at t = {t:.4g} s")
+        return d.ravel()
+
+    y0 = np.concatenate([X0, np.zeros((N, m))], axis=1).ravel()
+    # runs are independent: block-diagonal Jacobian, so the implicit methods difference N runs at once
+    kw = ({"jac_sparsity": sparse.block_diag([np.ones((n + m, n + m))] * N, format="csr")}
+          if method in ("BDF", "Radau") else {})
+    sol = solve_ivp(f, (0.0, t_final), y0, method=method, t_eval=te, rtol=rtol, atol=atol, **kw)
+    if not sol.success:
+        raise SolverError(f"batch simulation of '{name}' failed at t = {sol.t[-1]:.4g} s: {sol.message}")
+    return sol.t, sol.y.reshape(N, n + m, -1), frozen, count[0]
+
+
+def _run_batch(model: Any, name: str, ctrl: Callable[[float, Any], Any], X0: np.ndarray, n: int, m: int,
+               u_e: np.ndarray, te: np.ndarray, rtol: float, atol: float,
+               diverged: Callable[[np.ndarray], np.ndarray] | None, max_evaluations: int,
+               deadline: checks.Deadline) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """One controller through :func:`glidectl.integrate_batch` (every run with its own step size), on the state
+    ``(x, int |u - u_e| dt)``; a run flagged by ``diverged`` stops (is frozen) at the first accepted state where it
+    is flagged. Same returns as :func:`_run_solve_ivp`.
+    """
+    N = X0.shape[0]
+    k = n + m
+    count = [0]
+
+    def f(Y: np.ndarray) -> np.ndarray:
+        count[0] += 1
+        if count[0] > max_evaluations:
+            raise BudgetError(_budget_message(name, f"(of t_final = {te[-1]:g} s)", max_evaluations))
+        deadline.check(f"controller '{name}'")
+        M = Y.shape[0]
+        X = Y[:, :n]
+        U = _inputs(name, ctrl(0.0, X), M, m)
+        d = np.empty((M, k))
+        with np.errstate(all="ignore"):
+            d[:, :n] = np.asarray(model.rhs(X, U), dtype=float)
+            d[:, n:] = np.abs(U - u_e)
+        bad = ~np.all(np.isfinite(d), axis=1)
+        if np.any(bad) and diverged is not None:
+            bad &= ~_diverged_mask(diverged, X)
+        if np.any(bad):
+            raise _non_finite(name, bad, X, U, "a run")
+        return d
+
+    eye = np.eye(k)[:n]
+    step_rel = np.cbrt(np.finfo(float).eps)
+
+    def jac(Y: np.ndarray) -> np.ndarray:
+        # central differences in the n states only: the input integrals do not enter the right-hand side
+        M = Y.shape[0]
+        step = step_rel * np.maximum(1.0, np.abs(Y[:, :n]))            # (M, n)
+        dY = step.T[:, :, None] * eye[:, None, :]                      # (n, M, k)
+        D = f(np.concatenate([(Y[None] + dY).reshape(n * M, k), (Y[None] - dY).reshape(n * M, k)]))
+        cols = (D[:n * M] - D[n * M:]).reshape(n, M, k) / (2.0 * step.T[:, :, None])
+        J = np.zeros((M, k, k))
+        J[:, :, :n] = np.transpose(cols, (1, 2, 0))
+        return J
+
+    stop = None if diverged is None else (lambda Y: _diverged_mask(diverged, Y[:, :n]))
+    Y0 = np.concatenate([X0, np.zeros((N, m))], axis=1)
+    res = integrate_batch(f, Y0, float(te[-1]), t_eval=te[1:], rtol=rtol, atol=atol, jacobian=jac, diverged=stop,
+                          max_steps=max_evaluations)
+    failed = (res.status != FINISHED) & (res.status != DIVERGED)
+    if np.any(failed):
+        i = int(np.flatnonzero(failed)[0])
+        raise SolverError(f"batch simulation of '{name}' failed: run {i} (x0 = {X0[i]}) stopped at t = {res.t[i]:.4g} "
+                          f"s ({res.summary()}); loosen rtol/atol or pass diverged= to freeze runs that leave the "
+                          "model's domain")
+    frozen = res.status == DIVERGED
+    Y = np.concatenate([Y0[:, None, :], res.samples], axis=1)          # (N, T, k)
+    Y = np.where(np.isnan(Y) & frozen[:, None, None], res.x_final[:, None, :], Y)   # frozen where it stopped
+    return te, np.transpose(Y, (0, 2, 1)), frozen, count[0]
+
+
 def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, Any], Any]], x0: Any, x_e: Any,
                         u_e: Any, t_final: float, *, scale: Any = None, tol: float = 0.02, settle: float = 0.05,
-                        n_out: int = 401, method: str = "BDF", rtol: float = 1e-6, atol: float = 1e-9,
+                        n_out: int = 401, method: str = "batch", rtol: float = 1e-6, atol: float = 1e-9,
                         diverged: Callable[[np.ndarray], np.ndarray] | None = None,
                         max_evaluations: int = 2_000_000, time_limit: float | None = None) -> BatchComparison:
     """Simulate every controller from every initial state (one stacked, vectorized ODE per controller).
@@ -426,7 +556,8 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         glidectl model with inputs; ``rhs`` batch-capable.
     controllers : mapping name -> controller
         Time-invariant feedback ``controller(t, X)`` accepting a batch ``X`` of shape (N, n) and returning shape
-        (N, m); at least one.
+        (N, m); at least one. With ``method="batch"`` the runs advance at their own times and ``t`` is passed as
+        0 during the integration (the output times afterwards).
     x0 : array_like (N, n)
         Initial states, finite, ``N >= 1``.
     x_e, u_e : array_like
@@ -440,17 +571,23 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
     n_out : int
         Number of evenly spaced output times on which peaks and settling are evaluated, in ``[2, 100000]``.
     method : str
-        Integrator of :func:`scipy.integrate.solve_ivp` (:data:`METHODS`); default ``"BDF"`` (with the
-        block-diagonal Jacobian sparsity of the independent runs for ``"BDF"`` and ``"Radau"``).
+        Integrator (:data:`METHODS`). Default ``"batch"``: :func:`glidectl.integrate_batch` (4th-order Rosenbrock,
+        A-stable) on the state ``(x, int |u - u_e| dt)``, every run with its own step size and its own error test
+        (RMS over that run's components), output times hit exactly, Jacobians by central differences in the
+        states; a run flagged by ``diverged`` stops at the first accepted state where it is flagged. Otherwise a
+        method of :func:`scipy.integrate.solve_ivp` on one stacked ODE (one step size and one error norm for all
+        runs; block-diagonal Jacobian sparsity for ``"BDF"`` and ``"Radau"``; ``diverged`` is checked at every
+        evaluation).
     rtol, atol : float
         Integrator tolerances (relative, nondimensional; absolute, in state and integrated-input units), ``> 0``.
     diverged : callable, optional
         ``X (N, n) -> bool (N,)``: runs that leave the model's domain (e.g. speed near zero) are frozen there and
         count as not converged.
     max_evaluations : int
-        Budget of right-hand-side evaluations per controller (each evaluates the whole batch), ``>= 1``. The
-        default is about 8 times what the stiffest comparison of the chapter-6 design needs (elevator control,
-        300 runs over 150 s: 2.6e5 with BDF).
+        Budget of right-hand-side calls per controller (each evaluates a batch of runs; with ``"batch"`` a
+        Jacobian counts as one call), ``>= 1``. The default is about 8 times what the stiffest comparison of the
+        chapter-6 design needs with ``"BDF"`` (elevator control, 300 runs over 150 s: 2.6e5); ``"batch"`` needs
+        about 4e3 there.
     time_limit : float, optional
         Wall-time budget (s) of the whole comparison; default none.
 
@@ -470,7 +607,8 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
         Bad shapes, non-finite or non-positive values, an unknown ``method``, no controllers, or a controller (or
         ``diverged``) returning the wrong number of values.
     SolverError
-        If the batch integration of a controller fails, or a run that is not frozen by ``diverged`` gets a
+        If the batch integration of a controller fails (with ``"batch"``: a run that is not flagged by ``diverged``
+        stops on step-size underflow), or a run that is not frozen by ``diverged`` gets a
         non-finite derivative or input (it left the model's or the controller's domain: pass ``diverged`` to
         freeze such runs). Non-finite derivatives are never zeroed silently.
     BudgetError
@@ -513,58 +651,18 @@ def compare_controllers(model: Any, controllers: Mapping[str, Callable[[float, A
                           f"comparison ({MAX_STACKED_STATES} stacked states, {MAX_OUTPUT_VALUES} output values); "
                           "compare fewer initial states or output times at once")
     te = np.linspace(0.0, t_final, n_out)
-    # runs are independent: block-diagonal Jacobian, so the implicit methods difference N runs at once
-    sparsity = sparse.block_diag([np.ones((n + m, n + m))] * N, format="csr")
     records = {}
     for name, ctrl in controllers.items():
-        frozen = np.zeros(N, dtype=bool)
-        count = [0]
-
-        def f(t: float, y: np.ndarray, name: str = name, ctrl: Callable[[float, Any], Any] = ctrl,
-              frozen: np.ndarray = frozen, count: list[int] = count) -> np.ndarray:
-            count[0] += 1
-            if count[0] > max_evaluations:
-                raise BudgetError(f"batch simulation of '{name}' stopped at t = {t:.4g} s after max_evaluations = "
-                                  f"{max_evaluations} right-hand-side evaluations (of t_final = {t_final:g} s); "
-                                  "raise max_evaluations, loosen rtol/atol, or shorten t_final")
-            deadline.check(f"controller '{name}' at t = {t:.4g} s")
-            Y = y.reshape(N, n + m)
-            X = Y[:, :n]
-            if diverged is not None:
-                flag = np.asarray(diverged(X))
-                if flag.size != N:
-                    raise ArgumentError(f"diverged must return one flag per run (shape ({N},)), got {flag.shape}")
-                frozen |= flag.reshape(N).astype(bool)
-            U = _inputs(name, ctrl(t, X), N, m)
-            d = np.empty_like(Y)
-            with np.errstate(all="ignore"):
-                d[:, :n] = np.asarray(model.rhs(X, U), dtype=float)
-                d[:, n:] = np.abs(U - u_e)
-            d[frozen] = 0.0
-            bad = ~np.all(np.isfinite(d), axis=1)
-            if np.any(bad):
-                k = int(np.flatnonzero(bad)[0])
-                what = "input" if not np.all(np.isfinite(U[k])) else "state derivative"
-                raise SolverError(f"batch simulation of '{name}': run {k} (x0 = {X0[k]}) has a non-finite {what} at "
-                                  f"t = {t:.4g} s, x = {X[k]} ({int(np.sum(bad))} run(s) affected): it left the "
-                                  "domain of the model or the controller; pass diverged=lambda X: ... to freeze "
-                                  "runs that leave it")
-            return d.ravel()
-
-        y0 = np.concatenate([X0, np.zeros((N, m))], axis=1).ravel()
-        kw = {"jac_sparsity": sparsity} if method in ("BDF", "Radau") else {}
-        sol = solve_ivp(f, (0.0, t_final), y0, method=method, t_eval=te, rtol=rtol, atol=atol, **kw)
-        if not sol.success:
-            raise SolverError(f"batch simulation of '{name}' failed at t = {sol.t[-1]:.4g} s: {sol.message}")
-        Y = sol.y.reshape(N, n + m, -1)
+        args = (model, name, ctrl, X0, n, m, u_e, te, rtol, atol, diverged, max_evaluations, deadline)
+        t_out, Y, frozen, evaluations = _run_batch(*args) if method == "batch" else _run_solve_ivp(*args, method)
         X = Y[:, :n, :]
         err = np.max(np.abs(X - x_e[None, :, None]) / sc[None, :, None], axis=1)  # (N, T)
         conv = (err[:, -1] <= tol) & ~frozen
-        U = np.stack([_inputs(name, ctrl(t, X[:, :, k]), N, m) for k, t in enumerate(sol.t)], -1)
+        U = np.stack([_inputs(name, ctrl(t, X[:, :, k]), N, m) for k, t in enumerate(t_out)], -1)
         peak = np.max(np.abs(U - u_e[None, :, None]), axis=2)
         above = err > settle
         last = np.where(above.any(axis=1), above.shape[1] - 1 - np.argmax(above[:, ::-1], axis=1), -1)
-        ts = np.where(last + 1 < sol.t.size, sol.t[np.minimum(last + 1, sol.t.size - 1)], np.inf)
+        ts = np.where(last + 1 < t_out.size, t_out[np.minimum(last + 1, t_out.size - 1)], np.inf)
         ts[~conv] = np.inf
-        records[name] = ControllerRecord(name, conv, peak, Y[:, n:, -1], ts, count[0])
+        records[name] = ControllerRecord(name, conv, peak, Y[:, n:, -1], ts, evaluations)
     return BatchComparison(X0, x_e, sc, float(t_final), tol, settle, records, tuple(model.state_names))

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -42,7 +43,7 @@ import numpy as np
 from .. import checks
 from ..errors import ArgumentError, InfeasibleGlideError, SolverError
 from ..models._validate import require_glider, require_instance, speed_arg, trailing_array
-from ..models.buoyancy_glider import BuoyancyGlider, actuator_limits, loaded_rates
+from ..models.buoyancy_glider import ActuatorLimits, BuoyancyGlider, actuator_limits, loaded_rates
 from ..models.reduced import ReducedLongitudinalGlider
 from ..params import Vehicle
 from ..stability.composite import CompositeCertificate, composite_lyapunov
@@ -220,6 +221,11 @@ class BuoyancyController:
         checks.same_vehicle("eq", self.eq, self.vehicle)
         object.__setattr__(self, "K_b", checks.positive("the buoyancy gain K_b of (6.9)", self.K_b))
 
+    @cached_property
+    def _limits(self) -> ActuatorLimits:
+        """Pump and elevator limits of the vehicle (built once: the law is called many times)."""
+        return actuator_limits(self.vehicle)
+
     @property
     def rate_gain(self) -> float:
         """``K_b / tau_s`` (1/s)."""
@@ -230,7 +236,7 @@ class BuoyancyController:
         (shape ``(..., 5)``)."""
         m0 = trailing_array("x", x, 5)[..., 4]
         u = -self.rate_gain * (m0 - self.eq.m0e)
-        return np.asarray(actuator_limits(self.vehicle).pump(m0, u))[..., None]
+        return np.asarray(self._limits.pump(m0, u))[..., None]
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
         return self.u(x)

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -322,13 +323,18 @@ class ElevatorBuoyancyController:
         checks.same_vehicle("eq", self.eq, self.vehicle)
         object.__setattr__(self, "K", checks.positive("the buoyancy gain K of (6.21)", self.K))
 
+    @cached_property
+    def _limits(self) -> ActuatorLimits:
+        """Pump and elevator limits of the vehicle (built once: the law is called many times)."""
+        return actuator_limits(self.vehicle)
+
     def __call__(self, t: float, x: Any) -> np.ndarray:
         return self.u(x)
 
     def u(self, x: Any) -> np.ndarray:
         """Inputs ``(u1 [kg/s], u2 [rad])``, shape ``x.shape[:-1] + (2,)``, at states
         ``x = (V, gamma, alpha, Omega2, m0)`` (shape ``(..., 5)``)."""
-        lim = actuator_limits(self.vehicle)
+        lim = self._limits
         m0 = trailing_array("x", x, 5)[..., 4]
         u1 = lim.pump(m0, -(self.K / self.eq.tau_s) * (m0 - self.eq.m0e))
         u2 = np.broadcast_to(lim.elevator(self.eq.u2e), np.shape(u1))

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -184,9 +185,14 @@ def loaded_rates(veh: Vehicle, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarr
         If ``veh`` is not an underwater glider accepted by the chapter-5 model.
     """
     require_glider(veh)
+    return _loaded_rates(_reduced_at(veh, veh.m0), x, f3, M2)
+
+
+def _loaded_rates(model: ReducedLongitudinalGlider, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
+    """:func:`loaded_rates` with the chapter-5 model of the vehicle already built (the models keep theirs)."""
+    veh = model.vehicle
     x = trailing_array("x", x, 5, BUOYANCY_STATES)
     f3, M2 = numeric_array("f3", f3), numeric_array("M2", M2)
-    model = _reduced_at(veh, veh.m0)
     m0 = x[..., 4]
     r = np.asarray(model.rhs(x[..., :4], m0=m0))
     M3 = veh.mass(3, m0) + veh.mbar
@@ -224,11 +230,42 @@ class BuoyancyGlider:
     input_names: tuple[str, ...] = ("u1",)
 
     def __post_init__(self) -> None:
-        _reduced_at(require_glider(self.vehicle), self.vehicle.m0)  # the chapter-5 model must accept it
+        self._reduced  # noqa: B018 - the chapter-5 model must accept the vehicle
 
-    @property
+    @cached_property
+    def _reduced(self) -> ReducedLongitudinalGlider:
+        """The chapter-5 model of the vehicle (built once: the right-hand side is called many times)."""
+        return _reduced_at(require_glider(self.vehicle), self.vehicle.m0)
+
+    @cached_property
     def limits(self) -> ActuatorLimits:
+        """Pump and elevator limits of the vehicle (:func:`actuator_limits`)."""
         return actuator_limits(self.vehicle)
+
+    def loaded_rates(self, x: Any, f3: Any = 0.0, M2: Any = 0.0) -> np.ndarray:
+        """:func:`loaded_rates` of this vehicle, with its chapter-5 model built once (for right-hand sides called
+        many times, e.g. the elevator model of §6.3).
+
+        Parameters
+        ----------
+        x : array_like, shape (..., 5)
+            ``(V, gamma, alpha, Omega2, m0)`` in m/s, rad, rad, rad/s, kg (may be complex).
+        f3, M2 : array_like, broadcastable to ``x[..., 0]``
+            Extra body-3 force (N) and pitch moment (N m).
+
+        Returns
+        -------
+        ndarray, shape (..., 4)
+            ``(V', gamma', alpha', Omega2')`` (m/s^2, rad/s, rad/s, rad/s^2).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If an argument is not an array of numbers.
+        ArgumentError
+            If ``x`` does not have a trailing dimension 5.
+        """
+        return _loaded_rates(self._reduced, x, f3, M2)
 
     def rhs(self, x: Any, u: Any) -> np.ndarray:
         """``x'`` for ``x = (V, gamma, alpha, Omega2, m0)`` (shape (..., 5)) and ``u = (u1,)`` (kg/s, shape
@@ -241,5 +278,5 @@ class BuoyancyGlider:
         """
         x = trailing_array("x", x, 5, self.state_names)
         u1 = trailing_array("u", u, 1, self.input_names)[..., 0]
-        r = loaded_rates(self.vehicle, x)
+        r = self.loaded_rates(x)
         return np.concatenate([r, self.limits.pump(x[..., 4], u1)[..., None]], axis=-1)

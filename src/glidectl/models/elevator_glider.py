@@ -43,13 +43,14 @@ down the body 3-axis: it adds a small thrust (``K'_De < K_De``) and removes lift
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
 from ..params import Vehicle
 from ._validate import numeric_array, require_glider, trailing_array
-from .buoyancy_glider import BUOYANCY_STATES, ActuatorLimits, BuoyancyGlider, actuator_limits, loaded_rates
+from .buoyancy_glider import BUOYANCY_STATES, ActuatorLimits, BuoyancyGlider, actuator_limits
 
 __all__ = ["ElevatorBuoyancyGlider", "effective_coefficients", "elevator_loads"]
 
@@ -131,11 +132,17 @@ class ElevatorBuoyancyGlider:
     input_names: tuple[str, ...] = ("u1", "u2")
 
     def __post_init__(self) -> None:
-        BuoyancyGlider(require_glider(self.vehicle))  # the same validity conditions
+        self._buoyancy  # noqa: B018 - the same validity conditions as BuoyancyGlider
         self.vehicle.delta  # noqa: B018 - raises ModelError naming the file when the coupling factor is missing
 
-    @property
+    @cached_property
+    def _buoyancy(self) -> BuoyancyGlider:
+        """The buoyancy-only model of the vehicle (built once: the right-hand side is called many times)."""
+        return BuoyancyGlider(require_glider(self.vehicle))
+
+    @cached_property
     def limits(self) -> ActuatorLimits:
+        """Pump and elevator limits of the vehicle (:func:`actuator_limits`)."""
         return actuator_limits(self.vehicle)
 
     def rhs(self, x: Any, u: Any) -> np.ndarray:
@@ -153,5 +160,5 @@ class ElevatorBuoyancyGlider:
         u2 = lim.elevator(u[..., 1])
         V = x[..., 0]
         f3, M = elevator_loads(self.vehicle, V * V, u2)
-        r = loaded_rates(self.vehicle, x, f3, M)
+        r = self._buoyancy.loaded_rates(x, f3, M)
         return np.concatenate([r, lim.pump(x[..., 4], u[..., 0])[..., None]], axis=-1)

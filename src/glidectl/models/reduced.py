@@ -17,6 +17,7 @@ equals the printed (5.4)-(5.7) for ``m1 = m3``, and (5.86)-(5.89) otherwise.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -148,7 +149,7 @@ class ReducedLongitudinalGlider:
             raise ModelError(f"vehicle '{v.name}' has translational masses M1, M3 = {masses} kg at m0 = {v.m0:g} kg: "
                              "they must be positive (the ballast cannot be that light)")
 
-    @property
+    @cached_property
     def masses(self) -> tuple[float, float]:
         """Effective translational masses ``(M1, M3) = (m1 + mbar, m3 + mbar)`` in kg."""
         v = self.vehicle

@@ -8,6 +8,7 @@ design are in :mod:`glidectl.controllers.torque`.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -49,7 +50,7 @@ class TorqueControlledGlider:
     def __post_init__(self) -> None:
         ReducedLongitudinalGlider(self.vehicle)  # same validity conditions
 
-    @property
+    @cached_property
     def open_loop(self) -> ReducedLongitudinalGlider:
         """The uncontrolled model (the one right-hand side)."""
         return ReducedLongitudinalGlider(self.vehicle)
