@@ -39,7 +39,7 @@ def test_last_level_is_not_centred_and_certificate_unchanged(monkeypatch):
     instead of 6), and the certificate is exactly the one the old path (centring every level) gives."""
     ps = gc.benchmarks.van_der_pol()
     calls = _count_solves(monkeypatch)
-    new = gc.certify_roa(ps, **CHEAP)
+    new = gc.certify_roa(ps, **CHEAP, reuse=False)  # every SDP built and solved anew: one solve() each
     n_new = calls[0]
     orig = C._level
 
@@ -49,7 +49,7 @@ def test_last_level_is_not_centred_and_certificate_unchanged(monkeypatch):
 
     monkeypatch.setattr(C, "_level", always_centred)
     calls[0] = 0
-    old = gc.certify_roa(ps, **CHEAP)
+    old = gc.certify_roa(ps, **CHEAP, reuse=False)
     assert n_new == 5 and calls[0] == 6
     assert new.rho == old.rho and new.rho_star == old.rho_star
     assert new.V.terms == old.V.terms
@@ -60,7 +60,7 @@ def test_two_iterations_still_centre_the_first_level(monkeypatch):
     """The skip is only for the last level: with two alternations the first new level is centred (8 solves:
     2 + (V step + level + centring) + (V step + level) + final)."""
     calls = _count_solves(monkeypatch)
-    cert = gc.certify_roa(_cubic_2d(), **{**CHEAP, "iterations": 2}, horizon=8.0)
+    cert = gc.certify_roa(_cubic_2d(), **{**CHEAP, "iterations": 2}, horizon=8.0, reuse=False)
     steps = [h["step"] for h in cert.history]
     n_alt = sum(s == "V step + level" for s in steps)
     assert n_alt == 2
