@@ -38,6 +38,10 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   Parameters), Clarabel iterations the same (606 vs 619); 96.49 % of the true area both, certified, same 15
   steps. An earlier run (load 35): wall 25.7 s vs 42.3 s, CPU 3.82 s vs 5.13 s (0.74). Scaled to the 4.46 s
   above, ~2.9-3.3 s idle: the < 3 s target is not shown on this machine.
+- vdp, main after the merges (2026-12-02 00:11, nearly idle: load 0.8), ``--cases vdp --cert-repeats 3 --repeats 1
+  --baseline-src <checkout of c6c3172>/src``: median wall **2.96 s** (2.96, 2.63, 3.01) vs 4.98 s (ratio 0.595),
+  CPU 2.97 s vs 5.00 s, Clarabel 1.03 s vs 1.23 s, cvxpy compile 0.27 s vs 0.69 s, 96.49 % of the true area both,
+  certified, 15 steps: the target (>= 96 % in < 3 s) is met, narrowly (one of three runs took 3.01 s).
 - glider2 (degree 2, 8 iterations): 124.6 s vs 134.2 s (separate runs), same volume 0.1585 (same V path; no basis
   reduction applies at degree 2). Re-measured 2026-12-01 23:00-23:31 (branch s-g4 against c6c3172, load 19-35):
   1402.5 s vs 730.0 s wall, SDP 1142.7 s vs 596.5 s (cvxpy compile 12.9 s vs 7.6 s), both certified, volume 0.15853
