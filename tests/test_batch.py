@@ -219,3 +219,19 @@ def test_not_complex_safe_rhs_needs_central():
 def test_max_steps_status():
     res = integrate_batch(lambda X: X @ A_STIFF.T, np.ones((2, 3)), 10.0, max_steps=3)
     assert np.all(res.status == 3) and np.all(res.t < 10.0)
+
+
+def test_jacobian_of_the_leading_columns_only():
+    """``columns=c``: the first c columns equal the full Jacobian's, the others are zero (states that do not enter f,
+    e.g. running integrals), for both methods; a bad count is refused."""
+    def f(X):
+        return np.stack([X[:, 0] * X[:, 1], np.sin(X[:, 0]), X[:, 0] ** 2 + 0.0 * X[:, 2]], axis=-1)
+
+    X = np.random.default_rng(3).normal(size=(5, 3))
+    for method in ("complex", "central"):
+        full = batch_jacobian(f, X, method=method)
+        part = batch_jacobian(f, X, method=method, columns=2)
+        np.testing.assert_allclose(part[:, :, :2], full[:, :, :2], rtol=0, atol=0 if method == "complex" else 1e-12)
+        assert np.all(part[:, :, 2] == 0.0)
+    with pytest.raises(ArgumentError):
+        batch_jacobian(f, X, columns=4)

@@ -170,7 +170,7 @@ def _call(f: Callable[[np.ndarray], Any], X: np.ndarray, n: int, dtype: Any = fl
 
 
 def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray | None = None, *,
-                   method: str = "complex") -> np.ndarray:
+                   method: str = "complex", columns: int | None = None) -> np.ndarray:
     """Jacobians ``df/dx`` at each row of ``X`` with one batched right-hand-side call.
 
     Parameters
@@ -184,6 +184,9 @@ def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray 
         ``"complex"``: complex step ``Im f(x + i h e_j) / h`` with ``h = 1e-30`` (exact to rounding; needs a
         complex-safe ``f``). ``"central"``: central differences with relative steps ``~ eps^(1/3)`` (``2 n N``
         rows).
+    columns : int, optional
+        Differentiate with respect to the first ``columns`` states only; the other columns of the Jacobian are
+        zero (states that do not enter ``f``, such as running integrals of an input). Default: all ``n``.
 
     Returns
     -------
@@ -194,7 +197,7 @@ def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray 
     ArgumentTypeError
         If ``f`` is not callable or ``X`` is not a real array.
     ArgumentError
-        If ``X`` is not a finite (N, n) array or ``method`` is unknown.
+        If ``X`` is not a finite (N, n) array, ``method`` is unknown or ``columns`` is not in ``1..n``.
     ModelError
         If ``f`` returns the wrong shape, or drops the imaginary part of complex states (use ``"central"``).
     """
@@ -202,24 +205,27 @@ def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray 
     X = checks.array("X", X, shape=(None, None), min_size=1)
     checks.choice("method", method, ("complex", "central"))
     N, n = X.shape
-    eye = np.eye(n)
+    c = n if columns is None else checks.integer("columns", columns, lo=1, hi=n)
+    eye = np.eye(n)[:c]
     if method == "complex":
         h = 1e-30
-        Z = (X[None, :, :] + 1j * h * eye[:, None, :]).reshape(n * N, n)
+        Z = (X[None, :, :] + 1j * h * eye[:, None, :]).reshape(c * N, n)
         D = np.asarray(f(Z))
         if D.shape != Z.shape:
             raise ModelError(f"the right-hand side returned shape {D.shape} for a batch of shape {Z.shape}")
         if not np.iscomplexobj(D):
             raise ModelError("the right-hand side dropped the imaginary part of a complex state; use "
                              "jacobian='central' for right-hand sides that are not complex-safe")
-        cols = D.imag.reshape(n, N, n) / h            # (j, N, i) = d f_i / d x_j
+        cols = D.imag.reshape(c, N, n) / h            # (j, N, i) = d f_i / d x_j
     elif method == "central":
-        step = np.cbrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(X))   # (N, n)
-        dX = step[None, :, :] * eye[:, None, :]                           # (j, N, n)
-        Z = np.concatenate([(X[None] + dX).reshape(n * N, n), (X[None] - dX).reshape(n * N, n)])
-        D = _call(f, Z, n).reshape(2, n, N, n)
+        step = np.cbrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(X[:, :c]))   # (N, c)
+        dX = step.T[:, :, None] * eye[:, None, :]                                # (j, N, n)
+        Z = np.concatenate([(X[None] + dX).reshape(c * N, n), (X[None] - dX).reshape(c * N, n)])
+        D = _call(f, Z, n).reshape(2, c, N, n)
         cols = (D[0] - D[1]) / (2.0 * step.T[:, :, None])
-    return np.transpose(cols, (1, 2, 0))              # (N, i, j)
+    J = np.zeros((N, n, n))
+    J[:, :, :c] = np.transpose(cols, (1, 2, 0))       # (N, i, j)
+    return J
 
 
 def _check_tol(tol: Any, name: str, n: int) -> np.ndarray:

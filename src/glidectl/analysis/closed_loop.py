@@ -18,7 +18,7 @@ from scipy import sparse
 from scipy.integrate import solve_ivp
 
 from .. import checks
-from ..batch import DIVERGED, FINISHED, integrate_batch
+from ..batch import DIVERGED, FINISHED, batch_jacobian, integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from .jacobian import jacobians
 
@@ -513,19 +513,9 @@ def _run_batch(model: Any, name: str, ctrl: Callable[[float, Any], Any], X0: np.
             raise _non_finite(name, bad, X, U, "a run")
         return d
 
-    eye = np.eye(k)[:n]
-    step_rel = np.cbrt(np.finfo(float).eps)
-
     def jac(Y: np.ndarray) -> np.ndarray:
         # central differences in the n states only: the input integrals do not enter the right-hand side
-        M = Y.shape[0]
-        step = step_rel * np.maximum(1.0, np.abs(Y[:, :n]))            # (M, n)
-        dY = step.T[:, :, None] * eye[:, None, :]                      # (n, M, k)
-        D = f(np.concatenate([(Y[None] + dY).reshape(n * M, k), (Y[None] - dY).reshape(n * M, k)]))
-        cols = (D[:n * M] - D[n * M:]).reshape(n, M, k) / (2.0 * step.T[:, :, None])
-        J = np.zeros((M, k, k))
-        J[:, :, :n] = np.transpose(cols, (1, 2, 0))
-        return J
+        return batch_jacobian(f, Y, method="central", columns=n)
 
     stop = None if diverged is None else (lambda Y: _diverged_mask(diverged, Y[:, :n]))
     Y0 = np.concatenate([X0, np.zeros((N, m))], axis=1)
