@@ -204,7 +204,8 @@ class ActuatedGlider:
             hi = np.minimum(self.rate_limit, self.gain * (self.upper - p))
         s = np.minimum(np.maximum(u, lo), hi)
         tau = self.servo_time
-        w = np.stack([(s[..., 0] - x[..., 7]) / tau, (s[..., 1] - x[..., 9]) / tau, s[..., 2]], axis=-1)
+        cols = ((s[..., 0] - x[..., 7]) / tau, (s[..., 1] - x[..., 9]) / tau, s[..., 2])
+        w = np.array(cols) if s.ndim == 1 else np.stack(cols, axis=-1)  # one state: no stacking needed
         return self.accel_model.rhs(x, w)
 
     def check_state(self, x: Any, what: str = "x0") -> np.ndarray:

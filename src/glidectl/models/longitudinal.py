@@ -12,6 +12,7 @@ complex (for exact complex-step Jacobians).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -46,6 +47,10 @@ STATE_UNITS = {
 
 
 def _stack(*cols: Any) -> Any:
+    """Stack equally shaped (or broadcastable) columns along a new last axis. Scalar columns (the single-state calls
+    of a simulation) take a direct path with the same result: no broadcasting is needed."""
+    if all(getattr(c, "ndim", 0) == 0 for c in cols):
+        return np.array(cols)
     return np.stack(np.broadcast_arrays(*cols), axis=-1)
 
 
@@ -129,8 +134,13 @@ class LongitudinalGlider(IOSysExport):
         """
         x = trailing_array("x", x, 11, self.state_names)
         u = trailing_array("u", u, 3, self.input_names)
+        return self._rhs_with_forces(x, u, self.generalized_forces(x))
+
+    def _rhs_with_forces(self, x: np.ndarray, u: np.ndarray, forces: tuple[Any, Any, Any, dict[str, Any]]) -> Any:
+        """(2.15)-(2.25) with the brackets of :meth:`generalized_forces` at ``x`` already computed (checked
+        arrays)."""
         veh = self.vehicle
-        X1, X3, Y, aux = self.generalized_forces(x)
+        X1, X3, Y, aux = forces
         th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
         rP1, rP3, PP1, PP3 = x[..., 6], x[..., 7], x[..., 8], x[..., 9]
         u1, u3, u4 = u[..., 0], u[..., 1], u[..., 2]
@@ -187,9 +197,9 @@ class AccelerationControlledGlider(IOSysExport):
     def __post_init__(self) -> None:
         LongitudinalGlider(self.vehicle)  # same validity conditions (underwater glider, mbar > 0)
 
-    @property
+    @cached_property
     def force_model(self) -> LongitudinalGlider:
-        """The underlying force-controlled model (the one right-hand side)."""
+        """The underlying force-controlled model (the one right-hand side); built once per model."""
         return LongitudinalGlider(self.vehicle)
 
     def to_force_state(self, xa: Any) -> Any:
@@ -214,8 +224,12 @@ class AccelerationControlledGlider(IOSysExport):
     def transform(self, xa: Any) -> tuple[Any, Any]:
         """``Z`` (m/s^2, shape (..., 2)) and ``F`` (1/kg, shape (..., 2, 2)) of (2.32), sign of Z corrected."""
         xa = trailing_array("xa", xa, 11, ACCEL_STATES)
+        return self._transform_with_forces(xa, self.force_model.generalized_forces(self.to_force_state(xa)))
+
+    def _transform_with_forces(self, xa: np.ndarray, forces: tuple[Any, Any, Any, dict[str, Any]]) -> tuple[Any, Any]:
+        """``Z``, ``F`` of :meth:`transform` with the generalized forces at ``to_force_state(xa)`` already computed."""
         veh = self.vehicle
-        X1, X3, Y, aux = self.force_model.generalized_forces(self.to_force_state(xa))
+        X1, X3, Y, aux = forces
         Om, rP1, rdP1, rP3, rdP3 = xa[..., 3], xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9]
         J2, mbar = veh.J2, veh.mbar
         Z = _stack(-(X1 / aux["m1"] + rdP3 * Om + rP3 * Y / J2),
@@ -223,13 +237,18 @@ class AccelerationControlledGlider(IOSysExport):
         F11 = 1 / mbar + 1 / aux["m1"] + rP3 * rP3 / J2
         F33 = 1 / mbar + 1 / aux["m3"] + rP1 * rP1 / J2
         F13 = -rP1 * rP3 / J2
-        F = np.stack(np.broadcast_arrays(_stack(F11, F13), _stack(F13, F33)), axis=-2)
+        rows = (_stack(F11, F13), _stack(F13, F33))
+        F = np.stack(rows if rows[0].shape == rows[1].shape else np.broadcast_arrays(*rows), axis=-2)
         return Z, F
 
     def force_input(self, xa: Any, w: Any) -> Any:
         """Force input ``(u1, u3, u4)`` of (2.33)-(2.34) realizing acceleration input ``w`` (shape ``(..., 3)``)."""
         w = trailing_array("w", w, 3, ACCEL_INPUTS)
-        Z, F = self.transform(xa)
+        return self._force_input_from(w, *self.transform(xa))
+
+    @staticmethod
+    def _force_input_from(w: np.ndarray, Z: Any, F: Any) -> Any:
+        """(2.33)-(2.34) from ``Z``, ``F`` of :meth:`transform`."""
         rhs = w[..., :2] - Z
         det = F[..., 0, 0] * F[..., 1, 1] - F[..., 0, 1] * F[..., 1, 0]
         u1 = (F[..., 1, 1] * rhs[..., 0] - F[..., 0, 1] * rhs[..., 1]) / det
@@ -248,7 +267,11 @@ class AccelerationControlledGlider(IOSysExport):
         xa = trailing_array("xa", xa, 11, self.state_names)
         w = trailing_array("w", w, 3, self.input_names)
         xf = self.to_force_state(xa)
-        fdot = self.force_model.rhs(xf, self.force_input(xa, w))
+        fm = self.force_model
+        # the brackets (2.18)-(2.20) at xf serve both the force input (2.33)-(2.34) and (2.15)-(2.25): computed once
+        forces = fm.generalized_forces(xf)
+        u = self._force_input_from(w, *self._transform_with_forces(xa, forces))
+        fdot = fm._rhs_with_forces(xf, trailing_array("u", u, 3, fm.input_names), forces)
         return _stack(*(fdot[..., i] for i in range(6)), xa[..., 7], w[..., 0], xa[..., 9], w[..., 1], w[..., 2])
 
 
