@@ -46,6 +46,15 @@ STATE_UNITS = {
 }
 
 
+def _columns(a: np.ndarray, idx: Any) -> list[Any]:
+    """Entries ``idx`` of the last axis of ``a``: numpy scalars for a single real vector (the calls of a simulation;
+    real scalar arithmetic is the same IEEE arithmetic as the array loops, only cheaper), views ``a[..., i]``
+    otherwise (a batch; complex steps, whose scalar division differs from the array loop in the last bit)."""
+    if a.ndim == 1 and a.dtype.kind == "f":
+        return [a[i] for i in idx]
+    return [a[..., i] for i in idx]
+
+
 def _stack(*cols: Any) -> Any:
     """Stack equally shaped (or broadcastable) columns along a new last axis. Scalar columns (the single-state calls
     of a simulation) take a direct path with the same result: no broadcasting is needed."""
@@ -102,7 +111,7 @@ class LongitudinalGlider(IOSysExport):
         Also returns the masses and hydrodynamic quantities used, for reuse. ``x`` has shape ``(..., 11)``.
         """
         x = trailing_array("x", x, 11, FORCE_STATES)
-        return self._brackets(*(x[..., i] for i in range(2, 11)))[:4]
+        return self._brackets(*_columns(x, range(2, 11)))[:4]
 
     def _brackets(self, th: Any, Om: Any, v1: Any, v3: Any, rP1: Any, rP3: Any, PP1: Any, PP3: Any,
                   m0: Any) -> tuple[Any, Any, Any, dict[str, Any], Any, Any]:
@@ -137,8 +146,8 @@ class LongitudinalGlider(IOSysExport):
         """
         x = trailing_array("x", x, 11, self.state_names)
         u = trailing_array("u", u, 3, self.input_names)
-        cols = tuple(x[..., i] for i in range(2, 11))
-        return _stack(*self._derivatives(*cols[:-1], u[..., 0], u[..., 1], u[..., 2], self._brackets(*cols)))
+        cols = _columns(x, range(2, 11))
+        return _stack(*self._derivatives(*cols[:-1], *_columns(u, range(3)), self._brackets(*cols)))
 
     def _derivatives(self, th: Any, Om: Any, v1: Any, v3: Any, rP1: Any, rP3: Any, PP1: Any, PP3: Any, u1: Any,
                      u3: Any, u4: Any, brackets: tuple[Any, Any, Any, dict[str, Any], Any, Any]) -> tuple[Any, ...]:
@@ -206,19 +215,21 @@ class AccelerationControlledGlider(IOSysExport):
         """Map ``(.., rdot_P1, .., rdot_P3, m0)`` to ``(.., r_P3, P_P1, P_P3, m0)`` by inverting (2.31)."""
         xa = trailing_array("xa", xa, 11, ACCEL_STATES)
         mbar = self.vehicle.mbar
-        Om, v1, v3 = xa[..., 3], xa[..., 4], xa[..., 5]
-        rP1, rdP1, rP3, rdP3, m0 = xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9], xa[..., 10]
+        c = _columns(xa, range(11))
+        Om, v1, v3 = c[3], c[4], c[5]
+        rP1, rdP1, rP3, rdP3, m0 = c[6], c[7], c[8], c[9], c[10]
         PP1 = mbar * (rdP1 + v1 + rP3 * Om)
         PP3 = mbar * (rdP3 + v3 - rP1 * Om)
-        return _stack(*(xa[..., i] for i in range(6)), rP1, rP3, PP1, PP3, m0)
+        return _stack(*c[:6], rP1, rP3, PP1, PP3, m0)
 
     def from_force_state(self, xf: Any) -> Any:
         """Map a force-form state to the acceleration-form state with (2.31)."""
         xf = trailing_array("xf", xf, 11, FORCE_STATES)
         mbar = self.vehicle.mbar
-        Om, v1, v3 = xf[..., 3], xf[..., 4], xf[..., 5]
-        rP1, rP3, PP1, PP3, m0 = xf[..., 6], xf[..., 7], xf[..., 8], xf[..., 9], xf[..., 10]
-        return _stack(*(xf[..., i] for i in range(6)), rP1, PP1 / mbar - v1 - rP3 * Om, rP3,
+        c = _columns(xf, range(11))
+        Om, v1, v3 = c[3], c[4], c[5]
+        rP1, rP3, PP1, PP3, m0 = c[6], c[7], c[8], c[9], c[10]
+        return _stack(*c[:6], rP1, PP1 / mbar - v1 - rP3 * Om, rP3,
                       PP3 / mbar - v3 + rP1 * Om, m0)
 
     def transform(self, xa: Any) -> tuple[Any, Any]:
@@ -234,7 +245,7 @@ class AccelerationControlledGlider(IOSysExport):
         :meth:`LongitudinalGlider.generalized_forces` at ``to_force_state(xa)``."""
         veh = self.vehicle
         X1, X3, Y, aux = forces[:4]
-        Om, rP1, rdP1, rP3, rdP3 = xa[..., 3], xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9]
+        Om, rP1, rdP1, rP3, rdP3 = _columns(xa, (3, 6, 7, 8, 9))
         J2, mbar = veh.J2, veh.mbar
         F11 = 1 / mbar + 1 / aux["m1"] + rP3 * rP3 / J2
         F33 = 1 / mbar + 1 / aux["m3"] + rP1 * rP1 / J2
@@ -255,7 +266,8 @@ class AccelerationControlledGlider(IOSysExport):
         w = trailing_array("w", w, 3, ACCEL_INPUTS)
         xa = trailing_array("xa", xa, 11, ACCEL_STATES)
         zf = self._zf(xa, self.force_model.generalized_forces(self.to_force_state(xa)))
-        return _stack(*self._forces_u(w[..., 0], w[..., 1], zf), w[..., 2])
+        w1, w3, w4 = _columns(w, range(3))
+        return _stack(*self._forces_u(w1, w3, zf), w4)
 
     def rhs(self, xa: Any, w: Any) -> Any:
         """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side.
@@ -274,13 +286,12 @@ class AccelerationControlledGlider(IOSysExport):
         xa = trailing_array("xa", xa, 11, self.state_names)
         w = trailing_array("w", w, 3, self.input_names)
         mbar = self.vehicle.mbar
-        th, Om, v1, v3 = xa[..., 2], xa[..., 3], xa[..., 4], xa[..., 5]
-        rP1, rdP1, rP3, rdP3, m0 = xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9], xa[..., 10]
+        th, Om, v1, v3, rP1, rdP1, rP3, rdP3, m0 = _columns(xa, range(2, 11))
         PP1 = mbar * (rdP1 + v1 + rP3 * Om)  # (2.31) inverted, as to_force_state
         PP3 = mbar * (rdP3 + v3 - rP1 * Om)
         fm = self.force_model
         br = fm._brackets(th, Om, v1, v3, rP1, rP3, PP1, PP3, m0)
-        w1, w3, w4 = w[..., 0], w[..., 1], w[..., 2]
+        w1, w3, w4 = _columns(w, range(3))
         u1, u3 = self._forces_u(w1, w3, self._zf(xa, br))
         fdot = fm._derivatives(th, Om, v1, v3, rP1, rP3, PP1, PP3, u1, u3, w4, br)
         return _stack(*fdot[:6], rdP1, w1, rdP3, w3, w4)
