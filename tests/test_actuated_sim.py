@@ -54,6 +54,21 @@ def _within(run):
         assert np.all(np.abs(s) <= R)  # the limiter itself is exact
 
 
+def test_single_state_rhs_is_bitwise_the_batch_row(plant, glide):
+    """The single-state path of ActuatedGlider.rhs and acceleration_rates (scalar arithmetic, used inside the
+    simulations) gives the batch rows to the last bit, also where the limiter binds."""
+    rng = np.random.default_rng(3)
+    X = glide.accel_state() + 0.01 * rng.standard_normal((12, 11))
+    X[:, 10] = rng.uniform(-0.8, 0.8, 12)  # pump anywhere in its range, some at the taper
+    U = rng.uniform(-0.05, 0.05, (12, 3))  # requests beyond the rate limits
+    W = rng.standard_normal((12, 3))
+    f_batch, a_batch = plant.rhs(X, U), plant.acceleration_rates(X, W)
+    for i in range(12):
+        assert np.array_equal(plant.rhs(X[i], U[i]), f_batch[i])
+        assert np.array_equal(plant.acceleration_rates(X[i], W[i]), a_batch[i])
+    assert np.any(plant.limited_rates(X, U) != U)  # the limiter was active on some rows
+
+
 class _Piecewise:
     """Random piecewise-constant commands (setpoints far outside the ranges, or rates far above the limits)."""
 

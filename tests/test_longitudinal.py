@@ -317,6 +317,45 @@ def test_batch_equals_rowwise(name):
                                    rtol=1e-14, atol=1e-14)
 
 
+@pytest.mark.parametrize("name", sorted(VEHICLES))
+def test_single_real_state_is_bitwise_the_batch_row(name):
+    """The single-state path (scalar columns, the calls of a simulation) does the same IEEE operations as the batch
+    path: equal to the last bit, for both models and the force input."""
+    veh = VEHICLES[name]
+    rng = np.random.default_rng(5)
+    xf, u = random_force_batch(rng, 8)
+    xa, w = random_accel_batch(rng, 8)
+    fm, am = LongitudinalGlider(veh), AccelerationControlledGlider(veh)
+    for f, X, U in ((fm.rhs, xf, u), (am.rhs, xa, w), (am.force_input, xa, w)):
+        batch = f(X, U)
+        for i in range(8):
+            one = f(X[i], U[i])
+            assert one.shape == batch[i].shape and one.dtype == np.float64
+            assert np.array_equal(one, batch[i]), (f, i, one - batch[i])
+    for i in range(8):
+        Z, F = am.transform(xa[i])
+        Zb, Fb = am.transform(xa)
+        assert np.array_equal(Z, Zb[i]) and np.array_equal(F, Fb[i]) and F.shape == (2, 2)
+
+
+@pytest.mark.parametrize("name", sorted(VEHICLES))
+def test_acceleration_rhs_is_the_force_rhs_at_the_force_input(name):
+    """One right-hand side: the acceleration-form rhs (brackets computed once) equals, bit for bit, the two-pass
+    composition of the public steps: force state (2.31), force input (2.33)-(2.34), force rhs (2.15)-(2.20)."""
+    veh = VEHICLES[name]
+    am = AccelerationControlledGlider(veh)
+    assert am.force_model is am.force_model  # built once
+    rng = np.random.default_rng(6)
+    xa, w = random_accel_batch(rng, 10)
+    for X, W in ((xa, w), (xa[3], w[3]), (xa + 1e-20j, w)):
+        fdot = am.force_model.rhs(am.to_force_state(X), am.force_input(X, W))
+        want = np.concatenate([fdot[..., :6], X[..., 7:8], W[..., 0:1], X[..., 9:10], W[..., 1:2], W[..., 2:3]],
+                              axis=-1)
+        got = am.rhs(X, W)
+        assert got.shape == want.shape
+        assert np.array_equal(got, want)
+
+
 def test_model_names():
     assert LongitudinalGlider(ROGUE).state_names == FORCE_STATES
     assert LongitudinalGlider(ROGUE).input_names == FORCE_INPUTS

@@ -494,6 +494,12 @@ def test_mass_and_has_check_their_arguments():
     assert slocum.mass(np.int64(2), np.array([0.1, 0.2])).shape == (2,)
     with pytest.raises(gc_errors.ArgumentError, match="axis"):
         slocum.mass(7)
+    for bad in (0, 4, -1):  # plain ints outside 1..3 leave the fast path and are refused
+        with pytest.raises(gc_errors.ArgumentError, match="axis"):
+            slocum.mass(bad)
+    assert slocum.mass(3, np.float64(0.125)) == slocum.mass(3, 0.125) == slocum.m + 0.125 - slocum.mbar + slocum.m_f3
+    with pytest.raises(gc_errors.ArgumentTypeError, match="m0"):
+        slocum.mass(1, np.True_)
     with pytest.raises(gc_errors.ArgumentTypeError, match="axis"):
         slocum.mass("1")
     with pytest.raises(gc_errors.ArgumentTypeError, match="axis"):

@@ -86,6 +86,8 @@ def atan2_cs(y: Any, x: Any) -> Any:
     ArgumentError
         If their shapes do not broadcast.
     """
+    if isinstance(y, float) and isinstance(x, float):  # two real numbers (a single-state right-hand side)
+        return np.arctan2(y, x)
     y = np.asarray(_numeric("y", y))
     x = np.asarray(_numeric("x", x))
     _broadcast("y and x", y, x)

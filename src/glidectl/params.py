@@ -518,12 +518,14 @@ class Vehicle:
         if self.kind != "underwater_glider":
             raise ModelError(f"vehicle '{self.name}' is a {self.kind}: body-axis masses m_i belong to underwater "
                              "gliders; use its mass m")
-        if isinstance(axis, bool | np.bool_) or not isinstance(axis, numbers.Integral):
-            raise ArgumentTypeError(f"axis must be the integer 1, 2 or 3, got {type(axis).__name__} {axis!r}")
-        if axis not in (1, 2, 3):
-            raise ArgumentError(f"axis must be 1, 2 or 3 (body axes), got {axis!r}")
-        axis = int(axis)
-        if m0 is not None and not (isinstance(m0, numbers.Real) and not isinstance(m0, bool)):
+        if not (type(axis) is int and 1 <= axis <= 3):  # (a plain int axis, the right-hand sides' calls, is valid)
+            if isinstance(axis, bool | np.bool_) or not isinstance(axis, numbers.Integral):
+                raise ArgumentTypeError(f"axis must be the integer 1, 2 or 3, got {type(axis).__name__} {axis!r}")
+            if axis not in (1, 2, 3):
+                raise ArgumentError(f"axis must be 1, 2 or 3 (body axes), got {axis!r}")
+            axis = int(axis)
+        if m0 is not None and type(m0) not in (float, np.float64) and \
+                not (isinstance(m0, numbers.Real) and not isinstance(m0, bool)):
             if isinstance(m0, bool | np.bool_ | str | bytes) or np.asarray(m0).dtype.kind not in "iufc":
                 raise ArgumentTypeError(f"m0 must be a number (kg) or an array of numbers, got "
                                         f"{type(m0).__name__} {m0!r}")

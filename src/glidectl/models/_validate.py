@@ -86,6 +86,8 @@ def trailing_array(name: str, value: Any, n: int, names: tuple[str, ...] = ()) -
     ArgumentError
         If its last dimension is not ``n``.
     """
+    if type(value) is np.ndarray and value.dtype.kind in "fc" and value.ndim and value.shape[-1] == n:
+        return value  # already a float or complex array of the right width (what numeric_array would return)
     a = numeric_array(name, value)
     if a.ndim == 0 or a.shape[-1] != n:
         what = f" {tuple(names)}" if names else ""

@@ -169,6 +169,8 @@ class ActuatedGlider:
         tau = self.servo_time
         x = trailing_array("x", x, 11, self.state_names)
         w = trailing_array("w", w, 3, ("w1", "w3", "w4"))
+        if x.ndim == 1 and w.ndim == 1 and x.dtype.kind == "f" and w.dtype.kind == "f":  # one real state
+            return np.array((x[7] + tau * w[0], x[9] + tau * w[1], w[2]))
         return np.stack([x[..., 7] + tau * w[..., 0], x[..., 9] + tau * w[..., 1], w[..., 2]], axis=-1)
 
     def position_command(self, x: Any, u: Any) -> np.ndarray:
@@ -204,7 +206,10 @@ class ActuatedGlider:
             hi = np.minimum(self.rate_limit, self.gain * (self.upper - p))
         s = np.minimum(np.maximum(u, lo), hi)
         tau = self.servo_time
-        w = np.stack([(s[..., 0] - x[..., 7]) / tau, (s[..., 1] - x[..., 9]) / tau, s[..., 2]], axis=-1)
+        if s.ndim == 1 and x.ndim == 1 and s.dtype.kind == "f" and x.dtype.kind == "f":  # one real state
+            w = np.array(((s[0] - x[7]) / tau, (s[1] - x[9]) / tau, s[2]))
+        else:
+            w = np.stack([(s[..., 0] - x[..., 7]) / tau, (s[..., 1] - x[..., 9]) / tau, s[..., 2]], axis=-1)
         return self.accel_model.rhs(x, w)
 
     def check_state(self, x: Any, what: str = "x0") -> np.ndarray:

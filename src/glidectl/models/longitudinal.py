@@ -12,6 +12,7 @@ complex (for exact complex-step Jacobians).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -45,7 +46,20 @@ STATE_UNITS = {
 }
 
 
+def _columns(a: np.ndarray, idx: Any) -> list[Any]:
+    """Entries ``idx`` of the last axis of ``a``: numpy scalars for a single real vector (the calls of a simulation;
+    real scalar arithmetic is the same IEEE arithmetic as the array loops, only cheaper), views ``a[..., i]``
+    otherwise (a batch; complex steps, whose scalar division differs from the array loop in the last bit)."""
+    if a.ndim == 1 and a.dtype.kind == "f":
+        return [a[i] for i in idx]
+    return [a[..., i] for i in idx]
+
+
 def _stack(*cols: Any) -> Any:
+    """Stack equally shaped (or broadcastable) columns along a new last axis. Scalar columns (the single-state calls
+    of a simulation) take a direct path with the same result: no broadcasting is needed."""
+    if all(getattr(c, "ndim", 0) == 0 for c in cols):
+        return np.array(cols)
     return np.stack(np.broadcast_arrays(*cols), axis=-1)
 
 
@@ -97,10 +111,13 @@ class LongitudinalGlider(IOSysExport):
         Also returns the masses and hydrodynamic quantities used, for reuse. ``x`` has shape ``(..., 11)``.
         """
         x = trailing_array("x", x, 11, FORCE_STATES)
+        return self._brackets(*_columns(x, range(2, 11)))[:4]
+
+    def _brackets(self, th: Any, Om: Any, v1: Any, v3: Any, rP1: Any, rP3: Any, PP1: Any, PP3: Any,
+                  m0: Any) -> tuple[Any, Any, Any, dict[str, Any], Any, Any]:
+        """:meth:`generalized_forces` from the state columns, plus ``sin(theta)``, ``cos(theta)``."""
         veh = self.vehicle
         g, mbar = veh.g, veh.mbar
-        th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
-        rP1, rP3, PP1, PP3, m0 = x[..., 6], x[..., 7], x[..., 8], x[..., 9], x[..., 10]
         m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
         alpha, L, D, M = longitudinal_loads(veh, v1, v3, Om)
         s, c = np.sin(th), np.cos(th)
@@ -108,7 +125,7 @@ class LongitudinalGlider(IOSysExport):
         X1 = -m3 * v3 * Om - PP3 * Om - m0 * g * s + L * sa - D * ca
         X3 = m1 * v1 * Om + PP1 * Om + m0 * g * c - L * ca - D * sa
         Y = (m3 - m1) * v1 * v3 - mbar * g * (rP1 * c + rP3 * s) + M - Om * (rP1 * PP1 + rP3 * PP3)
-        return X1, X3, Y, {"m1": m1, "m3": m3, "alpha": alpha, "L": L, "D": D, "M": M}
+        return X1, X3, Y, {"m1": m1, "m3": m3, "alpha": alpha, "L": L, "D": D, "M": M}, s, c
 
     def rhs(self, x: Any, u: Any) -> Any:
         """Time derivative of the state, equations (2.15)-(2.25).
@@ -129,14 +146,16 @@ class LongitudinalGlider(IOSysExport):
         """
         x = trailing_array("x", x, 11, self.state_names)
         u = trailing_array("u", u, 3, self.input_names)
+        cols = _columns(x, range(2, 11))
+        return _stack(*self._derivatives(*cols[:-1], *_columns(u, range(3)), self._brackets(*cols)))
+
+    def _derivatives(self, th: Any, Om: Any, v1: Any, v3: Any, rP1: Any, rP3: Any, PP1: Any, PP3: Any, u1: Any,
+                     u3: Any, u4: Any, brackets: tuple[Any, Any, Any, dict[str, Any], Any, Any]) -> tuple[Any, ...]:
+        """The 11 columns of (2.15)-(2.25) from the state columns, the inputs and :meth:`_brackets` there."""
         veh = self.vehicle
-        X1, X3, Y, aux = self.generalized_forces(x)
-        th, Om, v1, v3 = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
-        rP1, rP3, PP1, PP3 = x[..., 6], x[..., 7], x[..., 8], x[..., 9]
-        u1, u3, u4 = u[..., 0], u[..., 1], u[..., 2]
-        s, c = np.sin(th), np.cos(th)
+        X1, X3, Y, aux, s, c = brackets
         mbar = veh.mbar
-        return _stack(
+        return (
             v1 * c + v3 * s,                                  # (2.15)
             -v1 * s + v3 * c,                                 # (2.16)
             Om,                                               # (2.17)
@@ -187,57 +206,76 @@ class AccelerationControlledGlider(IOSysExport):
     def __post_init__(self) -> None:
         LongitudinalGlider(self.vehicle)  # same validity conditions (underwater glider, mbar > 0)
 
-    @property
+    @cached_property
     def force_model(self) -> LongitudinalGlider:
-        """The underlying force-controlled model (the one right-hand side)."""
+        """The underlying force-controlled model (the one right-hand side); built once per model."""
         return LongitudinalGlider(self.vehicle)
 
     def to_force_state(self, xa: Any) -> Any:
         """Map ``(.., rdot_P1, .., rdot_P3, m0)`` to ``(.., r_P3, P_P1, P_P3, m0)`` by inverting (2.31)."""
         xa = trailing_array("xa", xa, 11, ACCEL_STATES)
         mbar = self.vehicle.mbar
-        Om, v1, v3 = xa[..., 3], xa[..., 4], xa[..., 5]
-        rP1, rdP1, rP3, rdP3, m0 = xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9], xa[..., 10]
+        c = _columns(xa, range(11))
+        Om, v1, v3 = c[3], c[4], c[5]
+        rP1, rdP1, rP3, rdP3, m0 = c[6], c[7], c[8], c[9], c[10]
         PP1 = mbar * (rdP1 + v1 + rP3 * Om)
         PP3 = mbar * (rdP3 + v3 - rP1 * Om)
-        return _stack(*(xa[..., i] for i in range(6)), rP1, rP3, PP1, PP3, m0)
+        return _stack(*c[:6], rP1, rP3, PP1, PP3, m0)
 
     def from_force_state(self, xf: Any) -> Any:
         """Map a force-form state to the acceleration-form state with (2.31)."""
         xf = trailing_array("xf", xf, 11, FORCE_STATES)
         mbar = self.vehicle.mbar
-        Om, v1, v3 = xf[..., 3], xf[..., 4], xf[..., 5]
-        rP1, rP3, PP1, PP3, m0 = xf[..., 6], xf[..., 7], xf[..., 8], xf[..., 9], xf[..., 10]
-        return _stack(*(xf[..., i] for i in range(6)), rP1, PP1 / mbar - v1 - rP3 * Om, rP3,
+        c = _columns(xf, range(11))
+        Om, v1, v3 = c[3], c[4], c[5]
+        rP1, rP3, PP1, PP3, m0 = c[6], c[7], c[8], c[9], c[10]
+        return _stack(*c[:6], rP1, PP1 / mbar - v1 - rP3 * Om, rP3,
                       PP3 / mbar - v3 + rP1 * Om, m0)
 
     def transform(self, xa: Any) -> tuple[Any, Any]:
         """``Z`` (m/s^2, shape (..., 2)) and ``F`` (1/kg, shape (..., 2, 2)) of (2.32), sign of Z corrected."""
         xa = trailing_array("xa", xa, 11, ACCEL_STATES)
+        Z0, Z1, F11, F13, F33 = self._zf(xa, self.force_model.generalized_forces(self.to_force_state(xa)))
+        rows = (_stack(F11, F13), _stack(F13, F33))
+        F = np.stack(rows if rows[0].shape == rows[1].shape else np.broadcast_arrays(*rows), axis=-2)
+        return _stack(Z0, Z1), F
+
+    def _zf(self, xa: np.ndarray, forces: tuple[Any, ...]) -> tuple[Any, Any, Any, Any, Any]:
+        """Columns ``Z1, Z3, F11, F13, F33`` of :meth:`transform` from the brackets of
+        :meth:`LongitudinalGlider.generalized_forces` at ``to_force_state(xa)``."""
         veh = self.vehicle
-        X1, X3, Y, aux = self.force_model.generalized_forces(self.to_force_state(xa))
-        Om, rP1, rdP1, rP3, rdP3 = xa[..., 3], xa[..., 6], xa[..., 7], xa[..., 8], xa[..., 9]
+        X1, X3, Y, aux = forces[:4]
+        Om, rP1, rdP1, rP3, rdP3 = _columns(xa, (3, 6, 7, 8, 9))
         J2, mbar = veh.J2, veh.mbar
-        Z = _stack(-(X1 / aux["m1"] + rdP3 * Om + rP3 * Y / J2),
-                   -(X3 / aux["m3"] - rdP1 * Om - rP1 * Y / J2))
         F11 = 1 / mbar + 1 / aux["m1"] + rP3 * rP3 / J2
         F33 = 1 / mbar + 1 / aux["m3"] + rP1 * rP1 / J2
         F13 = -rP1 * rP3 / J2
-        F = np.stack(np.broadcast_arrays(_stack(F11, F13), _stack(F13, F33)), axis=-2)
-        return Z, F
+        return (-(X1 / aux["m1"] + rdP3 * Om + rP3 * Y / J2), -(X3 / aux["m3"] - rdP1 * Om - rP1 * Y / J2),
+                F11, F13, F33)
+
+    @staticmethod
+    def _forces_u(w1: Any, w3: Any, zf: tuple[Any, Any, Any, Any, Any]) -> tuple[Any, Any]:
+        """``u1, u3`` of (2.33)-(2.34): ``F u = w - Z`` solved by Cramer's rule."""
+        Z0, Z1, F11, F13, F33 = zf
+        r0, r1 = w1 - Z0, w3 - Z1
+        det = F11 * F33 - F13 * F13
+        return (F33 * r0 - F13 * r1) / det, (-F13 * r0 + F11 * r1) / det
 
     def force_input(self, xa: Any, w: Any) -> Any:
         """Force input ``(u1, u3, u4)`` of (2.33)-(2.34) realizing acceleration input ``w`` (shape ``(..., 3)``)."""
         w = trailing_array("w", w, 3, ACCEL_INPUTS)
-        Z, F = self.transform(xa)
-        rhs = w[..., :2] - Z
-        det = F[..., 0, 0] * F[..., 1, 1] - F[..., 0, 1] * F[..., 1, 0]
-        u1 = (F[..., 1, 1] * rhs[..., 0] - F[..., 0, 1] * rhs[..., 1]) / det
-        u3 = (-F[..., 1, 0] * rhs[..., 0] + F[..., 0, 0] * rhs[..., 1]) / det
-        return _stack(u1, u3, w[..., 2])
+        xa = trailing_array("xa", xa, 11, ACCEL_STATES)
+        zf = self._zf(xa, self.force_model.generalized_forces(self.to_force_state(xa)))
+        w1, w3, w4 = _columns(w, range(3))
+        return _stack(*self._forces_u(w1, w3, zf), w4)
 
     def rhs(self, xa: Any, w: Any) -> Any:
         """Time derivative of the acceleration-form state (2.35)-(2.36), through the force right-hand side.
+
+        The force state (2.31), the brackets (2.18)-(2.20) (computed once: they serve both the force input
+        (2.33)-(2.34) and the force right-hand side (2.15)-(2.20)) and the force input are evaluated column by
+        column, with the same operations as :meth:`to_force_state`, :meth:`force_input` and
+        :meth:`LongitudinalGlider.rhs`.
 
         Raises
         ------
@@ -247,9 +285,16 @@ class AccelerationControlledGlider(IOSysExport):
         """
         xa = trailing_array("xa", xa, 11, self.state_names)
         w = trailing_array("w", w, 3, self.input_names)
-        xf = self.to_force_state(xa)
-        fdot = self.force_model.rhs(xf, self.force_input(xa, w))
-        return _stack(*(fdot[..., i] for i in range(6)), xa[..., 7], w[..., 0], xa[..., 9], w[..., 1], w[..., 2])
+        mbar = self.vehicle.mbar
+        th, Om, v1, v3, rP1, rdP1, rP3, rdP3, m0 = _columns(xa, range(2, 11))
+        PP1 = mbar * (rdP1 + v1 + rP3 * Om)  # (2.31) inverted, as to_force_state
+        PP3 = mbar * (rdP3 + v3 - rP1 * Om)
+        fm = self.force_model
+        br = fm._brackets(th, Om, v1, v3, rP1, rP3, PP1, PP3, m0)
+        w1, w3, w4 = _columns(w, range(3))
+        u1, u3 = self._forces_u(w1, w3, self._zf(xa, br))
+        fdot = fm._derivatives(th, Om, v1, v3, rP1, rP3, PP1, PP3, u1, u3, w4, br)
+        return _stack(*fdot[:6], rdP1, w1, rdP3, w3, w4)
 
 
 @dataclass(frozen=True)
