@@ -52,7 +52,8 @@ def main() -> None:
     import glidectl as gc
     from glidectl.roa import certify as C
     from glidectl.roa.polynomial import monomial_matrix, monomials
-    from glidectl.roa.sos import _support, reduce_basis
+    from glidectl.roa.sos import linear_support as _support
+    from glidectl.roa.sos import reduce_basis
 
     veh = gc.load_vehicle("dc8_ctol")
     gl = gc.ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)

@@ -6,15 +6,15 @@ settings, other readings, and the Pareto front over (dt, k3, k4)), and the exact
 linearization, stable inversion, approximate linearization) on the same trajectory.
 
 Run ``glidectl report ch7_ctol`` or ``python designs/ch7_ctol.py [OUTDIR] [--quick]``; writes ``OUTDIR/ch7_ctol/``.
-The full build takes several minutes (the printed gains alone about two); ``--quick`` uses :data:`QUICK`.
+Under ``glidectl report`` the independent parts run on the build's workers (``map_parts``); the printed gains are
+the longest part (about 3.5 minutes of CPU, resolving the 1522 rad/s ringing), the other parts together take about
+1.5 minutes beside it. ``--quick`` uses :data:`QUICK`.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -22,7 +22,7 @@ import numpy as np
 from matplotlib.colors import TwoSlopeNorm
 
 import glidectl as gc
-from glidectl.report import BHATTA_2006, Report, new_figure, run_script
+from glidectl.report import BHATTA_2006, Report, map_parts, new_figure, run_script
 
 TITLE = "Chapter 7: steady-glide stabilization and approximate trajectory tracking of the CTOL aircraft"
 
@@ -62,8 +62,6 @@ class Settings:
     theorem6_offset: float = 0.05  # altitude offset of the Theorem 6 start [m]
     #: the chosen Pareto point: least max error among front points with effort <= best_effort_factor x the least
     best_effort_factor: float = 10.0
-    #: process-pool workers (at most the machine's cores)
-    workers: int = 2
 
     @property
     def map_v(self) -> np.ndarray:
@@ -124,57 +122,80 @@ def _theorem6_run(s: Settings, veh: gc.Vehicle, traj: gc.ClimbTrajectory) -> gc.
     return gc.track_with_steady_glides(veh, level, t_final=s.t_final, x0=x0, **s.theorem6)
 
 
-def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: None) -> Ch7Results:
-    """Run every computation of the chapter-7 study."""
+def _pareto_and_best(s: Settings, veh: gc.Vehicle, traj: gc.ClimbTrajectory
+                     ) -> tuple[gc.ParetoStudy, gc.GlideTracking | None]:
+    """The Pareto grid of steady gliding and the run of its chosen point: the smallest max error among the front
+    runs whose effort is at most ``best_effort_factor`` x the least front effort."""
+    pareto = gc.tracking_grid(veh, traj, s.grid_dt, s.grid_gains, t_final=s.t_final)
+    if not pareto.front:
+        return pareto, None
+    fr = pareto.front_records()
+    emin = min(r["effort"] for r in fr)
+    pick = min((r for r in fr if r["effort"] <= s.best_effort_factor * emin), key=lambda r: r["max_error"])
+    return pareto, gc.track_with_steady_glides(veh, traj, dt=pick["dt"], k3=pick["k3"], k4=pick["k4"],
+                                               t_final=s.t_final)
+
+
+def _part(task: tuple[str, Settings, Any]) -> Any:
+    """One independent part of :func:`compute` (module level: ``map_parts`` runs it on the build's workers)."""
+    what, s, arg = task
     veh = gc.load_vehicle("dc8_ctol")
     traj = gc.climb_trajectory(veh, s.level_mach)
     level = gc.ctol_glide(veh, traj.speed, 0.0)
-    # the pool runs library functions only (they pickle by reference under any start method); the printed-settings
-    # run (the stiff 1522 rad/s pitch loop, the longest single task) is submitted first and everything else runs
-    # beside it
-    with ProcessPoolExecutor(max_workers=max(1, min(s.workers, os.cpu_count() or 1))) as ex, \
-            ThreadPoolExecutor(max_workers=1) as th:
-        p = s.printed
-        progress(f"steady-glide tracking: printed settings (dt = {p['dt']:g}, k3 = {p['k3']:g}, k4 = {p['k4']:g}) "
-                 "in the background")
-        f_printed = ex.submit(gc.track_with_steady_glides, veh, traj, t_final=s.t_final, **s.printed)
-        f_literal = ex.submit(gc.track_with_steady_glides, veh, traj, t_final=s.t_final, **s.literal)
-        progress(f"Theorem 5 constants at the level glide for (k3, k4) in {s.lyap_gains} (background)")
-        f_lyap = {g: ex.submit(gc.ctol_lyapunov, veh, level, *g, T=s.lyap_T, k_prime=s.lyap_k_prime, r=s.lyap_r)
-                  for g in s.lyap_gains}
-        progress(f"Pareto grid over dt in {s.grid_dt} and (k3, k4) in {s.grid_gains} (background)")
-        # tracking_grid waits for its runs on the pool: a thread waits for it while this process works
-        f_pareto = th.submit(gc.tracking_grid, veh, traj, s.grid_dt, s.grid_gains, t_final=s.t_final, executor=ex)
-        progress(f"level glide at V = {s.level_mach:g}/sqrt(a_L) (Theorem 4) and the (V, gamma) map of alpha_e, "
-                 "thrust, stability")
+    if what == "tracking":  # arg: the settings dict (dt, k3, k4)
+        return gc.track_with_steady_glides(veh, traj, t_final=s.t_final, **arg)
+    if what == "lyapunov":  # arg: (k3, k4); the constants and their sampled checks
+        c = gc.ctol_lyapunov(veh, level, *arg, T=s.lyap_T, k_prime=s.lyap_k_prime, r=s.lyap_r)
+        return c, c.verify(s.n_verify, seed=s.verify_seed)
+    if what == "pareto":
+        return _pareto_and_best(s, veh, traj)
+    if what == "map":
         tmap = gc.ctol_glide_map(veh, s.map_v, s.map_gamma, s.eig_gains)
-        A, Th, res, max_re = tmap.alpha, tmap.thrust, tmap.max_residual, dict(tmap.max_real_eig)
         eigs = {g: gc.ctol_closed_loop_eigenvalues(veh, level, *g) for g in s.eig_gains}
-        progress("baselines: zero dynamics, stable inversion, feedback linearization, approximate linearization")
+        return tmap.alpha, tmap.thrust, tmap.max_residual, dict(tmap.max_real_eig), eigs
+    if what == "inversion":
         zd = gc.zero_dynamics(veh, traj.speed)
         inv = gc.stable_inversion(veh, traj, t1=s.t_final + s.inversion_lead)
         blow = gc.feedback_linearization_blowup(veh, traj, inversion=inv, t_final=s.t_final)
-        inv_ref = gc.track_stable_inversion(veh, traj, inversion=inv, start="reference", t_final=s.t_final)
-        inv_level = gc.track_stable_inversion(veh, traj, inversion=inv, start="level", t_final=s.t_final)
-        approx = gc.track_approximate_linearization(veh, traj, t_final=s.t_final)
-        th6 = _theorem6_run(s, veh, traj)
-        progress(f"Theorem 5 sampled checks ({s.n_verify})")
-        lyap = {g: f.result() for g, f in f_lyap.items()}
-        lchecks = {g: c.verify(s.n_verify, seed=s.verify_seed) for g, c in lyap.items()}
-        progress("waiting for the Pareto grid and the printed-settings run")
-        pareto = f_pareto.result()
-        printed, literal = f_printed.result(), f_literal.result()
-    best = None
-    if pareto.front:
-        # best: the smallest max error among the front runs whose effort is at most 10x the minimum front effort
-        fr = pareto.front_records()
-        emin = min(r["effort"] for r in fr)
-        pick = min((r for r in fr if r["effort"] <= s.best_effort_factor * emin), key=lambda r: r["max_error"])
-        progress(f"re-running the chosen Pareto point dt = {pick['dt']}, k3 = {pick['k3']}, k4 = {pick['k4']}")
-        best = gc.track_with_steady_glides(veh, traj, dt=pick["dt"], k3=pick["k3"], k4=pick["k4"], t_final=s.t_final)
+        return zd, inv, blow, gc.track_stable_inversion(veh, traj, inversion=inv, start="reference", t_final=s.t_final)
+    if what == "inversion_level":
+        inv = gc.stable_inversion(veh, traj, t1=s.t_final + s.inversion_lead)
+        return gc.track_stable_inversion(veh, traj, inversion=inv, start="level", t_final=s.t_final)
+    if what == "approx":
+        return (gc.track_approximate_linearization(veh, traj, t_final=s.t_final),
+                gc.approximate_linearization_eigenvalues(veh, traj.speed))
+    if what == "theorem6":
+        return _theorem6_run(s, veh, traj)
+    raise ValueError(f"unknown part {what!r}")
+
+
+def compute(s: Settings = FULL, progress: Callable[[str], None] = lambda msg: None) -> Ch7Results:
+    """Run every computation of the chapter-7 study.
+
+    The parts are independent and run through :func:`glidectl.report.map_parts` (on the build's workers under
+    ``glidectl report --jobs N``, serially otherwise), the longest first: the printed-settings run (the 1522 rad/s
+    pitch loop) alone takes about as long as all the others together.
+    """
+    veh = gc.load_vehicle("dc8_ctol")
+    traj = gc.climb_trajectory(veh, s.level_mach)
+    level = gc.ctol_glide(veh, traj.speed, 0.0)
+    p = s.printed
+    progress(f"steady-glide tracking (printed settings dt = {p['dt']:g}, k3 = {p['k3']:g}, k4 = {p['k4']:g}; the "
+             f"literal reading; the Pareto grid over dt in {s.grid_dt} and (k3, k4) in {s.grid_gains}), the (V, "
+             f"gamma) map, the baselines, and the Theorem 5 constants for {s.lyap_gains} with {s.n_verify} sampled "
+             "checks, as independent parts")
+    tasks: list[tuple[str, Settings, Any]] = [("tracking", s, s.printed), ("inversion", s, None),
+                                              ("pareto", s, None), ("inversion_level", s, None), ("map", s, None)]
+    tasks += [("lyapunov", s, g) for g in s.lyap_gains]
+    tasks += [("approx", s, None), ("tracking", s, s.literal), ("theorem6", s, None)]
+    out = map_parts(_part, tasks)
+    printed, (zd, inv, blow, inv_ref), (pareto, best), inv_level, (A, Th, res, max_re, eigs) = out[:5]
+    lyap_parts = out[5:5 + len(s.lyap_gains)]
+    (approx, approx_eigs), literal, th6 = out[5 + len(s.lyap_gains):]
+    lyap = {g: c for g, (c, _) in zip(s.lyap_gains, lyap_parts, strict=True)}
+    lchecks = {g: v for g, (_, v) in zip(s.lyap_gains, lyap_parts, strict=True)}
     return Ch7Results(s, veh, traj, level, A, Th, res, max_re, eigs, printed, literal, pareto, best, zd, inv, blow,
-                      inv_ref, inv_level, approx, th6, lyap, lchecks,
-                      gc.approximate_linearization_eigenvalues(veh, traj.speed))
+                      inv_ref, inv_level, approx, th6, lyap, lchecks, approx_eigs)
 
 
 # ---------------------------------------------------------------------------------------------- figures

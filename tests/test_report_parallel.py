@@ -181,3 +181,29 @@ def test_progress_bars_on_a_terminal(tmp_path):
     build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=stream)
     text = stream.getvalue()
     assert "\r" in text and "tiny_a" in text and "done in" in text  # a tqdm bar, then the summary line
+
+
+def test_declared_expected_seconds_order_the_first_build_longest_first(tmp_path):
+    """Before any build is recorded, the designs' own EXPECTED_SECONDS order the build (longest first) and give the
+    estimate; after one build the recorded time takes over."""
+    a, b = _designs(tmp_path)
+    a.write_text(a.read_text() + '\nEXPECTED_SECONDS = {"quick": 1.0, "full": 2.0}\n')
+    b.write_text(b.read_text() + '\nEXPECTED_SECONDS = {"quick": 50.0, "full": 900.0}\n')
+    stream = io.StringIO()
+    build_designs([load_design(a), load_design(b)], tmp_path / "o", quick=True, jobs=1, stream=stream)
+    starts = [ln for ln in stream.getvalue().splitlines() if "(expected: " in ln]
+    assert [ln.split(":")[0].split()[-1] for ln in starts] == ["tiny_b", "tiny_a"]   # the longer one first
+    assert "(expected: 50" in starts[0] and "last build" not in stream.getvalue()
+    stream = io.StringIO()
+    build_designs([load_design(a), load_design(b)], tmp_path / "o", quick=True, jobs=1, stream=stream,
+                  use_cache=False)
+    assert "(last build: " in stream.getvalue() and "(expected: " not in stream.getvalue()
+
+
+@pytest.mark.parametrize("decl", ["300", "{'full': -1.0}", "{'full': float('nan')}", "{'slow': 3.0}",
+                                  "{'full': True}"])
+def test_invalid_expected_seconds_is_refused(tmp_path, decl):
+    p = _designs(tmp_path)[0]
+    p.write_text(p.read_text() + f"\nEXPECTED_SECONDS = {decl}\n")
+    with pytest.raises(gc.DesignError, match="EXPECTED_SECONDS must be"):
+        build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=io.StringIO())

@@ -10,7 +10,9 @@ Everything lives under ``<out>/.cache/``:
   exactly the designs that read it. A changed setting changes the design file, hence its key.
 - ``results/<key>.pkl``: values cached by :func:`cached` inside a design, keyed by what the design passes (include
   the settings fields and the vehicle provenance the value depends on) and glidectl's version and source code.
-- ``timings.json``: the last build time of every design (quick and full), for the progress estimates.
+- ``timings.json``: the last build time of every design (quick and full), for the progress estimates and the order
+  of a build (longest first); before a design's first build its declared ``EXPECTED_SECONDS`` stands in
+  (:func:`expected_seconds`).
 
 Entries are pickles tagged with :data:`CACHE_FORMAT`; an entry that cannot be read, has another tag or key, or is
 truncated is ignored (and rebuilt, then overwritten). Writes go through a temporary file and an atomic rename, so
@@ -23,6 +25,7 @@ import contextvars
 import dataclasses
 import hashlib
 import json
+import math
 import os
 import pickle
 import sys
@@ -35,10 +38,10 @@ from typing import Any, TypeVar
 
 import cloudpickle
 
-from ..errors import ArgumentTypeError
+from ..errors import ArgumentTypeError, DesignError
 
-__all__ = ["CACHE_FORMAT", "BuildResult", "DesignCache", "cached", "code_fingerprint", "design_key", "merge_run",
-           "recording"]
+__all__ = ["CACHE_FORMAT", "BuildResult", "DesignCache", "cached", "code_fingerprint", "design_key",
+           "expected_seconds", "merge_run", "recording"]
 
 #: format tag of every cache entry; entries with another tag are ignored
 CACHE_FORMAT = "glidectl-cache-1"
@@ -85,6 +88,45 @@ def settings_of(module: Any, quick: bool) -> str:
     """``repr`` of the settings a design uses: its ``QUICK`` or ``FULL`` preset ("" when it has none)."""
     s = getattr(module, "QUICK" if quick else "FULL", None)
     return "" if s is None else repr(s)
+
+
+def expected_seconds(module: Any, quick: bool) -> float | None:
+    """The build time a design file declares for itself, for scheduling and progress before its first build.
+
+    A design may define ``EXPECTED_SECONDS = {"quick": s, "full": s}``: its measured build time (s) with each
+    preset on a 2-core machine. ``glidectl report`` uses the last recorded build time when there is one
+    (``timings.json``) and this declaration otherwise, so a first cold build already starts the longest designs
+    first and its progress bars have an estimate.
+
+    Parameters
+    ----------
+    module : module
+        The loaded design file.
+    quick : bool
+        Quick settings or full.
+
+    Returns
+    -------
+    float or None
+        The declared time (s), or None when the design declares none.
+
+    Raises
+    ------
+    DesignError
+        If ``EXPECTED_SECONDS`` is not a mapping of ``"quick"``/``"full"`` to finite non-negative seconds.
+    """
+    decl = getattr(module, "EXPECTED_SECONDS", None)
+    if decl is None:
+        return None
+    where = getattr(module, "__file__", None) or getattr(module, "__name__", "the design")
+    ok = isinstance(decl, Mapping) and set(decl) <= {"quick", "full"} and all(
+        isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) and v >= 0
+        for v in decl.values())
+    if not ok:
+        raise DesignError(f"{where}: EXPECTED_SECONDS must be a dict like {{'quick': 12.0, 'full': 300.0}} "
+                          f"(seconds, finite, >= 0), got {decl!r}")
+    v = decl.get("quick" if quick else "full")
+    return None if v is None else float(v)
 
 
 def design_key(name: str, source: bytes, quick: bool, settings: str) -> str:

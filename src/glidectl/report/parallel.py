@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from ..errors import ArgumentError, DesignError, GlidectlError
-from .cache import BuildResult, DesignCache, design_key, recording, settings_of
+from .cache import BuildResult, DesignCache, design_key, expected_seconds, recording, settings_of
 from .designs import Design, load_design_source
 from .parts import parts_context
 
@@ -181,6 +181,7 @@ class _Display:
         self.titles = {d.name: d.title for d in designs}
         self.n = len(designs)
         self.estimates = estimates
+        self.declared: set[str] = set()      # estimates from the designs' EXPECTED_SECONDS (no build recorded yet)
         self.t0: dict[str, float] = {}
         self.steps: dict[str, int] = {}
         if bars is None:
@@ -219,7 +220,8 @@ class _Display:
                                                        "{postfix}" if est else "{desc}: {n:.0f} s {postfix}")
                 self._start_ticker()
             else:
-                self.line(f"{self._tag(name)}: {self.titles[name]}{q} (last build: {_fmt_s(est)})")
+                what = "expected" if name in self.declared else "last build"
+                self.line(f"{self._tag(name)}: {self.titles[name]}{q} ({what}: {_fmt_s(est)})")
 
     def message(self, name: str, msg: str) -> None:
         with self.lock:
@@ -319,8 +321,9 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     ArgumentError
         If ``jobs`` is not a positive integer.
     DesignError
-        If a design failed (the first failure's one-line message; the other designs are still built) or the dask
-        scheduler cannot be used.
+        If a design failed (the first failure's one-line message; the other designs are still built), declares an
+        invalid ``EXPECTED_SECONDS`` (:func:`~glidectl.report.cache.expected_seconds`), or the dask scheduler cannot
+        be used.
     """
     if jobs is None:
         jobs = os.cpu_count() or 1
@@ -330,8 +333,10 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     store = DesignCache(out / ".cache")
     timings = store.timings()
     tag = "quick" if quick else "full"
-    estimates = {d.name: timings.get(f"{d.name}:{tag}") for d in designs}
+    # the last build's time, else the design's own declaration (a first cold build is ordered longest first too)
+    estimates = {d.name: timings.get(f"{d.name}:{tag}", expected_seconds(d.module, quick)) for d in designs}
     display = _Display(designs, quick, estimates, stream, bars)
+    display.declared = {d.name for d in designs if f"{d.name}:{tag}" not in timings and estimates[d.name] is not None}
     results: dict[str, BuildResult] = {}
     failures: list[DesignFailure] = []
     todo: list[tuple[Design, str, bytes]] = []
