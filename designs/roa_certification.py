@@ -32,6 +32,8 @@ import glidectl as gc
 from glidectl.report import BHATTA_2006, Report, map_parts, new_figure, run_script
 
 TITLE = "Region-of-attraction certification by SOS programs: Van der Pol and the chapter-5 glider"
+#: FULL build time on a 2-core machine (s): orders a first cold `glidectl report all` longest first
+EXPECTED_SECONDS = {"full": 1500.0}
 
 # Published references (printed values)
 DRAKE_RHO = 2.3045          # Drake 1.51 RegionOfAttraction on the time-reversed Van der Pol (issue 7)
