@@ -207,3 +207,20 @@ def test_invalid_expected_seconds_is_refused(tmp_path, decl):
     p.write_text(p.read_text() + f"\nEXPECTED_SECONDS = {decl}\n")
     with pytest.raises(gc.DesignError, match="EXPECTED_SECONDS must be"):
         build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=io.StringIO())
+
+
+def test_summary_line_gives_the_designs_own_build_time(tmp_path):
+    """'done in' is the time measured in the design's worker (what timings.json records), not the time since the
+    start line (a pool hands a design to the call queue before a worker is free)."""
+    import json
+    import re
+
+    paths = _designs(tmp_path)
+    stream = io.StringIO()
+    build_designs([load_design(p) for p in paths], tmp_path / "o", quick=True, jobs=2, stream=stream,
+                  mp_context=FAST)
+    recorded = json.loads((tmp_path / "o" / ".cache" / "timings.json").read_text())
+    shown = dict(re.findall(r"\] (tiny_\w): done in ([0-9.]+) s", stream.getvalue()))
+    assert set(shown) == {"tiny_a", "tiny_b"}
+    for name, s in shown.items():
+        assert abs(float(s) - recorded[f"{name}:quick"]) <= 0.051

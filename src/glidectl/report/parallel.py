@@ -264,7 +264,9 @@ class _Display:
                 how = f"cache hit, built in {_fmt_s(res.seconds)}"
                 took = 0.0
             else:
-                took = time.perf_counter() - self.t0.get(name, time.perf_counter())
+                # the design's own build time, measured in its worker (a pool hands the next design to a worker
+                # before one is free, so the time since the start line can include a wait in the queue)
+                took = res.seconds
                 sub = res.sub_hits + res.sub_misses
                 how = "computed" + (f", sub-results {res.sub_hits}/{sub} from cache" if sub else "")
             self.line(f"{self._tag(name)}: done in {took:.1f} s ({how}) -> {pdf}")
