@@ -33,7 +33,7 @@ from glidectl.report import BHATTA_2006, Report, map_parts, new_figure, run_scri
 
 TITLE = "Region-of-attraction certification by SOS programs: Van der Pol and the chapter-5 glider"
 #: FULL build time on a 2-core machine (s): orders a first cold `glidectl report all` longest first
-EXPECTED_SECONDS = {"full": 1500.0}
+EXPECTED_SECONDS = {"full": 1920.0}
 
 # Published references (printed values)
 DRAKE_RHO = 2.3045          # Drake 1.51 RegionOfAttraction on the time-reversed Van der Pol (issue 7)
@@ -443,7 +443,11 @@ def _report(res: _Results) -> Report:
     if res.ctol is not None:
         ct = res.ctol
         rep.number("ctol_certified_volume", ct["volume"], "-", f"degree-{ct['cert'].degree} certificate in the box "
-                   "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1")
+                   "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1",
+                   note="Not reproducible to more than about 1 digit from run to run: the V step's optimum is not "
+                        "unique and the SDP solver's threaded factorization is not bitwise deterministic, so "
+                        "equally valid certificates of 0.0033-0.0044 were obtained with the same settings "
+                        "(each one verified).")
         rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "
                    "the Hessian of Q; the level is ~1e-8)",
                    note=f"Theorem 5 certified: {ct['theorem5_certified']}; its ball r_a = {ct['r_a']:.3g} has "
