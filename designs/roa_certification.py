@@ -444,10 +444,10 @@ def _report(res: _Results) -> Report:
         ct = res.ctol
         rep.number("ctol_certified_volume", ct["volume"], "-", f"degree-{ct['cert'].degree} certificate in the box "
                    "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1",
-                   note="Not reproducible to more than about 1 digit from run to run: the V step's optimum is not "
-                        "unique and the SDP solver's threaded factorization is not bitwise deterministic, so "
-                        "equally valid certificates of 0.0033-0.0044 were obtained with the same settings "
-                        "(each one verified).")
+                   note="Reproducible to about 1 digit only: the V step's optimum is not unique, so rounding-level "
+                        "differences (thread counts of the SDP solver and BLAS) pick different optimal V. Builds "
+                        "with these settings gave 0.0041 and 0.0042, and 0.0033 without program reuse; every one "
+                        "verified.")
         rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "
                    "the Hessian of Q; the level is ~1e-8)",
                    note=f"Theorem 5 certified: {ct['theorem5_certified']}; its ball r_a = {ct['r_a']:.3g} has "
