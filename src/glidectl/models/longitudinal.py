@@ -55,6 +55,12 @@ def _columns(a: np.ndarray, idx: Any) -> list[Any]:
     return [a[..., i] for i in idx]
 
 
+def _momenta(mbar: float, Om: Any, v1: Any, v3: Any, rP1: Any, rdP1: Any, rP3: Any, rdP3: Any) -> tuple[Any, Any]:
+    """``P_P1, P_P3`` (kg m/s) of the moving mass from its velocity ``rdot_P``: (2.31) inverted,
+    ``P_P = mbar (rdot_P + v + Omega x r_P)``."""
+    return mbar * (rdP1 + v1 + rP3 * Om), mbar * (rdP3 + v3 - rP1 * Om)
+
+
 def _stack(*cols: Any) -> Any:
     """Stack equally shaped (or broadcastable) columns along a new last axis. Scalar columns (the single-state calls
     of a simulation) take a direct path with the same result: no broadcasting is needed."""
@@ -218,9 +224,7 @@ class AccelerationControlledGlider(IOSysExport):
         c = _columns(xa, range(11))
         Om, v1, v3 = c[3], c[4], c[5]
         rP1, rdP1, rP3, rdP3, m0 = c[6], c[7], c[8], c[9], c[10]
-        PP1 = mbar * (rdP1 + v1 + rP3 * Om)
-        PP3 = mbar * (rdP3 + v3 - rP1 * Om)
-        return _stack(*c[:6], rP1, rP3, PP1, PP3, m0)
+        return _stack(*c[:6], rP1, rP3, *_momenta(mbar, Om, v1, v3, rP1, rdP1, rP3, rdP3), m0)
 
     def from_force_state(self, xf: Any) -> Any:
         """Map a force-form state to the acceleration-form state with (2.31)."""
@@ -287,8 +291,7 @@ class AccelerationControlledGlider(IOSysExport):
         w = trailing_array("w", w, 3, self.input_names)
         mbar = self.vehicle.mbar
         th, Om, v1, v3, rP1, rdP1, rP3, rdP3, m0 = _columns(xa, range(2, 11))
-        PP1 = mbar * (rdP1 + v1 + rP3 * Om)  # (2.31) inverted, as to_force_state
-        PP3 = mbar * (rdP3 + v3 - rP1 * Om)
+        PP1, PP3 = _momenta(mbar, Om, v1, v3, rP1, rdP1, rP3, rdP3)
         fm = self.force_model
         br = fm._brackets(th, Om, v1, v3, rP1, rP3, PP1, PP3, m0)
         w1, w3, w4 = _columns(w, range(3))
