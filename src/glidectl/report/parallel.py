@@ -174,14 +174,15 @@ class _Display:
     """Progress of a build: a bar per running design on a terminal (tqdm), plain lines otherwise."""
 
     def __init__(self, designs: Sequence[Design], quick: bool, estimates: dict[str, float | None],
-                 stream: TextIO | None = None, bars: bool | None = None) -> None:
+                 stream: TextIO | None = None, bars: bool | None = None, declared: frozenset[str] = frozenset()
+                 ) -> None:
         self.stream = stream or sys.stdout
         self.quick = quick
         self.index = {d.name: i for i, d in enumerate(designs, 1)}
         self.titles = {d.name: d.title for d in designs}
         self.n = len(designs)
         self.estimates = estimates
-        self.declared: set[str] = set()      # estimates from the designs' EXPECTED_SECONDS (no build recorded yet)
+        self.declared = declared      # estimates from the designs' EXPECTED_SECONDS (no build recorded yet)
         self.t0: dict[str, float] = {}
         self.steps: dict[str, int] = {}
         if bars is None:
@@ -337,8 +338,8 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     tag = "quick" if quick else "full"
     # the last build's time, else the design's own declaration (a first cold build is ordered longest first too)
     estimates = {d.name: timings.get(f"{d.name}:{tag}", expected_seconds(d.module, quick)) for d in designs}
-    display = _Display(designs, quick, estimates, stream, bars)
-    display.declared = {d.name for d in designs if f"{d.name}:{tag}" not in timings and estimates[d.name] is not None}
+    declared = frozenset(d.name for d in designs if f"{d.name}:{tag}" not in timings and estimates[d.name] is not None)
+    display = _Display(designs, quick, estimates, stream, bars, declared)
     results: dict[str, BuildResult] = {}
     failures: list[DesignFailure] = []
     todo: list[tuple[Design, str, bytes]] = []
