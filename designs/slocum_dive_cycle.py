@@ -67,6 +67,8 @@ class SlocumResults:
     lqg: tuple[gc.LQGController, gc.LQGController]
     comparison: gc.MissionComparison
     roa_message: str
+    roa_loop: gc.ClosedLoop  # gc.closed_loop of the down leg's lqr_glide
+    roa_box: tuple[np.ndarray, np.ndarray]  # its default box in certify_roa (gc.validity_box)
 
 
 def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> SlocumResults:
@@ -86,8 +88,10 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     lqg = tuple(gc.lqg_glide(veh, g, sensors, noise, inputs="acceleration") for g in glides)
     lqr_path = tuple(gc.lqr_glide(veh, g, inputs="acceleration") for g in glides)
     progress("region of attraction of the LQR loop")
+    loop = gc.closed_loop(lqr_path[0])
+    roa_box = gc.validity_box(loop)  # certify_roa's default box (the same as gc.saturated_loop's)
     try:
-        cert = gc.certify_roa(gc.closed_loop(lqr_path[0]), degree=2, time_limit=60.0)
+        cert = gc.certify_roa(loop, degree=2, time_limit=60.0)
         roa_message = f"certified: {cert}"
     except gc.GlidectlError as exc:
         roa_message = f"{type(exc).__name__}: {exc}"
@@ -95,7 +99,8 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
                                    seed=s.seed, sensor_period=s.sensor_period)
     progress(f"missions: {', '.join(CONTROLLERS)} ({s.cycles} cycles, {s.depths[0]:g}-{s.depths[1]:g} m)")
     comparison = gc.compare_missions(veh, CONTROLLERS, **mission)
-    return SlocumResults(s, veh, env, mission_env, glides, lqr_path, lqg, comparison, roa_message)
+    return SlocumResults(s, veh, env, mission_env, glides, lqr_path, lqg, comparison, roa_message,
+                         loop, roa_box)
 
 
 def _poles(lam: np.ndarray) -> list[list[float]]:
@@ -225,11 +230,26 @@ def report(res: SlocumResults) -> Report:
              "simulate_actuated), whose servo loops and rate/range limiter enforce the [actuators] table printed "
              "with the parameters: the pump and the battery never leave their ranges, and 'saturated' in the table "
              "is the time some actuator spent at a range end or at its rate limit.")
+    loop = res.roa_loop
+    rep.table("Default box of the down leg's LQR loop (gc.validity_box: certify_roa and saturated_loop)",
+              ["state", "lo", "x_e", "hi"],
+              [[k, f"{lo:.6g}", f"{x:.6g}", f"{hi:.6g}"]
+               for k, lo, x, hi in zip(loop.state_names, res.roa_box[0], loop.equilibrium, res.roa_box[1],
+                                       strict=True)])
+    locked = "not exponentially stable" in res.roa_message
     rep.text("Region of attraction of the LQR loop",
-             "Certifying a region of attraction of this loop (the 11-state longitudinal glider under LQR) is the "
-             "subject of the any-closed-loop issue: gc.certify_roa takes polynomial systems and models built for "
-             "certification, not yet a closed loop of gc.closed_loop, in this build. The attempt on the down leg's "
-             f"LQR loop answered: {res.roa_message[:300]}")
+             "gc.certify_roa takes this closed loop (gc.closed_loop of the down leg's gc.lqr_glide: the glide-path "
+             "model, 10 states) with its default box, the validity box of its states (gc.validity_box, the table "
+             "above; gc.saturated_loop uses the same box): the pump and battery ranges and the battery rate of the "
+             "[actuators] table, r_P3 within 1 mm of its fixed value, and the documented half-widths of z', theta, "
+             "Omega2, v1 and v3 about the glide, each shrunk by 0.1 %. The call (degree 2, time limit 60 s) "
+             f"answered: {res.roa_message[:400]}"
+             + ("\n\nThe two zero eigenvalues are the locked states r_P3 and rdot_P3: the vehicle file fixes r_P3, "
+                "so the law does not move it and a perturbed r_P3 stays perturbed. The SOS path certifies only "
+                "exponentially stable equilibria. The LMI path holds locked states at their values "
+                "(SaturatedLoop.held) and certifies this loop, unsaturated and saturated at the pump rate, with the "
+                "same default box: see the roa_certification design, section 'Saturated loops' "
+                "(gc.certify_roa_lmi(gc.saturated_loop(loop)))." if locked else ""))
     return rep
 
 

@@ -43,7 +43,20 @@ def test_report_files_and_parameter_table(quick_build):
     headings = [h for h, _ in rep.sections]
     assert "Region of attraction of the LQR loop" in headings
     body = dict(rep.sections)["Region of attraction of the LQR loop"]
-    assert "any-closed-loop issue" in body
+    # certify_roa gets the loop's default box (no refusal for lack of one) and answers that the two locked r_P3
+    # states make the equilibrium only marginally stable; the report points to the LMI certificate of the loop
+    assert "no limits known" not in body and "gc.validity_box" in body
+    assert "ModelError" in body and "not exponentially stable" in body and "0j, 0j" in body
+    assert "roa_certification" in body and "Saturated loops" in body
+    # the table of that box is gc.validity_box of the loop (the same box gc.saturated_loop defaults to)
+    veh = gc.load_vehicle("slocum_shallow")
+    loop = gc.closed_loop(gc.lqr_glide(veh, gc.steady_glide(veh, 0.35, -math.radians(25), r_p3=0.05),
+                                       inputs="acceleration"))
+    lo, hi = gc.validity_box(loop)
+    (rows,) = [r for c, _, r in rep.tables if "gc.validity_box" in c]
+    assert [r[0] for r in rows] == list(loop.state_names)
+    np.testing.assert_allclose([[float(r[1]), float(r[3])] for r in rows], np.c_[lo, hi], rtol=1e-5)
+    np.testing.assert_allclose(np.c_[lo, hi], np.c_[gc.saturated_loop(loop).box], rtol=0, atol=0)
 
 
 def test_envelope_and_mission_glides(quick_build):

@@ -163,12 +163,16 @@ def test_box_defaults_to_actuator_limits():
         m0={"min": -0.3, "max": 0.9, "rate": 0.01}, r_P1={"min": -0.05, "max": 0.05, "rate": 0.01})
     glide = gc.steady_glide(veh, 0.3, math.radians(-25), r_p3=0.005)
     loop = gc.closed_loop(gc.lqr_glide(veh, glide))
-    with pytest.raises(ArgumentError, match=r"no limits known for states \['z_prime', 'theta'.*'m0': \(-0.3, 0.9\)"):
+    # the glider states have documented half-widths (validity_box); r_P3 has no actuator entry and the momenta
+    # P_P1, P_P3 (force inputs) no limit: refused
+    with pytest.raises(ArgumentError, match=r"no limits known for states \['r_P3', 'P_P1', 'P_P3'\].*'m0': \(-0.2994"):
         resolve_box(loop)
     lo, hi = resolve_box(loop, {k: (x - 0.1, x + 0.1) for k, x in zip(loop.state_names, loop.equilibrium, strict=True)
-                                if k not in ("m0", "r_P1")})
+                                if k in ("r_P3", "P_P1", "P_P3")})
     i = loop.state_names.index("m0")
-    assert (lo[i], hi[i]) == (-0.3, 0.9)
+    assert (lo[i], hi[i]) == pytest.approx((0.3 - 0.999 * 0.6, 0.3 + 0.999 * 0.6), rel=1e-15)   # shrunk 0.1 %
+    j = loop.state_names.index("r_P1")
+    assert (lo[j], hi[j]) == pytest.approx((-0.999 * 0.05, 0.999 * 0.05), rel=1e-15)
 
 
 def test_oversized_request_refused_before_any_allocation():

@@ -148,6 +148,7 @@ from .roa import (
     surrogate_error,
     surrogate_system,
     taylor_system,
+    validity_box,
 )
 from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
 from .sim import ActuatedSimulation, Ensemble, Simulation, simulate, simulate_actuated, simulate_many
@@ -216,6 +217,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "UnequalMassCheck",
         "certify_roa_lmi", "EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "saturated_loop",
         "RemainderBound", "surrogate_error", "surrogate_system",
+        "validity_box",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
@@ -419,6 +421,7 @@ __all__ = [
     "tune_pitch_pid",
     "uncontrolled_eigs",
     "unequal_mass_check",
+    "validity_box",
     "ypr_to_R",
     "ypr_to_quat",
     "zero_dynamics",

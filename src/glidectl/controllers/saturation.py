@@ -21,23 +21,12 @@ from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from ..models.buoyancy_glider import actuator_limits
 from ..models.closed_loop import ClosedLoop
 from ..roa.lmi import SaturatedLoop
+from ..roa.scaling import DEFAULT_HALF_WIDTH, validity_box
 from .buoyancy import BuoyancyController
 from .elevator import ElevatorBuoyancyController
 from .linear import ACTUATOR_OF_INPUT, LinearGlideController
 
 __all__ = ["DEFAULT_HALF_WIDTH", "saturated_loop"]
-
-
-#: Half-widths of the default box for states without an actuator limit (state units; ``"rel"`` entries are
-#: relative to the equilibrium value). Actuator states take the vehicle's ``[actuators]`` range, rate states its rate.
-DEFAULT_HALF_WIDTH: dict[str, tuple[float, str]] = {
-    "V": (0.5, "rel"), "gamma": (0.5, "abs"), "alpha": (0.2, "abs"), "Omega2": (0.3, "abs"),
-    "z_prime": (2.0, "abs"), "theta": (0.5, "abs"), "v1": (0.5, "rel"), "v3": (0.1, "abs"),
-}
-
-_RATE_STATES = {"rdot_P1": "r_P1", "rdot_P3": "r_P3"}
-_ACTUATOR_STATES = ("m0", "r_P1", "r_P3")
-_SHRINK = 1.0 - 1e-3            # default boxes stay strictly inside actuator ranges (no pump blocking on them)
 
 
 def _levels(u_min: Any, u_max: Any, u_e: np.ndarray, names: tuple[str, ...]) -> tuple[np.ndarray, np.ndarray]:
@@ -48,25 +37,6 @@ def _levels(u_min: Any, u_max: Any, u_e: np.ndarray, names: tuple[str, ...]) -> 
         raise ArgumentError(f"u_min < u_e < u_max is needed in every input {list(names)}: u_min = {lo.tolist()}, "
                             f"u_e = {u_e.tolist()}, u_max = {hi.tolist()}")
     return lo - u_e, hi - u_e
-
-
-def _default_box(names: tuple[str, ...], xe: np.ndarray, veh: Any) -> tuple[np.ndarray, np.ndarray]:
-    """The validity box: actuator ranges and rates from the vehicle file, :data:`DEFAULT_HALF_WIDTH` elsewhere."""
-    acts = getattr(veh, "actuators", {}) or {}
-    lo, hi = xe.copy(), xe.copy()
-    for i, nm in enumerate(names):
-        a = acts.get(nm) if nm in _ACTUATOR_STATES else acts.get(_RATE_STATES.get(nm, ""))
-        if a is not None and a.fixed is None and nm in _ACTUATOR_STATES and math.isfinite(a.min) and \
-                math.isfinite(a.max):
-            lo[i], hi[i] = a.min, a.max
-        elif a is not None and a.fixed is None and nm in _RATE_STATES and math.isfinite(a.rate):
-            lo[i], hi[i] = -a.rate, a.rate
-        else:
-            w, kind = DEFAULT_HALF_WIDTH.get(nm, (0.5, "abs"))
-            w = w * abs(xe[i]) if kind == "rel" and xe[i] != 0 else w
-            lo[i], hi[i] = xe[i] - w, xe[i] + w
-    c = 0.5 * (lo + hi)
-    return c + _SHRINK * (lo - c), c + _SHRINK * (hi - c)
 
 
 def _check_truth(sl: SaturatedLoop, truth: Callable[[np.ndarray], Any], what: str) -> None:
@@ -109,10 +79,11 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
       (:func:`~glidectl.analysis.closed_loop.lqr_state_feedback`): ``u = sat(u_e - K (x - x_e))`` at its
       ``u_min``/``u_max``.
 
-    The default box holds the vehicle's actuator ranges (``m0``, ``r_P1``) and rates (``rdot_P1``), and
-    :data:`DEFAULT_HALF_WIDTH` about the equilibrium for the other states, shrunk by 0.1 % (so a range end is never
-    reached). Inside a certified ellipsoid (invariant, inside the box) the actuator range and rate limits are
-    therefore never reached.
+    The default box is the validity box of the states (:func:`~glidectl.roa.scaling.validity_box`, the same default
+    as :func:`glidectl.certify_roa`): the vehicle's actuator ranges (``m0``, ``r_P1``) and rates (``rdot_P1``), and
+    :data:`DEFAULT_HALF_WIDTH` about the equilibrium for the glider states, shrunk by 0.1 % (so a range end is never
+    reached); a state it does not know is refused (pass ``box=``). Inside a certified ellipsoid (invariant, inside
+    the box) the actuator range and rate limits are therefore never reached.
 
     Parameters
     ----------
@@ -138,8 +109,8 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
         ``closed_loop(model, law)``: give the plant and a StateFeedback instead), or ``feedback`` is not a
         StateFeedback.
     ArgumentError
-        If ``u_min``/``u_max`` do not bracket the equilibrium input, are given for another loop, or the box does
-        not contain the equilibrium.
+        If ``u_min``/``u_max`` do not bracket the equilibrium input, are given for another loop, the box does not
+        contain the equilibrium, or (no ``box``) the validity box does not know a state.
     ModelError
         If the loop does not equal ``F(x, sat(K (x - x_e)))`` on the box, a held state moves, or the chapter-6
         pump is not rate limited (no saturation to certify: use the SOS path).
@@ -168,7 +139,7 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
         truth = (lambda X: plant.rhs(X, feedback(0.0, X)))  # noqa: E731
         sl = SaturatedLoop(f"{type(plant).__name__} closed by {feedback.name}", names, tuple(inputs[i] for i in ch),
                            lambda X, W: plant.rhs(X, full_u(W)), xe, Kf[ch], lo_d[ch], hi_d[ch],
-                           box if box is not None else _default_box(names, xe, getattr(plant, "vehicle", None)),
+                           box if box is not None else validity_box(plant, xe),
                            truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")))
         _check_truth(sl, truth, sl.name)
         return sl
@@ -201,7 +172,7 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
             def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
                 return np.asarray(plant.rhs(X, np.concatenate([W, u2c + 0.0 * W], axis=-1)))
         sl = SaturatedLoop(system.name, names, ("u1",), F, xe, K, np.array([-lim.u4_max]), np.array([lim.u4_max]),
-                           box if box is not None else _default_box(names, xe, veh), truth=system.rhs,
+                           box if box is not None else validity_box(system, xe, veh), truth=system.rhs,
                            provenance=prov)
     elif isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
         inputs = tuple(plant.input_names)
@@ -228,7 +199,7 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
             return np.asarray(plant.rhs(X, U))
 
         sl0 = SaturatedLoop(system.name, names, tuple(inputs[i] for i in ch), F, xe, Kf[ch], lo_d[ch], hi_d[ch],
-                            box if box is not None else _default_box(names, xe, veh), held=held, provenance=prov)
+                            box if box is not None else validity_box(system, xe, veh), held=held, provenance=prov)
         # the loop's own law is unsaturated: check F with the unsaturated law against it, then saturate
         lin = SaturatedLoop(sl0.name, names, sl0.input_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
                             np.full(len(ch), np.inf), sl0.box, held=held)

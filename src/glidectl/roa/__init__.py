@@ -14,13 +14,14 @@ from .certify import (
     max_level,
 )
 from .polynomial import Poly, monomial_matrix, monomials
-from .scaling import box_scale, resolve_box, scaled_lyapunov
+from .scaling import DEFAULT_HALF_WIDTH, box_scale, resolve_box, scaled_lyapunov, validity_box
 from .sector import sector_system
 from .sos import GramCheck, LinPoly, SOSProgram
 from .surrogate import RemainderBound, surrogate_error, surrogate_system
 from .systems import PolySystem, polynomial_system, recast, taylor_system
 
 __all__ = [
+    "DEFAULT_HALF_WIDTH",
     "GramCheck",
     "LevelResult",
     "LinPoly",
@@ -48,4 +49,5 @@ __all__ = [
     "surrogate_error",
     "surrogate_system",
     "taylor_system",
+    "validity_box",
 ]

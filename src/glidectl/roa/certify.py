@@ -1489,9 +1489,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
     box : (array_like, array_like) or mapping, optional
         Region of interest in state units, ``(lo, hi)`` or ``{state name: (lo, hi)}``
-        (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the actuator limits of its
-        vehicle (``Vehicle.actuators``); a state with no limit is refused with a message asking for ``box=``. Needed
-        for any closed loop (``gc.closed_loop(...)``) whose states are not all actuator positions.
+        (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the validity box of its
+        states (:func:`~glidectl.roa.scaling.validity_box`: the actuator ranges and rates of its vehicle, the
+        half-widths of the glider states about the equilibrium; the same default as :func:`glidectl.saturated_loop`);
+        a state none of these knows is refused with a message asking for ``box=``. ``cert.box`` is the box used.
     method : {"auto", "exact", "surrogate"}
         Route (issue 17): ``"exact"`` recasts the model exactly (:func:`~glidectl.roa.systems.recast`; a closed loop
         is shifted to its equilibrium and sampled on the box widened 3x); ``"surrogate"`` certifies a polynomial

@@ -191,7 +191,7 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
         ``gc.closed_loop(controller)``.
     box : pair or mapping, optional
         Region of interest (state units), see :func:`glidectl.roa.scaling.resolve_box` (default the model's box or
-        its actuator limits).
+        the validity box of its states, :func:`~glidectl.roa.scaling.validity_box`).
     degree : int
         Degree of the surrogate, 2 to 5.
     margin : float
