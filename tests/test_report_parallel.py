@@ -224,3 +224,28 @@ def test_summary_line_gives_the_designs_own_build_time(tmp_path):
     assert set(shown) == {"tiny_a", "tiny_b"}
     for name, s in shown.items():
         assert abs(float(s) - recorded[f"{name}:quick"]) <= 0.051
+
+
+def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):
+    """With 2 workers and 3 designs, the third design's start line comes after another design's last step: it is
+    printed when a worker takes the design (the worker's first message), not when the pool hands it to its call
+    queue, which happens at once, before any worker is free."""
+    import re
+
+    folder = tmp_path / "d"
+    folder.mkdir()
+    paths = []
+    for name, seed in (("slow_a", 1), ("slow_b", 2), ("slow_c", 3)):
+        p = folder / f"{name}.py"
+        p.write_text(DESIGN.format(name=name, seed=seed).replace(
+            "    rng = np.random", "    import time\n    time.sleep(1.5)\n    rng = np.random"))
+        paths.append(p)
+    stream = io.StringIO()
+    build_designs([load_design(p) for p in paths], tmp_path / "o", quick=True, jobs=2, stream=stream,
+                  mp_context=FAST)
+    lines = stream.getvalue().splitlines()
+    starts = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"\] (slow_\w): tiny", ln))}
+    assert set(starts) == {"slow_a", "slow_b", "slow_c"}, lines
+    third = max(starts, key=starts.get)
+    last_steps = [i for i, ln in enumerate(lines) if "writing the report" in ln and third not in ln]
+    assert last_steps and starts[third] > min(last_steps), lines

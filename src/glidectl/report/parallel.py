@@ -55,6 +55,11 @@ def _one_line(exc: BaseException) -> str:
 _WORKER_QUEUE: Any = None
 
 
+#: first message of a design in a pool worker: the worker has taken it (its start line is printed then, not when the
+#: pool hands it to its call queue, which happens before a worker is free)
+_STARTED = "\x00started"
+
+
 def _init_worker(queue: Any) -> None:
     global _WORKER_QUEUE
     _WORKER_QUEUE = queue
@@ -102,6 +107,8 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
     queue = _WORKER_QUEUE
     if progress is None:
         progress = (lambda m: queue.put((name, m))) if queue is not None else (lambda m: None)
+        if queue is not None:
+            queue.put((name, _STARTED))
     try:
         design = load_design_source(name, path, source)
         with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
@@ -211,6 +218,8 @@ class _Display:
 
     def start(self, name: str) -> None:
         with self.lock:
+            if name in self.t0:         # once per design
+                return
             self.t0[name] = time.perf_counter()
             est = self.estimates.get(name)
             q = " (quick settings)" if self.quick else ""
@@ -408,7 +417,10 @@ def _drain(queue: Any, display: _Display) -> None:
             name, msg = queue.get_nowait()
         except (queue_mod.Empty, EOFError, OSError):
             return
-        display.message(name, msg)
+        if msg == _STARTED:
+            display.start(name)
+        else:
+            display.message(name, msg)
 
 
 def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str, refresh: bool,
@@ -421,19 +433,12 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
         for d, _, source in todo:
             pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
                               jobs=jobs, start_method=ctx.get_start_method())] = d.name
-        started: set[str] = set()
         while pending:
-            _drain(queue, display)
-            for f, name in pending.items():  # running: handed to a worker
-                if name not in started and (f.running() or f.done()):
-                    started.add(name)
-                    display.start(name)
+            _drain(queue, display)      # a worker's first message starts its design's line
             for f in [f for f in pending if f.done()]:
                 name = pending.pop(f)
-                if name not in started:
-                    started.add(name)
-                    display.start(name)
                 _drain(queue, display)
+                display.start(name)     # no-op unless the worker died before its first message
                 finish(_result(f, name))
             time.sleep(0.1)
     queue.close()
