@@ -23,6 +23,7 @@ States and inputs are named; arrays may carry leading batch dimensions and may b
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -30,6 +31,7 @@ import numpy as np
 from .. import checks
 from ..params import Vehicle
 from ._validate import angle_arg, require_ctol_vehicle, speed_arg, trailing_array
+from .longitudinal import _columns, _stack
 
 __all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "ExtendedCTOL",
            "drag_coefficient", "lift_coefficient", "require_ctol"]
@@ -86,13 +88,44 @@ def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
 
 
 def _lift(veh: Vehicle, alpha: Any) -> Any:
-    """:func:`lift_coefficient` of a vehicle already checked to be a CTOL aircraft (the right-hand sides' hot path)."""
-    return veh.rho_AW_half * veh.a_L * (1 + veh.c * alpha)
+    """:func:`lift_coefficient` of a vehicle already checked to be a CTOL aircraft."""
+    return _lift_from(veh.rho_AW_half * veh.a_L, veh.c, alpha)
 
 
 def _drag(veh: Vehicle, alpha: Any) -> Any:
     """:func:`drag_coefficient` of a vehicle already checked to be a CTOL aircraft."""
-    return veh.rho_AW_half * veh.a_D * (1 + veh.b * (1 + veh.c * alpha) ** 2)
+    return _drag_from(veh.rho_AW_half * veh.a_D, veh.b, veh.c, alpha)
+
+
+def _lift_from(lift0: Any, c: Any, alpha: Any) -> Any:
+    """(7.1) from the constants ``lift0 = rho A_W / 2 a_L`` and ``c`` (the right-hand sides' hot path, constants read
+    once per model: :func:`_constants`)."""
+    return lift0 * (1 + c * alpha)
+
+
+def _drag_from(drag0: Any, b: Any, c: Any, alpha: Any) -> Any:
+    """(7.2) from the constants ``drag0 = rho A_W / 2 a_D``, ``b`` and ``c``."""
+    return drag0 * (1 + b * (1 + c * alpha) ** 2)
+
+
+def _one_complex(*arrays: np.ndarray) -> bool:
+    """True when the arrays are one state (all one-dimensional) and one is complex: the right-hand sides evaluate it
+    as a batch of one, so a single complex-step state gets the array arithmetic of a batch row to the last bit
+    (numpy's scalar complex division rounds differently from its array loop)."""
+    return all(a.ndim == 1 for a in arrays) and any(a.dtype.kind == "c" for a in arrays)
+
+
+def _constants(veh: Vehicle) -> tuple[Any, ...]:
+    """``(rho A_W/2 a_L, rho A_W/2 a_D, b, c, epsilon, m, g, J)`` of a CTOL aircraft: the constants of (7.1)-(7.7)
+    and (7.12)-(7.15), read once per model instance instead of by attribute look-ups on every call (the products
+    are those :func:`_lift` and :func:`_drag` form first, so the values are the same to the last bit).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle does not define one of them.
+    """
+    return (veh.rho_AW_half * veh.a_L, veh.rho_AW_half * veh.a_D, veh.b, veh.c, veh.epsilon, veh.m, veh.g, veh.J)
 
 
 @dataclass(frozen=True)
@@ -137,21 +170,27 @@ class CTOLAircraft:
         """
         x = trailing_array("x", x, 6, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        veh = self.vehicle
-        xd, yd, th, Om = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
-        u1, u2 = u[..., 0], u[..., 1]
+        if _one_complex(x, u):
+            return self.rhs(x[None], u[None])[0]
+        lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
+        xd, yd, th, Om = _columns(x, (2, 3, 4, 5))  # numpy scalars for one real state (a simulation's calls)
+        u1, u2 = _columns(u, (0, 1))
         V2 = xd * xd + yd * yd
         V = np.sqrt(V2)
         cg, sg = xd / V, yd / V  # cos gamma, sin gamma
         # gamma by the half-angle formula (complex-step safe, exact except at gamma = pi); alpha wrapped to (-pi, pi]
         alpha = th - 2 * np.arctan(yd / (V + xd))
         alpha = alpha - 2 * np.pi * np.round(np.real(alpha) / (2 * np.pi))
-        L = _lift(veh, alpha) * V2  # the vehicle was checked in __post_init__
-        D = _drag(veh, alpha) * V2
-        eps, m = veh.epsilon, veh.m
+        L = _lift_from(lift0, c, alpha) * V2
+        D = _drag_from(drag0, b, c, alpha) * V2
         xdd = (-D * cg - L * sg + u1 * np.cos(th) + eps * u2 * np.sin(th)) / m
-        ydd = (-D * sg + L * cg + u1 * np.sin(th) - eps * u2 * np.cos(th)) / m - veh.g
-        return np.stack(np.broadcast_arrays(xd, yd, xdd, ydd, Om, u2 / veh.J), axis=-1)
+        ydd = (-D * sg + L * cg + u1 * np.sin(th) - eps * u2 * np.cos(th)) / m - g
+        return _stack(xd, yd, xdd, ydd, Om, u2 / J)
+
+    @cached_property
+    def _constants(self) -> tuple[Any, ...]:
+        """:func:`_constants` of the vehicle, read once per model (the right-hand side's hot path)."""
+        return _constants(self.vehicle)
 
     @staticmethod
     def speed_gamma_alpha(x: Any) -> tuple[Any, Any, Any]:
@@ -227,18 +266,24 @@ class CTOLReduced:
         """
         s = trailing_array("s", s, 4, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        veh = self.vehicle
-        Vb, gb, tb, Ob = s[..., 0], s[..., 1], s[..., 2], s[..., 3]
-        u1, u2 = u[..., 0], u[..., 1]
+        if _one_complex(s, u):
+            return self.rhs(s[None], u[None])[0]
+        lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
+        Vb, gb, tb, Ob = _columns(s, (0, 1, 2, 3))  # numpy scalars for one real state
+        u1, u2 = _columns(u, (0, 1))
         gam = gb + self.gamma
         alpha = tb + self.theta - gam
         V = self.speed * (1 + Vb)
-        m, g, eps = veh.m, veh.g, veh.epsilon
-        Vbd = (-m * g * np.sin(gam) - _drag(veh, alpha) * V * V + u1 * np.cos(alpha)
+        Vbd = (-m * g * np.sin(gam) - _drag_from(drag0, b, c, alpha) * V * V + u1 * np.cos(alpha)
                + eps * u2 * np.sin(alpha)) / (m * self.speed)
-        gbd = (-m * g * np.cos(gam) + _lift(veh, alpha) * V * V + u1 * np.sin(alpha)
+        gbd = (-m * g * np.cos(gam) + _lift_from(lift0, c, alpha) * V * V + u1 * np.sin(alpha)
                - eps * u2 * np.cos(alpha)) / (m * V)
-        return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / veh.J), axis=-1)
+        return _stack(Vbd, gbd, Ob / self.T, self.T * u2 / J)
+
+    @cached_property
+    def _constants(self) -> tuple[Any, ...]:
+        """:func:`_constants` of the vehicle, read once per model (the right-hand side's hot path)."""
+        return _constants(self.vehicle)
 
     def from_full(self, x: Any) -> np.ndarray:
         """Reduced state of full states ``(x, y, xdot, ydot, theta, Omega2)`` (the map (7.8)-(7.11)), shape
@@ -292,5 +337,10 @@ class ExtendedCTOL:
         X = trailing_array("X", X, 8, self.state_names)
         U = trailing_array("U", U, 2, self.input_names)
         u = np.stack(np.broadcast_arrays(X[..., 6], U[..., 1]), -1)
-        xp = CTOLAircraft(self.vehicle).rhs(X[..., :6], u)
+        xp = self._plant.rhs(X[..., :6], u)
         return np.concatenate([xp, X[..., 7:8], U[..., 0:1]], -1)
+
+    @cached_property
+    def _plant(self) -> CTOLAircraft:
+        """The plant :class:`CTOLAircraft`, built once per model."""
+        return CTOLAircraft(self.vehicle)

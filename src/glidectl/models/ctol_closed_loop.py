@@ -16,6 +16,7 @@ certification (:class:`ClosedLoopCTOLAlpha`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -26,7 +27,8 @@ from ..errors import ArgumentError, ModelError, SolverError
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
 from ._validate import require_ctol_vehicle, require_instance, trailing_array
-from .ctol import REDUCED_STATES, CTOLReduced
+from .ctol import REDUCED_STATES, CTOLReduced, _one_complex
+from .longitudinal import _columns, _stack
 
 __all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "check_steady_glide_law", "steady_glide_inputs"]
 
@@ -115,7 +117,7 @@ def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T
     k1, k2 = glide.k1, glide.k2
     u1 = -k1 * np.sin(theta) - k2 * np.cos(theta)
     u2 = (k1 * np.cos(theta) - k2 * np.sin(theta)) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
-    return np.stack(np.broadcast_arrays(u1, u2), -1)
+    return _stack(u1, u2)  # (scalars, one state: no broadcasting needed)
 
 
 @dataclass(frozen=True)
@@ -168,8 +170,9 @@ class ClosedLoopCTOL:
         object.__setattr__(self, "k4", k4)
         object.__setattr__(self, "T", T)
 
-    @property
+    @cached_property
     def reduced(self) -> CTOLReduced:
+        """The open-loop :class:`~glidectl.models.ctol.CTOLReduced` about :attr:`glide` (built once)."""
         return CTOLReduced(self.vehicle, self.glide.speed, self.glide.gamma, self.glide.theta, self.T)
 
     def rhs(self, s: Any, u: Any = None) -> Any:
@@ -181,8 +184,11 @@ class ClosedLoopCTOL:
             If ``s`` is not an array of numbers with a trailing dimension 4.
         """
         s = trailing_array("s", s, 4, self.state_names)
-        th = s[..., 2] + self.glide.theta
-        uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, s[..., 3] / self.T)
+        if _one_complex(s):
+            return self.rhs(s[None])[0]
+        tb, Ob = _columns(s, (2, 3))  # numpy scalars for one real state
+        th = tb + self.glide.theta
+        uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Ob / self.T)
         return self.reduced.rhs(s, uu)
 
     def jacobian(self) -> np.ndarray:
