@@ -31,7 +31,6 @@ import numpy as np
 from .. import checks
 from ..params import Vehicle
 from ._validate import angle_arg, require_ctol_vehicle, speed_arg, trailing_array
-from .longitudinal import _columns, _stack
 
 __all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "ExtendedCTOL",
            "drag_coefficient", "lift_coefficient", "require_ctol"]
@@ -108,11 +107,15 @@ def _drag_from(drag0: Any, b: Any, c: Any, alpha: Any) -> Any:
     return drag0 * (1 + b * (1 + c * alpha) ** 2)
 
 
-def _one_complex(*arrays: np.ndarray) -> bool:
-    """True when the arrays are one state (all one-dimensional) and one is complex: the right-hand sides evaluate it
-    as a batch of one, so a single complex-step state gets the array arithmetic of a batch row to the last bit
-    (numpy's scalar complex division rounds differently from its array loop)."""
-    return all(a.ndim == 1 for a in arrays) and any(a.dtype.kind == "c" for a in arrays)
+def _single(a: np.ndarray, b: np.ndarray | None = None) -> str:
+    """How the right-hand sides evaluate ``a`` (and ``b``): ``"real"`` for one real state (all one-dimensional
+    float arrays: numpy-scalar columns, the same IEEE operations as a batch row, only cheaper), ``"other"`` for one
+    state of another kind (complex steps: evaluated as a batch of one, so a single complex-step state gets the array
+    arithmetic of a batch row to the last bit; numpy's scalar complex division rounds differently from its array
+    loop), ``""`` for a batch (column views, broadcast)."""
+    if a.ndim != 1 or (b is not None and b.ndim != 1):
+        return ""
+    return "real" if a.dtype.kind == "f" and (b is None or b.dtype.kind == "f") else "other"
 
 
 def _constants(veh: Vehicle) -> tuple[Any, ...]:
@@ -170,22 +173,28 @@ class CTOLAircraft:
         """
         x = trailing_array("x", x, 6, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        if _one_complex(x, u):
+        one = _single(x, u)
+        if one == "real":  # numpy scalars for one real state (the calls of a simulation)
+            xd, yd, th, Om, u1, u2 = x[2], x[3], x[4], x[5], u[0], u[1]
+        elif one:
             return self.rhs(x[None], u[None])[0]
+        else:
+            xd, yd, th, Om, u1, u2 = x[..., 2], x[..., 3], x[..., 4], x[..., 5], u[..., 0], u[..., 1]
         lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
-        xd, yd, th, Om = _columns(x, (2, 3, 4, 5))  # numpy scalars for one real state (a simulation's calls)
-        u1, u2 = _columns(u, (0, 1))
         V2 = xd * xd + yd * yd
         V = np.sqrt(V2)
         cg, sg = xd / V, yd / V  # cos gamma, sin gamma
         # gamma by the half-angle formula (complex-step safe, exact except at gamma = pi); alpha wrapped to (-pi, pi]
         alpha = th - 2 * np.arctan(yd / (V + xd))
-        alpha = alpha - 2 * np.pi * np.round(np.real(alpha) / (2 * np.pi))
+        alpha = alpha - 2 * np.pi * np.rint(np.real(alpha) / (2 * np.pi))  # (rint: np.round to 0 decimals)
         L = _lift_from(lift0, c, alpha) * V2
         D = _drag_from(drag0, b, c, alpha) * V2
-        xdd = (-D * cg - L * sg + u1 * np.cos(th) + eps * u2 * np.sin(th)) / m
-        ydd = (-D * sg + L * cg + u1 * np.sin(th) - eps * u2 * np.cos(th)) / m - g
-        return _stack(xd, yd, xdd, ydd, Om, u2 / J)
+        cth, sth = np.cos(th), np.sin(th)
+        xdd = (-D * cg - L * sg + u1 * cth + eps * u2 * sth) / m
+        ydd = (-D * sg + L * cg + u1 * sth - eps * u2 * cth) / m - g
+        if one:
+            return np.array((xd, yd, xdd, ydd, Om, u2 / J))
+        return np.stack(np.broadcast_arrays(xd, yd, xdd, ydd, Om, u2 / J), axis=-1)
 
     @cached_property
     def _constants(self) -> tuple[Any, ...]:
@@ -266,11 +275,14 @@ class CTOLReduced:
         """
         s = trailing_array("s", s, 4, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        if _one_complex(s, u):
+        one = _single(s, u)
+        if one == "real":  # numpy scalars for one real state
+            Vb, gb, tb, Ob, u1, u2 = s[0], s[1], s[2], s[3], u[0], u[1]
+        elif one:
             return self.rhs(s[None], u[None])[0]
+        else:
+            Vb, gb, tb, Ob, u1, u2 = s[..., 0], s[..., 1], s[..., 2], s[..., 3], u[..., 0], u[..., 1]
         lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
-        Vb, gb, tb, Ob = _columns(s, (0, 1, 2, 3))  # numpy scalars for one real state
-        u1, u2 = _columns(u, (0, 1))
         gam = gb + self.gamma
         alpha = tb + self.theta - gam
         V = self.speed * (1 + Vb)
@@ -278,7 +290,9 @@ class CTOLReduced:
                + eps * u2 * np.sin(alpha)) / (m * self.speed)
         gbd = (-m * g * np.cos(gam) + _lift_from(lift0, c, alpha) * V * V + u1 * np.sin(alpha)
                - eps * u2 * np.cos(alpha)) / (m * V)
-        return _stack(Vbd, gbd, Ob / self.T, self.T * u2 / J)
+        if one:
+            return np.array((Vbd, gbd, Ob / self.T, self.T * u2 / J))
+        return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / J), axis=-1)
 
     @cached_property
     def _constants(self) -> tuple[Any, ...]:

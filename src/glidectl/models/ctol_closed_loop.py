@@ -27,8 +27,7 @@ from ..errors import ArgumentError, ModelError, SolverError
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
 from ._validate import require_ctol_vehicle, require_instance, trailing_array
-from .ctol import REDUCED_STATES, CTOLReduced, _one_complex
-from .longitudinal import _columns, _stack
+from .ctol import REDUCED_STATES, CTOLReduced, _single
 
 __all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "check_steady_glide_law", "steady_glide_inputs"]
 
@@ -115,9 +114,12 @@ def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T
     closed-loop right-hand sides."""
     eps = veh.epsilon
     k1, k2 = glide.k1, glide.k2
-    u1 = -k1 * np.sin(theta) - k2 * np.cos(theta)
-    u2 = (k1 * np.cos(theta) - k2 * np.sin(theta)) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
-    return _stack(u1, u2)  # (scalars, one state: no broadcasting needed)
+    s, c = np.sin(theta), np.cos(theta)
+    u1 = -k1 * s - k2 * c
+    u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
+    if np.ndim(u1) == 0 and np.ndim(u2) == 0:  # one state (scalars): no broadcasting needed
+        return np.array((u1, u2))
+    return np.stack(np.broadcast_arrays(u1, u2), -1)
 
 
 @dataclass(frozen=True)
@@ -184,9 +186,13 @@ class ClosedLoopCTOL:
             If ``s`` is not an array of numbers with a trailing dimension 4.
         """
         s = trailing_array("s", s, 4, self.state_names)
-        if _one_complex(s):
+        one = _single(s)
+        if one == "real":  # numpy scalars for one real state
+            tb, Ob = s[2], s[3]
+        elif one:
             return self.rhs(s[None])[0]
-        tb, Ob = _columns(s, (2, 3))  # numpy scalars for one real state
+        else:
+            tb, Ob = s[..., 2], s[..., 3]
         th = tb + self.glide.theta
         uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Ob / self.T)
         return self.reduced.rhs(s, uu)
