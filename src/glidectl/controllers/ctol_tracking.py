@@ -238,7 +238,10 @@ def _augmented(model: CTOLAircraft, ctrl: SteadyGlideController, z: Any) -> Any:
     u = ctrl.u(x)
     if u.ndim == 1 and u.dtype.kind == "f":  # one real state (the solvers' calls): scalar squares, same values
         q1, q2 = u[0] * u[0], u[1] * u[1]
-        return np.concatenate((model.rhs(x, u), (q1, q2, q1 + q2)))
+        out = np.empty(9)
+        out[:6] = model.rhs(x, u)
+        out[6], out[7], out[8] = q1, q2, q1 + q2
+        return out
     sq = u * u
     return np.concatenate([model.rhs(x, u), sq, sq[..., :1] + sq[..., 1:]], axis=-1)
 

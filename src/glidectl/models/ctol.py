@@ -186,7 +186,7 @@ class CTOLAircraft:
         cg, sg = xd / V, yd / V  # cos gamma, sin gamma
         # gamma by the half-angle formula (complex-step safe, exact except at gamma = pi); alpha wrapped to (-pi, pi]
         alpha = th - 2 * np.arctan(yd / (V + xd))
-        alpha = alpha - 2 * np.pi * np.rint(np.real(alpha) / (2 * np.pi))  # (rint: np.round to 0 decimals)
+        alpha = alpha - 2 * np.pi * np.rint(alpha.real / (2 * np.pi))  # (np.round(np.real(.)), without dispatch)
         L = _lift_from(lift0, c, alpha) * V2
         D = _drag_from(drag0, b, c, alpha) * V2
         cth, sth = np.cos(th), np.sin(th)
