@@ -117,7 +117,7 @@ def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T
     s, c = np.sin(theta), np.cos(theta)
     u1 = -k1 * s - k2 * c
     u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
-    if np.ndim(u1) == 0 and np.ndim(u2) == 0:  # one state (scalars): no broadcasting needed
+    if getattr(u1, "ndim", 0) == 0 and getattr(u2, "ndim", 0) == 0:  # one state (scalars): no broadcasting
         return np.array((u1, u2))
     return np.stack(np.broadcast_arrays(u1, u2), -1)
 
