@@ -75,13 +75,7 @@ class SteadyGlideController:
         """Inputs ``(u1, u2)`` (N, N m), shape ``(..., 2)``, at full states ``x = (x, y, xdot, ydot, theta,
         Omega2)`` (shape ``(..., 6)``)."""
         x = trailing_array("x", x, 6)
-        one = _single(x)
-        if one == "real":  # numpy scalars for one real state (the calls of a simulation)
-            th, Om = x[4], x[5]
-        elif one:
-            return self.u(x[None])[0]
-        else:
-            th, Om = x[..., 4], x[..., 5]
+        th, Om = (x[4], x[5]) if _single(x) else (x[..., 4], x[..., 5])  # numpy scalars for one real state
         # the law's data were checked in __post_init__ (check_steady_glide_law): no re-validation per call
         return _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Om)
 
@@ -90,13 +84,7 @@ class SteadyGlideController:
         (7.8)-(7.11) about :attr:`glide` (``theta = thetabar + theta_e``, ``Omega2 = Omega2bar / T``): the law of
         :class:`~glidectl.models.ctol_closed_loop.ClosedLoopCTOL` (``s`` of shape ``(..., 4)``)."""
         s = trailing_array("s", s, 4)
-        one = _single(s)
-        if one == "real":
-            tb, Ob = s[2], s[3]
-        elif one:
-            return self.reduced_input(s[None])[0]
-        else:
-            tb, Ob = s[..., 2], s[..., 3]
+        tb, Ob = (s[2], s[3]) if _single(s) else (s[..., 2], s[..., 3])
         return _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, tb + self.glide.theta,
                                     Ob / self.T)
 

@@ -107,15 +107,14 @@ def _drag_from(drag0: Any, b: Any, c: Any, alpha: Any) -> Any:
     return drag0 * (1 + b * (1 + c * alpha) ** 2)
 
 
-def _single(a: np.ndarray, b: np.ndarray | None = None) -> str:
-    """How the right-hand sides evaluate ``a`` (and ``b``): ``"real"`` for one real state (all one-dimensional
-    float arrays: numpy-scalar columns, the same IEEE operations as a batch row, only cheaper), ``"other"`` for one
-    state of another kind (complex steps: evaluated as a batch of one, so a single complex-step state gets the array
-    arithmetic of a batch row to the last bit; numpy's scalar complex division rounds differently from its array
-    loop), ``""`` for a batch (column views, broadcast)."""
-    if a.ndim != 1 or (b is not None and b.ndim != 1):
-        return ""
-    return "real" if a.dtype.kind == "f" and (b is None or b.dtype.kind == "f") else "other"
+def _single(a: np.ndarray, b: np.ndarray | None = None) -> bool:
+    """True when ``a`` (and ``b``) is one real state: one-dimensional float arrays. The right-hand sides then take
+    numpy-scalar columns (the same IEEE operations as a batch row, only cheaper: no 0-d arrays, no broadcasting).
+    Anything else (batches, complex steps, integers) takes the column views ``a[..., i]`` as before, so a single
+    complex state keeps its arithmetic to the last bit (numpy's scalar complex division rounds differently from its
+    array loop in the last bit of the imaginary part, and the approximate linearization's second derivatives use
+    single complex states)."""
+    return a.ndim == 1 and a.dtype.kind == "f" and (b is None or (b.ndim == 1 and b.dtype.kind == "f"))
 
 
 def _constants(veh: Vehicle) -> tuple[Any, ...]:
@@ -174,10 +173,8 @@ class CTOLAircraft:
         x = trailing_array("x", x, 6, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
         one = _single(x, u)
-        if one == "real":  # numpy scalars for one real state (the calls of a simulation)
+        if one:  # numpy scalars for one real state (the calls of a simulation)
             xd, yd, th, Om, u1, u2 = x[2], x[3], x[4], x[5], u[0], u[1]
-        elif one:
-            return self.rhs(x[None], u[None])[0]
         else:
             xd, yd, th, Om, u1, u2 = x[..., 2], x[..., 3], x[..., 4], x[..., 5], u[..., 0], u[..., 1]
         lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
@@ -276,10 +273,8 @@ class CTOLReduced:
         s = trailing_array("s", s, 4, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
         one = _single(s, u)
-        if one == "real":  # numpy scalars for one real state
+        if one:  # numpy scalars for one real state
             Vb, gb, tb, Ob, u1, u2 = s[0], s[1], s[2], s[3], u[0], u[1]
-        elif one:
-            return self.rhs(s[None], u[None])[0]
         else:
             Vb, gb, tb, Ob, u1, u2 = s[..., 0], s[..., 1], s[..., 2], s[..., 3], u[..., 0], u[..., 1]
         lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__

@@ -186,13 +186,7 @@ class ClosedLoopCTOL:
             If ``s`` is not an array of numbers with a trailing dimension 4.
         """
         s = trailing_array("s", s, 4, self.state_names)
-        one = _single(s)
-        if one == "real":  # numpy scalars for one real state
-            tb, Ob = s[2], s[3]
-        elif one:
-            return self.rhs(s[None])[0]
-        else:
-            tb, Ob = s[..., 2], s[..., 3]
+        tb, Ob = (s[2], s[3]) if _single(s) else (s[..., 2], s[..., 3])  # numpy scalars for one real state
         th = tb + self.glide.theta
         uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Ob / self.T)
         return self.reduced.rhs(s, uu)
