@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import checks
 from ..params import Vehicle
-from ._validate import angle_arg, require_ctol_vehicle, speed_arg, trailing_array
+from ._validate import angle_arg, require_ctol_vehicle, single_real_state, speed_arg, trailing_array
 
 __all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "ExtendedCTOL",
            "drag_coefficient", "lift_coefficient", "require_ctol"]
@@ -107,16 +107,6 @@ def _drag_from(drag0: Any, b: Any, c: Any, alpha: Any) -> Any:
     return drag0 * (1 + b * (1 + c * alpha) ** 2)
 
 
-def _single(a: np.ndarray, b: np.ndarray | None = None) -> bool:
-    """True when ``a`` (and ``b``) is one real state: one-dimensional float arrays. The right-hand sides then take
-    numpy-scalar columns (the same IEEE operations as a batch row, only cheaper: no 0-d arrays, no broadcasting).
-    Anything else (batches, complex steps, integers) takes the column views ``a[..., i]`` as before, so a single
-    complex state keeps its arithmetic to the last bit (numpy's scalar complex division rounds differently from its
-    array loop in the last bit of the imaginary part, and the approximate linearization's second derivatives use
-    single complex states)."""
-    return a.ndim == 1 and a.dtype.kind == "f" and (b is None or (b.ndim == 1 and b.dtype.kind == "f"))
-
-
 def _constants(veh: Vehicle) -> tuple[Any, ...]:
     """``(rho A_W/2 a_L, rho A_W/2 a_D, b, c, epsilon, m, g, J)`` of a CTOL aircraft: the constants of (7.1)-(7.7)
     and (7.12)-(7.15), read once per model instance instead of by attribute look-ups on every call (the products
@@ -172,7 +162,7 @@ class CTOLAircraft:
         """
         x = trailing_array("x", x, 6, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        one = _single(x, u)
+        one = single_real_state(x, u)
         if one:  # numpy scalars for one real state (the calls of a simulation)
             xd, yd, th, Om, u1, u2 = x[2], x[3], x[4], x[5], u[0], u[1]
         else:
@@ -272,7 +262,7 @@ class CTOLReduced:
         """
         s = trailing_array("s", s, 4, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        one = _single(s, u)
+        one = single_real_state(s, u)
         if one:  # numpy scalars for one real state
             Vb, gb, tb, Ob, u1, u2 = s[0], s[1], s[2], s[3], u[0], u[1]
         else:

@@ -26,8 +26,8 @@ from ..analysis.jacobian import jacobians
 from ..errors import ArgumentError, ModelError, SolverError
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
-from ._validate import require_ctol_vehicle, require_instance, trailing_array
-from .ctol import REDUCED_STATES, CTOLReduced, _single
+from ._validate import require_ctol_vehicle, require_instance, single_real_state, trailing_array
+from .ctol import REDUCED_STATES, CTOLReduced
 
 __all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "check_steady_glide_law", "steady_glide_inputs"]
 
@@ -102,9 +102,11 @@ def steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T:
     ModelError
         If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     """
-    require_ctol_vehicle(veh)
-    if not veh.epsilon > 0:
-        raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law divides by eps")
+    if not (type(veh) is Vehicle and veh.kind == "ctol" and veh.epsilon > 0):  # (a CTOL aircraft passes at once)
+        require_ctol_vehicle(veh)
+        if not veh.epsilon > 0:
+            raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law divides by "
+                             "eps")
     return _steady_glide_inputs(veh, glide, k3, k4, T, theta, Omega2)
 
 
@@ -186,7 +188,7 @@ class ClosedLoopCTOL:
             If ``s`` is not an array of numbers with a trailing dimension 4.
         """
         s = trailing_array("s", s, 4, self.state_names)
-        tb, Ob = (s[2], s[3]) if _single(s) else (s[..., 2], s[..., 3])  # numpy scalars for one real state
+        tb, Ob = (s[2], s[3]) if single_real_state(s) else (s[..., 2], s[..., 3])  # numpy scalars for one real state
         th = tb + self.glide.theta
         uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Ob / self.T)
         return self.reduced.rhs(s, uu)
