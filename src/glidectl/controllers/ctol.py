@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import SolverError
-from ..models._validate import trailing_array
+from ..models._validate import single_real_state, trailing_array
 from ..models.ctol_closed_loop import ClosedLoopCTOL, check_steady_glide_law, steady_glide_inputs
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
@@ -74,15 +74,17 @@ class SteadyGlideController:
         """Inputs ``(u1, u2)`` (N, N m), shape ``(..., 2)``, at full states ``x = (x, y, xdot, ydot, theta,
         Omega2)`` (shape ``(..., 6)``)."""
         x = trailing_array("x", x, 6)
-        return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, x[..., 4], x[..., 5])
+        th, Om = (x[4], x[5]) if single_real_state(x) else (x[..., 4], x[..., 5])  # numpy scalars for one real state
+        return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Om)
 
     def reduced_input(self, s: Any) -> np.ndarray:
         """Inputs ``(u1, u2)`` (N, N m) at reduced states ``s = (Vbar, gammabar, thetabar, Omega2bar)`` of
         (7.8)-(7.11) about :attr:`glide` (``theta = thetabar + theta_e``, ``Omega2 = Omega2bar / T``): the law of
         :class:`~glidectl.models.ctol_closed_loop.ClosedLoopCTOL` (``s`` of shape ``(..., 4)``)."""
         s = trailing_array("s", s, 4)
-        return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, s[..., 2] + self.glide.theta,
-                                   s[..., 3] / self.T)
+        tb, Ob = (s[2], s[3]) if single_real_state(s) else (s[..., 2], s[..., 3])
+        return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, tb + self.glide.theta,
+                                   Ob / self.T)
 
     def __call__(self, t: float, x: Any) -> np.ndarray:
         return self.u(x)

@@ -234,9 +234,16 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
 def _augmented(model: CTOLAircraft, ctrl: SteadyGlideController, z: Any) -> Any:
     """Closed-loop right-hand side augmented with ``d/dt (int u1^2, int u2^2, int |u|^2)`` for states ``z`` of shape
     ``(..., 9)`` (batch- and complex-safe: the one model rhs and the one control law)."""
-    u = ctrl.u(z[..., :6])
+    x = z[..., :6]
+    u = ctrl.u(x)
+    if u.ndim == 1 and u.dtype.kind == "f":  # one real state (the solvers' calls): scalar squares, same values
+        q1, q2 = u[0] * u[0], u[1] * u[1]
+        out = np.empty(9)
+        out[:6] = model.rhs(x, u)
+        out[6], out[7], out[8] = q1, q2, q1 + q2
+        return out
     sq = u * u
-    return np.concatenate([model.rhs(z[..., :6], u), sq, sq[..., :1] + sq[..., 1:]], axis=-1)
+    return np.concatenate([model.rhs(x, u), sq, sq[..., :1] + sq[..., 1:]], axis=-1)
 
 
 def _with_quadrature(model: CTOLAircraft, ctrl: SteadyGlideController, spent: list[int], max_nfev: int,

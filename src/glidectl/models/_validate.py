@@ -18,7 +18,7 @@ from ..errors import ArgumentError, ArgumentTypeError
 from ..params import Vehicle
 
 __all__ = ["SPEED_MAX", "angle_arg", "numeric_array", "require_ctol_vehicle", "require_glider",
-           "require_instance", "speed_arg", "trailing_array"]
+           "require_instance", "single_real_state", "speed_arg", "trailing_array"]
 
 #: Largest speed (m/s; normalized units for the CTOL aircraft) accepted as an argument: a plausibility limit.
 SPEED_MAX = 100.0
@@ -93,6 +93,21 @@ def trailing_array(name: str, value: Any, n: int, names: tuple[str, ...] = ()) -
         what = f" {tuple(names)}" if names else ""
         raise ArgumentError(f"{name} must have a trailing dimension {n}{what}, got shape {a.shape}")
     return a
+
+
+def single_real_state(a: np.ndarray, b: np.ndarray | None = None) -> bool:
+    """True when ``a`` (and ``b``), arrays from :func:`trailing_array`, are one real state: one-dimensional float
+    arrays (the calls of a simulation). A right-hand side may then take numpy-scalar columns ``a[i]``: the same IEEE
+    operations as a batch row, only cheaper (no 0-d arrays, no broadcasting). Anything else (batches, complex steps,
+    integers) keeps the column views ``a[..., i]``; a single complex state in particular keeps its arithmetic to the
+    last bit (numpy's scalar complex division rounds differently from its array loop).
+
+    Returns
+    -------
+    bool
+        Whether the fast single-state path applies.
+    """
+    return a.ndim == 1 and a.dtype.kind == "f" and (b is None or (b.ndim == 1 and b.dtype.kind == "f"))
 
 
 def speed_arg(name: str, value: Any, unit: str = "m/s") -> float:

@@ -23,13 +23,14 @@ States and inputs are named; arrays may carry leading batch dimensions and may b
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
 
 from .. import checks
 from ..params import Vehicle
-from ._validate import angle_arg, require_ctol_vehicle, speed_arg, trailing_array
+from ._validate import angle_arg, require_ctol_vehicle, single_real_state, speed_arg, trailing_array
 
 __all__ = ["CTOL_INPUTS", "CTOL_STATES", "REDUCED_STATES", "CTOLAircraft", "CTOLReduced", "ExtendedCTOL",
            "drag_coefficient", "lift_coefficient", "require_ctol"]
@@ -86,13 +87,37 @@ def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
 
 
 def _lift(veh: Vehicle, alpha: Any) -> Any:
-    """:func:`lift_coefficient` of a vehicle already checked to be a CTOL aircraft (the right-hand sides' hot path)."""
-    return veh.rho_AW_half * veh.a_L * (1 + veh.c * alpha)
+    """:func:`lift_coefficient` of a vehicle already checked to be a CTOL aircraft."""
+    return _lift_from(veh.rho_AW_half * veh.a_L, veh.c, alpha)
 
 
 def _drag(veh: Vehicle, alpha: Any) -> Any:
     """:func:`drag_coefficient` of a vehicle already checked to be a CTOL aircraft."""
-    return veh.rho_AW_half * veh.a_D * (1 + veh.b * (1 + veh.c * alpha) ** 2)
+    return _drag_from(veh.rho_AW_half * veh.a_D, veh.b, veh.c, alpha)
+
+
+def _lift_from(lift0: Any, c: Any, alpha: Any) -> Any:
+    """(7.1) from the constants ``lift0 = rho A_W / 2 a_L`` and ``c`` (the right-hand sides' hot path, constants read
+    once per model: :func:`_constants`)."""
+    return lift0 * (1 + c * alpha)
+
+
+def _drag_from(drag0: Any, b: Any, c: Any, alpha: Any) -> Any:
+    """(7.2) from the constants ``drag0 = rho A_W / 2 a_D``, ``b`` and ``c``."""
+    return drag0 * (1 + b * (1 + c * alpha) ** 2)
+
+
+def _constants(veh: Vehicle) -> tuple[Any, ...]:
+    """``(rho A_W/2 a_L, rho A_W/2 a_D, b, c, epsilon, m, g, J)`` of a CTOL aircraft: the constants of (7.1)-(7.7)
+    and (7.12)-(7.15), read once per model instance instead of by attribute look-ups on every call (the products
+    are those :func:`_lift` and :func:`_drag` form first, so the values are the same to the last bit).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle does not define one of them.
+    """
+    return (veh.rho_AW_half * veh.a_L, veh.rho_AW_half * veh.a_D, veh.b, veh.c, veh.epsilon, veh.m, veh.g, veh.J)
 
 
 @dataclass(frozen=True)
@@ -137,21 +162,31 @@ class CTOLAircraft:
         """
         x = trailing_array("x", x, 6, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        veh = self.vehicle
-        xd, yd, th, Om = x[..., 2], x[..., 3], x[..., 4], x[..., 5]
-        u1, u2 = u[..., 0], u[..., 1]
+        one = single_real_state(x, u)
+        if one:  # numpy scalars for one real state (the calls of a simulation)
+            xd, yd, th, Om, u1, u2 = x[2], x[3], x[4], x[5], u[0], u[1]
+        else:
+            xd, yd, th, Om, u1, u2 = x[..., 2], x[..., 3], x[..., 4], x[..., 5], u[..., 0], u[..., 1]
+        lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
         V2 = xd * xd + yd * yd
         V = np.sqrt(V2)
         cg, sg = xd / V, yd / V  # cos gamma, sin gamma
         # gamma by the half-angle formula (complex-step safe, exact except at gamma = pi); alpha wrapped to (-pi, pi]
         alpha = th - 2 * np.arctan(yd / (V + xd))
-        alpha = alpha - 2 * np.pi * np.round(np.real(alpha) / (2 * np.pi))
-        L = _lift(veh, alpha) * V2  # the vehicle was checked in __post_init__
-        D = _drag(veh, alpha) * V2
-        eps, m = veh.epsilon, veh.m
-        xdd = (-D * cg - L * sg + u1 * np.cos(th) + eps * u2 * np.sin(th)) / m
-        ydd = (-D * sg + L * cg + u1 * np.sin(th) - eps * u2 * np.cos(th)) / m - veh.g
-        return np.stack(np.broadcast_arrays(xd, yd, xdd, ydd, Om, u2 / veh.J), axis=-1)
+        alpha = alpha - 2 * np.pi * np.rint(alpha.real / (2 * np.pi))  # (np.round(np.real(.)), without dispatch)
+        L = _lift_from(lift0, c, alpha) * V2
+        D = _drag_from(drag0, b, c, alpha) * V2
+        cth, sth = np.cos(th), np.sin(th)
+        xdd = (-D * cg - L * sg + u1 * cth + eps * u2 * sth) / m
+        ydd = (-D * sg + L * cg + u1 * sth - eps * u2 * cth) / m - g
+        if one:
+            return np.array((xd, yd, xdd, ydd, Om, u2 / J))
+        return np.stack(np.broadcast_arrays(xd, yd, xdd, ydd, Om, u2 / J), axis=-1)
+
+    @cached_property
+    def _constants(self) -> tuple[Any, ...]:
+        """:func:`_constants` of the vehicle, read once per model (the right-hand side's hot path)."""
+        return _constants(self.vehicle)
 
     @staticmethod
     def speed_gamma_alpha(x: Any) -> tuple[Any, Any, Any]:
@@ -227,18 +262,27 @@ class CTOLReduced:
         """
         s = trailing_array("s", s, 4, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        veh = self.vehicle
-        Vb, gb, tb, Ob = s[..., 0], s[..., 1], s[..., 2], s[..., 3]
-        u1, u2 = u[..., 0], u[..., 1]
+        one = single_real_state(s, u)
+        if one:  # numpy scalars for one real state
+            Vb, gb, tb, Ob, u1, u2 = s[0], s[1], s[2], s[3], u[0], u[1]
+        else:
+            Vb, gb, tb, Ob, u1, u2 = s[..., 0], s[..., 1], s[..., 2], s[..., 3], u[..., 0], u[..., 1]
+        lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
         gam = gb + self.gamma
         alpha = tb + self.theta - gam
         V = self.speed * (1 + Vb)
-        m, g, eps = veh.m, veh.g, veh.epsilon
-        Vbd = (-m * g * np.sin(gam) - _drag(veh, alpha) * V * V + u1 * np.cos(alpha)
+        Vbd = (-m * g * np.sin(gam) - _drag_from(drag0, b, c, alpha) * V * V + u1 * np.cos(alpha)
                + eps * u2 * np.sin(alpha)) / (m * self.speed)
-        gbd = (-m * g * np.cos(gam) + _lift(veh, alpha) * V * V + u1 * np.sin(alpha)
+        gbd = (-m * g * np.cos(gam) + _lift_from(lift0, c, alpha) * V * V + u1 * np.sin(alpha)
                - eps * u2 * np.cos(alpha)) / (m * V)
-        return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / veh.J), axis=-1)
+        if one:
+            return np.array((Vbd, gbd, Ob / self.T, self.T * u2 / J))
+        return np.stack(np.broadcast_arrays(Vbd, gbd, Ob / self.T, self.T * u2 / J), axis=-1)
+
+    @cached_property
+    def _constants(self) -> tuple[Any, ...]:
+        """:func:`_constants` of the vehicle, read once per model (the right-hand side's hot path)."""
+        return _constants(self.vehicle)
 
     def from_full(self, x: Any) -> np.ndarray:
         """Reduced state of full states ``(x, y, xdot, ydot, theta, Omega2)`` (the map (7.8)-(7.11)), shape
@@ -292,5 +336,10 @@ class ExtendedCTOL:
         X = trailing_array("X", X, 8, self.state_names)
         U = trailing_array("U", U, 2, self.input_names)
         u = np.stack(np.broadcast_arrays(X[..., 6], U[..., 1]), -1)
-        xp = CTOLAircraft(self.vehicle).rhs(X[..., :6], u)
+        xp = self._plant.rhs(X[..., :6], u)
         return np.concatenate([xp, X[..., 7:8], U[..., 0:1]], -1)
+
+    @cached_property
+    def _plant(self) -> CTOLAircraft:
+        """The plant :class:`CTOLAircraft`, built once per model."""
+        return CTOLAircraft(self.vehicle)

@@ -16,6 +16,7 @@ certification (:class:`ClosedLoopCTOLAlpha`).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -25,7 +26,7 @@ from ..analysis.jacobian import jacobians
 from ..errors import ArgumentError, ModelError, SolverError
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide
-from ._validate import require_ctol_vehicle, require_instance, trailing_array
+from ._validate import require_ctol_vehicle, require_instance, single_real_state, trailing_array
 from .ctol import REDUCED_STATES, CTOLReduced
 
 __all__ = ["ClosedLoopCTOL", "ClosedLoopCTOLAlpha", "check_steady_glide_law", "steady_glide_inputs"]
@@ -101,9 +102,11 @@ def steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T:
     ModelError
         If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     """
-    require_ctol_vehicle(veh)
-    if not veh.epsilon > 0:
-        raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law divides by eps")
+    if not (type(veh) is Vehicle and veh.kind == "ctol" and veh.epsilon > 0):  # (a CTOL aircraft passes at once)
+        require_ctol_vehicle(veh)
+        if not veh.epsilon > 0:
+            raise ModelError(f"vehicle '{veh.name}' has epsilon = {veh.epsilon:g}: the steady-glide law divides by "
+                             "eps")
     return _steady_glide_inputs(veh, glide, k3, k4, T, theta, Omega2)
 
 
@@ -113,8 +116,11 @@ def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T
     closed-loop right-hand sides."""
     eps = veh.epsilon
     k1, k2 = glide.k1, glide.k2
-    u1 = -k1 * np.sin(theta) - k2 * np.cos(theta)
-    u2 = (k1 * np.cos(theta) - k2 * np.sin(theta)) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
+    s, c = np.sin(theta), np.cos(theta)
+    u1 = -k1 * s - k2 * c
+    u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
+    if getattr(u1, "ndim", 0) == 0 and getattr(u2, "ndim", 0) == 0:  # one state (scalars): no broadcasting
+        return np.array((u1, u2))
     return np.stack(np.broadcast_arrays(u1, u2), -1)
 
 
@@ -168,8 +174,9 @@ class ClosedLoopCTOL:
         object.__setattr__(self, "k4", k4)
         object.__setattr__(self, "T", T)
 
-    @property
+    @cached_property
     def reduced(self) -> CTOLReduced:
+        """The open-loop :class:`~glidectl.models.ctol.CTOLReduced` about :attr:`glide` (built once)."""
         return CTOLReduced(self.vehicle, self.glide.speed, self.glide.gamma, self.glide.theta, self.T)
 
     def rhs(self, s: Any, u: Any = None) -> Any:
@@ -181,8 +188,9 @@ class ClosedLoopCTOL:
             If ``s`` is not an array of numbers with a trailing dimension 4.
         """
         s = trailing_array("s", s, 4, self.state_names)
-        th = s[..., 2] + self.glide.theta
-        uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, s[..., 3] / self.T)
+        tb, Ob = (s[2], s[3]) if single_real_state(s) else (s[..., 2], s[..., 3])  # numpy scalars for one real state
+        th = tb + self.glide.theta
+        uu = _steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Ob / self.T)
         return self.reduced.rhs(s, uu)
 
     def jacobian(self) -> np.ndarray:
