@@ -54,7 +54,7 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
-from .lmi import SaturatedLoop
+from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
 from .sector import sector_system
@@ -180,17 +180,19 @@ def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
     return P
 
 
-def _require_exponential_stability(ps: PolySystem, A: np.ndarray) -> np.ndarray:
-    """The eigenvalues of ``A``; :class:`ModelError` unless every real part is below ``-1e-9 max|lambda|``."""
+def _require_exponential_stability(ps: Any, A: np.ndarray) -> np.ndarray:
+    """The eigenvalues of ``A``; :class:`ModelError` unless every real part is below ``-1e-9 max|lambda|`` (``ps``:
+    anything with the system's ``name``)."""
+    name = getattr(ps, "name", type(ps).__name__)
     if not np.all(np.isfinite(A)):
-        raise ModelError(f"the linearization of '{ps.name}' at its equilibrium is not finite")
+        raise ModelError(f"the linearization of '{name}' at its equilibrium is not finite")
     lam = np.linalg.eigvals(A)
     scale = float(np.max(np.abs(lam), initial=0.0))
     worst = float(np.max(lam.real))
     if scale == 0.0 or worst >= -1e-9 * scale:
         kind = ("marginally stable (eigenvalues on the imaginary axis, e.g. a centre)" if abs(worst) <= 1e-9 * scale
                 else "unstable")
-        raise ModelError(f"the equilibrium of '{ps.name}' is not exponentially stable: its linearization is {kind}, "
+        raise ModelError(f"the equilibrium of '{name}' is not exponentially stable: its linearization is {kind}, "
                          f"eigenvalues {np.round(lam, 6).tolist()}. A region of attraction is certified only for an "
                          "exponentially stable equilibrium (every eigenvalue with negative real part)")
     return lam
@@ -1105,6 +1107,12 @@ class ROACertificate:
     scale : ndarray or None
         Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
         surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
+    held : tuple of str
+        States held at their equilibrium values (``system.equilibrium``): a closed loop's locked states, whose
+        derivative is zero on the box with them there (e.g. ``r_P3``, ``rdot_P3`` of a glider whose vehicle file
+        fixes ``r_P3``). The set is certified on the other states, for the held ones AT those values: every method
+        takes full states, :meth:`contains` is false unless the held states are at their values (relative 1e-12),
+        :meth:`sample` returns them there and :meth:`volume` is the volume in the other states. Empty if none.
     """
 
     system: PolySystem = field(repr=False)
@@ -1120,6 +1128,7 @@ class ROACertificate:
     stopped_by: str = ""
     method: str = "exact recast"
     scale: np.ndarray | None = field(default=None, repr=False)
+    held: tuple[str, ...] = ()
 
     @property
     def box(self) -> tuple[np.ndarray, np.ndarray]:
@@ -1231,7 +1240,8 @@ class ROACertificate:
         return _contains(self.system, self.V, self.rho, X, n_path)
 
     def volume(self, box: tuple[Any, Any] | None = None, n: int = 2**16, seed: int = 0) -> float:
-        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC.
+        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC; with
+        :attr:`held` states, the volume in the other states (the held ones at their values).
 
         Parameters
         ----------
@@ -1255,7 +1265,24 @@ class ROACertificate:
             If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, or ``n`` or ``seed`` is out of
             range.
         """
-        return box_measure(self.contains, box if box is not None else self.system.box, n, seed, dim=self.system.n)
+        ps = self.system
+        if not ps.held:
+            return box_measure(self.contains, box if box is not None else ps.box, n, seed, dim=ps.n)
+        if box is None:
+            box = ps.box
+        if not isinstance(box, tuple | list) or len(box) != 2:
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({ps.n},)")
+        lo = checks.array("box lo", box[0], shape=(ps.n,))
+        hi = checks.array("box hi", box[1], shape=(ps.n,))
+        free = [i for i in range(ps.n) if i not in ps.held]
+        xe = np.asarray(ps.equilibrium, dtype=float)
+
+        def inside(Y: np.ndarray) -> np.ndarray:      # the free states; the held ones at their values
+            X = np.tile(xe, (len(Y), 1))
+            X[:, free] = Y
+            return self.contains(X)
+
+        return box_measure(inside, (lo[free], hi[free]), n, seed, dim=len(free))
 
     HISTORY_HEADER: ClassVar[tuple[str, ...]] = ("problem", "deg", "step", "rho", "measure", "SDP s")
     """Column names of :meth:`history_table`."""
@@ -1335,6 +1362,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
     x0 = np.asarray(ps.equilibrium, dtype=float)
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     w = np.maximum(x0 - lo, hi - x0)
+    free = [i for i in range(ps.n) if i not in ps.held]      # held states stay at their values
+    nf = len(free)
     rng = np.random.default_rng(seed)
     out: list[np.ndarray] = []
     got = 0
@@ -1344,7 +1373,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
 
     for _ in range(200):
         m = max(2 * n, 256)
-        U = rng.standard_normal((m, ps.n))
+        U = np.zeros((m, ps.n))
+        U[:, free] = rng.standard_normal((m, nf))
         U /= np.linalg.norm(U, axis=1, keepdims=True)
         D = U * w                                   # directions in state units
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -1363,8 +1393,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         else:
             if not np.any(R > 0):
                 continue
-            keep = (rng.random(m) < (R / np.max(R)) ** ps.n) & (R > 0)
-            rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / ps.n)
+            keep = (rng.random(m) < (R / np.max(R)) ** nf) & (R > 0)
+            rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / nf)
             pts = x0 + rad[:, None] * D[keep]
         out.append(pts)
         got += len(pts)
@@ -1567,7 +1597,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     margin = checks.real("margin", margin, lo=1.0)
     reuse = checks.boolean("reuse", reuse)
     inner = checks.choice("inner", inner, GRAM_CONES)
-    ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
+    ps, full = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
     weight = None
     if initial is not None and not isinstance(initial, Poly):
@@ -1726,9 +1756,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     Vz = _from_scaled(V, k)
     ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
     scale = k * (ps.scale if ps.scale is not None else 1.0)
-    return ROACertificate(ps, Vz, rho_c, fin_rho, Vz.degree, tuple(history), ver, t_solve,
-                          time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
-                          scale=np.asarray(scale, dtype=float))
+    return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree, tuple(history),
+                          ver, t_solve, time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
+                          scale=np.asarray(scale, dtype=float),
+                          held=() if full is None else tuple(full.names[i] for i in full.held))
 
 
 # --------------------------------------------------------------------------------------------- routes (issue 17)
@@ -1777,17 +1808,108 @@ def _is_roa_model(system: Any) -> bool:
             and np.all(np.asarray(eq, dtype=float) == 0.0))
 
 
+def _held_states(model: Any, xe: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> tuple[int, ...]:
+    """States of a closed loop that never move: the states its law locks (``locked_states`` of its controller, as
+    :func:`glidectl.saturated_loop` holds them) and those whose row of the linearization vanishes once the states
+    already held are fixed (repeated: ``r_P3' = rdot_P3`` is held once ``rdot_P3`` is), kept only if their derivative
+    is zero on box points with them at the equilibrium (:func:`~glidectl.roa.lmi.held_points`,
+    :func:`~glidectl.roa.lmi.held_motion`, the check of :func:`glidectl.saturated_loop`): then ``{x_h = x_e,h}`` is
+    invariant on the box. Empty if none, or if every state would be held."""
+    names = tuple(model.state_names)
+    n = len(names)
+
+    def f(X: np.ndarray) -> np.ndarray:
+        return np.asarray(model.rhs(X))
+
+    with np.errstate(all="ignore"):
+        A = jacobians(lambda x, u: f(x[None, :])[0], xe, np.zeros(0))[0]
+    if not np.all(np.isfinite(A)):
+        return ()
+    ctrl = getattr(getattr(model, "law", None), "__self__", None)
+    held = {names.index(q) for q in getattr(ctrl, "locked_states", ()) if q in names}
+    tol = 1e-12 * max(1.0, float(np.max(np.abs(A))))
+    while True:
+        free = [j for j in range(n) if j not in held]
+        new = {i for i in free if np.all(np.abs(A[i, free]) <= tol)}
+        if not new:
+            break
+        held |= new
+    if not held or len(held) == n:
+        return ()
+    h = tuple(sorted(held))
+    with np.errstate(all="ignore"):
+        dX = np.real(f(held_points(box, xe, h)))
+    if not np.all(np.isfinite(dX)) or held_motion(dX, h) > 1e-12:
+        return ()
+    return h
+
+
+class _Held:
+    """A closed loop on its free states, the held ones fixed at their equilibrium values (an input-free model for
+    the exact and surrogate routes); angle indices are renumbered."""
+
+    def __init__(self, model: Any, held: tuple[int, ...], xe: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> None:
+        names = tuple(model.state_names)
+        self._f, self._xe, self._n = model.rhs, np.asarray(xe, dtype=float).copy(), len(names)
+        self.free = [i for i in range(len(names)) if i not in held]
+        self.state_names = tuple(names[i] for i in self.free)
+        self.equilibrium = self._xe[self.free]
+        self.box = (box[0][self.free], box[1][self.free])
+        self.name = getattr(model, "name", type(model).__name__)
+        self.provenance = str(getattr(model, "provenance", ""))
+        self.time_unit = getattr(model, "time_unit", "s")
+        new = {i: k for k, i in enumerate(self.free)}
+        for a in ("angle_states", "mixed_angle_states"):
+            if hasattr(model, a):
+                setattr(self, a, tuple(new[i] for i in getattr(model, a) if i in new))
+        if getattr(model, "positive_state", None) in new:
+            self.positive_state = new[model.positive_state]
+
+    def rhs(self, Y: Any) -> np.ndarray:
+        Y = np.asarray(Y)
+        X = np.broadcast_to(self._xe, (*Y.shape[:-1], self._n)).astype(Y.dtype).copy()
+        X[..., self.free] = Y
+        return np.asarray(self._f(X))[..., self.free]
+
+
+@dataclass(frozen=True)
+class _Full:
+    """The full states of a loop certified on its free states (:class:`_Held`)."""
+
+    names: tuple[str, ...]
+    held: tuple[int, ...]
+    free: tuple[int, ...]
+    equilibrium: np.ndarray
+    box: tuple[np.ndarray, np.ndarray]
+    rhs: Any
+
+
+def _embed(ps: PolySystem, full: _Full) -> PolySystem:
+    """The certified free-state system as a system of all the states (held ones at their equilibrium values): what
+    the certificate's contains, value, sample, volume and plot take."""
+    free = list(full.free)
+    xe = full.equilibrium.copy()
+    xe[free] = ps.equilibrium
+    lift0 = ps.lift
+    return dataclasses.replace(
+        ps, state_names=full.names, lift=lambda X: lift0(np.asarray(X)[..., free]), rhs=full.rhs, equilibrium=xe,
+        box=(full.box[0].copy(), full.box[1].copy()), held=full.held,
+        angle_states=tuple(free[i] for i in ps.angle_states), mixed_states=tuple(free[i] for i in ps.mixed_states))
+
+
 def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin: float, speed_floor: float, seed: int,
-           degree: int, max_degree: int, limit: float, extra: int | None) -> PolySystem:
-    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder. Budgets of the
-    surrogate route are checked before anything is sampled."""
+           degree: int, max_degree: int, limit: float, extra: int | None) -> tuple[PolySystem, _Full | None]:
+    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder; and, when the
+    loop has held states (:func:`_held_states`), the full states it is embedded in (else None). Budgets of the
+    surrogate route are checked before anything is sampled; a closed loop's linearization on its free states is
+    checked for exponential stability before it is recast or a surrogate is built."""
     if isinstance(system, PolySystem):
-        return system
+        return system, None
     if isinstance(system, SaturatedLoop):            # saturation in the SOS path: graph of sat as S-procedure terms
         if method not in ("auto", "exact"):
             raise ArgumentError(f"a SaturatedLoop is certified by the SOS path with its saturation as S-procedure "
                                 f"terms (method 'auto' or 'exact'), not method={method!r}")
-        return sector_system(system, seed=seed)
+        return sector_system(system, seed=seed), None
     names = getattr(system, "state_names", None)
     if names is None or not callable(getattr(system, "rhs", None)):
         raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "
@@ -1801,25 +1923,41 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
         _check_memory(sk, degree, _auto_extra(sk, extra), max_degree, limit,
                       f"certify_roa(degree={degree}) of a {len(tuple(names))}-state surrogate of degree "
                       f"{surrogate_degree}")
-    if method in ("auto", "exact"):
+    if _is_roa_model(system) and box is None:       # a model built for certification: its own box, x_e = 0
         try:
-            if _is_roa_model(system) and box is None:
-                return recast(system, speed_floor=speed_floor)
-            xe0 = getattr(system, "equilibrium", None)
-            if xe0 is None:
-                raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a "
-                                 "region of attraction needs one")
-            xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
-            lo, hi = resolve_box(system, box, xe0)
-            xe = refine_equilibrium(lambda X: np.asarray(system.rhs(X)), xe0)
-            n = len(xe)
-            dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
-            ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor,
-                        max_degree=4 if method == "exact" else dmax, seed=seed)
-            lift0 = ps.lift
-            return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=system.rhs, equilibrium=xe,
-                                       box=(lo, hi))
+            if method in ("auto", "exact"):
+                return recast(system, speed_floor=speed_floor), None
         except ModelError:
             if method == "exact":
                 raise
-    return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed)
+        return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed), None
+    xe0 = getattr(system, "equilibrium", None)
+    if xe0 is None:
+        raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a region of "
+                         "attraction needs one (e.g. closed_loop(plant, law, equilibrium=...))")
+    xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
+    lo, hi = resolve_box(system, box, xe0)
+    held = _held_states(system, xe0, (lo, hi))
+    full = None
+    model: Any = system
+    if held:
+        model = _Held(system, held, xe0, (lo, hi))
+        full = _Full(tuple(names), held, tuple(model.free), xe0.copy(), (lo, hi), system.rhs)
+        lo, hi = model.box
+    xe = refine_equilibrium(lambda X: np.asarray(model.rhs(X)), np.asarray(model.equilibrium, dtype=float))
+    # fast refusal (issue 17): the linearization on the free states, before anything is recast or fitted
+    _require_exponential_stability(model, jacobians(lambda x, u: np.asarray(model.rhs(x[None, :]))[0], xe,
+                                                    np.zeros(0))[0])
+    if method in ("auto", "exact"):
+        try:
+            n = len(xe)
+            dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
+            ps = recast(_Shifted(model, xe, (lo, hi)), speed_floor=speed_floor,
+                        max_degree=4 if method == "exact" else dmax, seed=seed)
+            lift0 = ps.lift
+            return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=model.rhs, equilibrium=xe,
+                                       box=(lo, hi)), full
+        except ModelError:
+            if method == "exact":
+                raise
+    return surrogate_system(model, (lo, hi), degree=surrogate_degree, margin=margin, seed=seed), full
