@@ -4,12 +4,14 @@ closed loop's states that never move are held at their equilibrium values, and t
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 import pytest
 
 import glidectl as gc
 import glidectl.roa.certify as certify_mod
+from glidectl import checks as gc_checks
 from glidectl.errors import ModelError
 from glidectl.roa import dVdt
 from glidectl.roa.certify import _held_states
@@ -137,3 +139,64 @@ def test_slocum_lqr_loop_holds_the_states_saturated_loop_holds(monkeypatch):
     lo, hi = gc.validity_box(loop)
     idx = [loop.state_names.index(q) for q in free]
     assert np.array_equal(seen["box"][0], lo[idx]) and np.array_equal(seen["box"][1], hi[idx])
+
+
+# --------------------------------------------------------------------------------------------- time_limit (task 3)
+class _Clock:
+    now = 0.0
+
+
+class _FakeDeadline(gc_checks.Deadline):
+    """A deadline whose clock the test sets (deterministic budget tests)."""
+
+    @property
+    def elapsed(self) -> float:
+        return _Clock.now
+
+
+def _vdp():
+    return gc.benchmarks.van_der_pol()
+
+
+def test_time_limit_bounds_the_final_verification_sampling(monkeypatch):
+    monkeypatch.setattr(certify_mod.checks, "Deadline", _FakeDeadline)
+    real = certify_mod._verify
+
+    def late(*args, **kwargs):          # the alternation ran within the limit; the verification starts past it
+        _Clock.now = 1e9
+        return real(*args, **kwargs)
+
+    _Clock.now = 0.0
+    monkeypatch.setattr(certify_mod, "_verify", late)
+    with pytest.raises(gc.BudgetError, match=r"time limit of 100 s in the final verification, while sampling the "
+                                             r"certified set \(n_verify = 5000 points\).*lower n_verify"):
+        gc.certify_roa(_vdp(), degree=2, iterations=1, n_truth=256, n_verify=5000, time_limit=100.0)
+    # on_budget="stop" documents that the final checks still run in full: the same call certifies
+    _Clock.now = 0.0
+    cert = gc.certify_roa(_vdp(), degree=2, iterations=1, n_truth=256, n_verify=5000, n_simulate=16, time_limit=100.0,
+                          on_budget="stop")
+    assert cert.certified and cert.verification.n_simulated == 16
+
+
+def test_time_limit_bounds_the_final_simulations(monkeypatch):
+    real = certify_mod.integrate_batch
+    seen = []
+
+    def batch(f, X0, t_final, **kw):
+        if kw.get("rtol") == 1e-7:       # the verification's simulations: they get the time left, and run out
+            seen.append(kw.get("time_limit"))
+            raise gc.BudgetError("integrate_batch (16 runs) stopped at its time limit")
+        return real(f, X0, t_final, **kw)
+
+    monkeypatch.setattr(certify_mod, "integrate_batch", batch)
+    with pytest.raises(gc.BudgetError, match=r"final verification ran out of its time limit while simulating "
+                                             r"n_simulate = 16 runs.*lower n_simulate or horizon"):
+        gc.certify_roa(_vdp(), degree=2, iterations=1, n_truth=256, n_verify=5000, n_simulate=16, time_limit=100.0)
+    assert len(seen) == 1 and 0 < seen[0] <= 100.0
+
+
+def test_tiny_time_limit_stops_quickly_with_a_budget_error():
+    t = time.perf_counter()
+    with pytest.raises(gc.BudgetError, match=r"time limit of 0\.001 s"):
+        gc.certify_roa(_vdp(), degree=2, time_limit=1e-3)
+    assert time.perf_counter() - t < 5.0

@@ -1357,8 +1357,10 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
-def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool) -> np.ndarray:
-    """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample."""
+def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool,
+                check: Any = None) -> np.ndarray:
+    """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample.
+    ``check()`` (optional) is called before every batch of directions and every bisection step (a time budget)."""
     x0 = np.asarray(ps.equilibrium, dtype=float)
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     w = np.maximum(x0 - lo, hi - x0)
@@ -1372,6 +1374,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         return _contains(ps, V, rho, X)
 
     for _ in range(200):
+        if check is not None:
+            check()
         m = max(2 * n, 256)
         U = np.zeros((m, ps.n))
         U[:, free] = rng.standard_normal((m, nf))
@@ -1383,6 +1387,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         inside = contains(x0 + b[:, None] * D)
         a[inside] = b[inside]
         for _ in range(40):
+            if check is not None:
+                check()
             mid = 0.5 * (a + b)
             ok = contains(x0 + mid[:, None] * D) | inside
             a, b = np.where(ok, mid, a), np.where(ok, b, mid)
@@ -1405,8 +1411,26 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
     return np.concatenate(out)[:n]
 
 
+_VERIFY_CHUNK = 4096     # points per membership / dV/dt batch of the verification (time checks between batches)
+
+
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
-            n_simulate: int, horizon: float, seed: int) -> ROAVerification:
+            n_simulate: int, horizon: float, seed: int, deadline: checks.Deadline | None = None) -> ROAVerification:
+    """The a-posteriori checks. With a ``deadline`` (``time_limit`` of :func:`certify_roa`, ``on_budget="raise"``),
+    every step is bounded by it: :class:`BudgetError` naming the step and what to lower, never fewer samples or
+    simulations than asked for."""
+
+    def remaining() -> float:
+        return math.inf if deadline is None or deadline.limit is None else deadline.limit - deadline.elapsed
+
+    def budget(step: str, lower: str) -> None:
+        if remaining() < 0:
+            raise BudgetError(f"certify_roa stopped at its time limit of {deadline.limit:g} s in the final "
+                              f"verification, while {step} (the SOS certificate itself was found): raise time_limit, "
+                              f"or lower {lower}; the verification is never shortened to fit")
+
+    sampling = (f"sampling the certified set (n_verify = {n_verify} points) and checking the true dV/dt there",
+                "n_verify")
     x0 = ps.equilibrium
     H = hessian(lambda X: _V_of(V, ps, X), x0)
     A = _linearization(ps)
@@ -1416,24 +1440,43 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
     lo, hi = ps.box
     rng = np.random.default_rng(seed)
     X = lo + (hi - lo) * rng.random((n_verify, ps.n))
-    Xs = X[_contains(ps, V, rho, X)]
+    inside = np.zeros(n_verify, dtype=bool)
+    for a in range(0, n_verify, _VERIFY_CHUNK):
+        budget(*sampling)
+        inside[a:a + _VERIFY_CHUNK] = _contains(ps, V, rho, X[a:a + _VERIFY_CHUNK])
+    Xs = X[inside]
     if ps.remainder or Xs.shape[0] < n_verify // 20:
         # a thin set in many states (or the surrogate route): add points drawn in the set and on its boundary
         try:
-            Xs = np.concatenate([Xs, _sample_set(ps, V, rho, max(n_verify // 4, 1), seed, False),
-                                 _sample_set(ps, V, rho, max(n_verify // 4, 1), seed + 1, True)])
+            Xs = np.concatenate([Xs, _sample_set(ps, V, rho, max(n_verify // 4, 1), seed, False,
+                                                 lambda: budget(*sampling)),
+                                 _sample_set(ps, V, rho, max(n_verify // 4, 1), seed + 1, True,
+                                             lambda: budget(*sampling))])
         except SolverError:
             pass
     max_vd = float("nan")
     if Xs.shape[0]:
-        r2 = np.sum((Xs - x0) ** 2, axis=1)
-        max_vd = float(np.max(dVdt(V, ps.lift, ps.rhs, Xs) / np.maximum(r2, 1e-300)))
+        vd = []
+        for a in range(0, Xs.shape[0], _VERIFY_CHUNK):
+            budget(*sampling)
+            Xa = Xs[a:a + _VERIFY_CHUNK]
+            vd.append(dVdt(V, ps.lift, ps.rhs, Xa) / np.maximum(np.sum((Xa - x0) ** 2, axis=1), 1e-300))
+        max_vd = float(np.max(np.concatenate(vd)))
     # simulations from the outermost sampled points
     nsim = min(n_simulate, Xs.shape[0])
     conv = 0
     if nsim:
+        sims = (f"simulating n_simulate = {nsim} runs of length horizon = {horizon:g} from the outermost samples",
+                "n_simulate or horizon")
+        budget(*sims)
         pick = Xs[np.argsort(_V_of(V, ps, Xs))[::-1][:nsim]]
-        res = integrate_batch(ps.rhs, pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000)
+        left = remaining()
+        try:
+            res = integrate_batch(ps.rhs, pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000,
+                                  time_limit=None if math.isinf(left) else max(left, 1e-3))
+        except BudgetError as exc:
+            raise BudgetError(f"certify_roa's final verification ran out of its time limit while {sims[0]}: "
+                              f"raise time_limit, or lower {sims[1]} ({exc})") from exc
         conv = int(np.sum(res.converged_to(x0, 1e-3 * max(1.0, float(np.max(hi - lo))))))
     return ROAVerification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
 
@@ -1443,15 +1486,26 @@ def _default_horizon(ps: PolySystem) -> float:
     return 25.0 / float(np.min(np.abs(np.linalg.eigvals(_linearization(ps)).real)))
 
 
-def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarray:
-    """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium."""
+def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int,
+                  deadline: checks.Deadline | None = None) -> np.ndarray:
+    """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium (bounded by the
+    ``deadline``, if it has a limit: :class:`BudgetError` saying to lower ``n_truth`` or ``horizon``)."""
     lo, hi = ps.box
     X = lo + (hi - lo) * _sobol(ps.n, seed + 5, n)
     X = X[ps.in_cuts(X)]
     if X.shape[0] == 0:
         return X
-    res = integrate_batch(ps.rhs, X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
-                          bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
+    left = None if deadline is None or deadline.limit is None else deadline.limit - deadline.elapsed
+    what = (f"certify_roa stopped at its time limit of {deadline.limit if left is not None else 0:g} s while "
+            f"simulating n_truth = {n} box points over horizon = {horizon:g} (the points that steer the V step): "
+            "raise time_limit, or lower n_truth or horizon")
+    if left is not None and left <= 0:
+        raise BudgetError(what)
+    try:
+        res = integrate_batch(ps.rhs, X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
+                              bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))), time_limit=left)
+    except BudgetError as exc:
+        raise BudgetError(f"{what} ({exc})") from exc
     return X[res.converged_to(ps.equilibrium, 1e-3)]
 
 
@@ -1599,6 +1653,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     inner = checks.choice("inner", inner, GRAM_CONES)
     ps, full = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
+    t_route = deadline.elapsed
+    if on_budget == "raise":
+        deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)")
     weight = None
     if initial is not None and not isinstance(initial, Poly):
         # a weight matrix: the starting V is the quadratic cost-to-go (x - x_e)^T P (x - x_e), A'P + PA = -weight
@@ -1659,7 +1716,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     best = (cur_vol, V)
     history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
                     "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
-    Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed))
+    Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed, deadline if on_budget == "raise" else None))
     if Zt.shape[0] == 0:
         raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
                           "nothing to steer the V step towards (check the box and the horizon)")
@@ -1754,7 +1811,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                         f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
         bo = min(3 * bo, 0.25) if bo > 0 else 0.01
     Vz = _from_scaled(V, k)
-    ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
+    ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
+                  deadline=deadline if on_budget == "raise" else None)
     scale = k * (ps.scale if ps.scale is not None else 1.0)
     return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree, tuple(history),
                           ver, t_solve, time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
