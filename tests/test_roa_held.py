@@ -200,3 +200,26 @@ def test_tiny_time_limit_stops_quickly_with_a_budget_error():
     with pytest.raises(gc.BudgetError, match=r"time limit of 0\.001 s"):
         gc.certify_roa(_vdp(), degree=2, time_limit=1e-3)
     assert time.perf_counter() - t < 5.0
+
+
+def test_budget_message_says_what_took_the_time_and_what_would_fit(monkeypatch):
+    monkeypatch.setattr(certify_mod.checks, "Deadline", _FakeDeadline)
+    real = certify_mod._level
+    calls = []
+
+    def level(*args, **kwargs):         # the limit passes after the first V step's level problem
+        out = real(*args, **kwargs)
+        calls.append(1)
+        if len(calls) == 2:
+            _Clock.now = 1e9
+        return out
+
+    _Clock.now = 0.0
+    monkeypatch.setattr(certify_mod, "_level", level)
+    with pytest.raises(gc.BudgetError) as err:
+        gc.certify_roa(_vdp(), degree=2, iterations=3, n_truth=256, time_limit=100.0)
+    msg = str(err.value)
+    assert "degree 2, before a V step; time spent: building the exact recast system of 2 states" in msg
+    assert "first level problem" in msg and "simulating n_truth = 256 box points" in msg
+    assert "1 V step(s) with their level problems" in msg
+    assert "degree 2 with iterations = 3 needs about" in msg and "raise time_limit to that" in msg

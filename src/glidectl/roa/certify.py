@@ -1670,11 +1670,27 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     _require_exponential_stability(ps, _linearization(ps))
     _check_memory(ps, degree, ex, max_degree, limit, f"certify_roa(degree={degree})")
 
+    spent: dict[str, float] = {}      # wall time of each stage (s), for the budget message
+    v_steps: list[float] = []
+
+    def time_spent() -> str:
+        """What took the time so far and what the requested run would need (what would fit)."""
+        parts = [f"{k} {v:.1f} s" for k, v in spent.items()]
+        if v_steps:
+            parts.append(f"{len(v_steps)} V step(s) with their level problems, {max(v_steps):.1f} s at most each")
+            per = max(v_steps)
+            need = sum(spent.values()) + per * iterations * len(range(2, degree + 1, 2)) + per
+            est = (f"degree {degree} with iterations = {iterations} needs about {need:.0f} s before the final "
+                   f"verification: raise time_limit to that, or lower iterations (or degree)")
+        else:
+            est = "no V step finished within the limit: raise time_limit, or lower degree or n_truth"
+        return f"time spent: {', '.join(parts)}; {est}"
+
     def out_of_time(where: str) -> bool:
         if deadline.limit is None or deadline.elapsed <= deadline.limit:
             return False
         if on_budget == "raise":
-            deadline.check(f"{where}; pass on_budget='stop' to certify the best V found so far")
+            deadline.check(f"{where}; {time_spent()}; or pass on_budget='stop' to certify the best V found so far")
         return True
 
     k = _scaling(ps)
@@ -1692,6 +1708,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     t_solve = 0.0
     # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
     cache: dict | None = {} if reuse and inner == "sos" else None
+    spent[f"building the {ps.method} system of {ps.n} states"] = t_route
+    t_stage = time.perf_counter()
     try:
         lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache, cone=inner)
     except SolverError as exc:
@@ -1703,6 +1721,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         raise SolverError(f"the first level problem with inner='{inner}' gives level {lvl.rho:.3g} <= 0: the "
                           f"{inner.upper()} inner approximation cannot certify the starting V; use inner='sos'")
     t_solve += lvl.solve_time
+    spent["first level problem"] = time.perf_counter() - t_stage
     V, lam = V / lvl.rho, lvl.lam
     lo, hi = ps.box
     Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
@@ -1716,7 +1735,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     best = (cur_vol, V)
     history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
                     "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
+    t_stage = time.perf_counter()
     Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed, deadline if on_budget == "raise" else None))
+    spent[f"simulating n_truth = {n_truth} box points"] = time.perf_counter() - t_stage
     if Zt.shape[0] == 0:
         raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
                           "nothing to steer the V step towards (check the box and the horizon)")
@@ -1733,6 +1754,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             if out_of_time(f"degree {degV}, before a V step"):
                 stopped_by = "time_limit"
                 break
+            t_stage = time.perf_counter()
             try:
                 if inner == "sos":
                     prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache)
@@ -1756,6 +1778,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 stopped_by = "solver failure"
                 break
             V, lam = Vn / lv.rho, lv.lam
+            v_steps.append(time.perf_counter() - t_stage)
             cur_vol = vol(V)
             history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
                             "sdp_time": prog.solve_time + lv.solve_time,
