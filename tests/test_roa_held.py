@@ -88,6 +88,12 @@ def test_locked_state_is_held_and_the_set_is_certified_on_the_others():
                           2**12, 0, dim=2)
     assert 0 < area < 36.0 and cert.volume(n=2**12) == area
     assert cert.box[0].tolist() == BOX[0].tolist() and cert.box[1].tolist() == BOX[1].tolist()
+    # the plot takes the full states: a slice in (x1, x2) through the equilibrium (x3 at its value)
+    import matplotlib.pyplot as plt
+
+    ax = cert.plot(dims=("x1", "x2"), n=21, samples=False)
+    assert ax.get_xlabel() and ax.get_ylabel()
+    plt.close(ax.figure)
 
 
 def test_a_moving_state_with_a_zero_linearization_row_is_not_held():

@@ -1526,7 +1526,11 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         equilibrium must be exponentially stable. A :class:`~glidectl.roa.lmi.SaturatedLoop`
         (:func:`glidectl.saturated_loop`) with a polynomial plant is certified with its saturation as S-procedure
         terms (:func:`~glidectl.roa.sector.sector_system`, ``method = "sos-sector"``; the states are its free
-        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`.
+        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`. A closed loop
+        whose locked states never move (the states its law locks, as :func:`glidectl.saturated_loop` holds them, and
+        states whose derivative is zero on the box once those are fixed; e.g. ``r_P3``, ``rdot_P3`` when the vehicle
+        file fixes ``r_P3``) is certified on its other states with the locked ones held at their equilibrium
+        values: ``cert.held`` names them, and the set is certified for them AT those values.
     degree : int
         Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
     iterations : int
@@ -1563,14 +1567,19 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     max_degree : int
         Largest ``degree`` accepted (default :data:`MAX_DEGREE` = 8): SDP time grows steeply with the degree.
     time_limit : float, optional
-        Wall-time budget (s), checked between SDPs (an SDP under way is not interrupted); default none.
+        Wall-time budget (s), checked between SDPs (an SDP under way is not interrupted); default none. With
+        ``on_budget="raise"`` it also bounds the ``n_truth`` simulations and every step of the final verification
+        (sampling the set in batches, the true ``dV/dt``, the simulations from the outermost samples, given the time
+        left): :class:`~glidectl.BudgetError` names the step and what to lower (``n_verify``, ``n_simulate``,
+        ``horizon``, ``n_truth``); the verification is never shortened to fit. A budget message also gives the wall
+        time of each stage so far and the time the requested run would need.
     memory_limit : float, optional
         Bytes the largest program may need (:func:`estimate_sos_size`, checked before anything is built); default
         :data:`MEMORY_FRACTION` (half) of the physical memory, or of the address-space limit if one is set.
     on_budget : {"raise", "stop"}
         What hitting ``time_limit`` does: raise :class:`~glidectl.BudgetError` (default), or end the alternation and
-        certify the best ``V`` found so far (the final certification SDPs and checks still run), with
-        ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
+        certify the best ``V`` found so far (the final certification SDPs and checks still run, in full and past the
+        limit), with ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
     box : (array_like, array_like) or mapping, optional
         Region of interest in state units, ``(lo, hi)`` or ``{state name: (lo, hi)}``
         (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the validity box of its
@@ -1604,7 +1613,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     -------
     ROACertificate
         With ``stopped_by`` saying what ended the alternation at the final degree, ``method`` the route, ``box``
-        and ``scale`` what was used.
+        and ``scale`` what was used, ``held`` the states held at their equilibrium values.
 
     Raises
     ------
@@ -1617,14 +1626,16 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         SaturatedLoop); a box that is invalid, misses
         limits for some states or does not contain the equilibrium.
     ModelError
-        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), the model
+        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre; for a
+        closed loop, its linearization on the states that are not held, checked before it is recast or a surrogate
+        is built), the model
         cannot be recast exactly with ``method="exact"`` (the message names the derivatives that are not
         polynomial in which states), the model has no equilibrium, or its right-hand side is not complex-safe or
         not finite on the box (surrogate route).
     BudgetError
         If ``degree > max_degree`` or the program would need more than ``memory_limit`` (the message gives the
-        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``). For the surrogate route
-        the size is checked before the model is evaluated at all.
+        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``), the final verification
+        included. For the surrogate route the size is checked before the model is evaluated at all.
     SolverError
         If the first level problem fails (no certificate at all) or no simulated box point converges.
     """
