@@ -1666,7 +1666,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
     t_route = deadline.elapsed
     if on_budget == "raise":
-        deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)")
+        deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)"
+                       + ("" if full is None else f", {', '.join(full.names[i] for i in full.held)} held"))
     weight = None
     if initial is not None and not isinstance(initial, Poly):
         # a weight matrix: the starting V is the quadratic cost-to-go (x - x_e)^T P (x - x_e), A'P + PA = -weight
@@ -1719,7 +1720,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     t_solve = 0.0
     # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
     cache: dict | None = {} if reuse and inner == "sos" else None
-    spent[f"building the {ps.method} system of {ps.n} states"] = t_route
+    held_note = "" if full is None else (f" (free states; {', '.join(full.names[i] for i in full.held)} held at "
+                                         "their equilibrium values)")
+    spent[f"building the {ps.method} system of {ps.n} states{held_note}"] = t_route
     t_stage = time.perf_counter()
     try:
         lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache, cone=inner)
