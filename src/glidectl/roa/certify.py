@@ -54,7 +54,7 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
-from .lmi import SaturatedLoop
+from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
 from .sector import sector_system
@@ -180,17 +180,19 @@ def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
     return P
 
 
-def _require_exponential_stability(ps: PolySystem, A: np.ndarray) -> np.ndarray:
-    """The eigenvalues of ``A``; :class:`ModelError` unless every real part is below ``-1e-9 max|lambda|``."""
+def _require_exponential_stability(ps: Any, A: np.ndarray) -> np.ndarray:
+    """The eigenvalues of ``A``; :class:`ModelError` unless every real part is below ``-1e-9 max|lambda|`` (``ps``:
+    anything with the system's ``name``)."""
+    name = getattr(ps, "name", type(ps).__name__)
     if not np.all(np.isfinite(A)):
-        raise ModelError(f"the linearization of '{ps.name}' at its equilibrium is not finite")
+        raise ModelError(f"the linearization of '{name}' at its equilibrium is not finite")
     lam = np.linalg.eigvals(A)
     scale = float(np.max(np.abs(lam), initial=0.0))
     worst = float(np.max(lam.real))
     if scale == 0.0 or worst >= -1e-9 * scale:
         kind = ("marginally stable (eigenvalues on the imaginary axis, e.g. a centre)" if abs(worst) <= 1e-9 * scale
                 else "unstable")
-        raise ModelError(f"the equilibrium of '{ps.name}' is not exponentially stable: its linearization is {kind}, "
+        raise ModelError(f"the equilibrium of '{name}' is not exponentially stable: its linearization is {kind}, "
                          f"eigenvalues {np.round(lam, 6).tolist()}. A region of attraction is certified only for an "
                          "exponentially stable equilibrium (every eigenvalue with negative real part)")
     return lam
@@ -1105,6 +1107,12 @@ class ROACertificate:
     scale : ndarray or None
         Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
         surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
+    held : tuple of str
+        States held at their equilibrium values (``system.equilibrium``): a closed loop's locked states, whose
+        derivative is zero on the box with them there (e.g. ``r_P3``, ``rdot_P3`` of a glider whose vehicle file
+        fixes ``r_P3``). The set is certified on the other states, for the held ones AT those values: every method
+        takes full states, :meth:`contains` is false unless the held states are at their values (relative 1e-12),
+        :meth:`sample` returns them there and :meth:`volume` is the volume in the other states. Empty if none.
     """
 
     system: PolySystem = field(repr=False)
@@ -1120,6 +1128,7 @@ class ROACertificate:
     stopped_by: str = ""
     method: str = "exact recast"
     scale: np.ndarray | None = field(default=None, repr=False)
+    held: tuple[str, ...] = ()
 
     @property
     def box(self) -> tuple[np.ndarray, np.ndarray]:
@@ -1231,7 +1240,8 @@ class ROACertificate:
         return _contains(self.system, self.V, self.rho, X, n_path)
 
     def volume(self, box: tuple[Any, Any] | None = None, n: int = 2**16, seed: int = 0) -> float:
-        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC.
+        """Volume (area for 2 states) of the certified set inside ``box`` (default the system's), quasi-MC; with
+        :attr:`held` states, the volume in the other states (the held ones at their values).
 
         Parameters
         ----------
@@ -1255,7 +1265,24 @@ class ROACertificate:
             If ``box`` has the wrong shape, is not finite or has ``lo >= hi``, or ``n`` or ``seed`` is out of
             range.
         """
-        return box_measure(self.contains, box if box is not None else self.system.box, n, seed, dim=self.system.n)
+        ps = self.system
+        if not ps.held:
+            return box_measure(self.contains, box if box is not None else ps.box, n, seed, dim=ps.n)
+        if box is None:
+            box = ps.box
+        if not isinstance(box, tuple | list) or len(box) != 2:
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({ps.n},)")
+        lo = checks.array("box lo", box[0], shape=(ps.n,))
+        hi = checks.array("box hi", box[1], shape=(ps.n,))
+        free = [i for i in range(ps.n) if i not in ps.held]
+        xe = np.asarray(ps.equilibrium, dtype=float)
+
+        def inside(Y: np.ndarray) -> np.ndarray:      # the free states; the held ones at their values
+            X = np.tile(xe, (len(Y), 1))
+            X[:, free] = Y
+            return self.contains(X)
+
+        return box_measure(inside, (lo[free], hi[free]), n, seed, dim=len(free))
 
     HISTORY_HEADER: ClassVar[tuple[str, ...]] = ("problem", "deg", "step", "rho", "measure", "SDP s")
     """Column names of :meth:`history_table`."""
@@ -1330,11 +1357,15 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
-def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool) -> np.ndarray:
-    """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample."""
+def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool,
+                check: Any = None) -> np.ndarray:
+    """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample.
+    ``check()`` (optional) is called before every batch of directions and every bisection step (a time budget)."""
     x0 = np.asarray(ps.equilibrium, dtype=float)
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     w = np.maximum(x0 - lo, hi - x0)
+    free = [i for i in range(ps.n) if i not in ps.held]      # held states stay at their values
+    nf = len(free)
     rng = np.random.default_rng(seed)
     out: list[np.ndarray] = []
     got = 0
@@ -1343,8 +1374,11 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         return _contains(ps, V, rho, X)
 
     for _ in range(200):
+        if check is not None:
+            check()
         m = max(2 * n, 256)
-        U = rng.standard_normal((m, ps.n))
+        U = np.zeros((m, ps.n))
+        U[:, free] = rng.standard_normal((m, nf))
         U /= np.linalg.norm(U, axis=1, keepdims=True)
         D = U * w                                   # directions in state units
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -1353,6 +1387,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         inside = contains(x0 + b[:, None] * D)
         a[inside] = b[inside]
         for _ in range(40):
+            if check is not None:
+                check()
             mid = 0.5 * (a + b)
             ok = contains(x0 + mid[:, None] * D) | inside
             a, b = np.where(ok, mid, a), np.where(ok, b, mid)
@@ -1363,8 +1399,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         else:
             if not np.any(R > 0):
                 continue
-            keep = (rng.random(m) < (R / np.max(R)) ** ps.n) & (R > 0)
-            rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / ps.n)
+            keep = (rng.random(m) < (R / np.max(R)) ** nf) & (R > 0)
+            rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / nf)
             pts = x0 + rad[:, None] * D[keep]
         out.append(pts)
         got += len(pts)
@@ -1375,8 +1411,26 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
     return np.concatenate(out)[:n]
 
 
+_VERIFY_CHUNK = 4096     # points per membership / dV/dt batch of the verification (time checks between batches)
+
+
 def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *, n_verify: int,
-            n_simulate: int, horizon: float, seed: int) -> ROAVerification:
+            n_simulate: int, horizon: float, seed: int, deadline: checks.Deadline | None = None) -> ROAVerification:
+    """The a-posteriori checks. With a ``deadline`` (``time_limit`` of :func:`certify_roa`, ``on_budget="raise"``),
+    every step is bounded by it: :class:`BudgetError` naming the step and what to lower, never fewer samples or
+    simulations than asked for."""
+
+    def remaining() -> float:
+        return math.inf if deadline is None or deadline.limit is None else deadline.limit - deadline.elapsed
+
+    def budget(step: str, lower: str) -> None:
+        if remaining() < 0:
+            raise BudgetError(f"certify_roa stopped at its time limit of {deadline.limit:g} s in the final "
+                              f"verification, while {step} (the SOS certificate itself was found): raise time_limit, "
+                              f"or lower {lower}; the verification is never shortened to fit")
+
+    sampling = (f"sampling the certified set (n_verify = {n_verify} points) and checking the true dV/dt there",
+                "n_verify")
     x0 = ps.equilibrium
     H = hessian(lambda X: _V_of(V, ps, X), x0)
     A = _linearization(ps)
@@ -1386,24 +1440,43 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
     lo, hi = ps.box
     rng = np.random.default_rng(seed)
     X = lo + (hi - lo) * rng.random((n_verify, ps.n))
-    Xs = X[_contains(ps, V, rho, X)]
+    inside = np.zeros(n_verify, dtype=bool)
+    for a in range(0, n_verify, _VERIFY_CHUNK):
+        budget(*sampling)
+        inside[a:a + _VERIFY_CHUNK] = _contains(ps, V, rho, X[a:a + _VERIFY_CHUNK])
+    Xs = X[inside]
     if ps.remainder or Xs.shape[0] < n_verify // 20:
         # a thin set in many states (or the surrogate route): add points drawn in the set and on its boundary
         try:
-            Xs = np.concatenate([Xs, _sample_set(ps, V, rho, max(n_verify // 4, 1), seed, False),
-                                 _sample_set(ps, V, rho, max(n_verify // 4, 1), seed + 1, True)])
+            Xs = np.concatenate([Xs, _sample_set(ps, V, rho, max(n_verify // 4, 1), seed, False,
+                                                 lambda: budget(*sampling)),
+                                 _sample_set(ps, V, rho, max(n_verify // 4, 1), seed + 1, True,
+                                             lambda: budget(*sampling))])
         except SolverError:
             pass
     max_vd = float("nan")
     if Xs.shape[0]:
-        r2 = np.sum((Xs - x0) ** 2, axis=1)
-        max_vd = float(np.max(dVdt(V, ps.lift, ps.rhs, Xs) / np.maximum(r2, 1e-300)))
+        vd = []
+        for a in range(0, Xs.shape[0], _VERIFY_CHUNK):
+            budget(*sampling)
+            Xa = Xs[a:a + _VERIFY_CHUNK]
+            vd.append(dVdt(V, ps.lift, ps.rhs, Xa) / np.maximum(np.sum((Xa - x0) ** 2, axis=1), 1e-300))
+        max_vd = float(np.max(np.concatenate(vd)))
     # simulations from the outermost sampled points
     nsim = min(n_simulate, Xs.shape[0])
     conv = 0
     if nsim:
+        sims = (f"simulating n_simulate = {nsim} runs of length horizon = {horizon:g} from the outermost samples",
+                "n_simulate or horizon")
+        budget(*sims)
         pick = Xs[np.argsort(_V_of(V, ps, Xs))[::-1][:nsim]]
-        res = integrate_batch(ps.rhs, pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000)
+        left = remaining()
+        try:
+            res = integrate_batch(ps.rhs, pick, horizon, rtol=1e-7, atol=1e-10, max_steps=200_000,
+                                  time_limit=None if math.isinf(left) else max(left, 1e-3))
+        except BudgetError as exc:
+            raise BudgetError(f"certify_roa's final verification ran out of its time limit while {sims[0]}: "
+                              f"raise time_limit, or lower {sims[1]} ({exc})") from exc
         conv = int(np.sum(res.converged_to(x0, 1e-3 * max(1.0, float(np.max(hi - lo))))))
     return ROAVerification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
 
@@ -1413,15 +1486,26 @@ def _default_horizon(ps: PolySystem) -> float:
     return 25.0 / float(np.min(np.abs(np.linalg.eigvals(_linearization(ps)).real)))
 
 
-def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int) -> np.ndarray:
-    """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium."""
+def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int,
+                  deadline: checks.Deadline | None = None) -> np.ndarray:
+    """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium (bounded by the
+    ``deadline``, if it has a limit: :class:`BudgetError` saying to lower ``n_truth`` or ``horizon``)."""
     lo, hi = ps.box
     X = lo + (hi - lo) * _sobol(ps.n, seed + 5, n)
     X = X[ps.in_cuts(X)]
     if X.shape[0] == 0:
         return X
-    res = integrate_batch(ps.rhs, X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
-                          bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))))
+    left = None if deadline is None or deadline.limit is None else deadline.limit - deadline.elapsed
+    what = (f"certify_roa stopped at its time limit of {deadline.limit if left is not None else 0:g} s while "
+            f"simulating n_truth = {n} box points over horizon = {horizon:g} (the points that steer the V step): "
+            "raise time_limit, or lower n_truth or horizon")
+    if left is not None and left <= 0:
+        raise BudgetError(what)
+    try:
+        res = integrate_batch(ps.rhs, X, horizon, rtol=1e-6, atol=1e-9, max_steps=50_000,
+                              bound=1e3 * float(np.max(np.abs(np.concatenate([lo, hi])))), time_limit=left)
+    except BudgetError as exc:
+        raise BudgetError(f"{what} ({exc})") from exc
     return X[res.converged_to(ps.equilibrium, 1e-3)]
 
 
@@ -1442,7 +1526,11 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         equilibrium must be exponentially stable. A :class:`~glidectl.roa.lmi.SaturatedLoop`
         (:func:`glidectl.saturated_loop`) with a polynomial plant is certified with its saturation as S-procedure
         terms (:func:`~glidectl.roa.sector.sector_system`, ``method = "sos-sector"``; the states are its free
-        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`.
+        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`. A closed loop
+        whose locked states never move (the states its law locks, as :func:`glidectl.saturated_loop` holds them, and
+        states whose derivative is zero on the box once those are fixed; e.g. ``r_P3``, ``rdot_P3`` when the vehicle
+        file fixes ``r_P3``) is certified on its other states with the locked ones held at their equilibrium
+        values: ``cert.held`` names them, and the set is certified for them AT those values.
     degree : int
         Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
     iterations : int
@@ -1479,14 +1567,19 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     max_degree : int
         Largest ``degree`` accepted (default :data:`MAX_DEGREE` = 8): SDP time grows steeply with the degree.
     time_limit : float, optional
-        Wall-time budget (s), checked between SDPs (an SDP under way is not interrupted); default none.
+        Wall-time budget (s), checked between SDPs (an SDP under way is not interrupted); default none. With
+        ``on_budget="raise"`` it also bounds the ``n_truth`` simulations and every step of the final verification
+        (sampling the set in batches, the true ``dV/dt``, the simulations from the outermost samples, given the time
+        left): :class:`~glidectl.BudgetError` names the step and what to lower (``n_verify``, ``n_simulate``,
+        ``horizon``, ``n_truth``); the verification is never shortened to fit. A budget message also gives the wall
+        time of each stage so far and the time the requested run would need.
     memory_limit : float, optional
         Bytes the largest program may need (:func:`estimate_sos_size`, checked before anything is built); default
         :data:`MEMORY_FRACTION` (half) of the physical memory, or of the address-space limit if one is set.
     on_budget : {"raise", "stop"}
         What hitting ``time_limit`` does: raise :class:`~glidectl.BudgetError` (default), or end the alternation and
-        certify the best ``V`` found so far (the final certification SDPs and checks still run), with
-        ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
+        certify the best ``V`` found so far (the final certification SDPs and checks still run, in full and past the
+        limit), with ``stopped_by = "time_limit"``. ``max_degree`` and ``memory_limit`` always refuse up front.
     box : (array_like, array_like) or mapping, optional
         Region of interest in state units, ``(lo, hi)`` or ``{state name: (lo, hi)}``
         (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the validity box of its
@@ -1520,7 +1613,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     -------
     ROACertificate
         With ``stopped_by`` saying what ended the alternation at the final degree, ``method`` the route, ``box``
-        and ``scale`` what was used.
+        and ``scale`` what was used, ``held`` the states held at their equilibrium values.
 
     Raises
     ------
@@ -1533,14 +1626,16 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         SaturatedLoop); a box that is invalid, misses
         limits for some states or does not contain the equilibrium.
     ModelError
-        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre), the model
+        If the equilibrium is not exponentially stable (unstable, or marginally stable such as a centre; for a
+        closed loop, its linearization on the states that are not held, checked before it is recast or a surrogate
+        is built), the model
         cannot be recast exactly with ``method="exact"`` (the message names the derivatives that are not
         polynomial in which states), the model has no equilibrium, or its right-hand side is not complex-safe or
         not finite on the box (surrogate route).
     BudgetError
         If ``degree > max_degree`` or the program would need more than ``memory_limit`` (the message gives the
-        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``). For the surrogate route
-        the size is checked before the model is evaluated at all.
+        largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``), the final verification
+        included. For the surrogate route the size is checked before the model is evaluated at all.
     SolverError
         If the first level problem fails (no certificate at all) or no simulated box point converges.
     """
@@ -1567,8 +1662,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     margin = checks.real("margin", margin, lo=1.0)
     reuse = checks.boolean("reuse", reuse)
     inner = checks.choice("inner", inner, GRAM_CONES)
-    ps = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
+    ps, full = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                 speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
+    t_route = deadline.elapsed
+    if on_budget == "raise":
+        deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)"
+                       + ("" if full is None else f", {', '.join(full.names[i] for i in full.held)} held"))
     weight = None
     if initial is not None and not isinstance(initial, Poly):
         # a weight matrix: the starting V is the quadratic cost-to-go (x - x_e)^T P (x - x_e), A'P + PA = -weight
@@ -1583,11 +1682,27 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     _require_exponential_stability(ps, _linearization(ps))
     _check_memory(ps, degree, ex, max_degree, limit, f"certify_roa(degree={degree})")
 
+    spent: dict[str, float] = {}      # wall time of each stage (s), for the budget message
+    v_steps: list[float] = []
+
+    def time_spent() -> str:
+        """What took the time so far and what the requested run would need (what would fit)."""
+        parts = [f"{k} {v:.1f} s" for k, v in spent.items()]
+        if v_steps:
+            parts.append(f"{len(v_steps)} V step(s) with their level problems, {max(v_steps):.1f} s at most each")
+            per = max(v_steps)
+            need = sum(spent.values()) + per * iterations * len(range(2, degree + 1, 2)) + per
+            est = (f"degree {degree} with iterations = {iterations} needs about {need:.0f} s before the final "
+                   f"verification: raise time_limit to that, or lower iterations (or degree)")
+        else:
+            est = "no V step finished within the limit: raise time_limit, or lower degree or n_truth"
+        return f"time spent: {', '.join(parts)}; {est}"
+
     def out_of_time(where: str) -> bool:
         if deadline.limit is None or deadline.elapsed <= deadline.limit:
             return False
         if on_budget == "raise":
-            deadline.check(f"{where}; pass on_budget='stop' to certify the best V found so far")
+            deadline.check(f"{where}; {time_spent()}; or pass on_budget='stop' to certify the best V found so far")
         return True
 
     k = _scaling(ps)
@@ -1605,6 +1720,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     t_solve = 0.0
     # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
     cache: dict | None = {} if reuse and inner == "sos" else None
+    held_note = "" if full is None else (f" (free states; {', '.join(full.names[i] for i in full.held)} held at "
+                                         "their equilibrium values)")
+    spent[f"building the {ps.method} system of {ps.n} states{held_note}"] = t_route
+    t_stage = time.perf_counter()
     try:
         lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache, cone=inner)
     except SolverError as exc:
@@ -1616,6 +1735,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         raise SolverError(f"the first level problem with inner='{inner}' gives level {lvl.rho:.3g} <= 0: the "
                           f"{inner.upper()} inner approximation cannot certify the starting V; use inner='sos'")
     t_solve += lvl.solve_time
+    spent["first level problem"] = time.perf_counter() - t_stage
     V, lam = V / lvl.rho, lvl.lam
     lo, hi = ps.box
     Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
@@ -1629,7 +1749,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     best = (cur_vol, V)
     history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
                     "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
-    Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed))
+    t_stage = time.perf_counter()
+    Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed, deadline if on_budget == "raise" else None))
+    spent[f"simulating n_truth = {n_truth} box points"] = time.perf_counter() - t_stage
     if Zt.shape[0] == 0:
         raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
                           "nothing to steer the V step towards (check the box and the horizon)")
@@ -1646,6 +1768,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             if out_of_time(f"degree {degV}, before a V step"):
                 stopped_by = "time_limit"
                 break
+            t_stage = time.perf_counter()
             try:
                 if inner == "sos":
                     prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache)
@@ -1669,6 +1792,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 stopped_by = "solver failure"
                 break
             V, lam = Vn / lv.rho, lv.lam
+            v_steps.append(time.perf_counter() - t_stage)
             cur_vol = vol(V)
             history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
                             "sdp_time": prog.solve_time + lv.solve_time,
@@ -1724,11 +1848,13 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                         f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
         bo = min(3 * bo, 0.25) if bo > 0 else 0.01
     Vz = _from_scaled(V, k)
-    ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed)
+    ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
+                  deadline=deadline if on_budget == "raise" else None)
     scale = k * (ps.scale if ps.scale is not None else 1.0)
-    return ROACertificate(ps, Vz, rho_c, fin_rho, Vz.degree, tuple(history), ver, t_solve,
-                          time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
-                          scale=np.asarray(scale, dtype=float))
+    return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree, tuple(history),
+                          ver, t_solve, time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
+                          scale=np.asarray(scale, dtype=float),
+                          held=() if full is None else tuple(full.names[i] for i in full.held))
 
 
 # --------------------------------------------------------------------------------------------- routes (issue 17)
@@ -1777,17 +1903,108 @@ def _is_roa_model(system: Any) -> bool:
             and np.all(np.asarray(eq, dtype=float) == 0.0))
 
 
+def _held_states(model: Any, xe: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> tuple[int, ...]:
+    """States of a closed loop that never move: the states its law locks (``locked_states`` of its controller, as
+    :func:`glidectl.saturated_loop` holds them) and those whose row of the linearization vanishes once the states
+    already held are fixed (repeated: ``r_P3' = rdot_P3`` is held once ``rdot_P3`` is), kept only if their derivative
+    is zero on box points with them at the equilibrium (:func:`~glidectl.roa.lmi.held_points`,
+    :func:`~glidectl.roa.lmi.held_motion`, the check of :func:`glidectl.saturated_loop`): then ``{x_h = x_e,h}`` is
+    invariant on the box. Empty if none, or if every state would be held."""
+    names = tuple(model.state_names)
+    n = len(names)
+
+    def f(X: np.ndarray) -> np.ndarray:
+        return np.asarray(model.rhs(X))
+
+    with np.errstate(all="ignore"):
+        A = jacobians(lambda x, u: f(x[None, :])[0], xe, np.zeros(0))[0]
+    if not np.all(np.isfinite(A)):
+        return ()
+    ctrl = getattr(getattr(model, "law", None), "__self__", None)
+    held = {names.index(q) for q in getattr(ctrl, "locked_states", ()) if q in names}
+    tol = 1e-12 * max(1.0, float(np.max(np.abs(A))))
+    while True:
+        free = [j for j in range(n) if j not in held]
+        new = {i for i in free if np.all(np.abs(A[i, free]) <= tol)}
+        if not new:
+            break
+        held |= new
+    if not held or len(held) == n:
+        return ()
+    h = tuple(sorted(held))
+    with np.errstate(all="ignore"):
+        dX = np.real(f(held_points(box, xe, h)))
+    if not np.all(np.isfinite(dX)) or held_motion(dX, h) > 1e-12:
+        return ()
+    return h
+
+
+class _Held:
+    """A closed loop on its free states, the held ones fixed at their equilibrium values (an input-free model for
+    the exact and surrogate routes); angle indices are renumbered."""
+
+    def __init__(self, model: Any, held: tuple[int, ...], xe: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> None:
+        names = tuple(model.state_names)
+        self._f, self._xe, self._n = model.rhs, np.asarray(xe, dtype=float).copy(), len(names)
+        self.free = [i for i in range(len(names)) if i not in held]
+        self.state_names = tuple(names[i] for i in self.free)
+        self.equilibrium = self._xe[self.free]
+        self.box = (box[0][self.free], box[1][self.free])
+        self.name = getattr(model, "name", type(model).__name__)
+        self.provenance = str(getattr(model, "provenance", ""))
+        self.time_unit = getattr(model, "time_unit", "s")
+        new = {i: k for k, i in enumerate(self.free)}
+        for a in ("angle_states", "mixed_angle_states"):
+            if hasattr(model, a):
+                setattr(self, a, tuple(new[i] for i in getattr(model, a) if i in new))
+        if getattr(model, "positive_state", None) in new:
+            self.positive_state = new[model.positive_state]
+
+    def rhs(self, Y: Any) -> np.ndarray:
+        Y = np.asarray(Y)
+        X = np.broadcast_to(self._xe, (*Y.shape[:-1], self._n)).astype(Y.dtype).copy()
+        X[..., self.free] = Y
+        return np.asarray(self._f(X))[..., self.free]
+
+
+@dataclass(frozen=True)
+class _Full:
+    """The full states of a loop certified on its free states (:class:`_Held`)."""
+
+    names: tuple[str, ...]
+    held: tuple[int, ...]
+    free: tuple[int, ...]
+    equilibrium: np.ndarray
+    box: tuple[np.ndarray, np.ndarray]
+    rhs: Any
+
+
+def _embed(ps: PolySystem, full: _Full) -> PolySystem:
+    """The certified free-state system as a system of all the states (held ones at their equilibrium values): what
+    the certificate's contains, value, sample, volume and plot take."""
+    free = list(full.free)
+    xe = full.equilibrium.copy()
+    xe[free] = ps.equilibrium
+    lift0 = ps.lift
+    return dataclasses.replace(
+        ps, state_names=full.names, lift=lambda X: lift0(np.asarray(X)[..., free]), rhs=full.rhs, equilibrium=xe,
+        box=(full.box[0].copy(), full.box[1].copy()), held=full.held,
+        angle_states=tuple(free[i] for i in ps.angle_states), mixed_states=tuple(free[i] for i in ps.mixed_states))
+
+
 def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin: float, speed_floor: float, seed: int,
-           degree: int, max_degree: int, limit: float, extra: int | None) -> PolySystem:
-    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder. Budgets of the
-    surrogate route are checked before anything is sampled."""
+           degree: int, max_degree: int, limit: float, extra: int | None) -> tuple[PolySystem, _Full | None]:
+    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder; and, when the
+    loop has held states (:func:`_held_states`), the full states it is embedded in (else None). Budgets of the
+    surrogate route are checked before anything is sampled; a closed loop's linearization on its free states is
+    checked for exponential stability before it is recast or a surrogate is built."""
     if isinstance(system, PolySystem):
-        return system
+        return system, None
     if isinstance(system, SaturatedLoop):            # saturation in the SOS path: graph of sat as S-procedure terms
         if method not in ("auto", "exact"):
             raise ArgumentError(f"a SaturatedLoop is certified by the SOS path with its saturation as S-procedure "
                                 f"terms (method 'auto' or 'exact'), not method={method!r}")
-        return sector_system(system, seed=seed)
+        return sector_system(system, seed=seed), None
     names = getattr(system, "state_names", None)
     if names is None or not callable(getattr(system, "rhs", None)):
         raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "
@@ -1801,25 +2018,41 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
         _check_memory(sk, degree, _auto_extra(sk, extra), max_degree, limit,
                       f"certify_roa(degree={degree}) of a {len(tuple(names))}-state surrogate of degree "
                       f"{surrogate_degree}")
-    if method in ("auto", "exact"):
+    if _is_roa_model(system) and box is None:       # a model built for certification: its own box, x_e = 0
         try:
-            if _is_roa_model(system) and box is None:
-                return recast(system, speed_floor=speed_floor)
-            xe0 = getattr(system, "equilibrium", None)
-            if xe0 is None:
-                raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a "
-                                 "region of attraction needs one")
-            xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
-            lo, hi = resolve_box(system, box, xe0)
-            xe = refine_equilibrium(lambda X: np.asarray(system.rhs(X)), xe0)
-            n = len(xe)
-            dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
-            ps = recast(_Shifted(system, xe, (lo, hi)), speed_floor=speed_floor,
-                        max_degree=4 if method == "exact" else dmax, seed=seed)
-            lift0 = ps.lift
-            return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=system.rhs, equilibrium=xe,
-                                       box=(lo, hi))
+            if method in ("auto", "exact"):
+                return recast(system, speed_floor=speed_floor), None
         except ModelError:
             if method == "exact":
                 raise
-    return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed)
+        return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed), None
+    xe0 = getattr(system, "equilibrium", None)
+    if xe0 is None:
+        raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a region of "
+                         "attraction needs one (e.g. closed_loop(plant, law, equilibrium=...))")
+    xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
+    lo, hi = resolve_box(system, box, xe0)
+    held = _held_states(system, xe0, (lo, hi))
+    full = None
+    model: Any = system
+    if held:
+        model = _Held(system, held, xe0, (lo, hi))
+        full = _Full(tuple(names), held, tuple(model.free), xe0.copy(), (lo, hi), system.rhs)
+        lo, hi = model.box
+    xe = refine_equilibrium(lambda X: np.asarray(model.rhs(X)), np.asarray(model.equilibrium, dtype=float))
+    # fast refusal (issue 17): the linearization on the free states, before anything is recast or fitted
+    _require_exponential_stability(model, jacobians(lambda x, u: np.asarray(model.rhs(x[None, :]))[0], xe,
+                                                    np.zeros(0))[0])
+    if method in ("auto", "exact"):
+        try:
+            n = len(xe)
+            dmax = max((d for d in range(1, 5) if math.comb(n + d, d) <= _AUTO_RECAST_BASIS), default=1)
+            ps = recast(_Shifted(model, xe, (lo, hi)), speed_floor=speed_floor,
+                        max_degree=4 if method == "exact" else dmax, seed=seed)
+            lift0 = ps.lift
+            return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=model.rhs, equilibrium=xe,
+                                       box=(lo, hi)), full
+        except ModelError:
+            if method == "exact":
+                raise
+    return surrogate_system(model, (lo, hi), degree=surrogate_degree, margin=margin, seed=seed), full

@@ -212,6 +212,29 @@ class SaturatedLoop:
         return np.asarray(self.plant_rhs(X, self.input(X)))
 
 
+# --------------------------------------------------------------------------------------------- held states
+def held_points(box: tuple[np.ndarray, np.ndarray], equilibrium: np.ndarray, held: Any, n: int = 64,
+                seed: int = 7) -> np.ndarray:
+    """``n`` random points of the box with the ``held`` states at their equilibrium values, and the equilibrium
+    (``(n + 1, n_states)``): where a held state is checked not to move (:func:`held_motion`; used by
+    :func:`glidectl.saturated_loop` and by :func:`glidectl.certify_roa` for the states it holds)."""
+    lo, hi = (np.asarray(b, dtype=float) for b in box)
+    xe = np.asarray(equilibrium, dtype=float)
+    X = lo + (hi - lo) * np.random.default_rng(seed).random((n, len(xe)))
+    X[:, list(held)] = xe[list(held)]
+    return np.concatenate([X, xe[None, :]])
+
+
+def held_motion(dX: np.ndarray, held: Any) -> float:
+    """Largest ``|x_h'|`` of the ``held`` states over rates ``dX`` (:func:`held_points`), relative to
+    ``max(1, max |x'|)``: a held state does not move when this is ``<= 1e-12``."""
+    h = list(held)
+    if not h:
+        return 0.0
+    dX = np.asarray(dX)
+    return float(np.max(np.abs(dX[:, h])) / max(1.0, float(np.max(np.abs(dX)))))
+
+
 # --------------------------------------------------------------------------------------------- scaled problem
 @dataclass(frozen=True)
 class _Scaled:

@@ -84,6 +84,10 @@ class PolySystem:
     inputs : tuple of int
         Saturated loops (:func:`~glidectl.roa.sector.sector_system`): indices in ``z`` of the saturated-input
         variables ``v``; ``V`` and its positivity condition do not involve them. Empty otherwise.
+    held : tuple of int
+        States held at their equilibrium values (a certificate of :func:`glidectl.certify_roa` for a loop whose
+        locked states never move): ``lift`` reads the other states only, ``slots`` are those of the other states,
+        and :meth:`in_cuts` holds only with the held states at the equilibrium. Empty otherwise.
     slots : tuple of tuple of int
         For each state of ``x``, the indices of its variables in ``z``.
     s_caps : dict
@@ -122,6 +126,9 @@ class PolySystem:
     remainder_bound: Any = field(default=None, repr=False)
     # --- SOS path with saturation (issue 17): z-indices of the saturated-input variables (V does not use them)
     inputs: tuple[int, ...] = ()
+    # --- held states (issue 17): indices of states fixed at their equilibrium values (certificates of loops with
+    # locked actuators: lift and cuts see the other states; in_cuts requires these at the equilibrium)
+    held: tuple[int, ...] = ()
 
     @property
     def n(self) -> int:
@@ -142,10 +149,15 @@ class PolySystem:
         return np.stack([f(Z) / d for f in self.F], axis=-1)
 
     def in_cuts(self, X: Any) -> np.ndarray:
-        Z = self.lift(np.asarray(X, dtype=float))
+        X = np.asarray(X, dtype=float)
+        Z = self.lift(X)
         ok = np.ones(Z.shape[:-1], dtype=bool)
         for g in self.cuts:
             ok &= g(Z) >= 0
+        if self.held:           # held states at their equilibrium values (relative 1e-12, as the LMI certificate)
+            h = list(self.held)
+            xe = np.asarray(self.equilibrium, dtype=float)[h]
+            ok &= np.all(np.abs(X[..., h] - xe) <= 1e-12 * np.maximum(1.0, np.abs(xe)), axis=-1)
         return ok
 
 
