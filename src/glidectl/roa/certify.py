@@ -1388,9 +1388,10 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
 
     Interior points come from rejection: uniform directions ``u`` (box-scaled, free states), kept with probability
     ``(R(u) / R_max)^nf`` (``R_max`` the largest radius of the batch), radius ``R(u) U^(1/nf)``. If after
-    ``_SWITCH_ROUNDS`` rounds the expected acceptance projects to more than ``_SWITCH_PROJECTED`` rounds (a thin set
-    in many states), the points drawn so far are dropped and :func:`_sample_directed` draws all ``n`` (another
-    random stream); otherwise the result is that of the rejection rounds alone, unchanged."""
+    ``_SWITCH_ROUNDS`` rounds the expected acceptance (sum of those probabilities) projects to more than
+    ``_SWITCH_PROJECTED`` rounds in all, or after any earlier round to more than ``_ROUNDS`` (the rounds allowed),
+    the set is thin in many states: the points drawn so far are dropped and :func:`_sample_directed` draws all
+    ``n`` (another random stream); otherwise the result is that of the rejection rounds alone, unchanged."""
     x0 = np.asarray(ps.equilibrium, dtype=float)
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     w = np.maximum(x0 - lo, hi - x0)
@@ -1425,8 +1426,8 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         got += len(pts)
         if got >= n:
             break
-        if not boundary and k + 1 == _SWITCH_ROUNDS and expected > 0 \
-                and n * (k + 1) / expected > _SWITCH_PROJECTED:
+        if not boundary and k + 1 <= _SWITCH_ROUNDS and expected > 0 and n * (k + 1) / expected > (
+                _SWITCH_PROJECTED if k + 1 == _SWITCH_ROUNDS else _ROUNDS):
             return _sample_directed(ps, V, rho, n, seed, check)
     if got == 0:
         raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
