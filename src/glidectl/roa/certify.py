@@ -1142,7 +1142,12 @@ class ROACertificate:
         The set is star-shaped about the equilibrium (:meth:`contains` checks the segment from it), so directions
         ``u`` are drawn uniformly in the box-scaled coordinates, the largest radius ``R(u)`` inside the set is found
         by bisection (40 steps) and the point is ``x_e + R(u) U^(1/n) u`` with ``U`` uniform, the direction kept
-        with probability ``(R(u) / R_max)^n``: uniform in the set up to the largest radius seen.
+        with probability ``(R(u) / R_max)^n``: uniform in the set up to the largest radius seen. A set too thin
+        for that (its expected acceptance projects to more than 20 rounds of ``max(2 n, 256)`` directions after 3
+        rounds, or to more than the 200 allowed after one) is sampled instead with directions proposed along the
+        Hessian of ``V`` at the equilibrium (angular central Gaussian) and kept with their importance weight
+        ``R(u)^n / q(u)`` over the largest weight proposed: uniform in the set as long as that largest weight bounds
+        the weights (exact for an ellipsoid), and the same points as before whenever the first way succeeds.
 
         Parameters
         ----------
