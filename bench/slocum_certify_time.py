@@ -10,6 +10,21 @@ import time
 import numpy as np
 
 import glidectl as gc
+import glidectl.roa.certify as certify_module
+
+VERIFY: list[float] = []
+_verify = certify_module._verify
+
+
+def _timed_verify(*args, **kwargs):            # wall time of the final verification (sampling, dV/dt, simulations)
+    t = time.perf_counter()
+    try:
+        return _verify(*args, **kwargs)
+    finally:
+        VERIFY.append(time.perf_counter() - t)
+
+
+certify_module._verify = _timed_verify
 
 
 def main() -> None:
@@ -20,9 +35,10 @@ def main() -> None:
     try:
         cert = gc.certify_roa(loop, degree=2, time_limit=120)
     except gc.errors.GlidectlError as exc:
-        print(f"{type(exc).__name__} after {time.perf_counter() - t:.1f} s: {exc}")
+        print(f"{type(exc).__name__} after {time.perf_counter() - t:.1f} s (final verification {VERIFY} s): {exc}")
         return
     wall = time.perf_counter() - t
+    print(f"final verification {VERIFY} s")
     print(f"wall {wall:.1f} s, certified {cert.certified}, stopped_by {cert.stopped_by!r}, rho {cert.rho:.4g}")
     print(cert.verification.summary())
     lo, hi = cert.box

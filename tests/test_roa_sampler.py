@@ -164,3 +164,22 @@ def test_directed_sampler_empty_set_raises():
     ps, V, _ = _thin()
     with pytest.raises(SolverError, match="empty"):
         cert_mod._sample_directed(ps, V, -1.0, 10, 0)
+
+
+def test_in_cuts_shared_powers_table_is_bitwise_each_cut():
+    import dataclasses
+
+    ps = _linear(3, [-1.0, -1.0, -1.0], [1.0, 1.0, 1.0])
+    a, b, c = Poly.variables(3)
+    cuts = (1.0 - a ** 2 - 0.3 * b ** 3, 0.5 + a * b * c - c ** 4, Poly({}, 3) + 1.0, 0.2 - b)
+    ps = dataclasses.replace(ps, cuts=cuts)
+    X = np.random.default_rng(2).uniform(-1.2, 1.2, (4000, 3))
+    want = np.ones(len(X), dtype=bool)
+    for g in cuts:
+        want &= g(X) >= 0
+    assert 0.05 < want.mean() < 0.95 and np.array_equal(ps.in_cuts(X), want)
+    from glidectl.roa.polynomial import _powers
+
+    pw = _powers(X, 4)
+    for g in cuts:
+        assert np.array_equal(g._on_powers(pw), g(X))
