@@ -1142,7 +1142,12 @@ class ROACertificate:
         The set is star-shaped about the equilibrium (:meth:`contains` checks the segment from it), so directions
         ``u`` are drawn uniformly in the box-scaled coordinates, the largest radius ``R(u)`` inside the set is found
         by bisection (40 steps) and the point is ``x_e + R(u) U^(1/n) u`` with ``U`` uniform, the direction kept
-        with probability ``(R(u) / R_max)^n``: uniform in the set up to the largest radius seen.
+        with probability ``(R(u) / R_max)^n``: uniform in the set up to the largest radius seen. A set too thin
+        for that (its expected acceptance projects to more than 20 rounds of ``max(2 n, 256)`` directions after 3
+        rounds, or to more than the 200 allowed after one) is sampled instead with directions proposed along the
+        Hessian of ``V`` at the equilibrium (angular central Gaussian) and kept with their importance weight
+        ``R(u)^n / q(u)`` over the largest weight proposed: uniform in the set as long as that largest weight bounds
+        the weights (exact for an ellipsoid), and the same points as before whenever the first way succeeds.
 
         Parameters
         ----------
@@ -1357,10 +1362,41 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
+_SWITCH_ROUNDS = 3       # rejection rounds of _sample_set before it may switch to the directed sampler
+_SWITCH_PROJECTED = 20   # ... which it does if the rejection sampler projects to more rounds than this
+_ROUNDS = 200            # rounds of directions at most (each sampler)
+
+
+def _radii(ps: PolySystem, V: Poly, rho: float, x0: np.ndarray, D: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+           check: Any = None) -> np.ndarray:
+    """Largest ``R`` with ``x0 + R D`` in the set (the box limits it), per row of ``D``: 40 bisection steps on
+    :func:`_contains`."""
+    m = D.shape[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tb = np.min(np.where(D > 0, (hi - x0) / D, np.where(D < 0, (lo - x0) / D, np.inf)), axis=1)
+    a, b = np.zeros(m), tb * (1 - 1e-12)
+    inside = _contains(ps, V, rho, x0 + b[:, None] * D)
+    a[inside] = b[inside]
+    for _ in range(40):
+        if check is not None:
+            check()
+        mid = 0.5 * (a + b)
+        ok = _contains(ps, V, rho, x0 + mid[:, None] * D) | inside
+        a, b = np.where(ok, mid, a), np.where(ok, b, mid)
+    return a
+
+
 def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary: bool,
                 check: Any = None) -> np.ndarray:
     """Points of the star-shaped set ``{V <= rho}`` (component of the equilibrium): see ROACertificate.sample.
-    ``check()`` (optional) is called before every batch of directions and every bisection step (a time budget)."""
+    ``check()`` (optional) is called before every batch of directions and every bisection step (a time budget).
+
+    Interior points come from rejection: uniform directions ``u`` (box-scaled, free states), kept with probability
+    ``(R(u) / R_max)^nf`` (``R_max`` the largest radius of the batch), radius ``R(u) U^(1/nf)``. If after
+    ``_SWITCH_ROUNDS`` rounds the expected acceptance (sum of those probabilities) projects to more than
+    ``_SWITCH_PROJECTED`` rounds in all, or after any earlier round to more than ``_ROUNDS`` (the rounds allowed),
+    the set is thin in many states: the points drawn so far are dropped and :func:`_sample_directed` draws all
+    ``n`` (another random stream); otherwise the result is that of the rejection rounds alone, unchanged."""
     x0 = np.asarray(ps.equilibrium, dtype=float)
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     w = np.maximum(x0 - lo, hi - x0)
@@ -1369,11 +1405,9 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
     rng = np.random.default_rng(seed)
     out: list[np.ndarray] = []
     got = 0
+    expected = 0.0      # expected accepted count of the rounds so far (sum of the acceptance probabilities)
 
-    def contains(X: np.ndarray) -> np.ndarray:
-        return _contains(ps, V, rho, X)
-
-    for _ in range(200):
+    for k in range(_ROUNDS):
         if check is not None:
             check()
         m = max(2 * n, 256)
@@ -1381,34 +1415,95 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
         U[:, free] = rng.standard_normal((m, nf))
         U /= np.linalg.norm(U, axis=1, keepdims=True)
         D = U * w                                   # directions in state units
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tb = np.min(np.where(D > 0, (hi - x0) / D, np.where(D < 0, (lo - x0) / D, np.inf)), axis=1)
-        a, b = np.zeros(m), tb * (1 - 1e-12)
-        inside = contains(x0 + b[:, None] * D)
-        a[inside] = b[inside]
-        for _ in range(40):
-            if check is not None:
-                check()
-            mid = 0.5 * (a + b)
-            ok = contains(x0 + mid[:, None] * D) | inside
-            a, b = np.where(ok, mid, a), np.where(ok, b, mid)
-        R = a
+        R = _radii(ps, V, rho, x0, D, lo, hi, check)
         if boundary:
             keep = R > 0
             pts = x0 + (R[keep] * (1 - 1e-9))[:, None] * D[keep]
         else:
             if not np.any(R > 0):
                 continue
-            keep = (rng.random(m) < (R / np.max(R)) ** nf) & (R > 0)
+            acc = (R / np.max(R)) ** nf
+            expected += float(np.sum(acc[R > 0]))
+            keep = (rng.random(m) < acc) & (R > 0)
             rad = R[keep] * rng.random(int(keep.sum())) ** (1.0 / nf)
             pts = x0 + rad[:, None] * D[keep]
         out.append(pts)
         got += len(pts)
         if got >= n:
             break
+        if not boundary and k + 1 <= _SWITCH_ROUNDS and expected > 0 and n * (k + 1) / expected > (
+                _SWITCH_PROJECTED if k + 1 == _SWITCH_ROUNDS else _ROUNDS):
+            return _sample_directed(ps, V, rho, n, seed, check)
     if got == 0:
         raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
     return np.concatenate(out)[:n]
+
+
+def _sample_directed(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, check: Any = None) -> np.ndarray:
+    """``n`` points of the star-shaped set ``{V <= rho}`` (component of the equilibrium), uniform in its volume, for
+    thin sets in many states where the rejection of :func:`_sample_set` accepts too few directions.
+
+    A uniform point of a star-shaped set is a direction ``u`` with density proportional to ``R(u)^nf`` (``R(u)`` the
+    boundary radius, ``nf`` the free states) times the radius ``R(u) U^(1/nf)``, ``U`` uniform. Directions are
+    proposed from the angular central Gaussian: ``u = z / |z|``, ``z ~ N(0, H^-1)`` with ``H`` the Hessian of
+    ``V(lift(x))`` at the equilibrium (box-scaled free states, eigenvalues clipped at 1e-8 of the largest), whose
+    density on the sphere is proportional to ``(u' H u)^(-nf/2)``: exactly ``R(u)^nf`` for an ellipsoid. A proposal
+    is kept with probability ``W(u) / W_max``, ``W(u) = (R(u)^2 u' H u)^(nf/2)`` the importance weight and
+    ``W_max`` the largest weight among ALL the directions proposed (the acceptance of every proposal is re-decided
+    with the final ``W_max``, its uniform number drawn once): the points are exactly uniform in the set whenever
+    ``W_max`` bounds ``W``; directions whose weight exceeds every one seen (a part of the set rarer than one in the
+    number proposed) are under-weighted, as the rejection of :func:`_sample_set` is with its batch's ``R_max``."""
+    x0 = np.asarray(ps.equilibrium, dtype=float)
+    lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+    w = np.maximum(x0 - lo, hi - x0)
+    free = [i for i in range(ps.n) if i not in ps.held]
+    nf = len(free)
+    try:
+        H = hessian(lambda X: _V_of(V, ps, X), x0)[np.ix_(free, free)] * np.outer(w[free], w[free])
+        lam, Q = np.linalg.eigh(0.5 * (H + H.T))
+        ok = bool(np.all(np.isfinite(lam)) and lam[-1] > 0)
+    except (np.linalg.LinAlgError, ValueError, FloatingPointError):
+        ok = False
+    if not ok:                          # no curvature to follow: uniform directions (still exact)
+        lam, Q = np.ones(nf), np.eye(nf)
+    lam = np.maximum(lam, 1e-8 * lam[-1])
+    Hs = (Q * lam) @ Q.T
+    L = Q / np.sqrt(lam)                # z = L g ~ N(0, Hs^-1)
+    rng = np.random.default_rng([seed, 17])
+    logW, logU, Rs, Vs, Ds = [], [], [], [], []
+    for _ in range(_ROUNDS):
+        if check is not None:
+            check()
+        m = max(2 * n, 256)
+        Z = rng.standard_normal((m, nf)) @ L.T
+        Z /= np.linalg.norm(Z, axis=1, keepdims=True)
+        U = np.zeros((m, ps.n))
+        U[:, free] = Z
+        D = U * w
+        R = _radii(ps, V, rho, x0, D, lo, hi, check)
+        with np.errstate(divide="ignore"):
+            logW.append(0.5 * nf * np.log(R ** 2 * np.einsum("ij,jk,ik->i", Z, Hs, Z)))
+        logU.append(np.log(rng.random(m)))
+        Vs.append(rng.random(m) ** (1.0 / nf))
+        Rs.append(R)
+        Ds.append(D)
+        lw = np.concatenate(logW)
+        top = float(np.max(lw))
+        if not np.isfinite(top):
+            continue
+        keep = (np.concatenate(logU) < lw - top) & (np.concatenate(Rs) > 0)
+        if int(keep.sum()) >= n:
+            idx = np.flatnonzero(keep)[:n]
+            rad = (np.concatenate(Rs) * np.concatenate(Vs))[idx]
+            return x0 + rad[:, None] * np.concatenate(Ds)[idx]
+    lw = np.concatenate(logW)
+    if not np.any(np.isfinite(lw)):
+        raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
+    keep = (np.concatenate(logU) < lw - np.max(lw)) & (np.concatenate(Rs) > 0)
+    if not np.any(keep):
+        raise SolverError("the certified set is empty in every sampled direction: nothing to sample")
+    idx = np.flatnonzero(keep)          # fewer than n points after every round (as _sample_set)
+    return x0 + (np.concatenate(Rs) * np.concatenate(Vs))[idx][:, None] * np.concatenate(Ds)[idx]
 
 
 _VERIFY_CHUNK = 4096     # points per membership / dV/dt batch of the verification (time checks between batches)

@@ -29,6 +29,14 @@ __all__ = ["Poly", "field_evaluator", "monomial_matrix", "monomials"]
 Exp = tuple[int, ...]
 
 
+def _powers(Z: np.ndarray, dmax: int) -> np.ndarray:
+    """Powers table ``(..., nvars, dmax + 1)`` of points ``Z`` (``[..., i, k] = Z[..., i]^k`` by repeated products)."""
+    pw = np.ones((*Z.shape, dmax + 1), dtype=np.result_type(Z, float))
+    for k in range(1, dmax + 1):
+        pw[..., k] = pw[..., k - 1] * Z
+    return pw
+
+
 class Poly:
     """Polynomial ``sum_k c_k z^{e_k}`` in ``nvars`` variables (immutable by convention).
 
@@ -178,12 +186,16 @@ class Poly:
         exps, coef = self.arrays()
         if exps.shape[0] == 0:
             return np.zeros(Z.shape[:-1], dtype=Z.dtype if np.iscomplexobj(Z) else float)
-        dmax = int(exps.max(initial=0))
-        # powers table (..., nvars, dmax + 1)
-        pw = np.ones((*Z.shape, dmax + 1), dtype=np.result_type(Z, float))
-        for k in range(1, dmax + 1):
-            pw[..., k] = pw[..., k - 1] * Z
-        out = np.zeros(Z.shape[:-1], dtype=pw.dtype)
+        return self._on_powers(_powers(Z, int(exps.max(initial=0))), exps, coef)
+
+    def _on_powers(self, pw: np.ndarray, exps: np.ndarray | None = None, coef: np.ndarray | None = None) -> Any:
+        """The value from a powers table ``pw`` of :func:`_powers` with at least this polynomial's largest exponent
+        (bitwise the value of :meth:`__call__`: one table serves several polynomials at the same points)."""
+        if exps is None or coef is None:
+            exps, coef = self.arrays()
+            if exps.shape[0] == 0:
+                return np.zeros(pw.shape[:-2], dtype=pw.dtype if np.iscomplexobj(pw) else float)
+        out = np.zeros(pw.shape[:-2], dtype=pw.dtype)
         for e, c in zip(exps, coef, strict=True):
             term = c
             for i in np.flatnonzero(e):
