@@ -24,13 +24,27 @@ from ..errors import ArgumentError, ArgumentTypeError, BudgetError
 #: Largest monomial basis :func:`monomials` enumerates (a bigger one would not fit any SDP anyway).
 MAX_BASIS = 10_000_000
 
-__all__ = ["Poly", "field_evaluator", "monomial_matrix", "monomials"]
+__all__ = ["Poly", "field_evaluator", "monomial_matrix", "monomials", "powers_table"]
 
 Exp = tuple[int, ...]
 
 
-def _powers(Z: np.ndarray, dmax: int) -> np.ndarray:
-    """Powers table ``(..., nvars, dmax + 1)`` of points ``Z`` (``[..., i, k] = Z[..., i]^k`` by repeated products)."""
+def powers_table(Z: np.ndarray, dmax: int) -> np.ndarray:
+    """Powers table of points ``Z``: ``[..., i, k] = Z[..., i]^k`` by repeated products (what :meth:`Poly.__call__`
+    evaluates a polynomial on; one table serves several polynomials at the same points, :meth:`Poly.on_powers`).
+
+    Parameters
+    ----------
+    Z : ndarray (..., nvars)
+        Points (real or complex).
+    dmax : int
+        Largest exponent needed.
+
+    Returns
+    -------
+    ndarray (..., nvars, dmax + 1)
+        The powers ``0..dmax`` of every coordinate.
+    """
     pw = np.ones((*Z.shape, dmax + 1), dtype=np.result_type(Z, float))
     for k in range(1, dmax + 1):
         pw[..., k] = pw[..., k - 1] * Z
@@ -186,11 +200,24 @@ class Poly:
         exps, coef = self.arrays()
         if exps.shape[0] == 0:
             return np.zeros(Z.shape[:-1], dtype=Z.dtype if np.iscomplexobj(Z) else float)
-        return self._on_powers(_powers(Z, int(exps.max(initial=0))), exps, coef)
+        return self.on_powers(powers_table(Z, int(exps.max(initial=0))), exps, coef)
 
-    def _on_powers(self, pw: np.ndarray, exps: np.ndarray | None = None, coef: np.ndarray | None = None) -> Any:
-        """The value from a powers table ``pw`` of :func:`_powers` with at least this polynomial's largest exponent
-        (bitwise the value of :meth:`__call__`: one table serves several polynomials at the same points)."""
+    def on_powers(self, pw: np.ndarray, exps: np.ndarray | None = None, coef: np.ndarray | None = None) -> Any:
+        """The value from a powers table (bitwise the value of :meth:`__call__`: one table serves several
+        polynomials at the same points).
+
+        Parameters
+        ----------
+        pw : ndarray (..., nvars, d + 1)
+            :func:`powers_table` of the points, with ``d`` at least this polynomial's largest exponent.
+        exps, coef : ndarray, optional
+            :meth:`arrays` of this polynomial (computed when omitted).
+
+        Returns
+        -------
+        ndarray (...)
+            The polynomial at the points.
+        """
         if exps is None or coef is None:
             exps, coef = self.arrays()
             if exps.shape[0] == 0:

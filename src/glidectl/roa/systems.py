@@ -33,7 +33,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
-from .polynomial import Poly, _powers, field_evaluator, monomial_matrix, monomials
+from .polynomial import Poly, field_evaluator, monomial_matrix, monomials, powers_table
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
 
@@ -154,9 +154,9 @@ class PolySystem:
         ok = np.ones(Z.shape[:-1], dtype=bool)
         if self.cuts:       # one powers table for every cut (bitwise each cut's own evaluation)
             dmax = max((max(e) for g in self.cuts for e in g.terms), default=0)
-            pw = _powers(np.asarray(Z), dmax)
+            pw = powers_table(np.asarray(Z), dmax)
             for g in self.cuts:
-                ok &= g._on_powers(pw) >= 0
+                ok &= g.on_powers(pw) >= 0
         if self.held:           # held states at their equilibrium values (relative 1e-12, as the LMI certificate)
             h = list(self.held)
             xe = np.asarray(self.equilibrium, dtype=float)[h]
