@@ -444,10 +444,14 @@ def _report(res: _Results) -> Report:
         ct = res.ctol
         rep.number("ctol_certified_volume", ct["volume"], "-", f"degree-{ct['cert'].degree} certificate in the box "
                    "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1",
-                   note="Reproducible to about 1 digit only: the V step's optimum is not unique, so rounding-level "
-                        "differences (thread counts of the SDP solver and BLAS) pick different optimal V. Builds "
-                        "with these settings gave 0.0041 and 0.0042, and 0.0033 without program reuse; every one "
-                        "verified.")
+                   note="Reproducible to about 1 digit only, and resting partly on the solver. The V step's optimum "
+                        "is not unique, and the level program is ill-conditioned: for the starting V, Clarabel "
+                        "returns the level 0.00438 with the level capped at 1e6 (as here), 0.00250 with the cap at "
+                        "1 and 0.00184 at tolerances 1e-10, and SDPA (Schur form) 0.00096 (measured 2026-12-02). "
+                        "Builds gave 0.0041 and 0.0042, and 0.0033 without program reuse. Each passed the Gram check "
+                        "of the decrease and positivity conditions and the sampled verification (true dV/dt < 0 on "
+                        "the samples, simulations converge); the PSD-ness of the S-procedure multipliers is the "
+                        "solver's, not checked.")
         rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "
                    "the Hessian of Q; the level is ~1e-8)",
                    note=f"Theorem 5 certified: {ct['theorem5_certified']}; its ball r_a = {ct['r_a']:.3g} has "
