@@ -25,6 +25,7 @@ ROGUE = Path(gc.__file__).resolve().parent / "vehicles" / "rogue.toml"
 # a design whose three parts each load the vehicle file, trim a glide and cache a value; pid and a seed per part
 PARTED = '''
 import os
+import time
 
 import numpy as np
 
@@ -36,6 +37,7 @@ VEHICLE = {vehicle!r}
 
 
 def part(gamma_deg):
+    time.sleep(0.5)     # long enough that the pool's second worker takes a part (fast parts may all go to one)
     veh = gc.load_vehicle(VEHICLE)
     g = gc.steady_glide(veh, 0.3, np.radians(gamma_deg), r_p3=0.05)
     noise = cached(("noise", gamma_deg), lambda: float(np.random.default_rng(int(-gamma_deg)).random()))
