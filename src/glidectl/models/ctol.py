@@ -69,7 +69,7 @@ def lift_coefficient(veh: Vehicle, alpha: Any) -> Any:
         If it is not a CTOL aircraft.
     """
     require_ctol(veh)
-    return _lift(veh, alpha)
+    return _lift_from(veh.rho_AW_half * veh.a_L, veh.c, alpha)
 
 
 def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
@@ -83,16 +83,6 @@ def drag_coefficient(veh: Vehicle, alpha: Any) -> Any:
         If it is not a CTOL aircraft.
     """
     require_ctol(veh)
-    return _drag(veh, alpha)
-
-
-def _lift(veh: Vehicle, alpha: Any) -> Any:
-    """:func:`lift_coefficient` of a vehicle already checked to be a CTOL aircraft."""
-    return _lift_from(veh.rho_AW_half * veh.a_L, veh.c, alpha)
-
-
-def _drag(veh: Vehicle, alpha: Any) -> Any:
-    """:func:`drag_coefficient` of a vehicle already checked to be a CTOL aircraft."""
     return _drag_from(veh.rho_AW_half * veh.a_D, veh.b, veh.c, alpha)
 
 
@@ -110,7 +100,7 @@ def _drag_from(drag0: Any, b: Any, c: Any, alpha: Any) -> Any:
 def _constants(veh: Vehicle) -> tuple[Any, ...]:
     """``(rho A_W/2 a_L, rho A_W/2 a_D, b, c, epsilon, m, g, J)`` of a CTOL aircraft: the constants of (7.1)-(7.7)
     and (7.12)-(7.15), read once per model instance instead of by attribute look-ups on every call (the products
-    are those :func:`_lift` and :func:`_drag` form first, so the values are the same to the last bit).
+    are those :func:`lift_coefficient` and :func:`drag_coefficient` form first: the same values to the last bit).
 
     Raises
     ------
