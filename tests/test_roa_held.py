@@ -229,3 +229,20 @@ def test_budget_message_says_what_took_the_time_and_what_would_fit(monkeypatch):
     assert "first level problem" in msg and "simulating n_truth = 256 box points" in msg
     assert "1 V step(s) with their level problems" in msg
     assert "degree 2 with iterations = 3 needs about" in msg and "raise time_limit to that" in msg
+
+
+def test_the_surrogate_memory_estimate_counts_only_the_free_states():
+    """A limit between the sizes of the 2-free-state and the 3-state surrogate programs: not refused (x3 is held, so
+    the program has 2 states); a limit below the 2-state size: refused up front, naming the held state."""
+    def size(n: int) -> float:
+        sk = certify_mod.skeleton(n, 3)
+        return certify_mod._size(sk, 4, certify_mod._auto_extra(sk, None)).bytes
+
+    two, three = size(2), size(3)
+    assert two < three
+    with pytest.raises(gc.BudgetError) as exc:
+        gc.certify_roa(Loop(k=0.3), degree=4, box=BOX, method="surrogate", memory_limit=0.5 * (two + three),
+                       time_limit=1e-9)
+    assert "refused before building anything" not in str(exc.value)      # the time limit, not the memory estimate
+    with pytest.raises(gc.BudgetError, match=r"2-state surrogate of degree 3 \(x3 held\).*refused before building"):
+        gc.certify_roa(Loop(k=0.3), degree=4, box=BOX, method="surrogate", memory_limit=0.5 * two)

@@ -724,11 +724,12 @@ class _PLin:
     def lie(self, F: list[Poly]) -> _PLin:
         return _PLin(self.L0.lie(F), {key: (p, L.lie(F)) for key, (p, L) in self.parts.items()})
 
-    def value(self) -> Poly:
-        """The polynomial at the solved unknowns and the current Parameter values."""
-        out = self.L0.value()
+    def value(self, values: Any = None) -> Poly:
+        """The polynomial at the solved unknowns (``values[u]`` instead where given, see LinPoly.value) and the
+        current Parameter values."""
+        out = self.L0.value(values)
         for (_, j), (p, L) in self.parts.items():
-            out = out + L.value() * float(p.value[j])
+            out = out + L.value(values) * float(p.value[j])
         return out
 
 
@@ -2108,12 +2109,14 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
         raise ArgumentTypeError(f"{type(system).__name__} has inputs {tuple(system.input_names)}: certify_roa needs "
                                 "an input-free model with an equilibrium; close the loop first "
                                 "(gc.closed_loop(controller) or gc.closed_loop(plant, law))")
-    if method != "exact":
-        sk = skeleton(len(tuple(names)), surrogate_degree)
-        _check_memory(sk, degree, _auto_extra(sk, extra), max_degree, limit,
-                      f"certify_roa(degree={degree}) of a {len(tuple(names))}-state surrogate of degree "
-                      f"{surrogate_degree}")
+    def surrogate_fits(n: int, note: str = "") -> None:
+        if method != "exact":
+            sk = skeleton(n, surrogate_degree)
+            _check_memory(sk, degree, _auto_extra(sk, extra), max_degree, limit,
+                          f"certify_roa(degree={degree}) of a {n}-state surrogate of degree {surrogate_degree}{note}")
+
     if _is_roa_model(system) and box is None:       # a model built for certification: its own box, x_e = 0
+        surrogate_fits(len(tuple(names)))
         try:
             if method in ("auto", "exact"):
                 return recast(system, speed_floor=speed_floor), None
@@ -2128,6 +2131,9 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
     xe0 = checks.array("equilibrium", xe0, shape=(len(tuple(names)),))
     lo, hi = resolve_box(system, box, xe0)
     held = _held_states(system, xe0, (lo, hi))
+    # the size of the surrogate route counts the free states only (the held ones are not variables of the program)
+    surrogate_fits(len(tuple(names)) - len(held),
+                   f" ({', '.join(tuple(names)[i] for i in held)} held)" if held else "")
     full = None
     model: Any = system
     if held:

@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 import time
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -300,11 +300,11 @@ class LinPoly:
         """Lie derivative along ``F`` (linear, so applied column by column)."""
         return LinPoly(self.const.lie(F), {u: [c.lie(F) for c in cols] for u, cols in self.parts.items()})
 
-    def value(self) -> Poly:
-        """The polynomial at the solved unknowns."""
+    def value(self, values: Mapping[Unknown, np.ndarray] | None = None) -> Poly:
+        """The polynomial at the solved unknowns (``values[u]`` instead of ``u.value()`` where given)."""
         t = dict(self.const.terms)          # accumulated in place: one pass over the columns' terms
         for u, cols in self.parts.items():
-            v = u.value().ravel(order="F")
+            v = (values[u] if values is not None and u in values else u.value()).ravel(order="F")
             for c, x in zip(cols, v, strict=True):
                 if x != 0.0 and not c.is_zero:
                     xf = float(x)
@@ -319,13 +319,16 @@ class GramCheck:
 
     ``slack = lambda_min(Q) - n_basis max|residual|`` (positive means exactly SOS, see the module docstring);
     ``margin = lambda_min(Q) / (n_basis max|residual|)`` (``>= 1`` holds; ``inf`` for a zero residual and
-    ``lambda_min(Q) > 0``); ``passed`` is ``slack > 0`` (equivalently ``margin > 1``).
+    ``lambda_min(Q) > 0``); ``passed`` is ``slack > 0`` (equivalently ``margin > 1``). The residual is that of the
+    constraint with every SOS multiplier made exactly SOS first (``multiplier_shift``, see
+    :meth:`SOSProgram.multiplier_values`).
     """
 
     name: str
     n_basis: int
     min_eig: float
     max_residual: float
+    multiplier_shift: float = 0.0   # largest ``delta`` added to a multiplier's Gram matrix (``Q + delta I >= 0``)
 
     @property
     def slack(self) -> float:
@@ -527,17 +530,54 @@ class SOSProgram:
                               "infeasible at this degree/level or numerically ill-posed")
         return float(val)
 
+    def multiplier_values(self) -> dict[Unknown, np.ndarray]:
+        """The Gram matrices of the SOS multipliers, made positive semidefinite: ``Q + delta I``.
+
+        A multiplier is an SOS polynomial of :meth:`sos_poly` that is not the Gram matrix of an :meth:`add_sos`
+        constraint (the ``tau``/``sigma`` of the S-procedure). The solver returns its Gram matrix ``Q`` only up to
+        its tolerance, possibly with a negative eigenvalue; the certificate needs the multiplier exactly SOS. So
+        ``delta = max(0, gamma - lambda_min(Q))`` with ``gamma = 4 n eps max|lambda(Q)|`` (above the backward error
+        of the symmetric eigensolver), which makes ``Q + delta I`` positive semidefinite, and :meth:`check` evaluates
+        every constraint with these matrices (the change ``delta m^T m`` of the multiplier lands in the residuals).
+
+        Returns
+        -------
+        dict
+            ``Unknown -> (n, n) array`` for every multiplier Gram unknown.
+        """
+        return {u: Q for u, (Q, _) in self._multipliers().items()}
+
+    def _multipliers(self) -> dict[Unknown, tuple[np.ndarray, float]]:
+        """:meth:`multiplier_values` with each ``delta``."""
+        own = {id(u) for _, _, us in self.sos_constraints for u in us}
+        out: dict[Unknown, tuple[np.ndarray, float]] = {}
+        for u in self.unknowns:
+            if not u.gram or id(u) in own or not u.basis:
+                continue
+            Q = u.value()
+            Q = 0.5 * (Q + Q.T)
+            lam = np.linalg.eigvalsh(Q)
+            gamma = 4.0 * len(Q) * np.finfo(float).eps * float(np.max(np.abs(lam)))
+            delta = max(gamma - float(lam[0]), 0.0)
+            out[u] = (Q + delta * np.eye(len(Q)) if delta > 0 else Q, delta)
+        return out
+
     def check(self) -> list[GramCheck]:
         """Gram eigenvalues against coefficient residuals for every SOS constraint (:class:`GramCheck`).
 
         With a block-diagonal Gram matrix, ``min_eig`` is the smallest eigenvalue over the blocks and ``n_basis``
         the size of the whole basis (the residual matrix ``R`` may couple blocks). A residual on a monomial that the
         unreduced basis reaches but the reduced one does not cannot be absorbed: it counts as an infinite residual
-        (the reduction never makes a certificate pass that the unreduced program would fail)."""
+        (the reduction never makes a certificate pass that the unreduced program would fail). The constraints are
+        evaluated with every SOS multiplier made exactly SOS (:meth:`multiplier_values`): a check that passes
+        holds for multipliers that are SOS, not only for the solver's approximately SOS ones."""
+        found = self._multipliers()
+        mult = {u: Q for u, (Q, _) in found.items()}
+        shifts = {u: d for u, (_, d) in found.items()}
         out = []
         for name, expr, us in self.sos_constraints:
             nb = sum(len(u.basis) for u in us)
-            res = expr.value()
+            res = expr.value(mult)
             mins = []
             for u in us:
                 Q = u.value()
@@ -549,8 +589,17 @@ class SOSProgram:
             lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
             out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
             r = math.inf if out_res > 0 else res.max_abs_coefficient()
-            out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r))
+            shift = max((shifts[u] for u in _unknowns_of(expr) if u in shifts), default=0.0)
+            out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift))
         return out
+
+
+def _unknowns_of(expr: Any) -> list[Unknown]:
+    """The unknowns an expression of :attr:`SOSProgram.sos_constraints` depends on (LinPoly, or any object with
+    ``L0`` and Parameter-weighted ``parts`` of LinPolys)."""
+    if isinstance(expr, LinPoly):
+        return list(expr.parts)
+    return list(expr.L0.parts) + [u for _, L in expr.parts.values() for u in L.parts]
 
 
 def linear_support(expr: LinPoly) -> set[Exp]:

@@ -413,4 +413,4 @@ def abs_gradient_bounds(ps: PolySystem, V: Poly, R: list[Poly], *, solver: str =
     delta = max(delta, 0.0) + 1e-9 * max((t.value().max_abs_coefficient() for t in ts), default=1.0)
     mm = sum((Poly({tuple(2 * k for k in e): 1.0}, nz) for e in monomials(nz, degT // 2)), Poly({}, nz))
     out = [t.value() + mm * delta for t in ts]
-    return out, [GramCheck(c.name, c.n_basis, c.min_eig + delta, c.max_residual) for c in checks_]
+    return out, [GramCheck(c.name, c.n_basis, c.min_eig + delta, c.max_residual, c.multiplier_shift) for c in checks_]

@@ -1,0 +1,91 @@
+"""The Gram check covers the S-procedure multipliers: a certificate passes only if it holds with every multiplier
+exactly SOS (its Gram matrix made positive semidefinite), not with the solver's approximately SOS one."""
+
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from glidectl.roa.polynomial import Poly, monomials
+from glidectl.roa.sos import LinPoly, SOSProgram
+
+
+def _program() -> tuple[SOSProgram, object, list]:
+    """``2 x^2 + 1 - sigma`` SOS with the multiplier ``sigma = s x^2`` SOS (``0 <= s <= 2``)."""
+    x = Poly.variables(1)[0]
+    prog = SOSProgram(1)
+    u, sigma = prog.sos_poly("sigma", [(1,)])
+    us = prog.add_sos("p", LinPoly(2.0 * x**2 + 1.0) - sigma, monomials(1, 1))
+    prog.solve(cp.Minimize(0))
+    return prog, u, us
+
+
+def _fake(u: object, us: list, s: float) -> None:
+    """Set the multiplier to ``s x^2`` and the constraint's Gram matrix to match ``(2 - s) x^2 + 1`` exactly."""
+    u.var.value = np.array([[s]])
+    coef = {(0,): 1.0, (1,): 2.0 - s}       # Gram diagonal on the monomials 1 and x (one block each, or one block)
+    for g in us:
+        g.var.value = np.diag([coef[tuple(b)] for b in g.basis])
+
+
+def test_a_solved_program_with_a_psd_multiplier_passes_unshifted():
+    prog, u, us = _program()
+    _fake(u, us, 0.5)
+    (chk,) = prog.check()
+    assert chk.passed and chk.multiplier_shift == 0.0 and chk.max_residual < 1e-15
+    assert list(prog.multiplier_values()) == [u]
+
+
+def test_a_negative_multiplier_fails_the_check_it_used_to_pass():
+    """``sigma = -0.6 x^2`` is not SOS. With it, ``p = 2.6 x^2 + 1`` has an exact Gram matrix (what the check saw
+    before: residual 0, passed); made SOS (``sigma = 0``) the constraint is ``2 x^2 + 1`` against the Gram matrix of
+    ``2.6 x^2 + 1``: residual 0.6 on x^2, slack 1 - 2 * 0.6 < 0."""
+    prog, u, us = _program()
+    _fake(u, us, -0.6)
+    _, expr, grams = prog.sos_constraints[0]
+    raw = expr.value() - sum((g.poly() for g in grams), Poly({}, 1))
+    assert raw.max_abs_coefficient() < 1e-15          # the old check's residual: the certificate looked exact
+    (chk,) = prog.check()
+    assert chk.multiplier_shift == pytest.approx(0.6, rel=1e-12)
+    assert chk.max_residual == pytest.approx(0.6, rel=1e-12)
+    assert not chk.passed and chk.slack == pytest.approx(1.0 - 2 * 0.6, rel=1e-12)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.floats(min_value=1e-9, max_value=1.0))
+def test_the_shift_is_the_multipliers_negative_eigenvalue(q: float):
+    prog, u, us = _program()
+    _fake(u, us, -q)
+    (chk,) = prog.check()
+    (Qp,) = prog.multiplier_values().values()
+    assert np.linalg.eigvalsh(Qp)[0] >= 0.0
+    assert chk.multiplier_shift == pytest.approx(q, rel=1e-9)
+    assert chk.max_residual == pytest.approx(q, rel=1e-9)
+    assert chk.passed == (1.0 - 2 * q > 0)
+
+
+def test_real_level_program_multipliers_are_made_psd_and_counted():
+    """A solved level program of the chapter-5 reduced glider (a recast with a speed cut, so with multipliers):
+    every multiplier Gram matrix given to the check is PSD, and the check's residual of each constraint is the
+    residual at those matrices."""
+    import glidectl as gc
+    from glidectl.roa import certify as C
+
+    ps = gc.recast(gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model())
+    assert ps.cuts
+    F = C._scaled(ps)
+    V = C.lyapunov_quadratic(ps)
+    prog, out = C._build(ps, F, 2, V=V, lam=None, rho=None, eps=0.0, extra=0, margin=False)
+    prog.solve(cp.Maximize(out["rho"].var))
+    mult = prog.multiplier_values()
+    assert mult, "the level program has S-procedure multipliers"
+    for Q in mult.values():
+        assert np.linalg.eigvalsh(Q)[0] >= 0.0
+    for chk, (_, expr, grams) in zip(prog.check(), prog.sos_constraints, strict=True):
+        res = expr.value(mult)
+        for g in grams:
+            res = res - g.poly()
+        assert chk.max_residual == pytest.approx(res.max_abs_coefficient(), rel=1e-12, abs=1e-300)
