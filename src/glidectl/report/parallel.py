@@ -532,6 +532,8 @@ def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool
                     display.message(name, msg)
             time.sleep(0.1)
     finally:
+        with lock:                   # the client keeps ``receive`` after unsubscribing: let it hold no futures
+            pending.clear()
         try:
             client.unsubscribe_topic(_DASK_TOPIC)
         except Exception:  # a closed client or scheduler: nothing left to unsubscribe
