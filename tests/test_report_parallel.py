@@ -249,3 +249,34 @@ def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):
     third = max(starts, key=starts.get)
     last_steps = [i for i, ln in enumerate(lines) if "writing the report" in ln and third not in ln]
     assert last_steps and starts[third] > min(last_steps), lines
+
+
+def test_on_a_cluster_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):
+    """One dask worker with one thread and two designs: the second design's start line comes after the first one's
+    summary line (it is printed when the worker starts the design, not when it is submitted), and the progress
+    messages from inside the designs reach the display (through the scheduler's event topic)."""
+    import re
+
+    distributed = pytest.importorskip("distributed")  # the dask extra (installed by .ci/run)
+    folder = tmp_path / "d"
+    folder.mkdir()
+    paths = []
+    for name, seed in (("slow_a", 1), ("slow_b", 2)):
+        p = folder / f"{name}.py"
+        p.write_text(DESIGN.format(name=name, seed=seed).replace(
+            "    rng = np.random", "    import time\n    time.sleep(1.0)\n    rng = np.random"))
+        paths.append(p)
+    stream = io.StringIO()
+    with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as lc:
+        build_designs([load_design(p) for p in paths], tmp_path / "o", quick=True, scheduler=lc.scheduler_address,
+                      use_cache=False, stream=stream)
+    lines = stream.getvalue().splitlines()
+    starts = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"\] (slow_\w): tiny", ln))}
+    dones = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"\] (slow_\w): done in", ln))}
+    assert set(starts) == set(dones) == {"slow_a", "slow_b"}, lines
+    first, second = sorted(starts, key=starts.get)
+    assert starts[second] > dones[first], lines             # not shown as running while it waited for the thread
+    for name in (first, second):                             # the design's own steps, between its start and end
+        steps = [i for i, ln in enumerate(lines) if ln.startswith(f"  {name} [")]
+        assert [lines[i].split(" s  ", 1)[1] for i in steps] == ["glides", "writing the report"], lines
+        assert starts[name] < min(steps) and max(steps) < dones[name], lines

@@ -6,6 +6,10 @@ design's name, path and source text), so it runs unchanged in this process, in a
 dask worker; it returns the files the design wrote as bytes (a :class:`~glidectl.report.cache.BuildResult`), and
 this process writes them into ``<out>/<name>/`` and the cache. A serial build, a pool build and a cluster build
 therefore write the same files.
+
+Progress: a pool worker sends its design's messages through a queue, a dask worker through the scheduler's event
+topic :data:`_DASK_TOPIC` (``Worker.log_event``, ``Client.subscribe_topic``); the first message, :data:`_STARTED`,
+is sent when the worker starts the design, and the design's start line is printed then (not when it is queued).
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ import tempfile
 import threading
 import time
 import traceback
+import uuid
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
@@ -58,6 +63,9 @@ _WORKER_QUEUE: Any = None
 #: first message of a design in a pool worker: the worker has taken it (its start line is printed then, not when the
 #: pool hands it to its call queue, which happens before a worker is free)
 _STARTED = "\x00started"
+
+#: the end of a design on a dask cluster (its result is here), put in order among the workers' messages
+_ENDED = "\x00ended"
 
 
 def _init_worker(queue: Any) -> None:
@@ -125,6 +133,26 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
                            rec.run.hits, rec.run.misses)
     except Exception as exc:
         return DesignFailure(name, _one_line(exc))
+
+
+#: the scheduler event topic through which dask workers send progress; each message is ``[build, name, text]``,
+#: ``build`` the id of the build that submitted the design (other builds on the same scheduler are ignored)
+_DASK_TOPIC = "glidectl-report-progress"
+
+
+def _build_on_dask(build: str, name: str, path: str, source: bytes, quick: bool, cache_root: str | None,
+                   refresh: bool) -> BuildResult | DesignFailure:
+    """:func:`build_one` on a dask worker, its progress sent to the client through :data:`_DASK_TOPIC`: first
+    :data:`_STARTED` (the worker has started the design), then the design's messages."""
+    from distributed import get_worker
+
+    worker = get_worker()
+
+    def progress(msg: str) -> None:
+        worker.log_event(_DASK_TOPIC, [build, name, str(msg)])  # msgpack: a list of strings
+
+    progress(_STARTED)
+    return build_one(name, path, source, quick, cache_root, progress=progress, refresh=refresh, jobs=2, dask=True)
 
 
 def require_dask() -> None:
@@ -446,18 +474,69 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
 
 def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool, cache_root: str, refresh: bool,
               display: _Display, finish: Callable[[Any], None]) -> None:
+    """The designs on a dask cluster; the display gets its events in the order they happened on the workers.
+
+    The designs' messages come through :data:`_DASK_TOPIC` to :func:`receive` (the client's event loop thread), in
+    the order the workers sent them, and a design's messages come before its result (one stream from worker to
+    scheduler and one from scheduler to client). ``receive`` puts them in ``events``; before a design's first
+    message (its worker has started it) it puts the end of every design whose result is already here, so a design
+    that waited for a thread starts its line after the design it waited for has its summary line.
+    """
+    import queue as queue_mod
+
     client = dask_client(scheduler)
     own = client is not scheduler
+    build = uuid.uuid4().hex
+    events: queue_mod.Queue[tuple[str, str]] = queue_mod.Queue()
+    lock = threading.Lock()
+    pending: dict[str, Any] = {}     # design name -> future, until its end is in ``events``
+
+    def ended() -> None:             # with ``lock`` held
+        for name in [n for n, f in pending.items() if f.done()]:
+            events.put((name, _ENDED))
+            del pending[name]
+
+    def receive(event: tuple[float, Any]) -> None:
+        bid, name, msg = event[1]
+        if bid != build:             # another build using the same scheduler
+            return
+        with lock:
+            if msg == _STARTED:
+                ended()
+            events.put((name, msg))
+
+    # subscribed before the first submission (same stream to the scheduler), so no message is missed
+    client.subscribe_topic(_DASK_TOPIC, receive)
     try:
-        pending = {}
-        for d, _, source in todo:
-            display.start(d.name)
-            pending[client.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
-                                  jobs=2, dask=True, pure=False)] = d.name
-        while pending:
-            for f in [f for f in pending if f.done()]:
-                finish(_result(f, pending.pop(f)))
+        futures = {}
+        with lock:
+            for d, _, source in todo:
+                futures[d.name] = pending[d.name] = client.submit(
+                    _build_on_dask, build, d.name, str(d.path), source, quick, cache_root, refresh, pure=False)
+        left = len(futures)
+        while left:
+            with lock:
+                ended()
+            while True:
+                try:
+                    name, msg = events.get_nowait()
+                except queue_mod.Empty:
+                    break
+                if msg == _STARTED:
+                    display.start(name)
+                elif msg == _ENDED:
+                    display.start(name)     # no-op unless the design failed before its first message
+                    finish(_result(futures[name], name))
+                    left -= 1
+                else:
+                    display.message(name, msg)
             time.sleep(0.1)
     finally:
+        with lock:                   # the client keeps ``receive`` after unsubscribing: let it hold no futures
+            pending.clear()
+        try:
+            client.unsubscribe_topic(_DASK_TOPIC)
+        except Exception:  # a closed client or scheduler: nothing left to unsubscribe
+            pass
         if own:
             client.close()
