@@ -444,14 +444,17 @@ def _report(res: _Results) -> Report:
         ct = res.ctol
         rep.number("ctol_certified_volume", ct["volume"], "-", f"degree-{ct['cert'].degree} certificate in the box "
                    "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1",
-                   note="Reproducible to about 1 digit only, and resting partly on the solver. The V step's optimum "
-                        "is not unique, and the level program is ill-conditioned: for the starting V, Clarabel "
-                        "returns the level 0.00438 with the level capped at 1e6 (as here), 0.00250 with the cap at "
-                        "1 and 0.00184 at tolerances 1e-10, and SDPA (Schur form) 0.00096 (measured 2026-12-02). "
-                        "Builds gave 0.0041 and 0.0042, and 0.0033 without program reuse. Each passed the Gram check "
-                        "of the decrease and positivity conditions and the sampled verification (true dV/dt < 0 on "
-                        "the samples, simulations converge); the PSD-ness of the S-procedure multipliers is the "
-                        "solver's, not checked.")
+                   note="Reproducible to about 1 digit only: the path to it depends on the solver. The V step's "
+                        "optimum is not unique, and the level program is ill-conditioned: for the starting V, "
+                        "Clarabel returns the level 0.00438 or 0.00441 with the level capped at 1e6 (as here), "
+                        "0.00410 with the faer factorization on one thread, 0.00250 with the cap at 1, 0.00184 at "
+                        "tolerances 1e-10, and SDPA (Schur form) 0.00096 (measured 2026-12-02). Builds gave 0.0041 "
+                        "and 0.0042, and 0.0033 without program reuse. The certificate itself does not rest on the "
+                        "solver: its Gram check takes every S-procedure multiplier made exactly SOS (a multiplier "
+                        "whose Gram matrix the solver returned with eigenvalue -3.7e-8 is shifted to PSD, which "
+                        "raises the decrease residual from 1.4e-8 to 4.7e-8) and still passes with slack 4.8e-5 "
+                        "(margin 10.9; measured 2026-12-02 on this build's settings, volume 0.004193), and the "
+                        "sampled verification passes (true dV/dt < 0 on the samples, simulations converge).")
         rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "
                    "the Hessian of Q; the level is ~1e-8)",
                    note=f"Theorem 5 certified: {ct['theorem5_certified']}; its ball r_a = {ct['r_a']:.3g} has "
@@ -482,7 +485,8 @@ def _report(res: _Results) -> Report:
         "of the box, so the search is steered towards the true region; the certificate does not depend on the "
         f"simulations. Every certificate is stated at (1 - backoff) rho* (backoff {s.backoff:g}, tripled while the "
         "Gram margins do not cover the residuals), re-solved at that level and verified: exact "
-        "SOS from Gram eigenvalue margins against coefficient residuals, the local conditions at the equilibrium, "
+        "SOS from Gram eigenvalue margins against coefficient residuals (with every S-procedure multiplier made "
+        "exactly SOS first: its Gram matrix shifted to positive semidefinite), the local conditions at the equilibrium, "
         "true dV/dt < 0 at sampled points of the set and convergence of the 256 outermost samples."))
     rep.text("Left alone", (
         "Degree 2 for the 4-state models and the closed loops: a degree-4 V in the 5 lifted variables of the glider "
