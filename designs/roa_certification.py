@@ -486,7 +486,8 @@ def _report(res: _Results) -> Report:
         f"simulations. Every certificate is stated at (1 - backoff) rho* (backoff {s.backoff:g}, tripled while the "
         "Gram margins do not cover the residuals), re-solved at that level and verified: exact "
         "SOS from Gram eigenvalue margins against coefficient residuals (with every S-procedure multiplier made "
-        "exactly SOS first: its Gram matrix shifted to positive semidefinite), the local conditions at the equilibrium, "
+        "exactly SOS first: its Gram matrix shifted to positive semidefinite), the local conditions at the "
+        "equilibrium, "
         "true dV/dt < 0 at sampled points of the set and convergence of the 256 outermost samples."))
     rep.text("Left alone", (
         "Degree 2 for the 4-state models and the closed loops: a degree-4 V in the 5 lifted variables of the glider "
