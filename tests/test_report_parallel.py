@@ -249,6 +249,10 @@ def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):
     third = max(starts, key=starts.get)
     last_steps = [i for i, ln in enumerate(lines) if "writing the report" in ln and third not in ln]
     assert last_steps and starts[third] > min(last_steps), lines
+    # ... and after the summary line of the design whose worker it took (the worker sent that result first)
+    dones = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"(slow_\w)\b.*done in", ln))}
+    assert set(dones) == {"slow_a", "slow_b", "slow_c"}, lines
+    assert starts[third] > min(dones[d] for d in dones if d != third), lines
 
 
 def test_on_a_cluster_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):

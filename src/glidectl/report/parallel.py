@@ -116,7 +116,7 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
     if progress is None:
         progress = (lambda m: queue.put((name, m))) if queue is not None else (lambda m: None)
         if queue is not None:
-            queue.put((name, _STARTED))
+            queue.put((name, (_STARTED, os.getpid())))   # the worker: its previous design's result is already sent
     try:
         design = load_design_source(name, path, source)
         with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
@@ -437,7 +437,9 @@ def _result(future: Any, name: str) -> BuildResult | DesignFailure:
                                    f"{' '.join(str(exc).split())}")
 
 
-def _drain(queue: Any, display: _Display) -> None:
+def _drain(queue: Any, display: _Display, started: Callable[[str, int], None] | None = None) -> None:
+    """Show the pool workers' messages; a design's start message ``(_STARTED, pid)`` goes to ``started(name, pid)``
+    (or starts its line)."""
     import queue as queue_mod
 
     while True:
@@ -445,29 +447,50 @@ def _drain(queue: Any, display: _Display) -> None:
             name, msg = queue.get_nowait()
         except (queue_mod.Empty, EOFError, OSError):
             return
-        if msg == _STARTED:
-            display.start(name)
+        if isinstance(msg, tuple) and msg and msg[0] == _STARTED:
+            if started is not None:
+                started(name, msg[1])
+            else:
+                display.start(name)
         else:
             display.message(name, msg)
 
 
 def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str, refresh: bool,
               display: _Display, finish: Callable[[Any], None], mp_context: Any, jobs: int) -> None:
+    """The designs on a process pool, their lines in the order of events on the workers: a worker sends a design's
+    result before it takes the next design, so when a design starts on a worker (its first message names the
+    worker's pid), the design that worker ran before is finished first (its future is done, or about to be)."""
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                              initargs=(queue,)) as ex:
-        pending = {}
+        pending: dict[Any, str] = {}
         for d, _, source in todo:
             pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
                               jobs=jobs, start_method=ctx.get_start_method())] = d.name
+        future_of = {name: f for f, name in pending.items()}
+        on_worker: dict[int, str] = {}          # worker pid -> the design it runs
+
+        def close(f: Any) -> None:
+            name = pending.pop(f)
+            display.start(name)     # no-op unless the worker died before its first message
+            finish(_result(f, name))
+
+        def started(name: str, pid: int) -> None:
+            before = on_worker.get(pid)
+            if before is not None and future_of[before] in pending:
+                future_of[before].exception()   # waits for the result the worker has already sent
+                close(future_of[before])
+            on_worker[pid] = name
+            display.start(name)
+
         while pending:
-            _drain(queue, display)      # a worker's first message starts its design's line
+            _drain(queue, display, started)     # a worker's first message starts its design's line
             for f in [f for f in pending if f.done()]:
-                name = pending.pop(f)
-                _drain(queue, display)
-                display.start(name)     # no-op unless the worker died before its first message
-                finish(_result(f, name))
+                _drain(queue, display, started)
+                if f in pending:
+                    close(f)
             time.sleep(0.1)
     queue.close()
 
