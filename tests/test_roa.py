@@ -62,6 +62,18 @@ def test_poly_substitution_and_complex_evaluation():
         p ** -1
 
 
+def test_poly_quadratic_form_evaluates_ztpz():
+    rng = np.random.default_rng(2)
+    P = rng.standard_normal((3, 3))                 # not symmetric: both P_ij and P_ji enter
+    V = Poly.quadratic(P)
+    Z = rng.standard_normal((50, 3))
+    np.testing.assert_allclose(V(Z), np.einsum("ki,ij,kj->k", Z, P, Z), rtol=1e-13, atol=1e-13)
+    assert V.degree == 2 and V.nvars == 3
+    for bad in (np.ones((2, 3)), np.zeros((0, 0)), np.array([[np.nan]])):
+        with pytest.raises(GlidectlError):
+            Poly.quadratic(bad)
+
+
 def test_sos_program_gram_check_and_infeasibility():
     """x^4 + 2x^2 + 1 = (x^2 + 1)^2 is SOS (exact, positive margin); -x^2 is not (solver failure is an error)."""
     x = Poly.variables(1)[0]

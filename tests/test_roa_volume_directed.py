@@ -30,16 +30,6 @@ def _system(n: int, lo, hi):
     return polynomial_system(f"linear{n}", tuple(f"x{i}" for i in range(n)), [-z for z in Z], box=(lo, hi))
 
 
-def _quadratic(P: np.ndarray) -> Poly:
-    n = P.shape[0]
-    Z = Poly.variables(n)
-    V = Poly({}, n)
-    for i in range(n):
-        for j in range(n):
-            V = V + float(P[i, j]) * Z[i] * Z[j]
-    return V
-
-
 def _certificate(ps, V: Poly, rho: float) -> ROACertificate:
     """A certificate of ``{V <= rho}`` without solving anything (volume only reads system, V and rho)."""
     ver = ROAVerification((), 1.0, -1.0, 0, -1.0, 0, 0, 1.0)
@@ -66,7 +56,7 @@ def test_directed_volume_of_a_rotated_ellipsoid_is_exact(nf, axes):
     P = _rotated_P(axes, nf)
     rho = 2.0                     # semi-axes sqrt(2) * axes: inside the box [-2, 3]^nf (off-centre box: w = 3)
     ps = _system(nf, [-2.0] * nf, [3.0] * nf)
-    cert = _certificate(ps, _quadratic(P), rho)
+    cert = _certificate(ps, Poly.quadratic(P), rho)
     exact = _ellipsoid_volume(P, rho)
     lo, hi = ps.box
     vol, err = _volume_directed(ps, cert.V, rho, lo, hi, 512, 0)
@@ -79,7 +69,7 @@ def test_thin_8d_ellipsoid_sobol_is_zero_and_auto_is_exact():
     axes = np.array([1.0] + [0.05] * 7)
     P = _rotated_P(axes, 3)
     ps = _system(8, [-1.5] * 8, [1.5] * 8)
-    cert = _certificate(ps, _quadratic(P), 1.0)
+    cert = _certificate(ps, Poly.quadratic(P), 1.0)
     exact = _ellipsoid_volume(P, 1.0)           # 4.06 * 0.05^7 = 3.2e-9 in a box of 3^8 = 6561
     assert cert.volume(method="sobol") == 0.0   # no Sobol point falls inside (today's answer)
     auto = cert.volume(n=2**14)
@@ -99,7 +89,7 @@ def _cut_volume(ax: np.ndarray, clip: float) -> float:
 def test_rays_stop_at_the_requested_box(nf):
     ax = np.array([1.0] + [0.05 if nf == 8 else 0.5] * (nf - 1))
     ps = _system(nf, [-1.5] * nf, [1.5] * nf)
-    cert = _certificate(ps, _quadratic(np.diag(1.0 / ax ** 2)), 1.0)
+    cert = _certificate(ps, Poly.quadratic(np.diag(1.0 / ax ** 2)), 1.0)
     lo, hi = np.full(nf, -1.0), np.full(nf, 1.0)
     lo[0], hi[0] = -0.5, 0.4                     # cuts both ends of the long axis
     exact = _cut_volume(ax, 0.5) / 2 + _cut_volume(ax, 0.4) / 2
@@ -145,7 +135,7 @@ def test_auto_switches_below_the_hit_threshold():
     # a disc whose Sobol count straddles the threshold as n grows: auto is Sobol exactly when it has enough hits
     ps = _system(2, [-4.0, -4.0], [4.0, 4.0])
     r = 0.5
-    cert = _certificate(ps, _quadratic(np.eye(2)), r * r)
+    cert = _certificate(ps, Poly.quadratic(np.eye(2)), r * r)
     exact = math.pi * r * r
     for n in (2**10, 2**16):
         sob = cert.volume(n=n, method="sobol")
@@ -170,7 +160,7 @@ def test_held_states_volume_in_the_free_states():
     P = _rotated_P((1.2, 0.3), 5)
     ps2 = _system(2, [-2.0, -2.0], [2.0, 2.0])
     ps = _held(ps2, (np.array([-2.0, -2.0, 0.5]), np.array([2.0, 2.0, 1.5])))
-    cert = _certificate(ps, _quadratic(P), 1.0)
+    cert = _certificate(ps, Poly.quadratic(P), 1.0)
     exact = _ellipsoid_volume(P, 1.0)
     assert cert.volume(method="directed") == pytest.approx(exact, rel=1e-9)
     sob = cert.volume(method="sobol")
@@ -191,7 +181,7 @@ def test_held_states_thin_set_auto_is_directed():
     ps = dataclasses.replace(ps0, state_names=(*ps0.state_names, "h"), lift=lambda X: lift0(np.asarray(X)[..., :nf]),
                              equilibrium=np.append(np.zeros(nf), 2.0),
                              box=(np.append(-np.ones(nf), 1.0), np.append(np.ones(nf), 3.0)), held=(nf,))
-    cert = _certificate(ps, _quadratic(P), 1.0)
+    cert = _certificate(ps, Poly.quadratic(P), 1.0)
     assert cert.volume(method="sobol") == 0.0
     assert cert.volume() == pytest.approx(_ellipsoid_volume(P, 1.0), rel=1e-9)
 

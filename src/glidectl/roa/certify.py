@@ -1341,12 +1341,7 @@ class ROACertificate:
         if not ps.held:
             return box_measure(lambda X: counted(self.contains(X)), box if box is not None else ps.box, n, seed,
                                dim=ps.n)
-        if box is None:
-            box = ps.box
-        if not isinstance(box, tuple | list) or len(box) != 2:
-            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({ps.n},)")
-        lo = checks.array("box lo", box[0], shape=(ps.n,))
-        hi = checks.array("box hi", box[1], shape=(ps.n,))
+        lo, hi = self._volume_box(box)
         free = [i for i in range(ps.n) if i not in ps.held]
         xe = np.asarray(ps.equilibrium, dtype=float)
 
@@ -1508,12 +1503,17 @@ def _sample_set(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, boundary
     return np.concatenate(out)[:n]
 
 
-def _acg_proposal(ps: PolySystem, V: Poly, x0: np.ndarray, w: np.ndarray,
-                  free: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The angular central Gaussian proposal of :func:`_sample_directed` and :func:`_volume_directed`: ``(Hs, L,
-    lam)`` with ``Hs`` the Hessian of ``V(lift(x))`` at ``x0`` in the box-scaled free states ``(x - x0) / w``
-    (eigenvalues ``lam`` clipped at 1e-8 of the largest; the identity when it has no positive curvature) and
-    ``L`` with ``L g ~ N(0, Hs^-1)`` for ``g ~ N(0, I)``."""
+def _acg_proposal(ps: PolySystem, V: Poly) -> tuple[np.ndarray, np.ndarray, list[int], np.ndarray, np.ndarray,
+                                                   np.ndarray]:
+    """The angular central Gaussian proposal of :func:`_sample_directed` and :func:`_volume_directed`: ``(x0, w,
+    free, Hs, L, lam)`` with ``x0`` the equilibrium, ``w`` the largest distance from it to a face of the system's
+    box per state, ``free`` the states not held, ``Hs`` the Hessian of ``V(lift(x))`` at ``x0`` in the box-scaled
+    free states ``(x - x0) / w`` (eigenvalues ``lam`` clipped at 1e-8 of the largest; the identity when it has no
+    positive curvature) and ``L`` with ``L g ~ N(0, Hs^-1)`` for ``g ~ N(0, I)``."""
+    x0 = np.asarray(ps.equilibrium, dtype=float)
+    lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+    w = np.maximum(x0 - lo, hi - x0)
+    free = [i for i in range(ps.n) if i not in ps.held]
     nf = len(free)
     try:
         H = hessian(lambda X: _V_of(V, ps, X), x0)[np.ix_(free, free)] * np.outer(w[free], w[free])
@@ -1526,7 +1526,7 @@ def _acg_proposal(ps: PolySystem, V: Poly, x0: np.ndarray, w: np.ndarray,
     lam = np.maximum(lam, 1e-8 * lam[-1])
     Hs = (Q * lam) @ Q.T
     L = Q / np.sqrt(lam)                # z = L g ~ N(0, Hs^-1)
-    return Hs, L, lam
+    return x0, w, free, Hs, L, lam
 
 
 def _sample_directed(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, check: Any = None) -> np.ndarray:
@@ -1543,12 +1543,9 @@ def _sample_directed(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, che
     with the final ``W_max``, its uniform number drawn once): the points are exactly uniform in the set whenever
     ``W_max`` bounds ``W``; directions whose weight exceeds every one seen (a part of the set rarer than one in the
     number proposed) are under-weighted, as the rejection of :func:`_sample_set` is with its batch's ``R_max``."""
-    x0 = np.asarray(ps.equilibrium, dtype=float)
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
-    w = np.maximum(x0 - lo, hi - x0)
-    free = [i for i in range(ps.n) if i not in ps.held]
+    x0, w, free, Hs, L, _ = _acg_proposal(ps, V)
     nf = len(free)
-    Hs, L, _ = _acg_proposal(ps, V, x0, w, free)
     rng = np.random.default_rng([seed, 17])
     logW, logU, Rs, Vs, Ds = [], [], [], [], []
     for _ in range(_ROUNDS):
@@ -1608,12 +1605,8 @@ def _volume_directed(ps: PolySystem, V: Poly, rho: float, lo: np.ndarray, hi: np
     ``W = c^(nf/2)`` in every direction: the estimate is exact. The standard error is the sample standard deviation
     of ``W`` over ``sqrt(n)`` times the same factor. ``check()`` (optional) is called before every batch of
     directions and every bisection step (a time budget). Returns ``(0.0, 0.0)`` if every radius is zero."""
-    x0 = np.asarray(ps.equilibrium, dtype=float)
-    blo, bhi = (np.asarray(b, dtype=float) for b in ps.box)
-    w = np.maximum(x0 - blo, bhi - x0)
-    free = [i for i in range(ps.n) if i not in ps.held]
+    x0, w, free, Hs, L, lam = _acg_proposal(ps, V)
     nf = len(free)
-    Hs, L, lam = _acg_proposal(ps, V, x0, w, free)
     G = np.random.default_rng([seed, 23]).standard_normal((n, nf))
     lw = np.empty(n)                    # log W(u)
     for a in range(0, n, _VOLUME_CHUNK):

@@ -118,6 +118,36 @@ class Poly:
     def variables(cls, nvars: int) -> list[Poly]:
         return [cls.var(i, nvars) for i in range(nvars)]
 
+    @classmethod
+    def quadratic(cls, P: Any) -> Poly:
+        """The quadratic form ``z^T P z = sum_ij P_ij z_i z_j`` in ``n`` variables.
+
+        Parameters
+        ----------
+        P : array_like
+            Square matrix, shape ``(n, n)``, finite (not symmetrized: ``P_ij`` and ``P_ji`` both enter).
+
+        Returns
+        -------
+        Poly
+            The form, in ``n`` variables.
+
+        Raises
+        ------
+        ArgumentError
+            If ``P`` is not a finite square matrix.
+        """
+        P = np.asarray(P, dtype=float)
+        if P.ndim != 2 or P.shape[0] != P.shape[1] or P.shape[0] == 0 or not np.all(np.isfinite(P)):
+            raise ArgumentError(f"a quadratic form needs a finite non-empty square matrix, got shape {P.shape}")
+        n = P.shape[0]
+        Z = cls.variables(n)
+        V = cls({}, n)
+        for i in range(n):
+            for j in range(n):
+                V = V + float(P[i, j]) * Z[i] * Z[j]
+        return V
+
     # ------------------------------------------------------------------ arithmetic
     def _coerce(self, other: Any) -> Poly:
         if isinstance(other, Poly):

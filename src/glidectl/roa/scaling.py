@@ -307,10 +307,4 @@ def scaled_lyapunov(A: Any, scale: Any, weight: Any = None) -> Poly:
         raise SolverError(f"the scaled Lyapunov equation failed: {exc}") from exc
     P = 0.5 * (P + P.T)
     P = P / np.max(np.abs(P))
-    n = len(s)
-    Y = Poly.variables(n)
-    V = Poly({}, n)
-    for i in range(n):
-        for j in range(n):
-            V = V + float(P[i, j]) * Y[i] * Y[j]
-    return V
+    return Poly.quadratic(P)
