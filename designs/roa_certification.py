@@ -449,12 +449,15 @@ def _report(res: _Results) -> Report:
                         "Clarabel returns the level 0.00438 or 0.00441 with the level capped at 1e6 (as here), "
                         "0.00410 with the faer factorization on one thread, 0.00250 with the cap at 1, 0.00184 at "
                         "tolerances 1e-10, and SDPA (Schur form) 0.00096 (measured 2026-12-02). Builds gave 0.0041 "
-                        "and 0.0042, and 0.0033 without program reuse. The certificate itself does not rest on the "
-                        "solver: its Gram check takes every S-procedure multiplier made exactly SOS (a multiplier "
-                        "whose Gram matrix the solver returned with eigenvalue -3.7e-8 is shifted to PSD, which "
-                        "raises the decrease residual from 1.4e-8 to 4.7e-8) and still passes with slack 4.8e-5 "
-                        "(margin 10.9; measured 2026-12-02 on this build's settings, volume 0.004193), and the "
-                        "sampled verification passes (true dV/dt < 0 on the samples, simulations converge).")
+                        "and 0.0042, and 0.0033 without program reuse. The certificate's checks do not rest on the "
+                        "solver: the Gram check takes every S-procedure multiplier made exactly SOS (its Gram "
+                        "matrix shifted to PSD; in this build by up to "
+                        f"{max((c.multiplier_shift for c in ct['cert'].verification.gram), default=0.0):.2g}) and "
+                        f"gives the smallest slack "
+                        f"{min((c.slack for c in ct['cert'].verification.gram), default=math.nan):.3g} (exactly SOS "
+                        "when positive); every check of the certificate "
+                        f"{'passed' if ct['cert'].certified else 'did NOT pass'} (Gram, true dV/dt < 0 on the "
+                        "samples, simulations from the outermost samples converge).")
         rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "
                    "the Hessian of Q; the level is ~1e-8)",
                    note=f"Theorem 5 certified: {ct['theorem5_certified']}; its ball r_a = {ct['r_a']:.3g} has "

@@ -1066,8 +1066,10 @@ class ROAVerification:
         """One line: the smallest Gram margin and slack, the local conditions, sampled dV/dt, simulations."""
         g = min((c.margin for c in self.gram), default=float("nan"))
         sl = min((c.slack for c in self.gram), default=float("nan"))
-        return (f"Gram margin {g:.3g} (slack {sl:.3g}, {'exact' if self.gram_passed else 'NOT exact'}), Hessian min "
-                f"{self.hessian_V_min:.3g}, A'H+HA max {self.lyapunov_max:.3g}, max dV/dt/|x|^2 on "
+        shift = max((c.multiplier_shift for c in self.gram), default=0.0)
+        made = f"; S-procedure multipliers shifted by <= {shift:.2g} to be SOS" if shift > 0 else ""
+        return (f"Gram margin {g:.3g} (slack {sl:.3g}, {'exact' if self.gram_passed else 'NOT exact'}{made}), "
+                f"Hessian min {self.hessian_V_min:.3g}, A'H+HA max {self.lyapunov_max:.3g}, max dV/dt/|x|^2 on "
                 f"{self.n_sampled} samples {self.max_Vdot:.3g}, simulations {self.n_converged}/{self.n_simulated} "
                 f"converged in {self.horizon:g}")
 
