@@ -9,7 +9,8 @@ equalities ``coeff_alpha(expr) = sum_{b_i + b_j = alpha} Q_ij`` for every monomi
 ``scipy.sparse`` matrix per unknown and passed to cvxpy as ``A @ x + b == 0``.
 
 After the solve, :meth:`SOSProgram.check` recomputes every SOS constraint in floating point from the solved
-unknowns and returns the smallest Gram eigenvalue and the coefficient residual: when
+unknowns, with every SOS multiplier made exactly SOS first (its Gram matrix shifted to positive semidefinite,
+:meth:`SOSProgram.multiplier_values`), and returns the smallest Gram eigenvalue and the coefficient residual: when
 ``lambda_min(Q) > n_basis * max|residual|`` the residual can be absorbed in ``Q`` (a symmetric matrix ``R`` with
 ``m^T R m = residual`` has ``||R||_2 <= n_basis max|r|``), so the polynomial is exactly SOS.
 
