@@ -90,6 +90,22 @@ def test_saturated_unstable_loop_certificate_is_sound(lin2):
     assert not np.any(cert.contains(far[diverge]))
 
 
+def test_degree_4_sos_sector_certificate_is_sound_and_larger_than_degree_2(lin2):
+    """At degree 4 the containment conditions leave the saturated-input variable out (a box cut and V do not involve
+    it; with it in the multipliers the Gram matrix had a structural near-zero eigenvalue, and the final check failed
+    at every backoff). The certificate is sound on the true loop and larger than the degree-2 one."""
+    sl, cert2 = lin2
+    cert = gc.certify_roa(sl, degree=4, iterations=4, extra=0, n_truth=256, n_verify=2000, n_simulate=16)
+    assert cert.method == "sos-sector" and cert.degree == 4 and cert.certified, cert.verification.failing()
+    assert all(e[2] == 0 for e in cert.V.terms)                       # V does not depend on sat(u)
+    assert cert.volume(n=2**12) > cert2.volume(n=2**12)
+    Xb = np.random.default_rng(5).uniform(-3, 3, (20000, 2))
+    X = np.concatenate([Xb[cert.contains(Xb)], cert.sample(64, seed=6, boundary=True)])
+    assert np.all(gc.dVdt(cert.V, cert.system.lift, sl.rhs, X) < 0)
+    res = integrate_batch(sl.rhs, X[-8:], 30.0, rtol=1e-6, atol=1e-10)          # outermost samples
+    assert np.all(res.converged_to(np.zeros(2), 1e-4))
+
+
 def test_sos_sector_level_equals_the_generalized_sector_lmi_level():
     # the same quadratic V (Lyapunov matrix of A + BK), a saturated linear loop: the SOS path with the exact graph
     # of sat and the LMI path with the generalized sector condition give the same largest level, and no level above

@@ -621,14 +621,19 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     _add_sos(prog, "decrease", dec, monomials(nz, dg.D // 2, 1, ps.s_caps))
     for k, g in enumerate(ps.cuts):
         dk = _even_up(max(degV, g.degree))
-        _, sig = prog.sos_poly_blocks(f"sigma{k}", _sym_blocks(monomials(nz, (dk - g.degree) // 2), G))
+        # a cut in the states alone (a box cut of a saturated loop): V - rho + sigma g has no saturated-input
+        # variable unless the multipliers bring one in, and a certificate without them is a certificate; with them,
+        # the rows of the Gram matrix in those variables are forced towards 0 (a structural zero eigenvalue that no
+        # backoff removes), so sigma, the equality multipliers and the half basis leave them out
+        no_in = _drop_inputs(ps) if ps.inputs and not _uses(g, ps.inputs) else (lambda b: b)
+        _, sig = prog.sos_poly_blocks(f"sigma{k}", _sym_blocks(no_in(monomials(nz, (dk - g.degree) // 2)), G))
         cont = Vl - rho_l + sig * g
         for j, h in enumerate(ps.equalities):
-            if h.degree > dk:
+            if h.degree > dk or (ps.inputs and not _uses(g, ps.inputs) and _uses(h, ps.inputs)):
                 continue
-            _, phi = prog.free_poly(f"phi{k}_{j}", _sym(monomials(nz, dk - h.degree), G, _char(G, h)))
+            _, phi = prog.free_poly(f"phi{k}_{j}", _sym(no_in(monomials(nz, dk - h.degree)), G, _char(G, h)))
             cont = cont + phi * h
-        _add_sos(prog, f"containment{k}", cont, monomials(nz, dk // 2, 0, ps.s_caps))
+        _add_sos(prog, f"containment{k}", cont, no_in(monomials(nz, dk // 2, 0, ps.s_caps)))
     if V is None:
         pos = Vl - _state_zsq(ps) * eps
         for j, h in enumerate(ps.equalities):
@@ -638,6 +643,16 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
             pos = pos + phi * h
         _add_sos(prog, "positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
     return prog, out
+
+
+def _uses(p: Poly, idx: tuple[int, ...]) -> bool:
+    """Whether the polynomial ``p`` has a term in any of the variables ``idx``."""
+    return any(e[i] for e in p.terms for i in idx)
+
+
+def _drop_inputs(ps: PolySystem) -> Any:
+    """A filter of monomial lists: the monomials without the saturated-input variables ``ps.inputs``."""
+    return lambda basis: [e for e in basis if not any(e[i] for i in ps.inputs)]
 
 
 def _state_monomials(ps: PolySystem, degree: int) -> list[tuple[int, ...]]:
