@@ -636,12 +636,14 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         _add_sos(prog, f"containment{k}", cont, no_in(monomials(nz, dk // 2, 0, ps.s_caps)))
     if V is None:
         pos = Vl - _state_zsq(ps) * eps
+        # V and |x|^2 have no saturated-input variable: as for the containment of a state cut, leave them out
+        no_in = _drop_inputs(ps) if ps.inputs else (lambda b: b)
         for j, h in enumerate(ps.equalities):
-            if h.degree > degV:
+            if h.degree > degV or (ps.inputs and _uses(h, ps.inputs)):
                 continue
-            _, phi = prog.free_poly(f"chi{j}", _sym(monomials(nz, degV - h.degree), G, _char(G, h)))
+            _, phi = prog.free_poly(f"chi{j}", _sym(no_in(monomials(nz, degV - h.degree)), G, _char(G, h)))
             pos = pos + phi * h
-        _add_sos(prog, "positivity", pos, monomials(nz, degV // 2, 1, ps.s_caps))
+        _add_sos(prog, "positivity", pos, no_in(monomials(nz, degV // 2, 1, ps.s_caps)))
     return prog, out
 
 
