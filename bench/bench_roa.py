@@ -61,6 +61,11 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   interior-point iteration at load 28; the baseline run did not finish). The run now solves 5 programs of that size
   instead of 6 (the last level problem is not centred; same certificate); ``bench/bench_roa_ctol_sizes.py`` prints
   what is built and why nothing reduces (full support of degree 6 in 7 lifted variables; a recast of 40-136 s).
+- ctol (2026-12-02, third session, inside two FULL ``glidectl report all --no-cache --jobs 2`` builds): 1488.7 s and
+  1338.1 s (SDP 1466 s and 1315 s), volume 0.004193 (0.95 of the target 0.00441), certified with the Gram check that
+  makes the S-procedure multipliers exactly SOS (largest shift 3.7e-8, slack 4.8e-5): 22-25x the 60 s target. A
+  capped recast (22-57 terms per component instead of 180-232) leaves the 103 x 103 block; the surrogate route fails
+  the local robust decrease (quadratic remainder); ``inner="sdsos"`` fails its first level problem.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
