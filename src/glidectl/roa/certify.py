@@ -1548,6 +1548,24 @@ def _acg_proposal(ps: PolySystem, V: Poly) -> tuple[np.ndarray, np.ndarray, list
     return x0, w, free, Hs, L, lam
 
 
+def _directed_weights(ps: PolySystem, V: Poly, rho: float, G: np.ndarray, proposal: tuple, lo: np.ndarray,
+                      hi: np.ndarray, check: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For standard normal draws ``G`` (m, nf) and the ``(x0, w, free, Hs, L)`` of :func:`_acg_proposal`: the
+    directions ``u = L g / |L g|`` (angular central Gaussian), their log importance weights
+    ``log W(u) = nf/2 log(R(u)^2 u' Hs u)`` (``-inf`` where ``R = 0``), the radii ``R(u)`` in the set and the box
+    (:func:`_radii`) and the directions ``D`` in state units (rows ``x0 + R D`` are on the boundary)."""
+    x0, w, free, Hs, L = proposal
+    nf = len(free)
+    Z = G @ L.T
+    Z /= np.linalg.norm(Z, axis=1, keepdims=True)
+    U = np.zeros((len(Z), ps.n))
+    U[:, free] = Z
+    D = U * w
+    R = _radii(ps, V, rho, x0, D, lo, hi, check)
+    with np.errstate(divide="ignore"):
+        return 0.5 * nf * np.log(R ** 2 * np.einsum("ij,jk,ik->i", Z, Hs, Z)), R, D
+
+
 def _sample_directed(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, check: Any = None) -> np.ndarray:
     """``n`` points of the star-shaped set ``{V <= rho}`` (component of the equilibrium), uniform in its volume, for
     thin sets in many states where the rejection of :func:`_sample_set` accepts too few directions.
@@ -1571,14 +1589,8 @@ def _sample_directed(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, che
         if check is not None:
             check()
         m = max(2 * n, 256)
-        Z = rng.standard_normal((m, nf)) @ L.T
-        Z /= np.linalg.norm(Z, axis=1, keepdims=True)
-        U = np.zeros((m, ps.n))
-        U[:, free] = Z
-        D = U * w
-        R = _radii(ps, V, rho, x0, D, lo, hi, check)
-        with np.errstate(divide="ignore"):
-            logW.append(0.5 * nf * np.log(R ** 2 * np.einsum("ij,jk,ik->i", Z, Hs, Z)))
+        lw, R, D = _directed_weights(ps, V, rho, rng.standard_normal((m, nf)), (x0, w, free, Hs, L), lo, hi, check)
+        logW.append(lw)
         logU.append(np.log(rng.random(m)))
         Vs.append(rng.random(m) ** (1.0 / nf))
         Rs.append(R)
@@ -1631,13 +1643,8 @@ def _volume_directed(ps: PolySystem, V: Poly, rho: float, lo: np.ndarray, hi: np
     for a in range(0, n, _VOLUME_CHUNK):
         if check is not None:
             check()
-        Z = G[a:a + _VOLUME_CHUNK] @ L.T
-        Z /= np.linalg.norm(Z, axis=1, keepdims=True)
-        U = np.zeros((len(Z), ps.n))
-        U[:, free] = Z
-        R = _radii(ps, V, rho, x0, U * w, lo, hi, check)
-        with np.errstate(divide="ignore"):
-            lw[a:a + len(Z)] = 0.5 * nf * np.log(R ** 2 * np.einsum("ij,jk,ik->i", Z, Hs, Z))
+        g = G[a:a + _VOLUME_CHUNK]
+        lw[a:a + len(g)] = _directed_weights(ps, V, rho, g, (x0, w, free, Hs, L), lo, hi, check)[0]
     top = float(np.max(lw))
     if not np.isfinite(top):
         return 0.0, 0.0
@@ -1873,7 +1880,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     BudgetError
         If ``degree > max_degree`` or the program would need more than ``memory_limit`` (the message gives the
         largest degree that fits), or ``time_limit`` is hit (unless ``on_budget="stop"``), the final verification
-        included. For the surrogate route the size is checked before the model is evaluated at all.
+        included. For the surrogate route the size is checked before anything is sampled, fitted or built: at once
+        for a model built for certification, and after one Jacobian at the equilibrium (which finds the held
+        states, not counted) for a closed loop.
     SolverError
         If the first level problem fails (no certificate at all) or no simulated box point converges.
     """

@@ -226,6 +226,17 @@ def held_points(box: tuple[np.ndarray, np.ndarray], equilibrium: np.ndarray, hel
     return np.concatenate([X, xe[None, :]])
 
 
+def at_held_values(X: np.ndarray, equilibrium: np.ndarray, held: Any) -> np.ndarray:
+    """Per row of states ``X`` (..., n): whether the ``held`` states are at their equilibrium values (relative
+    ``1e-12``; all rows when none is held). A certificate with held states holds only there."""
+    X = np.asarray(X)
+    h = list(held)
+    if not h:
+        return np.ones(X.shape[:-1], dtype=bool)
+    xe = np.asarray(equilibrium, dtype=float)[h]
+    return np.all(np.abs(X[..., h] - xe) <= 1e-12 * np.maximum(1.0, np.abs(xe)), axis=-1)
+
+
 def held_motion(dX: np.ndarray, held: Any) -> float:
     """Largest ``|x_h'|`` of the ``held`` states over rates ``dX`` (:func:`held_points`), relative to
     ``max(1, max |x'|)``: a held state does not move when this is ``<= 1e-12``."""
@@ -651,10 +662,7 @@ class EllipsoidCertificate:
         """
         X = self._states(X)
         ok = np.all(np.isfinite(X), axis=1)
-        h = list(self.loop.held)
-        if h:
-            xe = self.loop.equilibrium[h]
-            ok &= np.all(np.abs(X[:, h] - xe) <= 1e-12 * np.maximum(1.0, np.abs(xe)), axis=1)
+        ok &= at_held_values(X, self.loop.equilibrium, self.loop.held)
         with np.errstate(all="ignore"):
             return ok & (np.nan_to_num(self.value(np.where(np.isfinite(X), X, 0.0)), nan=np.inf) <= 1.0)
 

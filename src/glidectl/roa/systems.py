@@ -33,6 +33,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from .lmi import at_held_values
 from .polynomial import Poly, field_evaluator, monomial_matrix, monomials, powers_table
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
@@ -157,10 +158,8 @@ class PolySystem:
             pw = powers_table(np.asarray(Z), dmax)
             for g in self.cuts:
                 ok &= g.on_powers(pw) >= 0
-        if self.held:           # held states at their equilibrium values (relative 1e-12, as the LMI certificate)
-            h = list(self.held)
-            xe = np.asarray(self.equilibrium, dtype=float)[h]
-            ok &= np.all(np.abs(X[..., h] - xe) <= 1e-12 * np.maximum(1.0, np.abs(xe)), axis=-1)
+        if self.held:           # held states at their equilibrium values (as the LMI certificate)
+            ok &= at_held_values(X, self.equilibrium, self.held)
         return ok
 
 
