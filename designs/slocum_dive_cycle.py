@@ -47,15 +47,14 @@ class Settings:
     seed: int = 2026  # noise seed (same for every controller)
     envelope_speeds: tuple[float, float, int] = (0.05, 0.8, 76)  # m/s, linspace
     envelope_gammas_deg: tuple[float, float, int] = (-60.0, 60.0, 121)  # deg, linspace
-    #: s, budget of gc.certify_roa on the down leg's LQR loop (degree 2); the SOS route needs about 46 s on this
-    #: 8-state loop and then fails its final Gram check (measured 2026-12-02), so the report shows the budget answer
-    #: and points to the LMI certificate
-    roa_time_limit: float = 20.0
+    #: s, budget of gc.certify_roa on the down leg's LQR loop (degree 2); the SOS route certifies this 8-state loop
+    #: in about 30 s on an idle machine (measured 2026-12-02); QUICK gives it 20 s and shows the budget answer
+    roa_time_limit: float = 120.0
 
 
 FULL = Settings()
 QUICK = Settings(depths=(5.0, 30.0), cycles=1, envelope_speeds=(0.05, 0.8, 31),
-                 envelope_gammas_deg=(-60.0, 60.0, 49))
+                 envelope_gammas_deg=(-60.0, 60.0, 49), roa_time_limit=20.0)
 
 
 @dataclass(frozen=True)
@@ -71,6 +70,7 @@ class SlocumResults:
     lqg: tuple[gc.LQGController, gc.LQGController]
     comparison: gc.MissionComparison
     roa_message: str
+    roa_volume: float | None  # cert.volume() of the certificate (free-state units), None when not certified
     roa_loop: gc.ClosedLoop  # gc.closed_loop of the down leg's lqr_glide
     roa_box: tuple[np.ndarray, np.ndarray]  # its default box in certify_roa (gc.validity_box)
 
@@ -94,9 +94,11 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     progress("region of attraction of the LQR loop")
     loop = gc.closed_loop(lqr_path[0])
     roa_box = gc.validity_box(loop)  # certify_roa's default box (the same as gc.saturated_loop's)
+    roa_volume = None
     try:
         cert = gc.certify_roa(loop, degree=2, time_limit=s.roa_time_limit)
-        roa_message = f"certified: {cert}"
+        roa_message = f"{'certified' if cert.certified else 'NOT certified'}: {cert}"
+        roa_volume = cert.volume() if cert.certified else None
     except gc.GlidectlError as exc:
         roa_message = f"{type(exc).__name__}: {exc}"
     mission: dict[str, Any] = dict(depths=s.depths, gamma=gamma, speed=s.speed, cycles=s.cycles, noise=noise,
@@ -104,7 +106,7 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     progress(f"missions: {', '.join(CONTROLLERS)} ({s.cycles} cycles, {s.depths[0]:g}-{s.depths[1]:g} m)")
     comparison = gc.compare_missions(veh, CONTROLLERS, **mission)
     return SlocumResults(s, veh, env, mission_env, glides, lqr_path, lqg, comparison, roa_message,
-                         loop, roa_box)
+                         roa_volume, loop, roa_box)
 
 
 def _poles(lam: np.ndarray) -> list[list[float]]:
@@ -165,6 +167,9 @@ def report(res: SlocumResults) -> Report:
         rows.append(name)
     rep.number("roa_lqr_certified", res.roa_message.startswith("certified"), "-", "certify_roa",
                note=res.roa_message[:400])
+    if res.roa_volume is not None:
+        rep.number("roa_lqr_volume", res.roa_volume, "-", "ROACertificate.volume",
+                   note="volume of the certified set in the 8 free states' own units (product of the units)")
 
     # ---------------------------------------------------------------- tables
     rep.table(f"Mission glides ({s.speed:g} m/s, r_P3 = {veh.actuators['r_P3'].fixed:g} m fixed)",
@@ -251,14 +256,20 @@ def report(res: SlocumResults) -> Report:
              "on the other 8 states, through a polynomial surrogate of the loop with a remainder bound. "
              f"With degree 2 and a budget of {res.settings.roa_time_limit:g} s it answered: "
              f"{res.roa_message[:500]}"
-             + ("" if certified else
-                "\n\nThe SOS route does not finish on this loop in this design's budget. Measured on 2026-12-02 "
-                "with a budget of 120 s, it returned after 46 s with an uncertified result: its sampled checks "
-                "passed (true dV/dt < 0 on 10,000 points of the set, 256 of 256 simulations converged), but the "
-                "SOS conditions at its final level failed their Gram check (stopped_by 'solver failure'). The "
-                "LMI path certifies this loop, unsaturated and saturated at the pump rate, with the same default "
-                "box and the same held states: see the roa_certification design, section 'Saturated loops' "
-                "(gc.certify_roa_lmi(gc.saturated_loop(loop)))."))
+             + ("\n\nThe SOS route does not finish on this loop in this budget: with the FULL settings' 120 s it "
+                "certifies it (about 30 s on an idle machine, measured 2026-12-02). The LMI path certifies this "
+                "loop too, unsaturated and saturated at the pump rate, with the same default box and the same held "
+                "states: see the roa_certification design, section 'Saturated loops' "
+                "(gc.certify_roa_lmi(gc.saturated_loop(loop)))."
+                if not certified else
+                f"\n\nThe certified set has volume {res.roa_volume:.4g} in the free states' own units. The "
+                "surrogate matches the loop to second order at the glide, so its remainder bound is cubic "
+                "(a |y|^2 + b |y|^3 with a at rounding level) and costs the decrease condition only quartic terms; "
+                "the bound holds on the box it was built on, so certify_roa first searched a smaller box (three "
+                "times the extents of the best level set of its starting V, one level SDP per box: the "
+                "'remainder box' steps of cert.history) and certified there. The LMI path certifies this loop "
+                "too, unsaturated and saturated at the pump rate: the roa_certification design, section "
+                "'Saturated loops', compares the volumes of the two paths (sat_user_unsat_sos_volume_ratio)."))
     return rep
 
 

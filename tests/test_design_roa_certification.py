@@ -27,6 +27,8 @@ def test_settings_presets(design):
     assert (Q.n_volume, Q.n_truth_2d, Q.n_truth_4d, Q.n_guide, Q.ctol) == (2**12, 21, 64, 256, False)
     assert m.DRAKE_RHO == 2.3045 and m.VDP_TRUE_AREA == 13.72
     assert F.saturated and (F.sat_rounds, F.sat_user_rounds, F.sat_n_truth, F.sat_sos_degree) == (6, 2, 256, 2)
+    assert set(F.sat_sos_cases) == {"user_unsat", "user_sat", "buoyancy", "elevator"}
+    assert Q.sat_sos_cases == ("elevator",)
     assert Q.saturated and (Q.sat_rounds, Q.sat_user_rounds, Q.sat_n_truth) == (2, 1, 32)
 
 
@@ -65,6 +67,12 @@ def test_roa_report_saturated_loops(quick_build):
         assert 0 < nums[f"sat_{key}_fraction_of_box"]["value"] < 1
         assert 0 < nums[f"sat_{key}_true_fraction"]["value"] <= 1
         assert nums[f"sat_{key}_tightness_scale"]["value"] > 1       # the certified set is not beyond its own V
-    assert nums["sat_buoyancy_sos_path"]["value"] is False and "polynomial" in nums["sat_buoyancy_sos_path"]["note"]
+    # the SOS path on a glider loop (QUICK: the elevator loop only): a surrogate of the plant with the saturation
+    # graph, certified, its volume compared with the LMI ellipsoid's
+    assert nums["sat_elevator_sos_certified"]["value"] is True
+    assert "sos-sector+remainder" in nums["sat_elevator_sos_certified"]["source"]
+    assert nums["sat_elevator_sos_volume_ratio"]["value"] > 0
+    assert "remainder-box search" in nums["sat_elevator_sos_volume_ratio"]["note"]
+    assert "sat_buoyancy_sos_certified" not in nums and "sat_user_sat_sos_certified" not in nums
     assert "sos-sector" in nums["sat_poly_sos_sector_fraction"]["source"]
     assert nums["sat_poly_sos_sector_fraction"]["value"] > nums["sat_poly_lmi_fraction"]["value"] > 0

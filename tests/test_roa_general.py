@@ -71,14 +71,22 @@ def test_remainder_bound_holds_on_dense_samples():
                      + [[t, hi[1]] for t in np.linspace(lo[0], hi[0], 501)])
     E, R = surrogate_error(ps, np.concatenate([X, edges]))
     assert np.all(E <= R)
-    # the bound is not vacuous: within a factor 100 of the worst sampled error/|y|^2
+    # the bound is cubic: the error is third order at the equilibrium (the quadratic allowance is rounding level)
+    # and the cubic coefficient is not vacuous: within a factor 100 of the worst sampled error/|y|^3
     Y = ps.lift(X)
-    ratio = np.max(E[: len(X)] / np.sum(Y**2, axis=1, keepdims=True), axis=0)
-    assert np.all(b.coefficients >= ratio) and np.max(b.coefficients) < 100 * np.max(ratio)
-    # the surrogate matches the exact linearization at the equilibrium
+    r = np.linalg.norm(Y, axis=1)[:, None]
+    assert np.all(b.quadratic < 1e-5 * np.max(b.cubic))
+    ratio = np.max(E[: len(X), 1] / r[:, 0] ** 3)               # omega' (theta' = omega is exactly linear)
+    assert b.cubic[1] >= ratio and b.cubic[1] < 100 * ratio
+    assert np.allclose(R, b(ps.lift(np.concatenate([X, edges]))), rtol=1e-12)
+    # the surrogate matches the exact linearization and the second derivatives of sin at the equilibrium
     A_true = gc.roa.certify._linearization(ps) * ps.scale[None, :] / ps.scale[:, None]
     A_p = np.array([[p.terms.get(tuple(int(k == j) for k in range(2)), 0.0) for j in range(2)] for p in ps.F])
     assert np.allclose(A_p, A_true, atol=1e-12)
+    s0, s1 = ps.scale
+    # omega' = -sin(theta) + ...: d^2/dy0^2 of g_1 = sin(0.3) s0^2 / s1, so the y0^2 coefficient is half that
+    assert ps.F[1].terms.get((2, 0), 0.0) == pytest.approx(0.5 * math.sin(0.3) * s0**2 / s1, rel=1e-7)
+    assert ps.F[0].terms.get((2, 0), 0.0) == 0.0 and ps.F[1].terms.get((1, 1), 0.0) == pytest.approx(0, abs=1e-9)
 
 
 def test_surrogate_certificate_is_sound_on_the_true_model(pend_cert):
@@ -210,9 +218,12 @@ def test_estimate_sos_size_of_a_closed_loop_counts_the_surrogate_route():
     m = Pendulum()
     size = gc.estimate_sos_size(m, 4)
     assert m.calls == 0 and size.n_vars == 2
-    names = [g for g, _ in size.gram]
-    # t_i >= |dV/dz_i| on the box: two SOS certificates per state, each with one multiplier per box cut
-    assert sum(nm.startswith("|dV/dz") for nm in names) == 4 and sum(nm.startswith("s") for nm in names) >= 8
+    gram = dict(size.gram)
+    # the robust bound of dV/dt has degree 2 deg V (Young's inequality, (dV/dz_i)^2 |z|^2): with the extra
+    # multiplier degree 2 of a 2-variable program, the decrease polynomial has degree 8 + 4 = 12, its half basis the
+    # 27 monomials of degree 1 to 6 in 2 variables (an exact degree-3 system would need degree 10: 20)
+    assert gram["decrease"] == 27 and set(gram) == {"decrease", "tau0", "tau1", "containment0", "sigma0",
+                                                    "containment1", "sigma1", "positivity"}
     assert gc.estimate_sos_size(m, 6).bytes > size.bytes
 
 

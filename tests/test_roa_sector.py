@@ -141,14 +141,41 @@ def test_sos_sector_beats_the_lmi_remainder_bound_on_a_polynomial_loop():
 
 def test_bad_saturated_loops_are_refused():
     sl = _loop("sin", lambda X: np.stack([X[..., 1], np.sin(X[..., 0])], -1), K2, -1.0, 1.0, 1.0)
-    with pytest.raises(gc.ModelError, match="certify_roa_lmi"):
-        sector_system(sl, max_degree=2)
+    with pytest.raises(gc.ModelError, match=r"method 'exact'.*'surrogate'.*certify_roa_lmi"):
+        sector_system(sl, max_degree=2, method="exact")
     lin = _loop("lin", lambda X: X @ A2.T, K2, -np.inf, np.inf, 1.0)
     with pytest.raises(gc.ModelError, match="no saturating channel"):
         gc.certify_roa(lin, degree=2)
     with pytest.raises(gc.ArgumentError, match="method"):
-        gc.certify_roa(_loop("l", lambda X: X @ A2.T, K2, -1.0, 1.0, 1.0), degree=2, method="surrogate")
+        gc.certify_roa(_loop("l", lambda X: X @ A2.T, K2, -1.0, 1.0, 1.0), degree=2, method="remainder")
+    with pytest.raises(gc.ArgumentError, match="box must lie in the loop's box"):
+        sector_system(sl, box=(np.array([-2.0, -0.5]), np.array([0.5, 0.5])))
+    with pytest.raises(gc.ArgumentError, match="contain the equilibrium"):
+        sector_system(sl, box=(np.array([0.1, -0.5]), np.array([0.5, 0.5])))
     with pytest.raises(gc.ArgumentTypeError, match="SaturatedLoop"):
         sector_system(gc.benchmarks.van_der_pol())
     with pytest.raises(gc.ArgumentTypeError):
         sector_system(lin, box_cuts=1)
+
+
+def test_non_polynomial_plant_gets_a_surrogate_and_a_sound_certificate():
+    """x1' = x2, x2' = sin(x1) + sat(-2 x1 - 2 x2): the plant does not recast, so the SOS path takes a surrogate of
+    it in (x, v) with its remainder bound (method 'sos-sector+remainder'); the certificate holds on the saturated
+    loop itself, and its level set reaches where the input saturates."""
+    sl = _loop("sin", lambda X: np.stack([X[..., 1], np.sin(X[..., 0])], -1), K2, -1.0, 1.0, 2.0)
+    ps = sector_system(sl)
+    assert ps.method == "sos-sector+remainder" and ps.inputs == (2,) and ps.remainder_bound is not None
+    assert len(ps.cuts) == 2 and len(ps.valid) == 3          # x box cuts; v range, g1, g2 valid on the graph
+    cert = gc.certify_roa(sl, degree=2, **SMALL)
+    assert cert.certified and cert.method == "sos-sector+remainder"
+    local = [c for c in cert.verification.gram if c.name.startswith("local robust decrease")]
+    assert len(local) == 1 and local[0].passed
+    lo, hi = cert.box
+    assert np.all(np.asarray(lo) >= -2.0) and np.all(np.asarray(hi) <= 2.0)
+    X = np.concatenate([cert.sample(2000, seed=1), cert.sample(1000, seed=2, boundary=True)])
+    assert np.all(cert.contains(X))
+    r2 = np.sum(X**2, axis=1)
+    assert np.all(gc.dVdt(cert.V, cert.system.lift, sl.rhs, X)[r2 > 1e-12] < 0)
+    assert np.any(np.abs(X @ K2.T) > 1.0)                       # saturated points are certified
+    res = integrate_batch(sl.rhs, cert.sample(64, seed=3, boundary=True), 40.0, rtol=1e-8, atol=1e-10)
+    assert np.all(res.converged_to(np.zeros(2), 1e-4))

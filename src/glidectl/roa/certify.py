@@ -40,6 +40,7 @@ import dataclasses
 import math
 import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
@@ -69,12 +70,12 @@ from .sos import (
     sign_classes,
 )
 from .surrogate import (
-    abs_gradient_bounds,
-    abs_gradient_constraints,
     refine_equilibrium,
+    robust_decrease_bound,
+    robust_degree,
     skeleton,
     surrogate_system,
-    t_degree,
+    young_weights,
 )
 from .systems import PolySystem, recast
 
@@ -388,17 +389,11 @@ def _fmt_bytes(b: float) -> str:
 def _size(ps: PolySystem, degree: int, extra: int) -> SOSSize:
     """The V-step program of :func:`_build` at ``degree`` (plus ``lambda`` of the level problem), counted."""
     nz, nc = ps.nz, len(ps.s_caps)
-    degF, degT = ps.degree, t_degree(degree)
-    if ps.remainder:
-        degF = max(degF, max(r.degree for r in ps.remainder) + degT - degree + 1)
+    degF = robust_degree(degree, ps.degree) if ps.remainder else ps.degree
     dg = _degrees(degree, degF, extra)
     gram = [("decrease", _n_monomials(nz, dg.D // 2, 1, nc))]
-    for i in range(len(ps.remainder)):      # t_i >= |dV/dz_i| on the cuts (surrogate route)
-        for tag in "+-":
-            gram.append((f"|dV/dz{i}|{tag}", _n_monomials(nz, degT // 2)))
-            gram += [(f"s{i}{tag}{k}", _n_monomials(nz, (degT - g.degree) // 2)) for k, g in enumerate(ps.cuts)]
     gram += [(f"tau{k}", _n_monomials(nz, (dg.D - g.degree) // 2)) for k, g in enumerate(ps.cuts + ps.valid)]
-    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam) + len(ps.remainder) * _n_monomials(nz, degT)
+    free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam)
     free += sum(_n_monomials(nz, dg.D - h.degree) for h in ps.equalities)
     eqs = math.comb(nz + dg.D, dg.D)
     for k, g in enumerate(ps.cuts):
@@ -564,16 +559,20 @@ def _sym_blocks(basis: list[tuple[int, ...]], G: np.ndarray) -> list[list[tuple[
 
 def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Poly | None, rho: float | None,
            eps: float, extra: int = 0, margin: bool = False, symmetry: bool = True, cone: str = "sos",
-           ) -> tuple[SOSProgram, dict[str, Any]]:
+           V0: Poly | None = None) -> tuple[SOSProgram, dict[str, Any]]:
     """Common builder. Exactly one of ``V`` (level problem) and ``lam`` (V step) is given. With ``symmetry``, the
     unknowns are restricted to the sign symmetries of the program (:func:`_symmetry`; exact), and every SOS
-    constraint's half basis is reduced exactly (:func:`~glidectl.roa.sos.reduce_basis`)."""
+    constraint's half basis is reduced exactly (:func:`~glidectl.roa.sos.reduce_basis`).
+
+    Surrogate route: the level problem bounds ``dV/dt`` by ``grad V . F`` plus the robust term of
+    :func:`~glidectl.roa.surrogate.robust_decrease_bound` (sound). The V step, where that term would not be
+    linear in the unknown ``V``, adds the robust term of the previous ``V0`` instead: a guide only, since every
+    ``V`` it returns is certified by a level problem."""
     nz = ps.nz
     degF = max(f.degree for f in F)
-    R = _remainder(ps, F)                                   # surrogate route (issue 17): |true - F| <= R
-    degT = t_degree(degV)
+    R, B = _remainder(ps, F)                                # surrogate route (issue 17): |true - F| <= R + B q^1.5
     if R:
-        degF = max(degF, max(r.degree for r in R) + degT - degV + 1)
+        degF = robust_degree(degV, degF)
     dg = _degrees(degV, degF, extra)
     prog = SOSProgram(nz, reduce=symmetry, cone=cone)
     out: dict[str, Any] = {}
@@ -589,20 +588,17 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         lam_u, lam_l = prog.free_poly("lambda", _sym(monomials(nz, dg.lam), G, zero))
         out["lambda"] = lam_u
         W = V.lie(F)
-        if R:   # robust decrease: dV/dt <= grad V . F + sum_i R_i t_i with t_i >= |dV/dz_i| on the cuts
-            T, out["abs_checks"] = abs_gradient_bounds(ps, V, R)
-            W = W + sum((r * t for r, t in zip(R, T, strict=True)), Poly({}, nz))
+        if R:   # robust decrease: dV/dt <= grad V . F + sum_i r_i |dV/dz_i| <= W (a polynomial, Young)
+            grads = [V.diff(i) for i in range(nz)]
+            W = W + robust_decrease_bound(ps, grads, R, B, young_weights(ps, V, R, B))
         out["W"] = W
         dec = Vl * N + _times(lam_l, W)
     else:
         V_u, Vl = prog.free_poly("V", _sym(_state_monomials(ps, degV), G, zero))
         out["V"] = V_u
         Vd = Vl.lie(F)
-        if R:
-            units = [[Poly.const(float(k == i), nz) for k in range(nz)] for i in range(nz)]
-            ts = abs_gradient_constraints(prog, ps, [Vl.lie(u) for u in units], degT)
-            for r, t in zip(R, ts, strict=True):
-                Vd = Vd + t * r
+        if R and V0 is not None:    # the previous V's robust term: a guide (see the docstring)
+            Vd = Vd + robust_decrease_bound(ps, [V0.diff(i) for i in range(nz)], R, B, young_weights(ps, V0, R, B))
         dec = _plus(Vl * N, _times(Vd, lam))
     if rho is None:
         rho_u, rho_l = prog.scalar("rho")
@@ -810,12 +806,13 @@ def _coefficient_map(L: LinPoly, monos: dict[tuple[int, ...], int]) -> Any:
     return out
 
 
-def _remainder(ps: PolySystem, F: list[Poly]) -> list[Poly]:
-    """The remainder polynomials of a surrogate system divided by the factor ``F`` was divided by (``_scaled``)."""
+def _remainder(ps: PolySystem, F: list[Poly]) -> tuple[list[Poly], np.ndarray]:
+    """The remainder bound of a surrogate system (its polynomial parts and cubic coefficients) divided by the factor
+    ``F`` was divided by (``_scaled``)."""
     if not ps.remainder:
-        return []
+        return [], np.zeros(0)
     k = max(f.max_abs_coefficient() for f in ps.F) / max(max(f.max_abs_coefficient() for f in F), 1e-300)
-    return [r / k for r in ps.remainder]
+    return [r / k for r in ps.remainder], np.asarray(ps.remainder_cubic, dtype=float) / k
 
 
 def _scaling(ps: PolySystem) -> np.ndarray:
@@ -838,6 +835,8 @@ def _rescale(ps: PolySystem, k: np.ndarray) -> PolySystem:
         equalities=tuple(h.substitute(Kz) for h in ps.equalities), cuts=tuple(g.substitute(Kz) for g in ps.cuts),
         valid=tuple(g.substitute(Kz) for g in ps.valid),
         remainder=tuple(r.substitute(Kz) / float(k[i]) for i, r in enumerate(ps.remainder)),
+        remainder_cubic=tuple(float(b) / float(k[i]) for i, b in enumerate(ps.remainder_cubic)),
+        remainder_norm=None if ps.remainder_norm is None else ps.remainder_norm.substitute(Kz),
         lift=lambda X: lift0(X) / k)
 
 
@@ -920,13 +919,13 @@ def _level_reused(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, sol
 
 
 def _v_step(ps: PolySystem, F: list[Poly], degV: int, lam: Poly, Zt: np.ndarray, *, eps: float, extra: int,
-            solver: str, cache: dict | None) -> tuple[SOSProgram, dict[str, Any]]:
+            solver: str, cache: dict | None, V0: Poly | None = None) -> tuple[SOSProgram, dict[str, Any]]:
     """The V step for the multiplier ``lam`` (solved): ``V`` of degree ``degV`` minimizing ``mean(max(V - 1, 0))``
     over the simulated points ``Zt``. With a ``cache`` (exact route) the program is built once per (degree, support
     of ``lam``) with the coefficients of ``lam`` as cvxpy Parameters and re-solved."""
     key = ("V step", degV, tuple(sorted(lam.terms)))
     if cache is None or ps.remainder or lam.is_zero:
-        prog, out = _build(ps, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=extra)
+        prog, out = _build(ps, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=extra, V0=V0)
     elif key not in cache:
         lp = _Fixed.on(list(key[2]), ps.nz)
         prog, out = _build(ps, F, degV, V=None, lam=lp, rho=1.0, eps=eps, extra=extra)
@@ -1123,7 +1122,8 @@ class ROACertificate:
         polynomial surrogate whose distance to the model is bounded on the box, :mod:`glidectl.roa.surrogate`;
         the decrease condition holds for every field within that bound) or ``"sos-sector"`` (a saturated loop:
         the saturated inputs are extra variables on the exact graph of the saturation,
-        :mod:`glidectl.roa.sector`).
+        :mod:`glidectl.roa.sector`) or ``"sos-sector+remainder"`` (the same with a surrogate of a plant that is not
+        polynomial).
     scale : ndarray or None
         Scale of each polynomial variable ``z`` in the programs (``z / scale`` is what the SDPs see): for the
         surrogate route the state scale ``s`` of ``(x - x_e) / s`` times the internal rescaling (state units).
@@ -1760,7 +1760,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
                 on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
-                margin: float = 2.0, reuse: bool = True, inner: str = "sos") -> ROACertificate:
+                margin: float = 2.0, reuse: bool = True, inner: str = "sos", box_search: int = 6) -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
@@ -1769,9 +1769,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         A polynomial system (e.g. :func:`glidectl.benchmarks.van_der_pol`) or a model at an equilibrium with the
         attributes :func:`~glidectl.roa.systems.recast` needs (``sp.reduced_model()``, ``sp.full_model()``). Its
         equilibrium must be exponentially stable. A :class:`~glidectl.roa.lmi.SaturatedLoop`
-        (:func:`glidectl.saturated_loop`) with a polynomial plant is certified with its saturation as S-procedure
-        terms (:func:`~glidectl.roa.sector.sector_system`, ``method = "sos-sector"``; the states are its free
-        states); a non-polynomial one is refused (ModelError): use :func:`glidectl.certify_roa_lmi`. A closed loop
+        (:func:`glidectl.saturated_loop`) is certified with its saturation as S-procedure terms
+        (:func:`~glidectl.roa.sector.sector_system`; the states are its free states): ``method = "sos-sector"``
+        with a polynomial plant, ``"sos-sector+remainder"`` with a surrogate of one that is not. A closed loop
         whose locked states never move (the states its law locks, as :func:`glidectl.saturated_loop` holds them, and
         states whose derivative is zero on the box once those are fixed; e.g. ``r_P3``, ``rdot_P3`` when the vehicle
         file fixes ``r_P3``) is certified on its other states with the locked ones held at their equilibrium
@@ -1837,7 +1837,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         surrogate with a remainder bound on the box (:func:`~glidectl.roa.surrogate.surrogate_system`), for every
         right-hand side within that bound, the true one included; ``"auto"`` (default) tries the exact recast
         (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which. A
-        SaturatedLoop takes the ``"sos-sector"`` route with ``"auto"`` or ``"exact"``.
+        SaturatedLoop takes the same choice for its plant (``"sos-sector"`` or ``"sos-sector+remainder"``).
     surrogate_degree : int
         Degree of the surrogate, 2 to 5 (default 3).
     margin : float
@@ -1853,6 +1853,13 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         certificate is always a full SOS one: with an inner approximation the kept ``V`` first gets its full SOS
         level (one more SDP, recorded in ``history`` as ``"final SOS level"``), then the backed-off margin SDP and
         the verification run as with ``"sos"``.
+    box_search : int
+        Surrogate routes (``"surrogate+remainder"``, ``"sos-sector+remainder"``) with a quadratic start: how many
+        smaller boxes to try for the surrogate at most (default 6; 0: the box only). The remainder bound holds on
+        the whole box, so a region much smaller than the box pays for curvature far from it. Each round sets the box
+        to three times the extents of the best set of the starting ``V0`` so far (clipped to the box), builds its
+        surrogate and solves one level SDP of the same ``V0``; the alternation runs on the box with the largest
+        level (each round is a ``"remainder box r = ..."`` step of ``history``). ``cert.box`` is the box used.
 
     Returns
     -------
@@ -1909,8 +1916,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     margin = checks.real("margin", margin, lo=1.0)
     reuse = checks.boolean("reuse", reuse)
     inner = checks.choice("inner", inner, GRAM_CONES)
-    ps, full = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
-                speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit, extra=extra)
+    box_search = checks.integer("box_search", box_search, lo=0, hi=30)
+    ps, full, rebuild = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
+                               speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit,
+                               extra=extra)
     t_route = deadline.elapsed
     if on_budget == "raise":
         deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)"
@@ -1952,18 +1961,30 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             deadline.check(f"{where}; {time_spent()}; or pass on_budget='stop' to certify the best V found so far")
         return True
 
+    if initial is not None:
+        V0 = initial
+    elif ps.scale is not None or weight is not None:
+        V0 = scaled_lyapunov(_linearization(ps), ps.scale[:ps.n] if ps.scale is not None else np.ones(ps.n), weight)
+        if ps.nz != ps.n:       # (a saturated loop) the quadratic in the states' own variables of z
+            Zv = Poly.variables(ps.nz)
+            V0 = V0.substitute([Zv[sl[0]] for sl in ps.slots])
+    else:
+        V0 = lyapunov_quadratic(ps)
+    history: list[dict[str, Any]] = []
+    if rebuild is not None and box_search > 0 and V0.degree == 2:
+        t_stage = time.perf_counter()
+        ps, V0 = _search_box(ps, rebuild, V0, n_boxes=box_search, solver=solver, extra=extra, history=history,
+                             out_of_time=out_of_time)
+        spent["remainder-box search"] = time.perf_counter() - t_stage
+        if full is not None:
+            blo, bhi = full.box[0].copy(), full.box[1].copy()
+            blo[list(full.free)], bhi[list(full.free)] = ps.box
+            full = dataclasses.replace(full, box=(blo, bhi))
     k = _scaling(ps)
     pss = _rescale(ps, k)
     F = _scaled(pss)
     hz = horizon or _default_horizon(ps)
-    if initial is not None:
-        V0 = initial
-    elif ps.scale is not None or weight is not None:
-        V0 = scaled_lyapunov(_linearization(ps), ps.scale if ps.scale is not None else np.ones(ps.n), weight)
-    else:
-        V0 = lyapunov_quadratic(ps)
     V = _to_scaled(V0, k)
-    history: list[dict[str, Any]] = []
     t_solve = 0.0
     # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
     cache: dict | None = {} if reuse and inner == "sos" else None
@@ -2018,9 +2039,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             t_stage = time.perf_counter()
             try:
                 if inner == "sos":
-                    prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache)
+                    prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache, V0=V)
                 else:
-                    prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner)
+                    prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner, V0=V)
                     M = monomial_matrix(Zt, out["V"].basis)
                     prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
                 t_solve += prog.solve_time
@@ -2084,7 +2105,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         else:
             prog.resolve(solver=solver)
         t_solve += prog.solve_time
-        gram = tuple(prog.check()) + tuple(outf.get("abs_checks", ())) + _local_robust(outf.get("W"), pss)
+        gram = tuple(prog.check()) + _local_robust(outf.get("W"), pss)
         history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
                         "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
                         "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
@@ -2107,17 +2128,20 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
 # --------------------------------------------------------------------------------------------- routes (issue 17)
 def _local_robust(W: Poly | None, ps: PolySystem) -> tuple[GramCheck, ...]:
     """Surrogate route: the robust upper bound ``W`` of ``dV/dt`` must be negative definite at the equilibrium (its
-    quadratic part), else ``{W != 0}`` could be ``W > 0`` near it. An entry of the Gram checks."""
+    quadratic part), else ``{W != 0}`` could be ``W > 0`` near it. An entry of the Gram checks. With saturated-input
+    variables (``ps.inputs``), the quadratic part is taken on the loop's own graph near the equilibrium, where no
+    input saturates: ``z = T z_x`` with ``T`` the derivative of ``lift`` there (``v = K x``)."""
     if W is None or not ps.remainder:
         return ()
     nz = ps.nz
-    Q = np.zeros((nz, nz))
-    for e, c in W.terms.items():
-        if sum(e) == 2:
-            idx = [i for i in range(nz) for _ in range(e[i])]
-            Q[idx[0], idx[1]] += c / (1.0 if idx[0] == idx[1] else 2.0)
-            if idx[0] != idx[1]:
-                Q[idx[1], idx[0]] += c / 2.0
+    Q = W.quadratic_part()
+    if ps.inputs:
+        xe = np.asarray(ps.equilibrium, dtype=float)
+        h = 1e-30
+        J = np.imag(ps.lift(xe[None, :] + 1j * h * np.eye(len(xe)))).T / h      # J[z, x] = d z / d x
+        xz = [i for i in range(nz) if i not in set(ps.inputs)]
+        T = J @ np.linalg.inv(J[xz])
+        Q = T.T @ Q @ T
     return (GramCheck("local robust decrease (-quadratic part of the dV/dt bound)", 1,
                       float(np.linalg.eigvalsh(-Q)[0]), 0.0),)
 
@@ -2239,19 +2263,92 @@ def _embed(ps: PolySystem, full: _Full) -> PolySystem:
         angle_states=tuple(free[i] for i in ps.angle_states), mixed_states=tuple(free[i] for i in ps.mixed_states))
 
 
+def _transport(V: Poly, ps_from: PolySystem, ps_to: PolySystem) -> Poly:
+    """``V`` in the variables of one surrogate system as the same function of the states in another's (both
+    ``z = (x - x_e) / s``: only the scales differ)."""
+    r = np.asarray(ps_to.scale, dtype=float) / np.asarray(ps_from.scale, dtype=float)
+    Z = Poly.variables(ps_to.nz)
+    return V.substitute([Z[i] * float(r[i]) for i in range(ps_to.nz)])
+
+
+def _level_on(ps: PolySystem, V: Poly, *, solver: str, extra: int | None) -> LevelResult:
+    """The level problem of ``V`` (in ``ps``'s variables) on ``ps``, built as :func:`certify_roa` builds it."""
+    k = _scaling(ps)
+    pss = _rescale(ps, k)
+    return _level(pss, _scaled(pss), _to_scaled(V, k), rho_cap=1e6, solver=solver, center=0.0,
+                  extra=_auto_extra(ps, extra))
+
+
+def _search_box(ps: PolySystem, rebuild: Callable[[tuple[np.ndarray, np.ndarray]], PolySystem], V0: Poly, *,
+                n_boxes: int, solver: str, extra: int | None, history: list[dict[str, Any]],
+                out_of_time: Callable[[str], bool]) -> tuple[PolySystem, Poly]:
+    """The remainder-box search of the surrogate routes: the remainder bound holds on the whole box, so a set much
+    smaller than the box pays for curvature far away from it. Starting from the box, each round takes the box
+    ``x_e +- 3 sqrt(rho) e`` (``e`` the extents of ``{V0 <= 1}``, ``rho`` the best level so far: three times the
+    extents of the best set, clipped to the box), builds its surrogate and finds the level of the same ``V0`` (the
+    same function of the states) on it (one SDP; the set must lie in that box). Stops when a round does not raise
+    the level or the box changes by less than 10 %, after ``n_boxes`` rounds at most (while the level program
+    fails, as it can on the whole box, each round takes an 8 times smaller box). Returns the system and ``V0`` (in
+    its variables) of the largest level (the box when none was found); the levels are logged in ``history``."""
+    lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
+    xe = np.asarray(ps.equilibrium, dtype=float)
+    idx = [sl[0] for sl in ps.slots]
+    Pz = V0.quadratic_part()[np.ix_(idx, idx)]
+    sc = np.asarray(ps.scale, dtype=float)[idx]
+    ext = np.sqrt(np.diag(np.linalg.inv(Pz / np.outer(sc, sc))))      # extents of {V0 <= 1}, state units
+    r = r_box = float(np.max(np.maximum(xe - lo, hi - xe) / ext))       # the box is the search's first one
+
+    def log(step: str, lv: LevelResult | None) -> None:
+        history.append({"degree": V0.degree, "step": step, "rho": lv.rho if lv else math.nan, "volume": math.nan,
+                        "sdp_time": lv.solve_time if lv else 0.0, "compile_time": lv.compile_time if lv else 0.0,
+                        "solver_time": lv.solver_time if lv else 0.0})
+
+    best: tuple[float, PolySystem, Poly] = (-math.inf, ps, V0)
+    try:
+        lv = _level_on(ps, V0, solver=solver, extra=extra)
+        log(f"remainder box r = {r:.3g} (the box)", lv)
+        best = (lv.rho, ps, V0)
+    except SolverError as exc:              # (an ill-conditioned program on the whole box: try smaller ones)
+        log(f"remainder box r = {r:.3g} (the box): {exc}", None)
+    for _ in range(n_boxes):
+        # three times the extents of the best set so far; while no level is known, an 8 times smaller box
+        r_new = min(3.0 * math.sqrt(best[0]) if best[0] > 0 else r / 8.0, r_box)
+        if abs(math.log(max(r_new, 1e-300) / r)) < 0.1 or out_of_time(f"remainder-box search at r = {r_new:.3g}"):
+            break
+        r = r_new
+        b = (np.maximum(lo, xe - r * ext), np.minimum(hi, xe + r * ext))
+        try:
+            psk = rebuild(b)
+            Vk = _transport(V0, ps, psk)
+            lv = _level_on(psk, Vk, solver=solver, extra=extra)
+        except (SolverError, ModelError) as exc:
+            log(f"remainder box r = {r:.3g}: {exc}", None)
+            if best[0] > 0:
+                break
+            continue
+        log(f"remainder box r = {r:.3g}", lv)
+        if not lv.rho > best[0]:
+            break
+        best = (lv.rho, psk, Vk)
+    return best[1], best[2]
+
+
 def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin: float, speed_floor: float, seed: int,
-           degree: int, max_degree: int, limit: float, extra: int | None) -> tuple[PolySystem, _Full | None]:
-    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder; and, when the
-    loop has held states (:func:`_held_states`), the full states it is embedded in (else None). Budgets of the
+           degree: int, max_degree: int, limit: float, extra: int | None,
+           ) -> tuple[PolySystem, _Full | None, Callable[[tuple[np.ndarray, np.ndarray]], PolySystem] | None]:
+    """The PolySystem certified: the system itself, its exact recast, or a surrogate with remainder; when the loop
+    has held states (:func:`_held_states`), the full states it is embedded in (else None); and, for a surrogate,
+    how to build it again on a smaller box of the free states (else None; :func:`_search_box`). Budgets of the
     surrogate route are checked before anything is sampled; a closed loop's linearization on its free states is
     checked for exponential stability before it is recast or a surrogate is built."""
     if isinstance(system, PolySystem):
-        return system, None
+        return system, None, None
     if isinstance(system, SaturatedLoop):            # saturation in the SOS path: graph of sat as S-procedure terms
-        if method not in ("auto", "exact"):
-            raise ArgumentError(f"a SaturatedLoop is certified by the SOS path with its saturation as S-procedure "
-                                f"terms (method 'auto' or 'exact'), not method={method!r}")
-        return sector_system(system, seed=seed), None
+        ps = sector_system(system, seed=seed, method=method, surrogate_degree=surrogate_degree, margin=margin)
+        if not ps.remainder:
+            return ps, None, None
+        return ps, None, lambda b: sector_system(system, seed=seed, method="surrogate",
+                                                 surrogate_degree=surrogate_degree, margin=margin, box=b)
     names = getattr(system, "state_names", None)
     if names is None or not callable(getattr(system, "rhs", None)):
         raise ArgumentTypeError(f"certify_roa needs a PolySystem or an input-free glidectl model (state_names, rhs, "
@@ -2270,11 +2367,14 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
         surrogate_fits(len(tuple(names)))
         try:
             if method in ("auto", "exact"):
-                return recast(system, speed_floor=speed_floor), None
+                return recast(system, speed_floor=speed_floor), None, None
         except ModelError:
             if method == "exact":
                 raise
-        return surrogate_system(system, box, degree=surrogate_degree, margin=margin, seed=seed), None
+
+        def build_own(b: Any) -> PolySystem:
+            return surrogate_system(system, b, degree=surrogate_degree, margin=margin, seed=seed)
+        return build_own(box), None, build_own
     xe0 = getattr(system, "equilibrium", None)
     if xe0 is None:
         raise ModelError(f"'{getattr(system, 'name', type(system).__name__)}' has no equilibrium (None): a region of "
@@ -2303,8 +2403,11 @@ def _route(system: Any, *, box: Any, method: str, surrogate_degree: int, margin:
                         max_degree=4 if method == "exact" else dmax, seed=seed)
             lift0 = ps.lift
             return dataclasses.replace(ps, lift=lambda X: lift0(np.asarray(X) - xe), rhs=model.rhs, equilibrium=xe,
-                                       box=(lo, hi)), full
+                                       box=(lo, hi)), full, None
         except ModelError:
             if method == "exact":
                 raise
-    return surrogate_system(model, (lo, hi), degree=surrogate_degree, margin=margin, seed=seed), full
+
+    def build(b: Any) -> PolySystem:
+        return surrogate_system(model, b, degree=surrogate_degree, margin=margin, seed=seed)
+    return build((lo, hi)), full, build

@@ -148,6 +148,22 @@ class Poly:
                 V = V + float(P[i, j]) * Z[i] * Z[j]
         return V
 
+    def quadratic_part(self) -> np.ndarray:
+        """The symmetric ``Q`` with ``z^T Q z`` equal to the terms of degree 2 (the inverse of :meth:`quadratic` on
+        symmetric matrices).
+
+        Returns
+        -------
+        numpy.ndarray, shape (nvars, nvars)
+        """
+        Q = np.zeros((self.nvars, self.nvars))
+        for e, c in self.terms.items():
+            if sum(e) == 2:
+                i, j = (k for k in range(self.nvars) for _ in range(e[k]))
+                Q[i, j] += c / 2.0
+                Q[j, i] += c / 2.0
+        return Q
+
     # ------------------------------------------------------------------ arithmetic
     def _coerce(self, other: Any) -> Poly:
         if isinstance(other, Poly):

@@ -2,39 +2,52 @@
 
 **What is certified.** For a closed loop ``x' = f(x)`` with equilibrium ``x_e`` and a box ``B`` containing it, the
 scaled field ``g(y) = f(x_e + S y) / s`` (``S = diag(s)``, :mod:`glidectl.roa.scaling`) is replaced by a polynomial
-``p`` of degree ``d`` with ``p(0) = 0`` and ``Dp(0) = Dg(0)`` exactly (the linearization by complex step; the
-higher terms by least squares over the box), together with
+``p`` of degree ``d`` that matches ``g`` to second order at the equilibrium: ``p(0) = 0``, ``Dp(0) = Dg(0)`` (the
+linearization, by complex step) and ``D^2 p(0) = D^2 g(0)`` (central differences of complex-step Jacobians); the
+terms of degree 3 to ``d`` are a least-squares fit over the box. With it,
 
-    ``|g_i(y) - p_i(y)| <= r_i(y) = c_i |y|^2``  for every ``y`` in the scaled box,
+    ``|g_i(y) - p_i(y)| <= r_i(y) = a_i |y|^2 + b_i |y|^3``  for every ``y`` in the scaled box,
 
-so the SOS programs of :func:`glidectl.certify_roa` certify every field ``p + delta`` with ``|delta_i| <= r_i`` on
-the box, the true ``g`` included (see ``_build`` in :mod:`glidectl.roa.certify`: ``dV/dt <= grad V . p + sum_i r_i
-t_i`` with ``t_i >= |dV/dy_i|`` certified on the box by SOS).
+where ``a_i`` covers the finite-difference error of ``D^2 g(0)`` (a relative allowance of ``1e-6``) and ``b_i``
+is the third-order Taylor bound below. The SOS programs of :func:`glidectl.certify_roa` then certify every field
+``p + delta`` with ``|delta_i| <= r_i`` on the box, the true ``g`` included: for a fixed ``V``,
 
-**Why the bound holds.** With ``e = g - p``, ``e(0) = 0`` and ``De(0) = 0`` (to rounding; the equilibrium is first
-refined by Newton steps so that ``g(0)`` is at rounding level), and the box is star-shaped about ``0``, so Taylor's
-formula with integral remainder along the segment ``[0, y]`` gives ``|e_i(y)| <= 1/2 M_i |y|^2`` with
-``M_i = sup_B ||Hess e_i||_2``. ``M_i`` is bounded on a tensor grid of the box with ``g`` nodes per axis (spacing
-``D_j``): at every node the Hessian is computed (central differences, step ``1e-4``, of exact complex-step
-Jacobians; error ``O(1e-8)``, covered by the added ``1e-6`` relative allowance) and, since every point of the box
-is within the covering radius ``h = 1/2 sqrt(sum_j D_j^2)`` of a node,
+    ``dV/dt <= grad V . p + sum_i r_i |dV/dy_i|
+            <= grad V . p + sum_i |y|^2 [a_i (k_i + (dV/dy_i)^2 / k_i) + b_i (k_i |y|^2 + (dV/dy_i)^2 / k_i)] / 2``
 
-    ``M_i <= max_nodes ||Hess e_i||_2 + L_i h``,  ``L_i = margin * sqrt(sum_j L_ij^2)``,
+for any ``k_i > 0`` (Young's inequality, ``|y| |dV/dy_i| <= (k_i |y|^2 + (dV/dy_i)^2 / k_i) / 2``, and
+``|dV/dy_i| <= (k_i + (dV/dy_i)^2 / k_i) / 2``): a polynomial bound (:func:`robust_decrease_bound`). Its quadratic
+part is ``sum_i a_i k_i |y|^2 / 2`` (rounding level), so near the equilibrium the bound decreases as the
+linearization does: the remainder costs only quartic terms. (A remainder ``c_i |y|^2``, a surrogate matched to first
+order only, would add ``c_i t_i(0) |y|^2`` with ``t_i(0) > 0`` for any polynomial ``t_i >= |dV/dy_i|``, which
+defeats the linear decrease whenever ``c_i`` is not small: the LQR loop of the user glider was refused that way.)
 
-where ``L_ij`` is the largest difference quotient ``||H(a) - H(b)||_2 / D_j`` between neighbouring nodes along axis
-``j``. **Assumption** (the one step that is not proved): the Lipschitz constant of ``Hess e_i`` along each axis is at
-most ``margin`` (default 2) times the largest difference quotient seen on the grid; it holds when the third
+**Why the bound holds.** With ``e = g - p``: ``e(0) = 0`` and ``De(0) = 0`` to rounding (the equilibrium is first
+refined by Newton steps, so that ``g(0)`` is at rounding level), ``|D^2 e(0)| <= 2 a_i`` (the allowance), and the
+box is star-shaped about ``0``, so Taylor's formula with integral remainder along ``[0, y]`` gives
+``|e_i(y)| <= a_i |y|^2 + M_i |y|^3 / 6`` with ``M_i = sup_B ||D^3 e_i||``, the norm of the symmetric 3-tensor
+bounded by the spectral norm of its ``n x n^2`` unfolding. ``M_i`` is bounded on a tensor grid of the box with
+``g`` nodes per axis (spacing ``D_j``): at every node the third derivatives are computed (second central
+differences, step ``1e-3``, of exact complex-step Jacobians; error ``O(1e-7)``, covered by the relative allowance;
+the nodes are moved ``2e-3`` inside the box so that the differences never leave it) and, since every point of the
+box is within the covering radius ``h = 1/2 sqrt(sum_j D_j^2) + 2e-3 sqrt(n)`` of a node,
+
+    ``M_i <= max_nodes ||D^3 e_i|| + L_i h``,  ``L_i = margin * sqrt(sum_j L_ij^2)``,
+
+where ``L_ij`` is the largest difference quotient ``||T(a) - T(b)|| / D_j`` between neighbouring nodes along axis
+``j``. **Assumption** (the one step that is not proved): the Lipschitz constant of ``D^3 e_i`` along each axis is
+at most ``margin`` (default 2) times the largest difference quotient seen on the grid; it holds when the fourth
 derivatives of ``f`` vary by less than that factor within one grid cell. Everything else is exact or rounding. The
-bound, its ingredients and this assumption are recorded in :class:`RemainderBound`, and
-:func:`surrogate_error` checks it at any points (the tests check it on many more points than the fit used).
+bound, its ingredients and this assumption are recorded in :class:`RemainderBound`, and :func:`surrogate_error`
+checks it at any points (the tests check it on many more points than the fit used).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
-import cvxpy as cp
 import numpy as np
 from scipy.stats import qmc
 
@@ -42,26 +55,32 @@ from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import box_scale, resolve_box
-from .sos import GramCheck, SOSProgram
 from .systems import PolySystem
 
-__all__ = ["RemainderBound", "surrogate_error", "surrogate_system"]
+__all__ = ["RemainderBound", "remainder_values", "robust_decrease_bound", "surrogate_error", "surrogate_system",
+           "young_weights"]
 
-_H_FD = 1e-4            # step of the central differences of the Jacobians (scaled units)
+_H_FD = 1e-4            # step of the central differences of the Jacobians (scaled units): D^2 g(0)
+_T_FD = 1e-3            # step of the second differences of the Jacobians: D^3 g at the grid nodes
+_REL = 1e-6             # relative allowance for the finite-difference errors
 _CS = 1e-30             # complex step
 
 
 @dataclass(frozen=True)
 class RemainderBound:
-    """How the remainder ``|g_i(y) - p_i(y)| <= c_i |y|^2`` of a surrogate was bounded (module docstring).
+    """How the remainder ``|g_i(y) - p_i(y)| <= a_i |y|^2 + b_i |y|^3`` of a surrogate was bounded (module
+    docstring).
 
     Attributes
     ----------
-    coefficients : ndarray (n,)
-        ``c_i = M_i / 2`` (per time unit of the model; ``y`` nondimensional).
-    hessian_max : ndarray (n,)
-        Largest ``||Hess e_i||_2`` at the grid nodes.
-    hessian_lipschitz : ndarray (n,)
+    quadratic : ndarray (n,)
+        ``a_i``: the allowance for the finite-difference error of ``D^2 g_i(0)`` (per time unit of the model; ``y``
+        nondimensional).
+    cubic : ndarray (n,)
+        ``b_i = M_i / 6``, ``M_i`` the bound of ``||D^3 e_i||`` on the box.
+    third_max : ndarray (n,)
+        Largest ``||D^3 e_i||`` at the grid nodes (spectral norm of the ``n x n^2`` unfolding).
+    third_lipschitz : ndarray (n,)
         ``L_i`` (margin included).
     covering_radius : float
         ``h``: every point of the scaled box is within ``h`` of a node.
@@ -81,9 +100,10 @@ class RemainderBound:
         The assumptions the bound rests on, in words.
     """
 
-    coefficients: np.ndarray
-    hessian_max: np.ndarray
-    hessian_lipschitz: np.ndarray
+    quadratic: np.ndarray
+    cubic: np.ndarray
+    third_max: np.ndarray
+    third_lipschitz: np.ndarray
     covering_radius: float
     grid: int
     margin: float
@@ -93,11 +113,16 @@ class RemainderBound:
     equilibrium_residual: float
     assumptions: str = field(repr=False, default="")
 
+    def __call__(self, Y: Any) -> np.ndarray:
+        """The bound ``a_i |y|^2 + b_i |y|^3`` at scaled states ``Y`` (N, n): (N, n)."""
+        r = np.linalg.norm(np.asarray(Y, dtype=float), axis=-1)[..., None]
+        return self.quadratic * r**2 + self.cubic * r**3
+
     def summary(self) -> str:
-        """One line: degree, grid, covering radius and the largest coefficient."""
-        return (f"surrogate degree {self.fit_degree}, remainder <= c |y|^2 with max c = "
-                f"{float(np.max(self.coefficients)):.3g} (grid {self.grid}^n, covering radius "
-                f"{self.covering_radius:.3g}, margin {self.margin:g})")
+        """One line: degree, grid, covering radius and the largest coefficients."""
+        return (f"surrogate degree {self.fit_degree} matched to second order, remainder <= a |y|^2 + b |y|^3 with "
+                f"max a = {float(np.max(self.quadratic)):.3g}, max b = {float(np.max(self.cubic)):.3g} (grid "
+                f"{self.grid}^n, covering radius {self.covering_radius:.3g}, margin {self.margin:g})")
 
 
 def _field(model: Any) -> Any:
@@ -134,22 +159,58 @@ def _hessians(g: Any, Y: np.ndarray, chunk: int = 4096) -> np.ndarray:
     return 0.5 * (H + np.swapaxes(H, -1, -2))
 
 
-def _poly_hessians(P: list[Poly], Y: np.ndarray) -> np.ndarray:
-    """Exact Hessians of polynomials ``P`` at points ``Y`` (N, n): ``(N, len(P), n, n)``."""
+def _thirds(g: Any, Y: np.ndarray, chunk: int = 1024) -> np.ndarray:
+    """``T[k, i, j, a, b] = d^3 g_i / dy_j dy_a dy_b (y_k)``, (N, n_out, n, n, n): second central differences (step
+    ``_T_FD``) of exact complex-step Jacobians."""
     N, n = Y.shape
-    H = np.zeros((N, len(P), n, n))
+    h = _T_FD
+    T = np.empty((N, n, n, n, n))
+    E = np.eye(n) * h
+    for s0 in range(0, N, chunk):
+        Yb = Y[s0:s0 + chunk]
+        J0 = _jac(g, Yb)
+        for a in range(n):
+            for b in range(a, n):
+                if a == b:
+                    D = (_jac(g, Yb + 2 * E[a]) - 2 * J0 + _jac(g, Yb - 2 * E[a])) / (4 * h * h)
+                else:
+                    D = (_jac(g, Yb + E[a] + E[b]) - _jac(g, Yb + E[a] - E[b]) - _jac(g, Yb - E[a] + E[b])
+                         + _jac(g, Yb - E[a] - E[b])) / (4 * h * h)
+                D = np.transpose(D, (0, 2, 1))                               # [k, i, j]
+                T[s0:s0 + chunk, :, :, a, b] = D
+                T[s0:s0 + chunk, :, :, b, a] = D
+    # symmetrize over the three derivative slots (the differences are symmetric in (a, b) only)
+    return (T + np.transpose(T, (0, 1, 3, 2, 4)) + np.transpose(T, (0, 1, 4, 3, 2))) / 3.0
+
+
+def _poly_derivs(P: list[Poly], Y: np.ndarray, order: int) -> np.ndarray:
+    """Exact derivative tensors of order 2 or 3 of polynomials ``P`` at points ``Y`` (N, n):
+    ``(N, len(P), n, ..., n)``."""
+    import itertools
+
+    N, n = Y.shape
+    out = np.zeros((N, len(P)) + (n,) * order)
     for i, p in enumerate(P):
-        for j in range(n):
-            dj = p.diff(j)
-            for k in range(j, n):
-                djk = dj.diff(k)
-                if djk.is_zero:
-                    continue
-                E, c = djk.arrays()
-                v = monomial_matrix(Y, [tuple(e) for e in E]) @ c
-                H[:, i, j, k] = v
-                H[:, i, k, j] = v
-    return H
+        for idx in itertools.combinations_with_replacement(range(n), order):
+            d = p
+            for j in idx:
+                d = d.diff(j)
+            if d.is_zero:
+                continue
+            E, c = d.arrays()
+            v = monomial_matrix(Y, [tuple(e) for e in E]) @ c
+            for perm in set(itertools.permutations(idx)):
+                out[(slice(None), i, *perm)] = v
+    return out
+
+
+def _unfolded_norms(T: np.ndarray) -> np.ndarray:
+    """Spectral norms of the ``n x n^2`` unfoldings of 3-tensors ``T (..., n, n, n)``: upper bounds of the tensor
+    norm ``max |T[u, v, w]|`` over unit vectors."""
+    n = T.shape[-1]
+    M = T.reshape(*T.shape[:-3], n, n * n)
+    G = M @ np.swapaxes(M, -1, -2)
+    return np.sqrt(np.maximum(np.linalg.eigvalsh(G)[..., -1], 0.0))
 
 
 def refine_equilibrium(f: Any, xe: np.ndarray) -> np.ndarray:
@@ -193,12 +254,13 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
         Region of interest (state units), see :func:`glidectl.roa.scaling.resolve_box` (default the model's box or
         the validity box of its states, :func:`~glidectl.roa.scaling.validity_box`).
     degree : int
-        Degree of the surrogate, 2 to 5.
+        Degree of the surrogate, 2 to 5 (2: the second-order Taylor polynomial alone; higher: its terms of degree 3
+        to ``degree`` fitted over the box).
     margin : float
-        Safety factor (>= 1) on the sampled Lipschitz quotients of the Hessians (module docstring).
+        Safety factor (>= 1) on the sampled Lipschitz quotients of the third derivatives (module docstring).
     n_hessian : int, optional
         Largest number of grid nodes (>= 2^n; default ``max(4096, 2^n)``): ``grid = floor(n_hessian^(1/n))`` per
-        axis. Each node costs ``2 n^2`` evaluations of the right-hand side.
+        axis. Each node costs ``2 n^3 + n`` evaluations of the right-hand side (its third derivatives).
     n_fit : int, optional
         Least-squares points (default ``max(8 x basis size, 512)``).
     seed : int
@@ -207,9 +269,11 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
     Returns
     -------
     PolySystem
-        In ``z = y = (x - x_e) / s``: ``F = p``, the box as cuts ``(y_j - ylo_j)(yhi_j - y_j) >= 0``, ``remainder
-        = (c_i |y|^2)``, ``rhs`` the model's own (state units), ``equilibrium`` the refined ``x_e``, ``box`` in state
-        units, ``scale = s``, ``method = "surrogate+remainder"``, ``remainder_bound`` a :class:`RemainderBound`.
+        In ``z = y = (x - x_e) / s``: ``F = p``, the box as cuts ``(y_j - ylo_j)(yhi_j - y_j) >= 0``, the
+        remainder bound ``a_i |y|^2 + b_i |y|^3`` as ``remainder = (a_i |y|^2)``, ``remainder_cubic = (b_i)`` and
+        ``remainder_norm = |y|^2``, ``rhs`` the model's own (state units), ``equilibrium`` the refined ``x_e``,
+        ``box`` in state units, ``scale = s``, ``method = "surrogate+remainder"``, ``remainder_bound`` a
+        :class:`RemainderBound`.
 
     Raises
     ------
@@ -253,64 +317,78 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
     if f0 / max(float(np.max(np.abs(_jac(g, np.zeros((1, n)))))), 1e-300) > 1e-10:
         raise ModelError(f"x_e is not an equilibrium: max |f(x_e)| = {f0:.3g} after Newton refinement")
     A = _jac(g, np.zeros((1, n)))[0].T                          # A[i, j] = d g_i / d y_j
-    basis = monomials(n, degree, 2)
+    H0 = _hessians(g, np.zeros((1, n)))[0]                         # H0[i] = D^2 g_i(0)
+    Z = Poly.variables(n)
+    P: list[Poly] = []
+    for i in range(n):
+        p = Poly({}, n)
+        for j in range(n):
+            p = p + float(A[i, j]) * Z[j]
+            for k in range(j, n):
+                p = p + float(H0[i, j, k] * (0.5 if j == k else 1.0)) * Z[j] * Z[k]
+        P.append(p)
+    basis = monomials(n, degree, 3)
     nf = max(8 * len(basis), 512) if n_fit is None else checks.integer("n_fit", n_fit, lo=len(basis) + 1)
     Y = ylo + (yhi - ylo) * _sobol(n, seed + 1, nf)
     G = np.real(g(Y))
     if not np.all(np.isfinite(G)):
         raise ModelError("the right-hand side is not finite everywhere in the box: shrink the box")
-    T = G - Y @ A.T
-    M = monomial_matrix(Y, basis)
-    colscale = np.maximum(np.max(np.abs(M), axis=0), 1e-300)
-    coef, *_ = np.linalg.lstsq(M / colscale, T, rcond=None)
-    coef = coef / colscale[:, None]
-    Z = Poly.variables(n)
-    P: list[Poly] = []
-    for i in range(n):
-        p = Poly(dict(zip(basis, coef[:, i], strict=True)), n)
-        for j in range(n):
-            p = p + float(A[i, j]) * Z[j]
-        P.append(p)
-    fit_res = np.max(np.abs(T - M @ coef), axis=0)
+    T = G - np.stack([p(Y) for p in P], axis=-1)                 # what the terms of degree 3..d are fitted to
+    if basis:
+        M = monomial_matrix(Y, basis)
+        colscale = np.maximum(np.max(np.abs(M), axis=0), 1e-300)
+        coef, *_ = np.linalg.lstsq(M / colscale, T, rcond=None)
+        coef = coef / colscale[:, None]
+        P = [P[i] + Poly(dict(zip(basis, coef[:, i], strict=True)), n) for i in range(n)]
+        T = T - M @ coef
+    fit_res = np.max(np.abs(T), axis=0)
 
-    # Hessian bound on the grid
+    # third-derivative bound on the grid
     gn = 2
     while (gn + 1) ** n <= n_hessian:
         gn += 1
     axes = [np.linspace(ylo[j], yhi[j], gn) for j in range(n)]
     nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, n)
-
-    H = _hessians(g, nodes) - _poly_hessians(P, nodes)            # Hess e = Hess g - Hess p, (N, n_out, n, n)
-    if not np.all(np.isfinite(H)):
-        raise ModelError("the Hessian of the right-hand side is not finite on the box: shrink the box")
-    norms = np.max(np.abs(np.linalg.eigvalsh(H)), axis=-1)          # (N, n_out) spectral norms
-    Hg = H.reshape(*(gn,) * n, n, n, n)
+    # the difference stencil reaches 2 _T_FD along each axis: its centres are kept that far inside the box (the
+    # model may not be smooth past it, e.g. an actuator range), which moves a node by at most 2 _T_FD sqrt(n)
+    nodes = np.clip(nodes, ylo + 2 * _T_FD, yhi - 2 * _T_FD)
+    D3 = _thirds(g, nodes) - _poly_derivs(P, nodes, 3)              # D^3 e at the nodes, (N, n_out, n, n, n)
+    if not np.all(np.isfinite(D3)):
+        raise ModelError("the third derivatives of the right-hand side are not finite on the box: shrink the box")
+    norms = _unfolded_norms(D3)                                     # (N, n_out)
+    Tg = D3.reshape(*(gn,) * n, n, n, n, n)
     D = (yhi - ylo) / (gn - 1)
     Lij = np.zeros((n, n))
     for j in range(n):
-        diff = np.diff(Hg, axis=j).reshape(-1, n, n, n)
-        Lij[:, j] = np.max(np.max(np.abs(np.linalg.eigvalsh(diff)), axis=-1), axis=0) / D[j]
+        step = np.diff(np.clip(axes[j], ylo[j] + 2 * _T_FD, yhi[j] - 2 * _T_FD))   # the moved nodes' spacing
+        shape = [1] * Tg.ndim
+        shape[j] = gn - 1
+        diff = (np.diff(Tg, axis=j) / step.reshape(shape)).reshape(-1, n, n, n, n)
+        Lij[:, j] = np.max(_unfolded_norms(diff), axis=0)
     L = margin * np.sqrt(np.sum(Lij**2, axis=1))
-    h = 0.5 * float(np.sqrt(np.sum(D**2)))
-    hmax = np.max(norms, axis=0)
-    Mb = hmax * (1 + 1e-6) + 1e-12 + L * h
-    c = 0.5 * Mb
+    h = 0.5 * float(np.sqrt(np.sum(D**2))) + 2 * _T_FD * math.sqrt(n)
+    tmax = np.max(norms, axis=0)
+    Mb = tmax * (1 + _REL) + 1e-12 + L * h
+    b3 = Mb / 6.0
+    h0 = np.max(np.abs(np.linalg.eigvalsh(H0)), axis=-1)               # ||D^2 g_i(0)||
+    a2 = 0.5 * (_REL * (h0 + Mb) + 1e-12)                            # |D^2 e_i(0)| <= 2 a_i
     q = sum((Z[j] ** 2 for j in range(n)), Poly({}, n))
-    remainder = tuple(float(c[i]) * q for i in range(n))
     cuts = tuple((Z[j] - float(ylo[j])) * (float(yhi[j]) - Z[j]) for j in range(n))
-    assumptions = (f"|g_i(y) - p_i(y)| <= c_i |y|^2 on the scaled box holds if: the box is star-shaped about the "
-                   f"equilibrium (a box containing it is); g(0) = 0 and Dp(0) = Dg(0) to rounding (max |f(x_e)| = "
-                   f"{f0:.2g}); and the Lipschitz constant of Hess(g - p) along each axis is at most {margin:g} times "
-                   f"the largest difference quotient between neighbouring nodes of the {gn}^{n} grid (the one "
-                   "assumption that is not proved)")
-    bound = RemainderBound(c, hmax, L, h, gn, margin, degree, nf, fit_res, f0, assumptions)
-    Pt = tuple(P)
-    return PolySystem(name=getattr(model, "name", type(model).__name__), state_names=names, z_names=names, F=Pt,
-                      den=Poly.const(1.0, n), equalities=(), cuts=cuts,
+    assumptions = (f"|g_i(y) - p_i(y)| <= a_i |y|^2 + b_i |y|^3 on the scaled box holds if: the box is star-shaped "
+                   f"about the equilibrium (a box containing it is); g(0) = 0 and Dp(0) = Dg(0) to rounding (max "
+                   f"|f(x_e)| = {f0:.2g}); the finite-difference errors of D^2 g(0) and of D^3 g at the nodes are "
+                   f"within the relative allowance {_REL:g}; and the Lipschitz constant of D^3(g - p) along each "
+                   f"axis is at most {margin:g} times the largest difference quotient between neighbouring nodes of "
+                   f"the {gn}^{n} grid (the one assumption that is not proved)")
+    bound = RemainderBound(a2, b3, tmax, L, h, gn, margin, degree, nf, fit_res, f0, assumptions)
+    return PolySystem(name=getattr(model, "name", type(model).__name__), state_names=names, z_names=names,
+                      F=tuple(P), den=Poly.const(1.0, n), equalities=(), cuts=cuts,
                       lift=lambda X: (np.asarray(X) - xe) / s, rhs=f, equilibrium=xe, box=(lo, hi),
                       recast_residual=float(np.max(fit_res)), time_unit=getattr(model, "time_unit", "s"),
                       provenance=str(getattr(model, "provenance", "")), slots=tuple((i,) for i in range(n)),
-                      remainder=remainder, method="surrogate+remainder", scale=s, remainder_bound=bound)
+                      remainder=tuple(float(a2[i]) * q for i in range(n)),
+                      remainder_cubic=tuple(float(x) for x in b3), remainder_norm=q,
+                      method="surrogate+remainder", scale=s, remainder_bound=bound)
 
 
 def surrogate_error(ps: PolySystem, X: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -345,8 +423,17 @@ def surrogate_error(ps: PolySystem, X: Any) -> tuple[np.ndarray, np.ndarray]:
     Z = ps.lift(X)
     true = np.real(ps.rhs(X)) / ps.scale
     F = np.stack([p(Z) for p in ps.F], axis=-1)
+    return np.abs(true - F), remainder_values(ps, Z)
+
+
+def remainder_values(ps: PolySystem, Z: Any) -> np.ndarray:
+    """The remainder bound ``r_i(z) = remainder_i(z) + b_i remainder_norm(z)^(3/2)`` of a surrogate system at
+    ``Z`` (N, nz): (N, nz)."""
+    Z = np.asarray(Z)
     R = np.stack([r(Z) for r in ps.remainder], axis=-1)
-    return np.abs(true - F), R
+    if ps.remainder_cubic:
+        R = R + np.asarray(ps.remainder_cubic) * np.maximum(ps.remainder_norm(Z), 0.0)[:, None] ** 1.5
+    return R
 
 
 def skeleton(n: int, degree: int) -> PolySystem:
@@ -358,59 +445,48 @@ def skeleton(n: int, degree: int) -> PolySystem:
     return PolySystem(name="skeleton", state_names=tuple(f"x{i}" for i in range(n)),
                       z_names=tuple(f"x{i}" for i in range(n)), F=F, den=Poly.const(1.0, n), equalities=(),
                       cuts=cuts, lift=lambda X: X, rhs=lambda X: X, equilibrium=np.zeros(n),
-                      box=(-np.ones(n), np.ones(n)), slots=tuple((i,) for i in range(n)), remainder=tuple(q for _ in
-                      range(n)), method="surrogate+remainder", scale=np.ones(n))
+                      box=(-np.ones(n), np.ones(n)), slots=tuple((i,) for i in range(n)),
+                      remainder=tuple(q for _ in range(n)), remainder_cubic=(1.0,) * n, remainder_norm=q,
+                      method="surrogate+remainder", scale=np.ones(n))
 
 
-def t_degree(degV: int) -> int:
-    """Degree of the bounds ``t_i >= |dV/dz_i|``: the even degree >= ``degV - 1`` (at least 2)."""
-    d = max(degV - 1, 2)
-    return d + (d % 2)
+def robust_degree(degV: int, degF: int) -> int:
+    """The degree of ``F`` to budget for when ``dV/dt`` carries the robust bound of :func:`robust_decrease_bound`
+    (degree ``2 degV`` for a ``V`` of degree ``degV >= 2``): ``max(degF, degV + 1)``."""
+    return max(degF, degV + 1)
 
 
-def abs_gradient_constraints(prog: SOSProgram, ps: PolySystem, grad: list[Any], degT: int) -> list[Any]:
-    """Add ``t_i -+ dV/dz_i - sum_j s_j g_j`` SOS (``s_j`` SOS, ``g_j`` the cuts) to ``prog``: ``t_i >= |dV/dz_i|``
-    on the cuts. ``grad`` holds the ``dV/dz_i`` (LinPoly or Poly); returns the ``t_i`` as LinPolys."""
-    from .sos import LinPoly
-
-    nz = ps.nz
-    ts = []
-    for i, d in enumerate(grad):
-        _, t = prog.free_poly(f"t{i}", monomials(nz, degT))
-        dl = d if isinstance(d, LinPoly) else LinPoly(d)
-        for sgn, tag in ((1.0, "+"), (-1.0, "-")):
-            expr = t - dl * sgn
-            for k, gk in enumerate(ps.cuts):
-                _, sk = prog.sos_poly(f"s{i}{tag}{k}", monomials(nz, (degT - gk.degree) // 2))
-                expr = expr - sk * gk
-            prog.add_sos(f"|dV/dz{i}|{tag}", expr, monomials(nz, degT // 2))
-        ts.append(t)
-    return ts
-
-
-def abs_gradient_bounds(ps: PolySystem, V: Poly, R: list[Poly], *, solver: str = "CLARABEL",
-                        n_points: int = 512) -> tuple[list[Poly], list[Any]]:
-    """For a fixed ``V``: polynomials ``t_i >= |dV/dz_i|`` on the cuts (SOS certificates), minimizing the mean of
-    ``sum_i R_i t_i`` over points of the box (one small SDP); returns the ``t_i`` and the Gram checks of their SOS
-    certificates (part of the certificate's exactness checks)."""
-    nz = ps.nz
-    degT = t_degree(max(V.degree, 2))
-    prog = SOSProgram(nz)
-    ts = abs_gradient_constraints(prog, ps, [V.diff(i) for i in range(nz)], degT)
+def young_weights(ps: PolySystem, V: Poly, R: list[Poly], B: Any, n_points: int = 512) -> np.ndarray:
+    """The ``k_i > 0`` of :func:`robust_decrease_bound` for ``V``: each minimizes the sum of its bound over points
+    of the box, ``k_i^2 = sum w_i (dV/dz_i)^2 / sum (R_i + B_i q^2)`` with ``w_i = R_i + B_i q`` (any ``k_i > 0``
+    is sound; this one is tight on average)."""
     lo, hi = ps.box
     Zp = ps.lift(lo + (hi - lo) * _sobol(ps.n, 7, n_points))
-    M = monomial_matrix(Zp, monomials(nz, degT))
-    obj = 0
-    for i, t in enumerate(ts):
-        u = next(iter(t.parts))
-        w = R[i](Zp)
-        obj = obj + (w @ M) @ u.var / len(Zp)
-    prog.solve(cp.Minimize(obj), solver=solver)
-    # interior-point Gram matrices sit on the boundary of the cone: add delta m^T m to every t_i (delta I to every
-    # Gram matrix of the |dV/dz_i| certificates), with delta above what the exactness check needs
-    checks_ = prog.check()
-    delta = 2.0 * max((c.n_basis * c.max_residual - c.min_eig for c in checks_), default=0.0)
-    delta = max(delta, 0.0) + 1e-9 * max((t.value().max_abs_coefficient() for t in ts), default=1.0)
-    mm = sum((Poly({tuple(2 * k for k in e): 1.0}, nz) for e in monomials(nz, degT // 2)), Poly({}, nz))
-    out = [t.value() + mm * delta for t in ts]
-    return out, [GramCheck(c.name, c.n_basis, c.min_eig + delta, c.max_residual, c.multiplier_shift) for c in checks_]
+    q = ps.remainder_norm(Zp) if ps.remainder_norm is not None else np.zeros(len(Zp))
+    B = np.asarray(B, dtype=float) if len(B) else np.zeros(ps.nz)
+    k = np.ones(ps.nz)
+    for i in range(ps.nz):
+        r = R[i](Zp)
+        num = float(np.sum((r + B[i] * q) * V.diff(i)(Zp) ** 2))
+        den = float(np.sum(r + B[i] * q**2))
+        if num > 0 and den > 0:
+            k[i] = float(np.sqrt(num / den))
+    return k
+
+
+def robust_decrease_bound(ps: PolySystem, grads: list[Any], R: list[Poly], B: Any, k: np.ndarray) -> Any:
+    """``sum_i [R_i (k_i + g_i^2 / k_i) + B_i q (k_i q + g_i^2 / k_i)] / 2`` (``q = remainder_norm``, ``g_i``
+    the ``dV/dz_i`` of a fixed ``V``): the polynomial bound of ``sum_i r_i |g_i|`` of the module docstring, with
+    ``r_i = R_i + B_i q^(3/2)`` (Young's inequality; sound for any ``k_i > 0``)."""
+    nz = ps.nz
+    zero = Poly({}, nz)
+    q = ps.remainder_norm if ps.remainder_norm is not None else zero
+    B = list(B) if len(B) else [0.0] * nz
+    out = zero
+    for i, g in enumerate(grads):
+        w = R[i] + q * float(B[i])
+        if w.is_zero:
+            continue
+        ki = float(k[i])
+        out = out + (R[i] * ki + q * q * float(B[i] * ki)) * 0.5 + w * (g * g) * (0.5 / ki)
+    return out

@@ -72,9 +72,14 @@ class PolySystem:
     mixed_states : tuple of int
         Indices of mixed angle states (kept and lifted: ``(x, s, c)``).
     remainder : tuple of Poly
-        Surrogate systems only (:func:`~glidectl.roa.surrogate.surrogate_system`): polynomials ``r_i(z) >= 0`` with
-        ``|dz_i/dt - F_i(z)/den(z)| <= r_i(z)`` for every ``z`` in the cuts (the true right-hand side lies within
-        ``r`` of ``F``); empty for exact systems.
+        Surrogate systems only (:func:`~glidectl.roa.surrogate.surrogate_system`): polynomials ``R_i(z) >= 0``
+        with ``|dz_i/dt - F_i(z)/den(z)| <= r_i(z) = R_i(z) + b_i q(z)^(3/2)`` for every ``z`` in the cuts (the
+        true right-hand side lies within ``r`` of ``F``; ``b = remainder_cubic``, ``q = remainder_norm``); empty
+        for exact systems.
+    remainder_cubic : tuple of float
+        Surrogate systems: the ``b_i >= 0`` of the cubic part of the remainder bound (empty: none).
+    remainder_norm : Poly or None
+        Surrogate systems: the positive definite quadratic form ``q`` of the cubic part (``|y|^2``).
     method : str
         ``"exact recast"`` (``F`` is the model) or ``"surrogate+remainder"`` (``F`` is a polynomial surrogate and
         ``remainder`` bounds the difference).
@@ -125,6 +130,8 @@ class PolySystem:
     method: str = "exact recast"
     scale: np.ndarray | None = field(default=None, repr=False)
     remainder_bound: Any = field(default=None, repr=False)
+    remainder_cubic: tuple[float, ...] = field(default=(), repr=False)
+    remainder_norm: Poly | None = field(default=None, repr=False)
     # --- SOS path with saturation (issue 17): z-indices of the saturated-input variables (V does not use them)
     inputs: tuple[int, ...] = ()
     # --- held states (issue 17): indices of states fixed at their equilibrium values (certificates of loops with
