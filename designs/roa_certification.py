@@ -686,13 +686,18 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
             sc = o["cert"]
             rb = sc.system.remainder_bound
             hist = [h for h in sc.history if h["step"].startswith("remainder box")]
+            rounds = [h["step"] for h in sc.history if h["step"].startswith("remainder-box round")]
+            second = ("round 2 not kept" if any("not kept" in r for r in rounds) else
+                      "round 2 skipped (same box)" if any("skipped" in r for r in rounds) else
+                      "round 2 stopped" if any("stopped" in r for r in rounds) else
+                      "round 2 kept" if rounds else "one round")
             rep.number(f"sat_{key}_sos_certified", sc.certified, "-", f"gc.certify_roa, method {sc.method}",
                        note=sc.verification.summary())
             rep.number(f"sat_{key}_sos_volume_ratio", o["ratio"], "-",
                        f"{c['label']}: volume of the SOS certificate / volume of the LMI ellipsoid (free states)",
                        note=f"SOS volume {o['volume']:.4g}, LMI {cert.volume():.4g}; degree {sc.degree}; "
                             + (rb.summary() if rb is not None else "") + f"; remainder-box search: {len(hist)} "
-                            f"level SDPs, box used {np.round(sc.box[0], 4).tolist()} to "
+                            f"level SDPs, {second}, box used {np.round(sc.box[0], 4).tolist()} to "
                             f"{np.round(sc.box[1], 4).tolist()}")
             rep.number(f"sat_{key}_sos_wall_time_s", o["wall"], "s", "gc.certify_roa (SOS path)",
                        note=f"SDP time {sc.solve_time:.1f} s, {len(sc.history)} steps")
@@ -738,8 +743,10 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
         "the decrease condition through Young's inequality (method 'sos-sector+remainder'; the unsaturated user "
         "loop takes the plain surrogate route, 'surrogate+remainder'); the bound holds on the whole box, so "
         "certify_roa first searches a smaller box (three times the extents of the best level set of the starting "
-        "V, one level SDP per box) and certifies there. The table compares the two paths on each glider loop "
-        "(the SOS rows: volume of the SOS certificate over the LMI ellipsoid's; both sets lie in the loop's box). "
+        "V, one level SDP per box) and certifies there, then runs a second round on the box three times the "
+        "extents of that certified set, from its V, and keeps the larger certificate. The table compares the two "
+        "paths on each glider loop (the SOS rows: volume of the SOS certificate over the LMI ellipsoid's; both "
+        "sets lie in the loop's box). "
         "On a polynomial, open-loop unstable saturated loop the SOS path with the exact plant certifies more than "
         "the LMI path (it sees the quadratic term exactly; with the same quadratic V on a linear saturated loop "
         "both give the same level, tests/test_roa_sector.py). The LMI path's certified fractions of the glider "

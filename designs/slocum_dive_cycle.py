@@ -267,7 +267,8 @@ def report(res: SlocumResults) -> Report:
                 "(a |y|^2 + b |y|^3 with a at rounding level) and costs the decrease condition only quartic terms; "
                 "the bound holds on the box it was built on, so certify_roa first searched a smaller box (three "
                 "times the extents of the best level set of its starting V, one level SDP per box: the "
-                "'remainder box' steps of cert.history) and certified there. The LMI path certifies this loop "
+                "'remainder box' steps of cert.history) and certified there, then re-certified on a box three "
+                "times the extents of that set (a second round, kept if larger). The LMI path certifies this loop "
                 "too, unsaturated and saturated at the pump rate: the roa_certification design, section "
                 "'Saturated loops', compares the volumes of the two paths (sat_user_unsat_sos_volume_ratio)."))
     return rep

@@ -120,11 +120,11 @@ def test_transported_V_is_the_same_function_of_the_states():
 def test_remainder_box_search_certifies_more_on_a_large_box():
     """On +-2.5 rad the remainder bound of the whole box is loose where the set lies: the search finds a smaller
     box (one more level SDP) and the certified set is larger, sound, and inside the box it reports."""
-    whole = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, **OPTS)
+    whole = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, box_rounds=1, **OPTS)
     cert = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS)
     assert whole.certified and cert.certified
     np.testing.assert_allclose(whole.box, BIG)
-    assert not any(h["step"].startswith("remainder box") for h in whole.history)
+    assert not any(h["step"].startswith("remainder") for h in whole.history)
     steps = [h for h in cert.history if h["step"].startswith("remainder box")]
     assert len(steps) >= 2 and steps[0]["step"].endswith("(the box)")
     lo, hi = (np.asarray(b) for b in cert.box)
@@ -136,6 +136,24 @@ def test_remainder_box_search_certifies_more_on_a_large_box():
     assert np.all(vd[np.sum((X - XE) ** 2, axis=1) > 1e-12] < 0)
     with pytest.raises(gc.ArgumentError, match="box_search"):
         gc.certify_roa(WeakPendulum(), box=BIG, box_search=-1, **OPTS)
+    with pytest.raises(gc.ArgumentError, match="box_rounds"):
+        gc.certify_roa(WeakPendulum(), box=BIG, box_rounds=0, **OPTS)
+
+
+def test_second_remainder_box_round_is_kept_only_when_larger():
+    """The second round re-certifies on three times the extents of the first certificate, from its V; the result
+    is never smaller than one round's, and its history holds both rounds."""
+    one = gc.certify_roa(WeakPendulum(), box=BIG, box_rounds=1, **OPTS)
+    two = gc.certify_roa(WeakPendulum(), box=BIG, box_rounds=2, **OPTS)
+    assert one.certified and two.certified
+    assert two.volume(n=2**14) >= one.volume(n=2**14)
+    rounds = [h["step"] for h in two.history if h["step"].startswith("remainder-box round 2")]
+    assert rounds and not any(h["step"].startswith("remainder-box round") for h in one.history)
+    kept = not any("not kept" in r or "skipped" in r for r in rounds)
+    assert kept == (not np.allclose(two.box, one.box))
+    lo, hi = (np.asarray(b) for b in two.box)
+    X = two.sample(500, seed=1, boundary=True)
+    assert np.all((X >= lo) & (X <= hi))
 
 
 @settings(max_examples=30, deadline=None)

@@ -1760,7 +1760,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
                 on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
-                margin: float = 2.0, reuse: bool = True, inner: str = "sos", box_search: int = 6) -> ROACertificate:
+                margin: float = 2.0, reuse: bool = True, inner: str = "sos", box_search: int = 6,
+                box_rounds: int = 2) -> ROACertificate:
     """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
 
     Parameters
@@ -1860,6 +1861,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         to three times the extents of the best set of the starting ``V0`` so far (clipped to the box), builds its
         surrogate and solves one level SDP of the same ``V0``; the alternation runs on the box with the largest
         level (each round is a ``"remainder box r = ..."`` step of ``history``). ``cert.box`` is the box used.
+    box_rounds : int
+        Surrogate routes: rounds of certification (default 2; 1: one). After a certificate, the box is set to three
+        times the extents of the certified set (clipped to the route's box), the surrogate is built on it and the
+        alternation runs again from the certificate's ``V``; the new certificate is kept if it is certified and
+        larger (``history`` holds both rounds; a round stops early when the box would not change, the first is not
+        certified, or the time limit is reached).
 
     Returns
     -------
@@ -1917,10 +1924,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     reuse = checks.boolean("reuse", reuse)
     inner = checks.choice("inner", inner, GRAM_CONES)
     box_search = checks.integer("box_search", box_search, lo=0, hi=30)
+    box_rounds = checks.integer("box_rounds", box_rounds, lo=1, hi=10)
     ps, full, rebuild = _route(system, box=box, method=method, surrogate_degree=surrogate_degree, margin=margin,
                                speed_floor=speed_floor, seed=seed, degree=degree, max_degree=max_degree, limit=limit,
                                extra=extra)
     t_route = deadline.elapsed
+    box0 = (np.array(ps.box[0], dtype=float), np.array(ps.box[1], dtype=float))     # (free states)
     if on_budget == "raise":
         deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)"
                        + ("" if full is None else f", {', '.join(full.names[i] for i in full.held)} held"))
@@ -1980,149 +1989,190 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             blo, bhi = full.box[0].copy(), full.box[1].copy()
             blo[list(full.free)], bhi[list(full.free)] = ps.box
             full = dataclasses.replace(full, box=(blo, bhi))
-    k = _scaling(ps)
-    pss = _rescale(ps, k)
-    F = _scaled(pss)
-    hz = horizon or _default_horizon(ps)
-    V = _to_scaled(V0, k)
-    t_solve = 0.0
-    # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
-    cache: dict | None = {} if reuse and inner == "sos" else None
-    held_note = "" if full is None else (f" (free states; {', '.join(full.names[i] for i in full.held)} held at "
-                                         "their equilibrium values)")
-    spent[f"building the {ps.method} system of {ps.n} states{held_note}"] = t_route
-    t_stage = time.perf_counter()
-    try:
-        lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache, cone=inner)
-    except SolverError as exc:
-        if inner == "sos":
-            raise
-        raise SolverError(f"the first level problem with inner='{inner}' failed ({exc}): the {inner.upper()} inner "
-                          "approximation cannot certify the starting V; use inner='sos'") from exc
-    if lvl.rho <= 0:
-        raise SolverError(f"the first level problem with inner='{inner}' gives level {lvl.rho:.3g} <= 0: the "
-                          f"{inner.upper()} inner approximation cannot certify the starting V; use inner='sos'")
-    t_solve += lvl.solve_time
-    spent["first level problem"] = time.perf_counter() - t_stage
-    V, lam = V / lvl.rho, lvl.lam
-    lo, hi = ps.box
-    Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
+    def run(ps: PolySystem, V0: Poly, full: _Full | None, t_solve: float) -> ROACertificate:
+        """The alternation from ``V0`` on ``ps`` and its final certificate (a remainder-box round runs it again on
+        another box); ``t_solve`` is the SDP time spent before it."""
+        k = _scaling(ps)
+        pss = _rescale(ps, k)
+        F = _scaled(pss)
+        hz = horizon or _default_horizon(ps)
+        V = _to_scaled(V0, k)
+        # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
+        cache: dict | None = {} if reuse and inner == "sos" else None
+        held_note = "" if full is None else (f" (free states; {', '.join(full.names[i] for i in full.held)} held at "
+                                             "their equilibrium values)")
+        spent[f"building the {ps.method} system of {ps.n} states{held_note}"] = t_route
+        t_stage = time.perf_counter()
+        try:
+            lvl = _level(pss, F, V, rho_cap=1e6, solver=solver, center=center, extra=ex, cache=cache, cone=inner)
+        except SolverError as exc:
+            if inner == "sos":
+                raise
+            raise SolverError(f"the first level problem with inner='{inner}' failed ({exc}): the {inner.upper()} inner "
+                              "approximation cannot certify the starting V; use inner='sos'") from exc
+        if lvl.rho <= 0:
+            raise SolverError(f"the first level problem with inner='{inner}' gives level {lvl.rho:.3g} <= 0: the "
+                              f"{inner.upper()} inner approximation cannot certify the starting V; use inner='sos'")
+        t_solve += lvl.solve_time
+        spent["first level problem"] = time.perf_counter() - t_stage
+        V, lam = V / lvl.rho, lvl.lam
+        lo, hi = ps.box
+        Xv = lo + (hi - lo) * _sobol(ps.n, 2, 2**13)
 
-    Pv = _PathPoints(pss, Xv)
+        Pv = _PathPoints(pss, Xv)
 
-    def vol(Vc: Poly) -> float:
-        return float(np.prod(hi - lo) * np.mean(Pv.contains(Vc, 1.0)))
+        def vol(Vc: Poly) -> float:
+            return float(np.prod(hi - lo) * np.mean(Pv.contains(Vc, 1.0)))
 
-    cur_vol = vol(V)
-    best = (cur_vol, V)
-    history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
-                    "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
-    t_stage = time.perf_counter()
-    Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed, deadline if on_budget == "raise" else None))
-    spent[f"simulating n_truth = {n_truth} box points"] = time.perf_counter() - t_stage
-    if Zt.shape[0] == 0:
-        raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
-                          "nothing to steer the V step towards (check the box and the horizon)")
-    stopped_by = "iterations"
-    for degV in range(2, degree + 1, 2):
-        if degV < _even_up(V.degree):
-            continue
-        worse = 0
+        cur_vol = vol(V)
+        best = (cur_vol, V)
+        history.append({"degree": V.degree, "step": "initial level", "rho": lvl.rho, "volume": cur_vol,
+                        "sdp_time": lvl.solve_time, "compile_time": lvl.compile_time, "solver_time": lvl.solver_time})
+        t_stage = time.perf_counter()
+        Zt = pss.lift(_ground_truth(ps, n_truth, hz, seed, deadline if on_budget == "raise" else None))
+        spent[f"simulating n_truth = {n_truth} box points"] = time.perf_counter() - t_stage
+        if Zt.shape[0] == 0:
+            raise SolverError(f"none of the {n_truth} simulated box points of '{ps.name}' converges within {hz:g}: "
+                              "nothing to steer the V step towards (check the box and the horizon)")
         stopped_by = "iterations"
-        if cache is not None:       # programs of a lower degree are not used again
-            for old in [k for k in cache if k[1] < degV]:
-                del cache[old]
-        for it in range(iterations):
-            if out_of_time(f"degree {degV}, before a V step"):
-                stopped_by = "time_limit"
-                break
-            t_stage = time.perf_counter()
-            try:
-                if inner == "sos":
-                    prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache, V0=V)
-                else:
-                    prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner, V0=V)
-                    M = monomial_matrix(Zt, out["V"].basis)
-                    prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
-                t_solve += prog.solve_time
-                Vn = out["V"].poly()
-                if out_of_time(f"degree {degV}, after a V step"):
+        for degV in range(2, degree + 1, 2):
+            if degV < _even_up(V.degree):
+                continue
+            worse = 0
+            stopped_by = "iterations"
+            if cache is not None:       # programs of a lower degree are not used again
+                for old in [k for k in cache if k[1] < degV]:
+                    del cache[old]
+            for it in range(iterations):
+                if out_of_time(f"degree {degV}, before a V step"):
                     stopped_by = "time_limit"
                     break
-                # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
-                last = degV == degree and it == iterations - 1
-                lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center, extra=ex,
-                            cache=cache, basis=out["V"].basis, cone=inner)
-                t_solve += lv.solve_time
-            except SolverError as exc:
-                history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
-                                "volume": math.nan, "sdp_time": 0.0})
-                stopped_by = "solver failure"
-                break
-            V, lam = Vn / lv.rho, lv.lam
-            v_steps.append(time.perf_counter() - t_stage)
-            cur_vol = vol(V)
-            history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
-                            "sdp_time": prog.solve_time + lv.solve_time,
-                            "compile_time": prog.compile_time + lv.compile_time,
-                            "solver_time": prog.solver_time + lv.solver_time})
-            if cur_vol > best[0]:
-                best, worse = (cur_vol, V), 0
-            else:
-                worse += 1
-                if worse >= 2:
-                    stopped_by = "no improvement"
+                t_stage = time.perf_counter()
+                try:
+                    if inner == "sos":
+                        prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache, V0=V)
+                    else:
+                        prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner, V0=V)
+                        M = monomial_matrix(Zt, out["V"].basis)
+                        prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
+                    t_solve += prog.solve_time
+                    Vn = out["V"].poly()
+                    if out_of_time(f"degree {degV}, after a V step"):
+                        stopped_by = "time_limit"
+                        break
+                    # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
+                    last = degV == degree and it == iterations - 1
+                    lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center, extra=ex,
+                                cache=cache, basis=out["V"].basis, cone=inner)
+                    t_solve += lv.solve_time
+                except SolverError as exc:
+                    history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
+                                    "volume": math.nan, "sdp_time": 0.0})
+                    stopped_by = "solver failure"
                     break
-        if stopped_by == "time_limit":
-            history.append({"degree": degV, "step": f"time limit of {deadline.limit:g} s: alternation stopped",
+                V, lam = Vn / lv.rho, lv.lam
+                v_steps.append(time.perf_counter() - t_stage)
+                cur_vol = vol(V)
+                history.append({"degree": degV, "step": "V step + level", "rho": lv.rho, "volume": cur_vol,
+                                "sdp_time": prog.solve_time + lv.solve_time,
+                                "compile_time": prog.compile_time + lv.compile_time,
+                                "solver_time": prog.solver_time + lv.solver_time})
+                if cur_vol > best[0]:
+                    best, worse = (cur_vol, V), 0
+                else:
+                    worse += 1
+                    if worse >= 2:
+                        stopped_by = "no improvement"
+                        break
+            if stopped_by == "time_limit":
+                history.append({"degree": degV, "step": f"time limit of {deadline.limit:g} s: alternation stopped",
+                                "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+                break
+        V = best[1]
+        if stopped_by != "time_limit":
+            out_of_time("before the final certification")
+        # final certificate at a backed-off level, re-solved at that level, then verified. The kept V is normalized by
+        # the optimum of its own level problem (V / rho*), so its level is 1 (no SDP needed to find it again).
+        fin_rho = 1.0
+        if inner != "sos":          # the kept V's level is an inner-approximation one: its full SOS level is >= 1
+            lvs = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
+            t_solve += lvs.solve_time
+            if lvs.rho > 1.0:
+                V = V / lvs.rho
+            history.append({"degree": V.degree, "step": f"final SOS level ({inner} level 1)", "rho": lvs.rho,
+                            "volume": vol(V), "sdp_time": lvs.solve_time, "compile_time": lvs.compile_time,
+                            "solver_time": lvs.solver_time})
+        # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
+        # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
+        bo = backoff
+        prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=None, eps=0.0, extra=ex, margin=True)
+        rho_p = cp.Parameter(nonneg=True)
+        prog.constraints.append(outf["rho"].var == rho_p)
+        for i in range(4):
+            rho_c = (1 - bo) * fin_rho
+            rho_p.value = rho_c
+            if i == 0:
+                prog.solve(cp.Maximize(outf["margin"]), solver=solver)
+            else:
+                prog.resolve(solver=solver)
+            t_solve += prog.solve_time
+            gram = tuple(prog.check()) + _local_robust(outf.get("W"), pss)
+            history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
+                            "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
+                            "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
+                            "solver_time": prog.solver_time})
+            if all(c.passed for c in gram) or bo >= 0.25:
+                break
+            history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
+                            f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
+            bo = min(3 * bo, 0.25) if bo > 0 else 0.01
+        Vz = _from_scaled(V, k)
+        ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
+                      deadline=deadline if on_budget == "raise" else None)
+        scale = k * (ps.scale if ps.scale is not None else 1.0)
+        return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree, tuple(history),
+                              ver, t_solve, time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
+                              scale=np.asarray(scale, dtype=float),
+                              held=() if full is None else tuple(full.names[i] for i in full.held))
+
+    cert = run(ps, V0, full, 0.0)
+    for rnd in range(2, box_rounds + 1 if rebuild is not None else 0):
+        # a remainder-box round: the box three times the extents of the certified set (clipped to the box of the
+        # route), a surrogate on it, and the alternation again from the certificate's V; kept if larger
+        if not cert.certified or cert.stopped_by == "time_limit":
+            break
+        cur = cert.system if full is None else ps
+        free = list(range(cur.n)) if full is None else list(full.free)
+        Xb = cert.sample(2000, seed=seed, boundary=True)[:, free]
+        xe = np.asarray(cur.equilibrium, dtype=float)
+        ext = 3.0 * np.max(np.abs(Xb - xe), axis=0)
+        blo, bhi = np.maximum(box0[0], xe - ext), np.minimum(box0[1], xe + ext)
+        if np.all(np.abs(np.log((bhi - blo) / (np.asarray(cur.box[1]) - np.asarray(cur.box[0])))) < 0.1):
+            history.append({"degree": cert.degree, "step": f"remainder-box round {rnd} skipped: the box would "
+                            "change by less than 10 %", "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+            break
+        history.append({"degree": cert.degree, "step": f"remainder-box round {rnd}: the box three times the "
+                        "extents of the certified set", "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+        try:
+            ps2 = rebuild((blo, bhi))
+            full2 = full
+            if full is not None:
+                flo, fhi = full.box[0].copy(), full.box[1].copy()
+                flo[free], fhi[free] = blo, bhi
+                full2 = dataclasses.replace(full, box=(flo, fhi))
+            cert2 = run(ps2, _transport(cert.V, cur, ps2), full2, cert.solve_time)
+        except (BudgetError, SolverError, ModelError) as exc:
+            history.append({"degree": cert.degree, "step": f"remainder-box round {rnd} stopped: {exc}",
                             "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
             break
-    V = best[1]
-    if stopped_by != "time_limit":
-        out_of_time("before the final certification")
-    # final certificate at a backed-off level, re-solved at that level, then verified. The kept V is normalized by
-    # the optimum of its own level problem (V / rho*), so its level is 1 (no SDP needed to find it again).
-    fin_rho = 1.0
-    if inner != "sos":          # the kept V's level is an inner-approximation one: its full SOS level is >= 1
-        lvs = _level(pss, F, V, rho_cap=1e6, solver=solver, center=0.0, extra=ex)
-        t_solve += lvs.solve_time
-        if lvs.rho > 1.0:
-            V = V / lvs.rho
-        history.append({"degree": V.degree, "step": f"final SOS level ({inner} level 1)", "rho": lvs.rho,
-                        "volume": vol(V), "sdp_time": lvs.solve_time, "compile_time": lvs.compile_time,
-                        "solver_time": lvs.solver_time})
-    # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
-    # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
-    bo = backoff
-    prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=None, eps=0.0, extra=ex, margin=True)
-    rho_p = cp.Parameter(nonneg=True)
-    prog.constraints.append(outf["rho"].var == rho_p)
-    for i in range(4):
-        rho_c = (1 - bo) * fin_rho
-        rho_p.value = rho_c
-        if i == 0:
-            prog.solve(cp.Maximize(outf["margin"]), solver=solver)
-        else:
-            prog.resolve(solver=solver)
-        t_solve += prog.solve_time
-        gram = tuple(prog.check()) + _local_robust(outf.get("W"), pss)
-        history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
-                        "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
-                        "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
-                        "solver_time": prog.solver_time})
-        if all(c.passed for c in gram) or bo >= 0.25:
+        if not (cert2.certified and cert2.volume() > cert.volume()):
+            history.append({"degree": cert.degree, "step": f"remainder-box round {rnd} not kept (not certified or "
+                            "not larger)", "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
             break
-        history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
-                        f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
-        bo = min(3 * bo, 0.25) if bo > 0 else 0.01
-    Vz = _from_scaled(V, k)
-    ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
-                  deadline=deadline if on_budget == "raise" else None)
-    scale = k * (ps.scale if ps.scale is not None else 1.0)
-    return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree, tuple(history),
-                          ver, t_solve, time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
-                          scale=np.asarray(scale, dtype=float),
-                          held=() if full is None else tuple(full.names[i] for i in full.held))
+        cert, ps, full = cert2, ps2, full2
+    if len(history) > len(cert.history):        # the rounds that were tried, kept or not
+        cert = dataclasses.replace(cert, history=tuple(history))
+    return cert
 
 
 # --------------------------------------------------------------------------------------------- routes (issue 17)
