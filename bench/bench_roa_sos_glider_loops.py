@@ -8,23 +8,26 @@ Run: ``PYTHONPATH=src OMP_NUM_THREADS=1 python bench/bench_roa_sos_glider_loops.
 (about 4 minutes); the same script on another checkout's ``src`` gives that code's answers (a code without the
 surrogate sector route refuses the saturated loops: reported as errors). Writes ``bench/results/roa_sos_glider.json``.
 
-Measured 2026-12-02 (idle 2-core machine, ``OMP_NUM_THREADS=1``), this script on this code and, run the same way,
-on main at fe6ce9e (the first-order surrogate with the quadratic remainder ``c |y|^2``, no box search, no surrogate
-in the sector path); LMI path with 2 rounds of its remainder-box search, same run:
+Measured 2026-12-02 (idle 2-core machine, ``OMP_NUM_THREADS=1``), this script on three codes, each alone: main at
+fe6ce9e (the first-order surrogate with the quadratic remainder ``c |y|^2``, no box search, no surrogate in the
+sector path), e6c2497 (cubic remainder, surrogate sector path, box search: one round) and 4e8165b (the default
+second remainder-box round); the LMI path (2 rounds of its own remainder-box search) in the same runs:
 
-====================  ==========================================  ===========================  ====================
-loop                  SOS path, this code                         SOS path at fe6ce9e          LMI path
-====================  ==========================================  ===========================  ====================
-user glider, unsat.   29.9 s, certified, 1.553e-12 (854 x LMI)    27.0 s, NOT certified        5.0 s, 1.818e-15
-user glider, sat.     130.0 s, certified, 8.45e-16 (0.48 x LMI)   refused (plant not polyn.)   5.4 s, 1.766e-15
-ch6 buoyancy          26.5 s, certified, 1.929e-6 (1184 x LMI)    refused (plant not polyn.)   1.1 s, 1.630e-9
-ch6 elevator          19.2 s, certified, 4.44e-8 (0.11 x LMI)     refused (plant not polyn.)   1.1 s, 4.025e-7
-====================  ==========================================  ===========================  ====================
+====================  ===========================  =====================================  ========================================  ===================
+loop                  SOS at fe6ce9e               SOS, one round (e6c2497)               SOS, two rounds (4e8165b, default)        LMI path
+====================  ===========================  =====================================  ========================================  ===================
+user glider, unsat.   27.0 s, NOT certified        29.9 s, 1.553e-12 (854 x LMI)          60.7 s, 1.553e-12 (854 x; round 2 not     5.0 s, 1.818e-15
+                                                                                          kept)
+user glider, sat.     refused (plant not polyn.)   130.0 s, 8.45e-16 (0.48 x LMI)         278.1 s, 1.289e-12 (730 x LMI)            5.4 s, 1.766e-15
+ch6 buoyancy          refused (plant not polyn.)   26.5 s, 1.929e-6 (1184 x LMI)          77.8 s, 4.294e-6 (2635 x LMI)             1.1 s, 1.630e-9
+ch6 elevator          refused (plant not polyn.)   19.2 s, 4.44e-8 (0.11 x LMI)           37.8 s, 9.03e-6 (22.4 x LMI)              1.1 s, 4.025e-7
+====================  ===========================  =====================================  ========================================  ===================
 
-The SOS path takes 5 to 25 times the LMI path's time. Where the box search lands the starting V in a good box it
-certifies sets three orders of magnitude larger than the ellipsoid; on the saturated user loop and the elevator loop
-it certifies 2 and 9 times smaller ones: the two paths are complementary, and the design roa_certification reports
-both.
+Every SOS certificate above is certified (exact Gram check with SOS multipliers, sampled true dV/dt < 0,
+simulations). With the second round the SOS path certifies sets 22 to 2635 times the LMI ellipsoid's volume on all
+four loops, at 8 to 60 times its time. One round leaves the set filling the box chosen for the starting V (the
+elevator loop: 0.97-0.99 of it in every state), which is what the second round, on a box shaped by the certified
+set, removes.
 """
 
 from __future__ import annotations
