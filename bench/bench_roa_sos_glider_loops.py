@@ -13,15 +13,14 @@ fe6ce9e (the first-order surrogate with the quadratic remainder ``c |y|^2``, no 
 sector path), e6c2497 (cubic remainder, surrogate sector path, box search: one round) and 4e8165b (the default
 second remainder-box round); the LMI path (2 rounds of its own remainder-box search) in the same runs:
 
-====================  ===========================  =====================================  ========================================  ===================
-loop                  SOS at fe6ce9e               SOS, one round (e6c2497)               SOS, two rounds (4e8165b, default)        LMI path
-====================  ===========================  =====================================  ========================================  ===================
-user glider, unsat.   27.0 s, NOT certified        29.9 s, 1.553e-12 (854 x LMI)          60.7 s, 1.553e-12 (854 x; round 2 not     5.0 s, 1.818e-15
-                                                                                          kept)
-user glider, sat.     refused (plant not polyn.)   130.0 s, 8.45e-16 (0.48 x LMI)         278.1 s, 1.289e-12 (730 x LMI)            5.4 s, 1.766e-15
-ch6 buoyancy          refused (plant not polyn.)   26.5 s, 1.929e-6 (1184 x LMI)          77.8 s, 4.294e-6 (2635 x LMI)             1.1 s, 1.630e-9
-ch6 elevator          refused (plant not polyn.)   19.2 s, 4.44e-8 (0.11 x LMI)           37.8 s, 9.03e-6 (22.4 x LMI)              1.1 s, 4.025e-7
-====================  ===========================  =====================================  ========================================  ===================
+- user glider, unsaturated: fe6ce9e 27.0 s, NOT certified; one round 29.9 s, 1.553e-12 (854 x LMI); two rounds
+  60.7 s, 1.553e-12 (854 x; round 2 not kept); LMI 5.0 s, 1.818e-15.
+- user glider, pump saturated: fe6ce9e refused (plant not polynomial); one round 130.0 s, 8.45e-16 (0.48 x LMI);
+  two rounds 278.1 s, 1.289e-12 (730 x LMI); LMI 5.4 s, 1.766e-15.
+- chapter-6 buoyancy loop: fe6ce9e refused; one round 26.5 s, 1.929e-6 (1184 x LMI); two rounds 77.8 s, 4.294e-6
+  (2635 x LMI); LMI 1.1 s, 1.630e-9.
+- chapter-6 elevator loop: fe6ce9e refused; one round 19.2 s, 4.44e-8 (0.11 x LMI); two rounds 37.8 s, 9.03e-6
+  (22.4 x LMI); LMI 1.1 s, 4.025e-7.
 
 Every SOS certificate above is certified (exact Gram check with SOS multipliers, sampled true dV/dt < 0,
 simulations). With the second round the SOS path certifies sets 22 to 2635 times the LMI ellipsoid's volume on all
