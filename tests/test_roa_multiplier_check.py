@@ -89,3 +89,50 @@ def test_real_level_program_multipliers_are_made_psd_and_counted():
         for g in grams:
             res = res - g.poly()
         assert chk.max_residual == pytest.approx(res.max_abs_coefficient(), rel=1e-12, abs=1e-300)
+
+
+def _low_program(c0: float, c1: float) -> SOSProgram:
+    """``x^2 + y^2 - c0 - c1 x`` with a half basis without the constant (as the decrease condition's), its Gram
+    matrix set to the identity: the residual ``-c0 - c1 x`` no basis pair reaches."""
+    x, y = Poly.variables(2)
+    prog = SOSProgram(2, reduce=False)
+    (g,) = prog.add_sos("decrease", LinPoly(x**2 + y**2 - c0 - c1 * x), monomials(2, 1, 1))
+    g.var.value = np.eye(2)
+    return prog
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(1e-12, 1e-2), st.floats(0.0, 1e-2))
+def test_an_unreachable_low_degree_residual_bounds_a_radius(c0: float, c1: float):
+    """The check used to count the constant and linear residual as absorbable: slack ~1, passed, although the
+    polynomial is negative near 0. The radius marks where it stops speaking: the polynomial is >= 0 for
+    ``|z| >= radius`` and negative somewhere inside."""
+    (chk,) = _low_program(c0, c1).check()
+    assert chk.passed and chk.low == pytest.approx((c0, c1), rel=1e-12) and chk.full_linear
+    r = chk.radius
+    assert 0 < r < 1
+    t = np.linspace(0, 2 * np.pi, 721)
+    for rr in (r, 1.5 * r, 0.9):
+        P = rr * np.stack([np.cos(t), np.sin(t)], axis=1)
+        assert np.all(P[:, 0] ** 2 + P[:, 1] ** 2 - c0 - c1 * P[:, 0] >= -1e-15)
+    x, y = Poly.variables(2)
+    p = x**2 + y**2 - c0 - c1 * x
+    assert p(np.zeros((1, 2)))[0] < 0                  # negative at 0, inside the radius: the old pass was unsound
+    (clean,) = _low_program(0.0, 0.0).check()
+    assert clean.radius == 0.0 and clean.low == (0.0, 0.0)
+
+
+def test_local_robust_check_covers_the_radius():
+    """``W = -x^2 - y^2 + 10 x^3``: negative definite at 0, positive beyond x = 0.1. The local check passes on a
+    radius of 0.05 (tail 10 * 0.05 < 1) and fails on 0.2; an infinite radius fails."""
+    from glidectl.roa.certify import _local_robust
+    from glidectl.roa.surrogate import skeleton
+
+    ps = skeleton(2, 3)
+    x, y = Poly.variables(2)
+    W = -(x**2) - y**2 + 10.0 * x**3
+    (ok,) = _local_robust(W, ps, 0.05)
+    (bad,) = _local_robust(W, ps, 0.2)
+    (inf_,) = _local_robust(W, ps, float("inf"))
+    assert ok.passed and ok.min_eig == pytest.approx(1.0) and ok.max_residual == pytest.approx(0.5)
+    assert not bad.passed and not inf_.passed

@@ -323,6 +323,13 @@ class GramCheck:
     ``lambda_min(Q) > 0``); ``passed`` is ``slack > 0`` (equivalently ``margin > 1``). The residual is that of the
     constraint with every SOS multiplier made exactly SOS first (``multiplier_shift``, see
     :meth:`SOSProgram.multiplier_values`).
+
+    A residual of degree 0 or 1 on a half basis without the constant (the decrease condition, whose multiplier
+    terms ``tau g`` have a constant the solver leaves at rounding level) cannot be absorbed into the Gram matrix
+    near ``z = 0``: it is ``low = (|c_0|, |c_1|)``, and the constraint holds where
+    ``slack |z|^2 >= |c_0| + |c_1| |z|``, i.e. for ``|z| >= radius`` (``radius = 0`` without such residual; ``inf``
+    if the basis lacks a degree-1 monomial). Inside that ball something else must hold (the local check of the
+    surrogate routes of :func:`glidectl.certify_roa`). ``slack`` still counts it as if it were absorbable.
     """
 
     name: str
@@ -330,6 +337,20 @@ class GramCheck:
     min_eig: float
     max_residual: float
     multiplier_shift: float = 0.0   # largest ``delta`` added to a multiplier's Gram matrix (``Q + delta I >= 0``)
+    low: tuple[float, float] = (0.0, 0.0)   # unreachable residual of degree 0 and 1: (|c_0|, norm of c_1)
+    full_linear: bool = True        # the half basis has every degree-1 monomial
+
+    @property
+    def radius(self) -> float:
+        """Below this ``|z|`` the unreachable low-degree residual ``low`` may outweigh the Gram matrix: the
+        constraint is proved for ``|z| >= radius`` only (see the class docstring)."""
+        c0, c1 = self.low
+        if c0 == 0.0 and c1 == 0.0:
+            return 0.0
+        sl = self.slack
+        if not self.full_linear or not sl > 0:
+            return math.inf
+        return (c1 + math.sqrt(c1 * c1 + 4.0 * sl * c0)) / (2.0 * sl)
 
     @property
     def slack(self) -> float:
@@ -585,13 +606,21 @@ class SOSProgram:
                 Q = 0.5 * (Q + Q.T)
                 mins.append(float(np.linalg.eigvalsh(Q)[0]))
                 res = res - u.poly()
-            reach = _pair_sums([b for u in us for b in u.basis], distinct=False)
+            basis = [b for u in us for b in u.basis]
+            reach = _pair_sums(basis, distinct=False)
             full = self.full_bases.get(name)
             lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
             out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
             r = math.inf if out_res > 0 else res.max_abs_coefficient()
+            # residual on monomials of degree 0 and 1 that no basis pair reaches: the constraint holds only
+            # outside a ball (GramCheck.radius)
+            unreached = {e: c for e, c in res.terms.items() if e not in reach and sum(e) <= 1}
+            c0 = sum(abs(c) for e, c in unreached.items() if sum(e) == 0)
+            c1 = math.sqrt(sum(c * c for e, c in unreached.items() if sum(e) == 1))
+            linear = {tuple(int(k == i) for k in range(self.nvars)) for i in range(self.nvars)}
             shift = max((shifts[u] for u in _unknowns_of(expr) if u in shifts), default=0.0)
-            out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift))
+            out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift, (c0, c1),
+                                 linear <= set(basis)))
         return out
 
 
