@@ -168,6 +168,10 @@ def test_non_polynomial_plant_gets_a_surrogate_and_a_sound_certificate():
     assert len(ps.cuts) == 2 and len(ps.valid) == 3          # x box cuts; v range, g1, g2 valid on the graph
     cert = gc.certify_roa(sl, degree=2, **SMALL)
     assert cert.certified and cert.method == "sos-sector+remainder"
+    # the second remainder-box round ran and was not kept: the certificate is the first round's
+    assert [h["step"] for h in cert.history if h["step"].startswith("remainder-box round 2")] == [
+        "remainder-box round 2: the box three times the extents of the certified set",
+        "remainder-box round 2 not kept (not certified or not larger)"]
     local = [c for c in cert.verification.gram if c.name.startswith("local robust decrease")]
     assert len(local) == 1 and local[0].passed
     lo, hi = cert.box

@@ -1985,10 +1985,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         ps, V0 = _search_box(ps, rebuild, V0, n_boxes=box_search, solver=solver, extra=extra, history=history,
                              out_of_time=out_of_time)
         spent["remainder-box search"] = time.perf_counter() - t_stage
-        if full is not None:
-            blo, bhi = full.box[0].copy(), full.box[1].copy()
-            blo[list(full.free)], bhi[list(full.free)] = ps.box
-            full = dataclasses.replace(full, box=(blo, bhi))
+        full = full.with_free_box(ps.box) if full is not None else None
     def run(ps: PolySystem, V0: Poly, full: _Full | None, t_solve: float) -> ROACertificate:
         """The alternation from ``V0`` on ``ps`` and its final certificate (a remainder-box round runs it again on
         another box); ``t_solve`` is the SDP time spent before it."""
@@ -2140,6 +2137,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                               scale=np.asarray(scale, dtype=float),
                               held=() if full is None else tuple(full.names[i] for i in full.held))
 
+    def note(degree: int, step: str) -> None:
+        history.append({"degree": degree, "step": step, "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+
     cert = run(ps, V0, full, 0.0)
     for rnd in range(2, box_rounds + 1 if rebuild is not None else 0):
         # a remainder-box round: the box three times the extents of the certified set (clipped to the box of the
@@ -2150,29 +2150,20 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         free = list(range(cur.n)) if full is None else list(full.free)
         Xb = cert.sample(2000, seed=seed, boundary=True)[:, free]
         xe = np.asarray(cur.equilibrium, dtype=float)
-        ext = 3.0 * np.max(np.abs(Xb - xe), axis=0)
-        blo, bhi = np.maximum(box0[0], xe - ext), np.minimum(box0[1], xe + ext)
+        blo, bhi = _box_about(xe, 3.0 * np.max(np.abs(Xb - xe), axis=0), box0)
         if np.all(np.abs(np.log((bhi - blo) / (np.asarray(cur.box[1]) - np.asarray(cur.box[0])))) < 0.1):
-            history.append({"degree": cert.degree, "step": f"remainder-box round {rnd} skipped: the box would "
-                            "change by less than 10 %", "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+            note(cert.degree, f"remainder-box round {rnd} skipped: the box would change by less than 10 %")
             break
-        history.append({"degree": cert.degree, "step": f"remainder-box round {rnd}: the box three times the "
-                        "extents of the certified set", "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+        note(cert.degree, f"remainder-box round {rnd}: the box three times the extents of the certified set")
         try:
             ps2 = rebuild((blo, bhi))
-            full2 = full
-            if full is not None:
-                flo, fhi = full.box[0].copy(), full.box[1].copy()
-                flo[free], fhi[free] = blo, bhi
-                full2 = dataclasses.replace(full, box=(flo, fhi))
+            full2 = full.with_free_box((blo, bhi)) if full is not None else None
             cert2 = run(ps2, _transport(cert.V, cur, ps2), full2, cert.solve_time)
         except (BudgetError, SolverError, ModelError) as exc:
-            history.append({"degree": cert.degree, "step": f"remainder-box round {rnd} stopped: {exc}",
-                            "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+            note(cert.degree, f"remainder-box round {rnd} stopped: {exc}")
             break
         if not (cert2.certified and cert2.volume() > cert.volume()):
-            history.append({"degree": cert.degree, "step": f"remainder-box round {rnd} not kept (not certified or "
-                            "not larger)", "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
+            note(cert.degree, f"remainder-box round {rnd} not kept (not certified or not larger)")
             break
         cert, ps, full = cert2, ps2, full2
     if len(history) > len(cert.history):        # the rounds that were tried, kept or not
@@ -2315,6 +2306,12 @@ class _Full:
     box: tuple[np.ndarray, np.ndarray]
     rhs: Any
 
+    def with_free_box(self, box: tuple[Any, Any]) -> _Full:
+        """The same states with the free states' part of the box replaced by ``box`` (free states' units)."""
+        lo, hi = self.box[0].copy(), self.box[1].copy()
+        lo[list(self.free)], hi[list(self.free)] = box
+        return dataclasses.replace(self, box=(lo, hi))
+
 
 def _embed(ps: PolySystem, full: _Full) -> PolySystem:
     """The certified free-state system as a system of all the states (held ones at their equilibrium values): what
@@ -2327,6 +2324,11 @@ def _embed(ps: PolySystem, full: _Full) -> PolySystem:
         ps, state_names=full.names, lift=lambda X: lift0(np.asarray(X)[..., free]), rhs=full.rhs, equilibrium=xe,
         box=(full.box[0].copy(), full.box[1].copy()), held=full.held,
         angle_states=tuple(free[i] for i in ps.angle_states), mixed_states=tuple(free[i] for i in ps.mixed_states))
+
+
+def _box_about(xe: np.ndarray, half: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The box ``xe +- half`` clipped to ``box`` (the remainder-box search and rounds)."""
+    return np.maximum(box[0], xe - half), np.minimum(box[1], xe + half)
 
 
 def _transport(V: Poly, ps_from: PolySystem, ps_to: PolySystem) -> Poly:
@@ -2382,7 +2384,7 @@ def _search_box(ps: PolySystem, rebuild: Callable[[tuple[np.ndarray, np.ndarray]
         if abs(math.log(max(r_new, 1e-300) / r)) < 0.1 or out_of_time(f"remainder-box search at r = {r_new:.3g}"):
             break
         r = r_new
-        b = (np.maximum(lo, xe - r * ext), np.minimum(hi, xe + r * ext))
+        b = _box_about(xe, r * ext, (lo, hi))
         try:
             psk = rebuild(b)
             Vk = _transport(V0, ps, psk)
