@@ -64,7 +64,7 @@ class Settings:
     torque_speed: float | None = 1.5        # m/s: chapter-6 torque design certified as a closed loop (None: skip)
     torque_Vbar: tuple[float, float] = (-0.4, 0.4)       # design_torque_control box
     torque_alphabar: tuple[float, float] = (-0.2, 0.2)
-    ctol: bool = True                       # the chapter-7 CTOL closed loop (~16 min)
+    ctol: bool = True                       # the chapter-7 CTOL closed loop (~8 min)
     ctol_degree: int = 2
     ctol_iterations: int = 1
     ctol_k3: float = 10.0
@@ -448,18 +448,26 @@ def _report(res: _Results) -> Report:
         ct = res.ctol
         rep.number("ctol_certified_volume", ct["volume"], "-", f"degree-{ct['cert'].degree} certificate in the box "
                    "|Vbar| <= 0.5, |gammabar| <= 0.5, |alphabar| <= 0.3, |Omega2bar| <= 1",
-                   note="Reproducible to about 1 digit only: the path to it depends on the solver. The V step's "
-                        "optimum is not unique, and the level program is ill-conditioned: for the starting V, "
-                        "Clarabel returns the level 0.00438 or 0.00441 with the level capped at 1e6 (as here), "
-                        "0.00410 with the faer factorization on one thread, 0.00250 with the cap at 1, 0.00184 at "
-                        "tolerances 1e-10, and SDPA (Schur form) 0.00096 (measured 2026-12-02). Builds gave 0.0041 "
-                        "and 0.0042, and 0.0033 without program reuse. The certificate's checks do not rest on the "
-                        "solver: the Gram check takes every S-procedure multiplier made exactly SOS (its Gram "
-                        "matrix shifted to PSD; in this build by up to "
-                        f"{max((c.multiplier_shift for c in ct['cert'].verification.gram), default=0.0):.2g}) and "
-                        f"gives the smallest slack "
+                   note="Smaller than the 0.0041-0.0045 of the builds before 2026-12-02, on purpose. Those "
+                        "certificates left a solver residual of ~4e-8 on the constant monomial of the decrease "
+                        "condition: the S-procedure multiplier of the speed cut had tau(0) ~ 4e-8 with linear terms "
+                        "~3e-3, which no exact certificate can have (the decrease polynomial has no constant term, "
+                        "so tau(0) g(0) = 0 forces tau(0) = 0, and then no linear terms), so they proved dV/dt < 0 "
+                        "only outside a small ball around the glide. The multipliers of cuts now start at degree 1 "
+                        "(an exact facial reduction) and the lifted angles of the recast follow the chain rule (the "
+                        "old joint fit put 1e-3 (alpha - sin alpha) into d(1 - cos gamma)/dt: a linear term of dV/dt "
+                        "no certificate can absorb, which the solver also left as residual). The level of the "
+                        "starting V is then the exact program's: 0.00144 (Clarabel, qdldl), 0.00120 (Clarabel, "
+                        "faer, level capped at 1; CVXOPT on the facially reduced dual agrees), against 0.0025-0.0044 "
+                        "before (measured 2026-12-02). The Gram check takes every S-procedure multiplier made "
+                        "exactly SOS (its Gram matrix shifted to PSD; in this build by up to "
+                        f"{max((c.multiplier_shift for c in ct['cert'].verification.gram), default=0.0):.2g}), gives "
+                        "the smallest slack "
                         f"{min((c.slack for c in ct['cert'].verification.gram), default=math.nan):.3g} (exactly SOS "
-                        "when positive); every check of the certificate "
+                        "when positive) and the largest radius "
+                        f"{max((c.radius for c in ct['cert'].verification.gram), default=math.nan):.2g} below which "
+                        "a residual of degree 0 or 1 could outweigh the Gram matrix (rounding level); every check of "
+                        "the certificate "
                         f"{'passed' if ct['cert'].certified else 'did NOT pass'} (Gram, true dV/dt < 0 on the "
                         "samples, simulations from the outermost samples converge).")
         rep.number("ctol_theorem5_volume", ct["theorem5_volume"], "-", "{Q <= level} of Theorem 5 (ellipsoid of "

@@ -447,6 +447,65 @@ def test_recast_mixed_angle_ctol_closed_loop():
         assert np.min(v(Zw)) >= -1e-12
 
 
+def _angle_pairs(ps):
+    """``(base, s, c)`` of every lifted angle (``base`` None for a pure angle)."""
+    return [((sl[0] if len(sl) == 3 else None), sl[-2], sl[-1]) for i, sl in enumerate(ps.slots)
+            if i in ps.angle_states or i in ps.mixed_states]
+
+
+def _ctol_and_glider_systems():
+    from glidectl.models.ctol_closed_loop import ClosedLoopCTOL
+
+    veh = gc.load_vehicle("dc8_ctol")
+    gl = gc.ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)
+    sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    return (recast(ClosedLoopCTOL(veh, gl, 10.0, 5.0).roa_model()), recast(sp.reduced_model()),
+            recast(sp.full_model()))
+
+
+def test_recast_lifted_angles_follow_the_chain_rule_exactly():
+    """d(sin x)/dt = (1 - c) dx/dt and d(1 - cos x)/dt = s dx/dt hold as polynomial identities modulo
+    s^2 + c^2 - 2c (not only at sample points): (1 - c) F_c - s F_s reduces to 0, and for a mixed angle F_s and F_c
+    are those of the kept state x. Then the terms of degree 1 of dV/dt for a V without linear terms outside the
+    c's are in the c's alone, which the equality multipliers cancel (the old fit of each lifted variable had
+    1e-3 (alpha - sin alpha) in d(1 - cos gamma)/dt: a linear term of dV/dt no SOS certificate can absorb)."""
+    from glidectl.roa.systems import _reduce_angle
+
+    for ps in _ctol_and_glider_systems():
+        Z = Poly.variables(ps.nz)
+        pairs = _angle_pairs(ps)
+        assert pairs
+        # the equilibrium is exact: no rounding-level constant term survives the sparse refit
+        assert all(sum(e) > 0 for f in ps.F for e in f.terms)
+        for base, s, c in pairs:
+            scale = max(max(abs(v) for v in ps.F[k].terms.values()) for k in (s, c))
+            diff = _reduce_angle((1.0 - Z[c]) * ps.F[c] - Z[s] * ps.F[s], s, c)
+            assert all(abs(v) <= 1e-12 * scale for v in diff.terms.values())
+            if base is not None:
+                d_s = _reduce_angle((1.0 - Z[c]) * ps.F[base], s, c) - ps.F[s]
+                assert all(abs(v) <= 1e-12 * scale for v in d_s.terms.values())
+            # d(1 - cos x)/dt has terms of degree 1 in c only
+            lin = [e for e, v in ps.F[c].terms.items() if sum(e) == 1 and abs(v) > 0]
+            assert all(e[c] == 1 for e in lin), lin
+        V = lyapunov_quadratic(ps)
+        lin_V = [e for e, v in V.terms.items() if sum(e) == 1 and abs(v) > 0]
+        cs = {c for _, _, c in pairs}
+        assert all(any(e[c] for c in cs) for e in lin_V)
+        W = V.lie(list(ps.F))
+        tol = 1e-12 * max(abs(x) for x in W.terms.values())
+        lin_W = [e for e, v in W.terms.items() if sum(e) == 1 and abs(v) > tol]
+        assert all(any(e[c] for c in cs) for e in lin_W), lin_W
+
+
+def test_recast_ctol_degrees_are_those_of_the_states():
+    """Each state's derivative is recovered at its own smallest degree; the CTOL closed loop's pitch and angle of
+    attack are cubic in the lift, its speed quintic (the old joint fit put every derivative at degree 5)."""
+    ps = _ctol_and_glider_systems()[0]
+    deg = {ps.z_names[k]: f.degree for k, f in enumerate(ps.F)}
+    assert deg["alphabar"] == 3 and deg["Omega2bar"] == 3 and deg["Vbar"] == 5
+    assert deg["sin(alphabar)"] == deg["1-cos(alphabar)"] == 4
+
+
 @pytest.mark.parametrize("order", [1, 2, 3, 4])
 def test_taylor_system_error_order(order):
     """The Taylor model agrees with the glider to order ``order``: halving the state divides the error by about

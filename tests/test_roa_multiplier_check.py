@@ -136,3 +136,35 @@ def test_local_robust_check_covers_the_radius():
     (inf_,) = _local_robust(W, ps, float("inf"))
     assert ok.passed and ok.min_eig == pytest.approx(1.0) and ok.max_residual == pytest.approx(0.5)
     assert not bad.passed and not inf_.passed
+
+
+def _psi_program(c1: float, shared: bool):
+    """``x^2 + y^2 + c1 x + a (x^2 - 2 x)``: the free ``a`` (an equality multiplier's constant) must cancel the
+    linear term, ``a = c1 / 2``; left at 0 (a solver's residual) the linear term is unreachable by the Gram matrix on
+    (x, y). With ``shared``, ``a`` also enters a second constraint."""
+    prog = SOSProgram(2)
+    x, y = Poly.variables(2)
+    a, al = prog.free_poly("a", [(0, 0)])
+    expr = LinPoly(x**2 + y**2 + c1 * x) + al * (x**2 - 2.0 * x)
+    blocks = prog.add_sos("decrease", expr, [(1, 0), (0, 1)])
+    if shared:
+        blocks += prog.add_sos("other", LinPoly(x**2) + al * x**2, [(1, 0)])
+    for g in blocks:
+        g.var.value = np.eye(len(g.basis))
+    a.var.value = np.zeros(1)
+    return prog, a
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(1e-10, 1e-3))
+def test_unreached_low_residual_is_cancelled_by_the_constraints_own_free_unknowns(c1: float):
+    """The check cancels the unreachable linear residual exactly with a free unknown only this constraint uses
+    (radius 0, the identity holds to rounding), and leaves an unknown shared with another constraint alone (the
+    radius stays: changing it would change the other constraint)."""
+    prog, a = _psi_program(c1, shared=False)
+    (chk,) = prog.check()
+    assert a.value()[0] == pytest.approx(c1 / 2, rel=1e-12)
+    assert chk.low[1] <= 1e-15 * max(c1, 1.0) and chk.radius < 1e-12 and chk.passed
+    prog, a = _psi_program(c1, shared=True)
+    chk, _ = prog.check()
+    assert a.value()[0] == 0.0 and chk.low[1] == pytest.approx(c1, rel=1e-12) and chk.radius > 0

@@ -392,7 +392,9 @@ def _size(ps: PolySystem, degree: int, extra: int) -> SOSSize:
     degF = robust_degree(degree, ps.degree) if ps.remainder else ps.degree
     dg = _degrees(degree, degF, extra)
     gram = [("decrease", _n_monomials(nz, dg.D // 2, 1, nc))]
-    gram += [(f"tau{k}", _n_monomials(nz, (dg.D - g.degree) // 2)) for k, g in enumerate(ps.cuts + ps.valid)]
+    lows = _tau_low_degrees(ps)
+    gram += [(f"tau{k}", _n_monomials(nz, (dg.D - g.degree) // 2, lows[k]))
+             for k, g in enumerate(ps.cuts + ps.valid)]
     free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam)
     free += sum(_n_monomials(nz, dg.D - h.degree) for h in ps.equalities)
     eqs = math.comb(nz + dg.D, dg.D)
@@ -606,8 +608,9 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
     else:
         rho_l = _lin(rho if isinstance(rho, _Fixed) else Poly.const(rho, nz))
     dec = dec - rho_l * N
+    lows = _tau_low_degrees(ps)
     for k, g in enumerate(ps.cuts + ps.valid):
-        _, tau = prog.sos_poly_blocks(f"tau{k}", _sym_blocks(monomials(nz, (dg.D - g.degree) // 2), G))
+        _, tau = prog.sos_poly_blocks(f"tau{k}", _sym_blocks(monomials(nz, (dg.D - g.degree) // 2, lows[k]), G))
         dec = dec - tau * g
     for j, h in enumerate(ps.equalities):
         if h.degree > dg.D:     # (a cubic graph equality of a saturated loop with a low-degree program)
@@ -641,6 +644,22 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
             pos = pos + phi * h
         _add_sos(prog, "positivity", pos, no_in(monomials(nz, degV // 2, 1, ps.s_caps)))
     return prog, out
+
+
+def _tau_low_degrees(ps: PolySystem) -> list[int]:
+    """Lowest degree of the half basis of each S-procedure multiplier ``tau_k`` of the decrease condition
+    (``ps.cuts + ps.valid``): 1 for a cut with ``g_k(0) > 0``, else 0.
+
+    The decrease polynomial has no constant term and its half basis no constant monomial, so
+    ``sum_k tau_k(0) g_k(0) = 0``. When no cut is negative at the equilibrium and no equality has a constant term
+    (which ``psi_j h_j`` could balance), every ``tau_k`` with ``g_k(0) > 0`` has ``tau_k(0) = 0``, hence (its Gram
+    matrix being PSD) no linear terms either: its half basis starts at degree 1. An exact facial reduction: the
+    program keeps a strictly feasible point, and no solver residual is left on the constant monomial that no Gram
+    entry reaches (the ``low`` residual of :class:`~glidectl.roa.sos.GramCheck`)."""
+    zero = (0,) * ps.nz
+    g0 = [g.terms.get(zero, 0.0) for g in ps.cuts + ps.valid]
+    ok = all(h.terms.get(zero, 0.0) == 0.0 for h in ps.equalities) and min(g0, default=0.0) >= 0.0
+    return [1 if ok and v > 0.0 else 0 for v in g0]
 
 
 def _uses(p: Poly, idx: tuple[int, ...]) -> bool:

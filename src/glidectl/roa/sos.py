@@ -324,8 +324,10 @@ class GramCheck:
     constraint with every SOS multiplier made exactly SOS first (``multiplier_shift``, see
     :meth:`SOSProgram.multiplier_values`).
 
-    A residual of degree 0 or 1 on a half basis without the constant (the decrease condition, whose multiplier
-    terms ``tau g`` have a constant the solver leaves at rounding level) cannot be absorbed into the Gram matrix
+    A residual of degree 0 or 1 on a half basis without the constant (the decrease condition: before the
+    multipliers of cuts lost their constant monomial, their terms ``tau g`` had a constant the solver left at its
+    tolerance; the equality multipliers' ``psi_j(0) h_j`` still meet ``lambda dV/dt`` on the linear ``c`` terms,
+    which :meth:`SOSProgram.check` cancels exactly where it can) cannot be absorbed into the Gram matrix
     near ``z = 0``: it is ``low = (|c_0|, |c_1|)``, and the constraint holds where
     ``slack |z|^2 >= |c_0| + |c_1| |z|``, i.e. for ``|z| >= radius`` (``radius = 0`` without such residual; ``inf``
     if the basis lacks a degree-1 monomial). Inside that ball something else must hold (the local check of the
@@ -598,30 +600,93 @@ class SOSProgram:
         shifts = {u: d for u, (_, d) in found.items()}
         out = []
         for name, expr, us in self.sos_constraints:
-            nb = sum(len(u.basis) for u in us)
-            res = expr.value(mult)
-            mins = []
-            for u in us:
-                Q = u.value()
-                Q = 0.5 * (Q + Q.T)
-                mins.append(float(np.linalg.eigvalsh(Q)[0]))
-                res = res - u.poly()
-            basis = [b for u in us for b in u.basis]
-            reach = _pair_sums(basis, distinct=False)
-            full = self.full_bases.get(name)
-            lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
-            out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
-            r = math.inf if out_res > 0 else res.max_abs_coefficient()
-            # residual on monomials of degree 0 and 1 that no basis pair reaches: the constraint holds only
-            # outside a ball (GramCheck.radius)
-            unreached = {e: c for e, c in res.terms.items() if e not in reach and sum(e) <= 1}
-            c0 = sum(abs(c) for e, c in unreached.items() if sum(e) == 0)
-            c1 = math.sqrt(sum(c * c for e, c in unreached.items() if sum(e) == 1))
-            linear = {tuple(int(k == i) for k in range(self.nvars)) for i in range(self.nvars)}
-            shift = max((shifts[u] for u in _unknowns_of(expr) if u in shifts), default=0.0)
-            out.append(GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift, (c0, c1),
-                                 linear <= set(basis)))
+            chk = self._check_one(name, expr, us, mult, shifts)
+            if chk.low != (0.0, 0.0):
+                saved = self._cancel_unreached(name, expr, us, mult)
+                if saved:
+                    chk2 = self._check_one(name, expr, us, mult, shifts)
+                    if chk2.radius < chk.radius:
+                        chk = chk2
+                    else:                       # no better: the solver's values stand
+                        for u, v in saved.items():
+                            u.var.value = v
+            out.append(chk)
         return out
+
+    def _check_one(self, name: str, expr: Any, us: list[Unknown], mult: Mapping[Unknown, np.ndarray],
+                   shifts: Mapping[Unknown, float]) -> GramCheck:
+        """:meth:`check` of one SOS constraint at the current values of the unknowns."""
+        nb = sum(len(u.basis) for u in us)
+        res = expr.value(mult)
+        mins = []
+        for u in us:
+            Q = u.value()
+            Q = 0.5 * (Q + Q.T)
+            mins.append(float(np.linalg.eigvalsh(Q)[0]))
+            res = res - u.poly()
+        basis = [b for u in us for b in u.basis]
+        reach = _pair_sums(basis, distinct=False)
+        full = self.full_bases.get(name)
+        lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
+        out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
+        r = math.inf if out_res > 0 else res.max_abs_coefficient()
+        # residual on monomials of degree 0 and 1 that no basis pair reaches: the constraint holds only
+        # outside a ball (GramCheck.radius)
+        unreached = {e: c for e, c in res.terms.items() if e not in reach and sum(e) <= 1}
+        c0 = sum(abs(c) for e, c in unreached.items() if sum(e) == 0)
+        c1 = math.sqrt(sum(c * c for e, c in unreached.items() if sum(e) == 1))
+        linear = {tuple(int(k == i) for k in range(self.nvars)) for i in range(self.nvars)}
+        shift = max((shifts[u] for u in _unknowns_of(expr) if u in shifts), default=0.0)
+        return GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift, (c0, c1),
+                         linear <= set(basis))
+
+    def _cancel_unreached(self, name: str, expr: Any, us: list[Unknown],
+                          mult: Mapping[Unknown, np.ndarray]) -> dict[Unknown, np.ndarray] | None:
+        """Cancel the residual on monomials of degree 0 and 1 that no pair of the half basis reaches, with the free
+        unknowns that only this constraint uses (the equality multipliers ``psi_j`` of the decrease condition).
+
+        The solver leaves such residuals at its tolerance (for example ``lambda dV/dt`` and ``psi_j(0) h_j`` both
+        have a term in ``1 - cos x``, which must cancel exactly); no Gram entry can absorb them, so they would
+        leave a ball around the equilibrium where the certificate does not speak (:attr:`GramCheck.radius`).
+        The correction ``delta`` solves ``A delta = -r`` on those monomials in least squares and is kept only if it
+        removes the residual to rounding; it moves the other coefficients by ``A' delta``, which the Gram check
+        then counts like any residual (:meth:`check` keeps it only if it shrinks :attr:`GramCheck.radius`). The
+        identity checked is still exact: nothing is assumed. Returns the previous values of the changed unknowns
+        (None if nothing changed)."""
+        if not isinstance(expr, LinPoly):
+            return None
+        others = {id(u) for n2, e2, _ in self.sos_constraints if n2 != name for u in _unknowns_of(e2)}
+        free = [u for u in expr.parts if not u.gram and id(u) not in others and u.var.value is not None]
+        if not free:
+            return None
+        basis = [b for u in us for b in u.basis]
+        reach = _pair_sums(basis, distinct=False)
+        res = expr.value(mult)
+        for u in us:
+            res = res - u.poly()
+        low = sorted(e for e, c in res.terms.items() if e not in reach and sum(e) <= 1 and c != 0.0)
+        if not low:
+            return None
+        row = {e: i for i, e in enumerate(low)}
+        cols = [(u, k) for u in free for k in range(u.size)]
+        A = np.zeros((len(low), len(cols)))
+        for j, (u, k) in enumerate(cols):
+            for e, c in expr.parts[u][k].terms.items():
+                if e in row:
+                    A[row[e], j] = c
+        r = np.array([res.terms[e] for e in low])
+        if not np.any(A):
+            return None
+        delta, *_ = np.linalg.lstsq(A, -r, rcond=None)
+        if np.max(np.abs(A @ delta + r)) > 1e-6 * np.max(np.abs(r)):
+            return None
+        saved = {u: np.array(u.var.value, dtype=float) for u in free}
+        j = 0
+        for u in free:
+            v = np.asarray(u.var.value, dtype=float).ravel(order="F") + delta[j:j + u.size]
+            u.var.value = v.reshape(u.var.shape, order="F")
+            j += u.size
+        return saved
 
 
 def _unknowns_of(expr: Any) -> list[Unknown]:
