@@ -66,6 +66,15 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   makes the S-procedure multipliers exactly SOS (largest shift 3.7e-8, slack 4.8e-5): 22-25x the 60 s target. A
   capped recast (22-57 terms per component instead of 180-232) leaves the 103 x 103 block; the surrogate route fails
   the local robust decrease (quadratic remainder); ``inner="sdsos"`` fails its first level problem.
+- vdp and ctol, 2026-12-02 13:16-13:46 (fifth session, nearly idle), ``--cases vdp,ctol --repeats 1
+  --baseline-src <checkout of c459f0e>/src``, this checkout 224d84c: vdp 2.93 s vs 3.04 s (ratio 0.97), 96.5 % of
+  the true area both, certified (target met). ctol **567.7 s vs 1108.0 s** (ratio 0.51; CPU 818 s vs 1669 s, 0.49),
+  SDP 549 s vs 1091 s, both certified, volume **0.000815 vs 0.00385** (ratio 0.21): 9.5x the 60 s target. The volume
+  is smaller on purpose: the recast now lifts angles by the chain rule and the multipliers of cuts have no constant
+  monomial (an exact facial reduction), and the old certificates rested on a solver residual of ~4e-8 on the
+  constant monomial of the decrease condition (tau(0) ~ 4e-8 with linear terms ~3e-3, which no exact certificate
+  can have), so they proved dV/dt < 0 only outside a small ball. The exact program's level for the starting V is
+  0.0012-0.0014 against 0.0025-0.0044 before, so the volume target 0.00441 was set by that residual.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes

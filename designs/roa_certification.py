@@ -5,8 +5,8 @@ against Theorem 5, and all of them against the true regions from batch simulatio
 
 Run ``glidectl report roa_certification`` or ``python designs/roa_certification.py [OUTDIR] [--quick]``;
 writes ``OUTDIR/roa_certification/`` (default ``reports/``) with report.pdf, the figures and numbers.json.
-The FULL build takes about 28 minutes on 2 cores, 16 of them in the CTOL closed-loop certificate
-(``Settings(ctol=False)`` skips it).
+The FULL build takes about 15 minutes on 2 cores beside the other designs, 13 of them in the CTOL closed-loop
+certificate (8 minutes alone; ``Settings(ctol=False)`` skips it).
 
 Saturated loops (issue 17, ``Settings(saturated=False)`` skips them): the user glider's LQR dive-cycle loop
 (slocum_shallow, unsaturated and saturated at the pump rate) and the chapter-6 buoyancy and elevator loops by the LMI
@@ -64,7 +64,7 @@ class Settings:
     torque_speed: float | None = 1.5        # m/s: chapter-6 torque design certified as a closed loop (None: skip)
     torque_Vbar: tuple[float, float] = (-0.4, 0.4)       # design_torque_control box
     torque_alphabar: tuple[float, float] = (-0.2, 0.2)
-    ctol: bool = True                       # the chapter-7 CTOL closed loop (~8 min)
+    ctol: bool = True                       # the chapter-7 CTOL closed loop (~8-13 min)
     ctol_degree: int = 2
     ctol_iterations: int = 1
     ctol_k3: float = 10.0
