@@ -55,7 +55,7 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import MIN_SOBOL_HITS, box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
-from .lmi import SaturatedLoop, _check_solver, held_motion, held_points
+from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
 from .sector import sector_system
@@ -98,6 +98,9 @@ _BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per
 #: Largest monomial basis the automatic route tries to recast a closed loop with before using a surrogate (the
 #: least-squares recovery costs seconds per thousand monomials; ``method="exact"`` tries up to degree 4).
 _AUTO_RECAST_BASIS = 500
+
+#: SDP-capable solvers cvxpy may have installed.
+_SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
 
 
 # --------------------------------------------------------------------------------------------- helpers
@@ -1005,6 +1008,13 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
     k = _scaling(ps)
     pss = _rescale(ps, k)
     return _level(pss, _scaled(pss), _to_scaled(V, k), rho_cap=rho_cap, solver=solver, center=0.0, extra=ex)
+
+
+def _check_solver(solver: Any) -> str:
+    available = [s for s in cp.installed_solvers() if s in _SDP_SOLVERS]
+    if not isinstance(solver, str):
+        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__} {solver!r}")
+    return checks.choice("solver", solver, available)
 
 
 def _check_V(V: Any, ps: PolySystem, name: str) -> Poly:

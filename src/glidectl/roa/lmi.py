@@ -827,7 +827,7 @@ def _ellipsoid_points(Winv: np.ndarray, n: int, rng: np.random.Generator, bounda
 def _check_solver(solver: Any) -> str:
     available = [s for s in cp.installed_solvers() if s in _SDP_SOLVERS]
     if not isinstance(solver, str):
-        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__} {solver!r}")
+        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__}")
     return checks.choice("solver", solver, available)
 
 
