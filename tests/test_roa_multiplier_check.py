@@ -168,3 +168,42 @@ def test_unreached_low_residual_is_cancelled_by_the_constraints_own_free_unknown
     prog, a = _psi_program(c1, shared=True)
     chk, _ = prog.check()
     assert a.value()[0] == 0.0 and chk.low[1] == pytest.approx(c1, rel=1e-12) and chk.radius > 0
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 5), st.integers(0, 3), st.integers(0, 2), st.floats(-3.0, 3.0)),
+                min_size=1, max_size=6))
+def test_angle_reduction_keeps_the_function_on_the_circle_and_s_linear(terms):
+    """``_reduce_angle`` (modulo s^2 + c^2 - 2c, the recast's chain rule) leaves s at most linear and the value on
+    the lifted circle (s, c) = (sin t, 1 - cos t) unchanged; the degree does not grow."""
+    from glidectl.roa.systems import _reduce_angle
+
+    t: dict = {}
+    for a, b, x, v in terms:        # variables (x0, s, c): exponents of x0, s, c
+        t[(x, a, b)] = t.get((x, a, b), 0.0) + v
+    p = Poly(t, 3)
+    q = _reduce_angle(p, 1, 2)
+    assert all(e[1] <= 1 for e in q.terms) and q.degree <= max(p.degree, 0)
+    th = np.linspace(-3.0, 3.0, 61)
+    Z = np.stack([0.7 * np.ones_like(th), np.sin(th), 1.0 - np.cos(th)], axis=1)
+    scale = 1.0 + sum(abs(v) for v in t.values()) * 4.0**p.degree
+    assert np.max(np.abs(q(Z) - p(Z))) <= 1e-12 * scale
+
+
+def test_cut_multipliers_lose_the_constant_only_where_it_is_forced():
+    """``tau_k(0) = 0`` is forced for a cut positive at the equilibrium (CTOL: the speed cut, 0.9 at the glide), not
+    for the Taylor enclosures (0 there); a cut negative at the equilibrium, which a positive one could balance, turns
+    the reduction off for all."""
+    import dataclasses
+    import math
+
+    import glidectl as gc
+    from glidectl.roa.certify import _tau_low_degrees
+
+    veh = gc.load_vehicle("dc8_ctol")
+    gl = gc.ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)
+    ps = gc.recast(gc.ClosedLoopCTOL(veh, gl, 10.0, 5.0).roa_model())
+    assert len(ps.cuts) == 1 and len(ps.valid) == 4
+    assert _tau_low_degrees(ps) == [1, 0, 0, 0, 0]
+    bad = dataclasses.replace(ps, cuts=(ps.cuts[0], ps.cuts[0] - 1.0))      # 0.9 and -0.1 at the glide
+    assert _tau_low_degrees(bad) == [0] * 6

@@ -617,15 +617,11 @@ class SOSProgram:
                    shifts: Mapping[Unknown, float]) -> GramCheck:
         """:meth:`check` of one SOS constraint at the current values of the unknowns."""
         nb = sum(len(u.basis) for u in us)
-        res = expr.value(mult)
         mins = []
         for u in us:
             Q = u.value()
-            Q = 0.5 * (Q + Q.T)
-            mins.append(float(np.linalg.eigvalsh(Q)[0]))
-            res = res - u.poly()
-        basis = [b for u in us for b in u.basis]
-        reach = _pair_sums(basis, distinct=False)
+            mins.append(float(np.linalg.eigvalsh(0.5 * (Q + Q.T))[0]))
+        res, basis, reach = _gram_residual(expr, us, mult)
         full = self.full_bases.get(name)
         lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
         out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
@@ -659,11 +655,7 @@ class SOSProgram:
         free = [u for u in expr.parts if not u.gram and id(u) not in others and u.var.value is not None]
         if not free:
             return None
-        basis = [b for u in us for b in u.basis]
-        reach = _pair_sums(basis, distinct=False)
-        res = expr.value(mult)
-        for u in us:
-            res = res - u.poly()
+        res, _, reach = _gram_residual(expr, us, mult)
         low = sorted(e for e, c in res.terms.items() if e not in reach and sum(e) <= 1 and c != 0.0)
         if not low:
             return None
@@ -687,6 +679,17 @@ class SOSProgram:
             u.var.value = v.reshape(u.var.shape, order="F")
             j += u.size
         return saved
+
+
+def _gram_residual(expr: Any, us: list[Unknown],
+                   mult: Mapping[Unknown, np.ndarray]) -> tuple[Poly, list[Exp], set[Exp]]:
+    """``expr - m^T Q m`` at the current values (multipliers ``mult`` made SOS), the half basis of the Gram
+    unknowns ``us`` and the monomials its pairs reach."""
+    res = expr.value(mult)
+    for u in us:
+        res = res - u.poly()
+    basis = [b for u in us for b in u.basis]
+    return res, basis, _pair_sums(basis, distinct=False)
 
 
 def _unknowns_of(expr: Any) -> list[Unknown]:
