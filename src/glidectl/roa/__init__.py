@@ -15,6 +15,7 @@ from .certify import (
 )
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import DEFAULT_HALF_WIDTH, box_scale, resolve_box, scaled_lyapunov, validity_box
+from .sdp_solvers import MOMENT_MIN_BLOCK, SDP_SOLVERS, installed_sdp_solvers, solve_moment
 from .sector import sector_system
 from .sos import GramCheck, LinPoly, SOSProgram
 from .surrogate import RemainderBound, surrogate_error, surrogate_system
@@ -22,6 +23,8 @@ from .systems import PolySystem, polynomial_system, recast, taylor_system
 
 __all__ = [
     "DEFAULT_HALF_WIDTH",
+    "MOMENT_MIN_BLOCK",
+    "SDP_SOLVERS",
     "GramCheck",
     "LevelResult",
     "LinPoly",
@@ -36,6 +39,7 @@ __all__ = [
     "certify_roa",
     "dVdt",
     "estimate_sos_size",
+    "installed_sdp_solvers",
     "lyapunov_matrix",
     "lyapunov_quadratic",
     "max_level",
@@ -46,6 +50,7 @@ __all__ = [
     "resolve_box",
     "scaled_lyapunov",
     "sector_system",
+    "solve_moment",
     "surrogate_error",
     "surrogate_system",
     "taylor_system",

@@ -58,6 +58,7 @@ from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, 
 from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
+from .sdp_solvers import MOMENT, check_solver
 from .sector import sector_system
 from .sos import (
     GRAM_CONES,
@@ -100,7 +101,6 @@ _BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per
 _AUTO_RECAST_BASIS = 500
 
 #: SDP-capable solvers cvxpy may have installed.
-_SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
 
 
 # --------------------------------------------------------------------------------------------- helpers
@@ -960,7 +960,7 @@ def _v_step(ps: PolySystem, F: list[Poly], degV: int, lam: Poly, Zt: np.ndarray,
     return prog, out
 
 
-def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLARABEL",
+def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = MOMENT,
               extra: int | None = None, max_degree: int = MAX_DEGREE, memory_limit: float | None = None) -> LevelResult:
     """Largest ``rho`` of the level problem for a fixed ``V`` (one SDP, no bisection).
 
@@ -1000,7 +1000,7 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
     ps = recast(system)
     _check_V(V, ps, "V")
     rho_cap = checks.positive("rho_cap", rho_cap)
-    _check_solver(solver)
+    check_solver(solver)
     ex = _auto_extra(ps, extra)
     max_degree = checks.integer("max_degree", max_degree, lo=2)
     limit = _default_memory_limit() if memory_limit is None else checks.positive("memory_limit", memory_limit)
@@ -1008,13 +1008,6 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = "CLAR
     k = _scaling(ps)
     pss = _rescale(ps, k)
     return _level(pss, _scaled(pss), _to_scaled(V, k), rho_cap=rho_cap, solver=solver, center=0.0, extra=ex)
-
-
-def _check_solver(solver: Any) -> str:
-    available = [s for s in cp.installed_solvers() if s in _SDP_SOLVERS]
-    if not isinstance(solver, str):
-        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__} {solver!r}")
-    return checks.choice("solver", solver, available)
 
 
 def _check_V(V: Any, ps: PolySystem, name: str) -> Poly:
@@ -1776,7 +1769,7 @@ def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int,
 def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
                 initial: Poly | np.ndarray | None = None, speed_floor: float = 0.1, extra: int | None = None,
                 n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
-                solver: str = "CLARABEL", seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
+                solver: str = MOMENT, seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
                 on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
                 margin: float = 2.0, reuse: bool = True, inner: str = "sos", box_search: int = 6,
@@ -1823,7 +1816,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Sampling of the certified set on the true model (>= 1), number of simulations from the outermost samples
         (>= 0) and their length (> 0; default 25 slowest time constants).
     solver : str
-        An installed SDP solver of cvxpy (default ``"CLARABEL"``).
+        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: CVXOPT on the
+        moment form for programs with a Gram block of order 40 or more, Clarabel below).
     seed : int
         Seed of the sampling (>= 0).
     center : float
@@ -1930,7 +1924,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     n_verify = checks.integer("n_verify", n_verify, lo=1, hi=2**24)
     n_simulate = checks.integer("n_simulate", n_simulate, lo=0, hi=2**20)
     horizon = None if horizon is None else checks.positive("horizon", horizon)
-    _check_solver(solver)
+    check_solver(solver)
     seed = checks.integer("seed", seed, lo=0)
     center = checks.real("center", center, lo=0.0, hi=1.0, hi_open=True)
     limit = _default_memory_limit() if memory_limit is None else checks.positive("memory_limit", memory_limit)

@@ -74,11 +74,11 @@ from ..analysis.jacobian import jacobians
 from ..analysis.measure import MIN_SOBOL_HITS
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
+from .sdp_solvers import MOMENT, check_solver, solver_argument
 
 __all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
 
 #: SDP-capable solvers cvxpy may have installed.
-_SDP_SOLVERS = ("CLARABEL", "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
 
 def _sat(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
     """``clip(v, lo, hi)`` carrying a complex step (derivative 1 inside, 0 outside)."""
@@ -824,13 +824,6 @@ def _ellipsoid_points(Winv: np.ndarray, n: int, rng: np.random.Generator, bounda
     return y @ L.T
 
 
-def _check_solver(solver: Any) -> str:
-    available = [s for s in cp.installed_solvers() if s in _SDP_SOLVERS]
-    if not isinstance(solver, str):
-        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__}")
-    return checks.choice("solver", solver, available)
-
-
 @dataclass
 class _Round:
     """One round of the remainder-box search: solves the SDP for a ``rho`` (cached in ``sols``, logged in
@@ -863,7 +856,7 @@ class _Round:
             prog.uu.value = np.minimum(-sc.lo, sc.hi)[prog.sat] ** 2 / rho**2
         t0 = time.perf_counter()
         try:
-            prog.prob.solve(solver=self.solver)
+            prog.prob.solve(solver=solver_argument(self.solver))
             status = prog.prob.status
         except cp.SolverError as exc:
             status = f"solver error: {str(exc)[:60]}"
@@ -901,7 +894,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
                     hessian_margin: float = 1.5, n_hessian: int = 1024, n_radii: int = 8, refine: int = 5,
                     rounds: int = 6, round_gain: float = 0.1,
                     backoff: float = 0.01, n_verify: int = 4000, n_simulate: int = 32, horizon: float | None = None,
-                    solver: str = "CLARABEL", seed: int = 0) -> EllipsoidCertificate:
+                    solver: str = MOMENT, seed: int = 0) -> EllipsoidCertificate:
     """Largest certified ellipsoid of a saturated closed loop: quadratic ``V``, generalized sector condition and a
     per-component norm-bounded remainder (Tarbouriech et al. 2011, Prop. 3.1, with the remainder; see the module
     docstring for the LMIs and what the remainder bound rests on).
@@ -937,7 +930,8 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
     horizon : float, optional
         Length of those simulations (default 25 slowest time constants of the linearization).
     solver : str
-        An installed SDP solver of cvxpy (default ``"CLARABEL"``).
+        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: CVXOPT on the
+        moment form for programs with a Gram block of order 40 or more, Clarabel below).
     seed : int
         Seed of every sampling (>= 0).
 
@@ -976,7 +970,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
     n_verify = checks.integer("n_verify", n_verify, lo=1, hi=2**22)
     n_simulate = checks.integer("n_simulate", n_simulate, lo=0, hi=2**16)
     horizon = None if horizon is None else checks.positive("horizon", horizon)
-    _check_solver(solver)
+    check_solver(solver)
     seed = checks.integer("seed", seed, lo=0)
     sc = _scale(sl)
     nf = len(sc.f)

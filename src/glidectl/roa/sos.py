@@ -43,6 +43,7 @@ import scipy.sparse as sps
 
 from ..errors import ArgumentError, BudgetError, SolverError
 from .polynomial import Exp, Poly
+from .sdp_solvers import MOMENT, solver_argument
 
 __all__ = ["GRAM_CONES", "GramCheck", "LinPoly", "SOSProgram", "Unknown", "dd_gram", "linear_support",
            "parity_generators", "reduce_basis", "sign_classes"]
@@ -500,7 +501,7 @@ class SOSProgram:
             lhs = lhs + A @ u.flat
         self.constraints.append(lhs + b == 0)
 
-    def solve(self, objective: Any, *, solver: str = "CLARABEL", **kw: Any) -> float:
+    def solve(self, objective: Any, *, solver: str = MOMENT, **kw: Any) -> float:
         """Solve ``maximize/minimize objective`` (a cvxpy objective).
 
         Parameters
@@ -527,7 +528,7 @@ class SOSProgram:
         self.problem = cp.Problem(objective, self.constraints)
         return self.resolve(solver=solver, **kw)
 
-    def resolve(self, *, solver: str = "CLARABEL", **kw: Any) -> float:
+    def resolve(self, *, solver: str = MOMENT, **kw: Any) -> float:
         """Solve :attr:`problem` again (after changing the values of its cvxpy ``Parameter``s): cvxpy reuses its
         compilation, so only the solver runs. Returns and raises as :meth:`solve`."""
         prob = self.problem
@@ -538,7 +539,7 @@ class SOSProgram:
         try:
             with warnings.catch_warnings():   # "solution may be inaccurate": the status is checked below
                 warnings.simplefilter("ignore", UserWarning)
-                val = prob.solve(solver=solver, **kw)
+                val = prob.solve(solver=solver_argument(solver), **kw)
         except MemoryError as exc:
             raise BudgetError(f"SDP solver {solver} ran out of memory on a program with {len(self.unknowns)} "
                               "unknown blocks: lower the degree (see glidectl.estimate_sos_size)") from exc

@@ -1,0 +1,507 @@
+"""SDP solvers for the ROA programs: the accepted names, and ``CVXOPT_MOMENT`` (CVXOPT on the moment form).
+
+An SOS program in Gram form has many more unknowns than equations: the CTOL level program has one 103 x 103 Gram
+matrix (5356 entries) and 1746 coefficient equations. An interior-point method on that primal (Clarabel, or cvxpy's
+own CVXOPT interface) factors a KKT system with the dense ``n(n+1)/2`` Hessian block of every Gram matrix, about
+``5356^3 / 3`` flops per iteration. The dual of the same program, the *moment* problem, has one unknown per
+equation: its Newton system is ``m x m`` with ``m`` the number of equations. ``CVXOPT_MOMENT`` rewrites the conic
+data cvxpy compiles for Clarabel (``A x + s = b``, ``s`` in zero x nonnegative x PSD cones) into that dual form,
+
+1. eliminating every variable that is a cone slack in disguise (a variable that appears in one cone row only, such
+   as each entry of a Gram matrix: ``x_P = D^-1 (b_P - A_PR x_R - s_P)``),
+2. dropping linearly dependent free columns and dependent equations,
+
+and hands it to CVXOPT's ``conelp``, whose *dual* is then the SOS program: CVXOPT's ``z`` is the cone slack ``s``
+(the Gram matrices) and its ``y`` the remaining free variables. The result goes back to cvxpy exactly as a Clarabel
+result would; the residual of the recovered point in the original data is checked, so a dropped equation that was
+not redundant shows as a failure, not as a wrong answer.
+
+The route is exact (no relaxation): the same program, solved from the other side. It is used for programs with
+nonnegative and PSD cones only and a PSD block of order ``MOMENT_MIN_BLOCK`` or more; anything else (small
+programs, second-order or exponential cones) goes to Clarabel unchanged. A pure feasibility program (zero
+objective) is solved for its largest common margin ``t <= 1`` in every cone (``s - t e`` in the cones, ``e`` their
+identity): any feasible point is an answer, and the moment problem of a zero objective has no interior.
+"""
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from types import SimpleNamespace
+from typing import Any
+
+import cvxpy as cp
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sps
+from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import CLARABEL
+from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
+
+from .. import checks
+from ..errors import ArgumentTypeError
+
+__all__ = ["MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOCK", "SDP_SOLVERS", "CvxoptMoment", "check_solver",
+           "installed_sdp_solvers", "moment_form", "solve_moment", "solver_argument"]
+
+MOMENT = "CVXOPT_MOMENT"
+"""Name of the moment-form CVXOPT route (:class:`CvxoptMoment`)."""
+
+MOMENT_MIN_BLOCK = 40
+"""``CVXOPT_MOMENT`` hands programs whose largest PSD block is smaller than this to Clarabel: there the primal
+KKT system is small, Clarabel is faster per solve (no reduction in Python) and its feasibility points are
+analytic-center like (the SOS iterations of the small benchmarks are tuned on them)."""
+
+MOMENT_MAX_ITERATIONS = 50
+"""Iteration limit of CVXOPT on the moment form; the converged runs of the ROA programs take 14-30 iterations.
+A run that does not converge within it goes to Clarabel (:class:`CvxoptMoment`)."""
+
+SDP_SOLVERS = ("CLARABEL", MOMENT, "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
+"""SDP solvers the ROA layer accepts (those installed: :func:`installed_sdp_solvers`)."""
+
+
+def installed_sdp_solvers() -> list[str]:
+    """The names of :data:`SDP_SOLVERS` that can run here (``CVXOPT_MOMENT`` needs the ``cvxopt`` package).
+
+    Returns
+    -------
+    list of str
+        Solver names, in the order of :data:`SDP_SOLVERS`.
+
+    Raises
+    ------
+    None
+    """
+    have = set(cp.installed_solvers())
+    out = []
+    for s in SDP_SOLVERS:
+        if s == MOMENT:
+            if "CVXOPT" in have and "CLARABEL" in have:
+                out.append(s)
+        elif s in have:
+            out.append(s)
+    return out
+
+
+def check_solver(solver: Any) -> str:
+    """Validate an SDP solver name.
+
+    Parameters
+    ----------
+    solver : str
+        One of :func:`installed_sdp_solvers`.
+
+    Returns
+    -------
+    str
+        The name.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``solver`` is not a string.
+    ArgumentError
+        If it is not an installed SDP solver (the message lists those that are).
+    """
+    if not isinstance(solver, str):
+        raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__} {solver!r}")
+    return checks.choice("solver", solver, installed_sdp_solvers())
+
+
+def solver_argument(solver: str) -> Any:
+    """What to pass as ``solver=`` to :meth:`cvxpy.Problem.solve` for a name of :data:`SDP_SOLVERS`: the name
+    itself, or a :class:`CvxoptMoment` instance for ``CVXOPT_MOMENT``."""
+    global _MOMENT_INSTANCE
+    if solver != MOMENT:
+        return solver
+    if _MOMENT_INSTANCE is None:        # one instance: cvxpy keeps a compiled problem per solver object
+        _MOMENT_INSTANCE = CvxoptMoment()
+    return _MOMENT_INSTANCE
+
+
+_MOMENT_INSTANCE: Any = None
+
+
+@dataclass(frozen=True)
+class _MomentForm:
+    """The conic program ``min c'x, A x + s = b, s in K`` with its cone-slack variables eliminated:
+    ``min g'x_R + h's + const, E_R x_R + E_s s = f, s in K`` (``s`` the cone rows of ``A``, in their order)."""
+
+    E_R: sps.csr_matrix
+    E_s: sps.csr_matrix
+    f: np.ndarray
+    g: np.ndarray
+    h: np.ndarray
+    R: np.ndarray           # free columns of A (x_R)
+    P: np.ndarray           # eliminated columns (x_P), one per pivot cone row
+    piv: np.ndarray         # the pivot cone rows (indices into s)
+    dinv: np.ndarray        # 1 / A[pivot row, pivot column]
+    A_pR: sps.csr_matrix    # pivot rows of A on the free columns
+    b_p: np.ndarray         # b on the pivot rows
+
+    def primal(self, x_R: np.ndarray, s: np.ndarray, n: int) -> np.ndarray:
+        """The variables ``x`` of the original program from ``x_R`` and the cone slack ``s``."""
+        x = np.zeros(n)
+        x[self.R] = x_R
+        x[self.P] = self.dinv * (self.b_p - self.A_pR @ x_R - s[self.piv])
+        return x
+
+
+def moment_form(A: Any, b: np.ndarray, c: np.ndarray, zero: int) -> _MomentForm:
+    """Eliminate the variables of ``min c'x, A x + s = b`` that appear in exactly one cone row.
+
+    Parameters
+    ----------
+    A : sparse matrix, shape (M, n)
+        Constraint matrix; rows ``0..zero-1`` are equations (zero cone), the rest cone rows.
+    b : ndarray, shape (M,)
+    c : ndarray, shape (n,)
+    zero : int
+        Number of equations.
+
+    Returns
+    -------
+    _MomentForm
+        The reduced program (see the class): a cone row with such a variable ``x_p`` (the largest coefficient
+        ``d`` if several) gives ``x_p = (b_p - A_pR x_R - s_p) / d``; the other cone rows become equations
+        ``A_nR x_R + s_n = b_n``.
+    """
+    A = sps.csr_matrix(A)
+    A.eliminate_zeros()
+    M, n = A.shape
+    Az, Ac = A[:zero], A[zero:]
+    nc = M - zero
+    Acc = Ac.tocoo()
+    count = np.bincount(Acc.col, minlength=n)
+    ok = (count[Acc.col] == 1) & (b[zero + Acc.row] == 0)      # a bound row (b != 0) stays an equation
+    r, col, v = Acc.row[ok], Acc.col[ok], Acc.data[ok]
+    order = np.lexsort((-np.abs(v), r))
+    r, col, v = r[order], col[order], v[order]
+    first = np.r_[True, r[1:] != r[:-1]] if len(r) else np.zeros(0, bool)
+    piv, P, d = r[first], col[first], v[first]
+    nonpiv = np.setdiff1d(np.arange(nc), piv)
+    R = np.setdiff1d(np.arange(n), P)
+    dinv = 1.0 / d
+    A_pR = Ac[piv][:, R].tocsr()
+    Wz = (Az[:, P] @ sps.diags(dinv)).tocsr()              # A_zP D^-1
+    E_R = sps.vstack([Az[:, R] - Wz @ A_pR, Ac[nonpiv][:, R]]).tocsr()
+    Es_z = sps.csr_matrix((-Wz).tocoo(), shape=(zero, len(piv)))
+    Es_z = sps.csr_matrix((Es_z.tocoo().data, (Es_z.tocoo().row, piv[Es_z.tocoo().col])), shape=(zero, nc))
+    Es_n = sps.csr_matrix((np.ones(len(nonpiv)), (np.arange(len(nonpiv)), nonpiv)), shape=(len(nonpiv), nc))
+    E_s = sps.vstack([Es_z, Es_n]).tocsr()
+    bz, bc = b[:zero], b[zero:]
+    f = np.concatenate([bz - Wz @ bc[piv], bc[nonpiv]])
+    cP = dinv * c[P]
+    g = c[R] - A_pR.T @ cP
+    h = np.zeros(nc)
+    h[piv] = -cP
+    return _MomentForm(E_R, E_s, f, g, h, R, P, piv, dinv, A_pR, bc[piv])
+
+
+def _drop_rounding(E: Any, rel: float = 1e-14) -> sps.csr_matrix:
+    """``E`` without the entries below ``rel`` times its largest one."""
+    E = sps.csr_matrix(E, copy=True)
+    if E.nnz:
+        E.data[np.abs(E.data) < rel * np.max(np.abs(E.data))] = 0.0
+        E.eliminate_zeros()
+    return E
+
+
+def _independent_columns(E: sps.csr_matrix, tol: float = 1e-10) -> np.ndarray:
+    """Indices of a maximal set of linearly independent columns of ``E`` (QR with column pivoting)."""
+    if E.shape[1] == 0:
+        return np.zeros(0, int)
+    Ed = E.toarray()
+    _, Rm, perm = sla.qr(Ed, mode="economic", pivoting=True)
+    dg = np.abs(np.diag(Rm))
+    if dg.size == 0 or dg[0] == 0.0:
+        return np.zeros(0, int)
+    rank = int(np.sum(dg > tol * dg[0]))
+    return np.sort(perm[:rank])
+
+
+def _independent_rows(E: sps.csr_matrix, tol: float = 1e-11) -> np.ndarray:
+    """Indices of a maximal set of linearly independent rows of ``E`` (rows of unit norm; pivoted Cholesky of
+    ``E E'``)."""
+    m = E.shape[0]
+    if m == 0:
+        return np.zeros(0, int)
+    G = (E @ E.T).toarray()
+    _, piv, rank, info = sla.lapack.dpstrf(G, lower=1, tol=tol)
+    if info < 0:
+        return np.arange(m)
+    return np.sort(piv[:rank] - 1)
+
+
+def _cone_map(nonneg: int, psd: list[int]) -> tuple[sps.csr_matrix, list[int], np.ndarray]:
+    """Map from the cone rows (nonnegative, then PSD blocks in upper-triangular column-major svec with sqrt(2)
+    off-diagonal scaling, cvxpy's Clarabel layout) to CVXOPT's unpacked lower storage; returns the map, CVXOPT's
+    block orders, and the position of each svec entry."""
+    rows, scale = list(range(nonneg)), [1.0] * nonneg
+    off = nonneg
+    for nb in psd:
+        for j in range(nb):
+            for i in range(j + 1):
+                rows.append(off + i * nb + j)             # column i, row j >= i: lower storage
+                scale.append(1.0 if i == j else 1.0 / math.sqrt(2.0))
+        off += nb * nb
+    pos = np.array(rows, dtype=int)
+    S = sps.csr_matrix((np.array(scale), (pos, np.arange(len(pos)))), shape=(off, len(pos)))
+    return S, list(psd), pos
+
+
+class CvxoptMoment(CLARABEL):
+    """cvxpy custom solver ``CVXOPT_MOMENT``: CVXOPT's ``conelp`` on the moment (dual) form of the program (see
+    the module docstring). Falls back to Clarabel for cones other than zero, nonnegative and PSD."""
+
+    MIP_CAPABLE = False
+
+    def name(self) -> str:
+        return MOMENT
+
+    def import_solver(self) -> None:
+        import clarabel  # noqa: F401
+        import cvxopt  # noqa: F401
+
+    def supports_quad_obj(self) -> bool:
+        return False
+
+    def solve_via_data(self, data: dict, warm_start: bool, verbose: bool, solver_opts: dict,
+                       solver_cache: Any = None) -> Any:
+        """Solve the Clarabel-form data by CVXOPT on the moment form; return a Clarabel-like result."""
+        dims = data[ConicSolver.DIMS]
+        if (dims.soc or dims.exp or getattr(dims, "p3d", None) or getattr(dims, "pnd", None)
+                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK):
+            return super().solve_via_data(data, warm_start, verbose, solver_opts, solver_cache)
+        res = solve_moment(data["A"], data["b"], data["c"], dims.zero, dims.nonneg, list(dims.psd),
+                           verbose=verbose, **solver_opts)
+        if res.status in ("Solved", "AlmostSolved", "PrimalInfeasible", "DualInfeasible"):
+            return res
+        # not converged (a program at the edge of feasibility, such as the level of a V the V step has just
+        # pushed to its limit, can leave the moment form without a usable interior): Clarabel, from scratch
+        out = super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
+        return SimpleNamespace(x=out.x, z=out.z, s=out.s, status=str(out.status), obj_val=out.obj_val,
+                               solve_time=res.solve_time + out.solve_time, iterations=res.iterations + out.iterations)
+
+
+def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, psd: list[int], *,
+                 verbose: bool = False, **options: Any) -> SimpleNamespace:
+    """``min c'x, A x + s = b, s in {0}^zero x R+^nonneg x PSD(psd)`` by CVXOPT on the moment form.
+
+    Parameters
+    ----------
+    A, b, c
+        cvxpy's Clarabel-form data (PSD blocks as upper-triangular svec with sqrt(2) scaling).
+    zero, nonneg : int
+        Numbers of equation rows and of nonnegative rows.
+    psd : list of int
+        Orders of the PSD blocks.
+    verbose : bool
+        CVXOPT's progress output.
+    **options
+        CVXOPT solver options (``abstol``, ``reltol``, ``feastol``, ``maxiters``, ``kktsolver``).
+
+    Returns
+    -------
+    types.SimpleNamespace
+        ``x``, ``z`` (None: no duals), ``s``, ``status`` (Clarabel's status names), ``obj_val``, ``solve_time``,
+        ``iterations``, ``residual`` (relative residual of ``A x + s - b`` on the original data).
+    """
+    from cvxopt import matrix, solvers
+
+    t0 = time.perf_counter()
+    b = np.asarray(b, dtype=float)
+    c = np.asarray(c, dtype=float)
+    n = c.size
+    mf = moment_form(A, b, c, zero)
+    # a nonnegative row that stays an equation (a bound x_j <= b_i) gets its slack in units of |b_i|: a cap such
+    # as rho <= 1e6 would otherwise put 1e6 into the moment objective next to terms of order 1e-3
+    w = np.ones(len(mf.h))
+    bound = np.setdiff1d(np.arange(nonneg), mf.piv)
+    w[bound] = np.maximum(1.0, np.abs(b[zero + bound]))
+    E_R, E_s, f0, g0, h0, nn = mf.E_R, (mf.E_s @ sps.diags(w)).tocsr(), mf.f, mf.g, mf.h * w, nonneg
+    feasibility = not np.any(c)
+    if feasibility:
+        # any feasible point will do: return the one with the largest margin t <= 1 in every cone (s = s' + t e,
+        # s' in K, e the cones' identity); the moment problem of a pure feasibility program has no interior
+        e = np.concatenate([np.ones(nonneg)] + [_svec_identity(nb) for nb in psd])
+        nR0 = E_R.shape[1]
+        cap = sps.csr_matrix(([1.0], ([0], [nR0])), shape=(1, nR0 + 1))
+        E_R = sps.vstack([sps.hstack([E_R, sps.csr_matrix(E_s @ e).T]), cap]).tocsr()
+        E_s = sps.vstack([E_s, sps.csr_matrix((1, E_s.shape[1]))]).tocsr()
+        E_s = sps.hstack([E_s[:, :nonneg], sps.csr_matrix(([1.0], ([E_s.shape[0] - 1], [0])),
+                                                          shape=(E_s.shape[0], 1)), E_s[:, nonneg:]]).tocsr()
+        f0 = np.append(f0, 1.0)
+        g0 = np.append(g0, -1.0)
+        h0 = np.insert(h0, nonneg, 0.0)
+        nn = nonneg + 1
+    # coefficients at rounding level (cvxpy's canonicalization leaves some of 1e-19) would become constraints of
+    # order one when the rows are normalized below: drop them first
+    E_R, E_s = _drop_rounding(E_R), _drop_rounding(E_s)
+    keep = _independent_columns(E_R)
+    E = sps.hstack([E_R[:, keep], E_s]).tocsr()
+    norms = np.sqrt(np.asarray(E.multiply(E).sum(axis=1)).ravel())
+    live = norms > 0
+    if np.any(~live) and np.any(np.abs(f0[~live]) > 0):
+        return _result(None, None, "PrimalInfeasible", math.nan, t0, 0, math.inf)
+    scale = np.where(live, 1.0 / np.where(live, norms, 1.0), 0.0)
+    E = sps.diags(scale) @ E
+    rows = np.flatnonzero(live)
+    rows = rows[_independent_rows(E[rows])]
+    E = E[rows].tocsr()
+    f = f0[rows] * scale[rows]
+    nR = len(keep)
+    Emap, blocks, pos = _cone_map(nn, psd)
+    G = (Emap @ E[:, nR:].T).tocoo()
+    h = Emap @ h0
+    AeqT = E[:, :nR].T.tocoo()
+
+    opts = {"show_progress": bool(verbose), "maxiters": MOMENT_MAX_ITERATIONS}
+    opts.update(options)
+    kkt = opts.pop("kktsolver", "sparse")
+    cvx_dims = {"l": nn, "q": [], "s": blocks}
+    if kkt == "sparse":
+        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nn, blocks)
+    kw: dict[str, Any] = {"options": opts, "kktsolver": kkt}
+    if nR:
+        kw["A"], kw["b"] = _cvx_sparse(AeqT), matrix(g0[keep])
+    sol = solvers.conelp(matrix(-f), _cvx_sparse(G), matrix(h), cvx_dims, **kw)
+    st = sol["status"]
+    if st == "dual infeasible":             # CVXOPT's dual is the program: infeasible
+        return _result(None, None, "PrimalInfeasible", math.inf, t0, int(sol.get("iterations", 0)), math.inf)
+    if st == "primal infeasible":           # CVXOPT's primal (the moment problem) infeasible: unbounded
+        return _result(None, None, "DualInfeasible", -math.inf, t0, int(sol.get("iterations", 0)), math.inf)
+    if sol["z"] is None:
+        return _result(None, None, "NumericalError", math.nan, t0, int(sol.get("iterations", 0)), math.inf)
+    z = np.array(sol["z"]).ravel()
+    s = z[pos] / np.asarray(Emap.sum(axis=0)).ravel()
+    x_R = np.zeros(E_R.shape[1])
+    if nR:
+        x_R[keep] = np.array(sol["y"]).ravel()
+    if feasibility:
+        t = x_R[-1]
+        x_R = x_R[:-1]
+        s = np.delete(s, nonneg) + t * e
+    s = s * w
+    x = mf.primal(x_R, s, n)
+    sfull = np.concatenate([np.zeros(zero), s])
+    res = float(np.linalg.norm(sps.csr_matrix(A) @ x + sfull - b) / (1.0 + np.linalg.norm(b)))
+    if st == "optimal":
+        status = "Solved" if res < 1e-6 else "AlmostSolved"
+    else:                                   # "unknown": stopped early (iterations, or a singular KKT system)
+        ok = all(sol.get(k) is not None and sol[k] < 1e-5 for k in ("primal infeasibility", "dual infeasibility"))
+        status = "AlmostSolved" if ok and res < 1e-5 else "InsufficientProgress"
+    if res > 1e-4 and status in ("Solved", "AlmostSolved"):
+        status = "NumericalError"
+    return _result(x, s, status, float(c @ x), t0, int(sol.get("iterations", 0)), res)
+
+
+class _SparseKKT:
+    """CVXOPT KKT solver for ``conelp`` that forms the Schur complement ``H = G' (W'W)^-1 G`` block by block from
+    the sparse columns of ``G``: for a PSD block with scaling ``W(Z) = r' Z r``, ``(W'W)^-1 Z = S Z S`` with
+    ``S = r^-T r^-1``, and ``H_kl = <G_k, S G_l S>`` costs one ``nb x nb`` product per column ``l`` (CVXOPT's own
+    ``chol``/``qr`` solvers scale and factor the dense ``N x m`` matrix ``W^-T G`` instead). The equations
+    ``A u = b`` enter as ``[H + A'A, A'; A, 0]``, solved by two Cholesky factorizations."""
+
+    def __init__(self, G: sps.csr_matrix, AeqT: sps.csr_matrix, nonneg: int, blocks: list[int]) -> None:
+        self.G, self.m = G, G.shape[1]
+        self.Aeq = AeqT.toarray() if AeqT.shape[0] else np.zeros((0, self.m))
+        self.nonneg = nonneg
+        self.Gl = G[:nonneg].tocsc()
+        self.blocks = []
+        off = nonneg
+        for nb in blocks:
+            Gk = G[off:off + nb * nb].tocoo()
+            J = np.unique(Gk.col)
+            jl = np.searchsorted(J, Gk.col)
+            i, j = Gk.row % nb, Gk.row // nb          # lower storage: column j, row i >= j
+            sym = i != j
+            rows = np.concatenate([jl * nb + i, jl[sym] * nb + j[sym]])
+            cols = np.concatenate([j, i[sym]])
+            vals = np.concatenate([Gk.data, Gk.data[sym]])
+            Gv = sps.csr_matrix((vals, (rows, cols)), shape=(len(J) * nb, nb))
+            w = np.where(sym, 2.0, 1.0) * Gk.data
+            Gw = sps.csr_matrix((w, (jl, np.arange(len(w)))), shape=(len(J), len(w)))
+            self.blocks.append((nb, J, Gv, Gw, i, j))
+            off += nb * nb
+        from cvxopt import misc
+        self.misc = misc
+        self.dims = {"l": nonneg, "q": [], "s": list(blocks)}
+
+    def __call__(self, W: Any) -> Any:
+        from cvxopt import matrix
+        misc = self.misc
+        H = np.zeros((self.m, self.m))
+        if self.nonneg:
+            d = np.array(W["d"]).ravel()
+            Gl = sps.diags(1.0 / d) @ self.Gl
+            H += (Gl.T @ Gl).toarray()
+        for (nb, J, Gv, Gw, i, j), rti in zip(self.blocks, W["rti"], strict=True):
+            R = np.array(rti)
+            S = R @ R.T
+            B = np.asarray(Gv @ S).reshape(len(J), nb, nb)      # G_l S
+            Y = np.matmul(S, B)                                 # S G_l S
+            Ylow = Y[:, i, j]                                   # (|J|, T): entries at G's lower positions
+            H[np.ix_(J, J)] += np.asarray(Gw @ Ylow.T)
+        H = 0.5 * (H + H.T)
+        A = self.Aeq
+        Ht = H + A.T @ A
+        Lh = _cholesky(Ht)
+        if A.shape[0]:
+            HiAt = sla.cho_solve(Lh, A.T, check_finite=False)
+            Lk = _cholesky(A @ HiAt)
+        G, dims = self.G, self.dims
+        Gc = _cvx_sparse(G)
+
+        def solve(x: Any, y: Any, z: Any) -> None:
+            v = matrix(z)
+            misc.scale(v, W, trans="T", inverse="I")
+            misc.scale(v, W, trans="N", inverse="I")
+            gu = matrix(0.0, (self.m, 1))
+            misc.sgemv(Gc, v, gu, dims, trans="T")
+            bx = np.array(x).ravel() + np.array(gu).ravel()
+            by = np.array(y).ravel()
+            rt = bx + A.T @ by
+            if A.shape[0]:
+                uy = sla.cho_solve(Lk, A @ sla.cho_solve(Lh, rt, check_finite=False) - by, check_finite=False)
+                ux = sla.cho_solve(Lh, rt - A.T @ uy, check_finite=False)
+            else:
+                uy = np.zeros(0)
+                ux = sla.cho_solve(Lh, rt, check_finite=False)
+            t = matrix(G @ ux) - z
+            misc.scale(t, W, trans="T", inverse="I")
+            x[:] = matrix(ux)
+            if A.shape[0]:
+                y[:] = matrix(uy)
+            z[:] = t
+
+        return solve
+
+
+def _cholesky(H: np.ndarray) -> Any:
+    """Cholesky factor of a Schur complement; near the optimum it can lose definiteness to rounding: then once more
+    with ``1e-12 max(diag H)`` on the diagonal, and ArithmeticError (CVXOPT then stops with the last iterate)."""
+    try:
+        return sla.cho_factor(H, lower=True, check_finite=False)
+    except np.linalg.LinAlgError:
+        pass
+    try:
+        return sla.cho_factor(H + 1e-12 * float(np.max(np.diag(H))) * np.eye(len(H)), lower=True,
+                              check_finite=False)
+    except np.linalg.LinAlgError as exc:
+        raise ArithmeticError(f"Schur complement not positive definite: {exc}") from exc
+
+
+def _svec_identity(nb: int) -> np.ndarray:
+    """svec (upper triangle, column-major) of the ``nb x nb`` identity."""
+    return np.concatenate([np.r_[np.zeros(j), 1.0] for j in range(nb)]) if nb else np.zeros(0)
+
+
+def _cvx_sparse(M: Any) -> Any:
+    from cvxopt import spmatrix
+    M = M.tocoo()
+    return spmatrix(M.data.tolist(), M.row.tolist(), M.col.tolist(), size=M.shape)
+
+
+def _result(x: Any, s: Any, status: str, obj: float, t0: float, iters: int, res: float) -> SimpleNamespace:
+    return SimpleNamespace(x=x, z=None, s=s, status=status, obj_val=obj, solve_time=time.perf_counter() - t0,
+                           iterations=iters, residual=res)

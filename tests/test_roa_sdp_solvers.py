@@ -1,0 +1,162 @@
+"""The moment-form SDP route (``CVXOPT_MOMENT``): same optimum and feasible points as Clarabel, exact recovery of the
+eliminated variables, dependent data, infeasible and unbounded programs, feasibility programs, solver names."""
+from __future__ import annotations
+
+import cvxpy as cp
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import glidectl as gc
+from glidectl.errors import ArgumentError, SolverError
+from glidectl.roa import MOMENT_MIN_BLOCK, Poly, SOSProgram, monomials, solve_moment
+from glidectl.roa.sdp_solvers import MOMENT, moment_form
+
+
+def _clarabel_data(prob: cp.Problem) -> tuple:
+    data, _, _ = prob.get_problem_data(cp.CLARABEL)
+    d = data["dims"]
+    return data["A"], data["b"], data["c"], d.zero, d.nonneg, list(d.psd)
+
+
+def _svec_blocks(s: np.ndarray, nonneg: int, psd: list[int]) -> list[np.ndarray]:
+    out, k = [], nonneg
+    for nb in psd:
+        M = np.zeros((nb, nb))
+        for j in range(nb):
+            for i in range(j + 1):
+                M[i, j] = M[j, i] = s[k] if i == j else s[k] / np.sqrt(2.0)
+                k += 1
+        out.append(M)
+    return out
+
+
+def _random_sdp(seed: int, n: int, m: int) -> tuple[cp.Problem, cp.Variable]:
+    """``min <C, X> + t0 - t1`` over ``X >= 0`` with ``m`` trace equations, a bound and a free pair (t0, t1)."""
+    rng = np.random.default_rng(seed)
+    C = rng.standard_normal((n, n))
+    As = [rng.standard_normal((n, n)) for _ in range(m + 1)]
+    X = cp.Variable((n, n), symmetric=True)
+    t = cp.Variable(2)
+    X0 = np.eye(n) + 0.1 * (lambda B: B @ B.T)(rng.standard_normal((n, n)))     # strictly feasible point
+    cons = [X >> 0, t[0] >= -1, cp.trace(X) + t[0] <= np.trace(X0) + 5.0, t[1] == cp.trace((As[m] + As[m].T) @ X)]
+    cons += [cp.trace((As[i] + As[i].T) @ X) == np.trace((As[i] + As[i].T) @ X0) for i in range(m)]
+    return cp.Problem(cp.Minimize(cp.trace((C + C.T) @ X) + t[0] - t[1]), cons), X
+
+
+@settings(max_examples=12, deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 7), m=st.integers(1, 6))
+def test_moment_form_gives_clarabels_optimum_and_a_feasible_point(seed: int, n: int, m: int) -> None:
+    prob, _ = _random_sdp(seed, n, m)
+    ref = prob.solve(solver="CLARABEL")
+    A, b, c, zero, nonneg, psd = _clarabel_data(prob)
+    r = solve_moment(A, b, c, zero, nonneg, psd)
+    assert r.status in ("Solved", "AlmostSolved")
+    assert r.obj_val == pytest.approx(ref, rel=1e-5, abs=1e-5)      # no constant in the objective
+    # the point is feasible in the original data: equations, nonnegative rows and PSD blocks
+    res = A @ r.x + np.concatenate([np.zeros(zero), r.s]) - b
+    assert np.max(np.abs(res)) < 1e-6 * (1.0 + np.max(np.abs(b)))
+    assert np.all(r.s[:nonneg] >= -1e-8)
+    for M in _svec_blocks(r.s, nonneg, psd):
+        assert np.linalg.eigvalsh(M)[0] >= -1e-7
+
+
+def test_sparse_kkt_follows_cvxopts_own_kkt_solver() -> None:
+    prob, _ = _random_sdp(3, 6, 4)
+    A, b, c, zero, nonneg, psd = _clarabel_data(prob)
+    ours = solve_moment(A, b, c, zero, nonneg, psd)
+    theirs = solve_moment(A, b, c, zero, nonneg, psd, kktsolver="qr")
+    assert ours.iterations == theirs.iterations
+    assert np.allclose(ours.x, theirs.x, atol=1e-7)
+
+
+def test_eliminated_variables_are_recovered_exactly() -> None:
+    prob, _ = _random_sdp(5, 5, 3)
+    A, b, c, zero, _, _ = _clarabel_data(prob)
+    mf = moment_form(A, b, c, zero)
+    rng = np.random.default_rng(0)
+    x = rng.standard_normal(c.size)
+    s = b[zero:] - A[zero:] @ x                 # any x: its cone slack
+    assert np.allclose(mf.primal(x[mf.R], s, c.size), x)
+    # the reduced equations and objective are those of the original program at (x, s)
+    eq_residual = np.r_[A[:zero] @ x - b[:zero], np.zeros(len(mf.f) - zero)]
+    assert np.allclose(mf.E_R @ x[mf.R] + mf.E_s @ s, mf.f + eq_residual)
+    obj_r = mf.g @ x[mf.R] + mf.h @ s + (mf.dinv * c[mf.P]) @ mf.b_p
+    assert obj_r == pytest.approx(c @ x, rel=1e-10, abs=1e-10)
+
+
+def test_dependent_equations_and_free_columns_are_dropped() -> None:
+    X = cp.Variable((4, 4), symmetric=True)
+    a, b2 = cp.Variable(), cp.Variable()
+    cons = [X >> 0, cp.trace(X) == 2.0, 2 * cp.trace(X) == 4.0,          # a repeated equation
+            X[0, 1] + a + b2 == 0.3, 2 * X[0, 1] + 2 * a + 2 * b2 == 0.6]   # and a + b2 only as a sum
+    prob = cp.Problem(cp.Minimize(X[0, 0] + a + b2), cons)
+    ref = prob.solve(solver="CLARABEL")
+    r = solve_moment(*_clarabel_data(prob))
+    assert r.status == "Solved"
+    assert r.obj_val == pytest.approx(ref, abs=1e-6)
+
+
+def test_big_block_programs_go_through_cvxopt_and_agree_with_clarabel() -> None:
+    """A lower bound of a sextic in 5 variables: a 56 x 56 Gram matrix, above MOMENT_MIN_BLOCK."""
+    nv = 5
+    rng = np.random.default_rng(1)
+    hb = monomials(nv, 3)
+    assert len(hb) >= MOMENT_MIN_BLOCK
+    p = Poly({tuple(6 * int(k == i) for k in range(nv)): 1.0 for i in range(nv)}, nv)
+    for e in monomials(nv, 4):
+        if 0 < sum(e):
+            p = p + Poly({e: float(rng.normal(scale=0.3))}, nv)
+    vals = {}
+    for solver in ("CLARABEL", MOMENT):
+        prog = SOSProgram(nv)
+        gu, g = prog.scalar("gamma")
+        prog.add_sos("bound", g + p, hb)
+        prog.constraints.append(gu.var >= -1e6)         # a far bound (the level programs cap rho at 1e6)
+        vals[solver] = prog.solve(cp.Minimize(gu.var[0]), solver=solver)
+        assert all(c.passed for c in prog.check()) or vals[solver] > 0
+    assert vals[MOMENT] == pytest.approx(vals["CLARABEL"], rel=1e-5, abs=1e-6)
+
+
+def test_feasibility_program_returns_an_interior_point() -> None:
+    n = MOMENT_MIN_BLOCK
+    X = cp.Variable((n, n), symmetric=True)
+    prob = cp.Problem(cp.Minimize(0), [X >> 0, cp.trace(X) == n, X[0, 1] == 0.5])
+    from glidectl.roa.sdp_solvers import solver_argument
+    prob.solve(solver=solver_argument(MOMENT))
+    assert prob.status == cp.OPTIMAL
+    assert np.trace(X.value) == pytest.approx(n, rel=1e-7)
+    assert X.value[0, 1] == pytest.approx(0.5, abs=1e-7)
+    assert np.linalg.eigvalsh(X.value)[0] > 0.1          # the largest common margin, not a boundary point
+
+
+@pytest.mark.parametrize("kind", ["infeasible", "unbounded"])
+def test_infeasible_and_unbounded_programs_are_reported(kind: str) -> None:
+    n = MOMENT_MIN_BLOCK
+    X = cp.Variable((n, n), symmetric=True)
+    if kind == "infeasible":
+        prob = cp.Problem(cp.Minimize(X[0, 0]), [X >> 0, cp.trace(X) == -1.0])
+    else:
+        prob = cp.Problem(cp.Minimize(-cp.trace(X)), [X >> 0, X[0, 1] == 0.0])
+    from glidectl.roa.sdp_solvers import solver_argument
+    prob.solve(solver=solver_argument(MOMENT))
+    assert prob.status == (cp.INFEASIBLE if kind == "infeasible" else cp.UNBOUNDED)
+
+
+def test_sos_program_raises_solver_error_on_an_infeasible_moment_program() -> None:
+    nv = 5
+    prog = SOSProgram(nv)
+    p = Poly({(1, 0, 0, 0, 0): 1.0, (6, 0, 0, 0, 0): -1.0}, nv)     # x1 - x1^6 + c is never SOS
+    _, c = prog.scalar("c")
+    prog.add_sos("neg", c + p, monomials(nv, 3))
+    with pytest.raises(SolverError, match="infeasible"):
+        prog.solve(cp.Minimize(0), solver=MOMENT)
+
+
+def test_solver_names_are_checked() -> None:
+    assert MOMENT in gc.installed_sdp_solvers()
+    assert "CLARABEL" in gc.installed_sdp_solvers()
+    with pytest.raises(ArgumentError, match="CVXOPT_MOMENT"):
+        ps = gc.recast(gc.benchmarks.van_der_pol())
+        gc.max_level(ps, gc.lyapunov_quadratic(ps), solver="NOT_A_SOLVER")
