@@ -17,8 +17,10 @@ result would; the residual of the recovered point in the original data is checke
 not redundant shows as a failure, not as a wrong answer.
 
 The route is exact (no relaxation): the same program, solved from the other side. It is used for programs with
-nonnegative and PSD cones only and a PSD block of order ``MOMENT_MIN_BLOCK`` or more; anything else (small
-programs, second-order or exponential cones) goes to Clarabel unchanged. A pure feasibility program (zero
+nonnegative and PSD cones only, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
+``MOMENT_MAX_NONNEG`` nonnegative rows; anything else (small programs, the V steps' hinge objectives, second-order
+or exponential cones) goes to Clarabel unchanged, and so does a program CVXOPT does not solve within
+``MOMENT_MAX_ITERATIONS``. A pure feasibility program (zero
 objective) is solved for its largest common margin ``t <= 1`` in every cone (``s - t e`` in the cones, ``e`` their
 identity): any feasible point is an answer, and the moment problem of a zero objective has no interior.
 """
@@ -40,8 +42,8 @@ from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
 from .. import checks
 from ..errors import ArgumentTypeError
 
-__all__ = ["MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOCK", "SDP_SOLVERS", "CvxoptMoment", "check_solver",
-           "installed_sdp_solvers", "moment_form", "solve_moment", "solver_argument"]
+__all__ = ["MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MAX_NONNEG", "MOMENT_MIN_BLOCK", "SDP_SOLVERS", "CvxoptMoment",
+           "check_solver", "installed_sdp_solvers", "moment_form", "solve_moment", "solver_argument"]
 
 MOMENT = "CVXOPT_MOMENT"
 """Name of the moment-form CVXOPT route (:class:`CvxoptMoment`)."""
@@ -50,6 +52,12 @@ MOMENT_MIN_BLOCK = 40
 """``CVXOPT_MOMENT`` hands programs whose largest PSD block is smaller than this to Clarabel: there the primal
 KKT system is small, Clarabel is faster per solve (no reduction in Python) and its feasibility points are
 analytic-center like (the SOS iterations of the small benchmarks are tuned on them)."""
+
+MOMENT_MAX_NONNEG = 64
+"""``CVXOPT_MOMENT`` hands programs with more nonnegative rows than this to Clarabel. The V step's objective
+``mean(max(V(z_k) - 1, 0))`` puts two such rows per sample on one auxiliary variable; the moment form keeps them as
+equations, so its Schur complement grows by two rows per sample (on the CTOL V step, 1024 samples, CVXOPT did not
+converge in 50 iterations: 205 s)."""
 
 MOMENT_MAX_ITERATIONS = 50
 """Iteration limit of CVXOPT on the moment form; the converged runs of the ROA programs take 14-30 iterations.
@@ -270,7 +278,7 @@ class CvxoptMoment(CLARABEL):
         """Solve the Clarabel-form data by CVXOPT on the moment form; return a Clarabel-like result."""
         dims = data[ConicSolver.DIMS]
         if (dims.soc or dims.exp or getattr(dims, "p3d", None) or getattr(dims, "pnd", None)
-                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK):
+                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK or dims.nonneg > MOMENT_MAX_NONNEG):
             return super().solve_via_data(data, warm_start, verbose, solver_opts, solver_cache)
         res = solve_moment(data["A"], data["b"], data["c"], dims.zero, dims.nonneg, list(dims.psd),
                            verbose=verbose, **solver_opts)
