@@ -58,7 +58,7 @@ from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, 
 from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
-from .sdp_solvers import MOMENT, check_solver
+from .sdp_solvers import DEFAULT_SOLVER, check_solver
 from .sector import sector_system
 from .sos import (
     GRAM_CONES,
@@ -960,7 +960,7 @@ def _v_step(ps: PolySystem, F: list[Poly], degV: int, lam: Poly, Zt: np.ndarray,
     return prog, out
 
 
-def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = MOMENT,
+def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = DEFAULT_SOLVER,
               extra: int | None = None, max_degree: int = MAX_DEGREE, memory_limit: float | None = None) -> LevelResult:
     """Largest ``rho`` of the level problem for a fixed ``V`` (one SDP, no bisection).
 
@@ -1769,7 +1769,7 @@ def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int,
 def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: float = 0.01, eps: float = 1e-6,
                 initial: Poly | np.ndarray | None = None, speed_floor: float = 0.1, extra: int | None = None,
                 n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256, horizon: float | None = None,
-                solver: str = MOMENT, seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
+                solver: str = DEFAULT_SOLVER, seed: int = 0, center: float = 0.05, max_degree: int = MAX_DEGREE,
                 time_limit: float | None = None, memory_limit: float | None = None,
                 on_budget: str = "raise", box: Any = None, method: str = "auto", surrogate_degree: int = 3,
                 margin: float = 2.0, reuse: bool = True, inner: str = "sos", box_search: int = 6,
@@ -1816,8 +1816,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Sampling of the certified set on the true model (>= 1), number of simulations from the outermost samples
         (>= 0) and their length (> 0; default 25 slowest time constants).
     solver : str
-        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: CVXOPT on the
-        moment form for programs with a Gram block of order 40 or more, Clarabel below).
+        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CLARABEL"``; ``"CVXOPT_MOMENT"``
+        solves programs with a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster
+        per program, but it changes the alternation's path: see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of the sampling (>= 0).
     center : float

@@ -43,7 +43,7 @@ import scipy.sparse as sps
 
 from ..errors import ArgumentError, BudgetError, SolverError
 from .polynomial import Exp, Poly
-from .sdp_solvers import MOMENT, solver_argument
+from .sdp_solvers import DEFAULT_SOLVER, solver_argument
 
 __all__ = ["GRAM_CONES", "GramCheck", "LinPoly", "SOSProgram", "Unknown", "dd_gram", "linear_support",
            "parity_generators", "reduce_basis", "sign_classes"]
@@ -501,7 +501,7 @@ class SOSProgram:
             lhs = lhs + A @ u.flat
         self.constraints.append(lhs + b == 0)
 
-    def solve(self, objective: Any, *, solver: str = MOMENT, **kw: Any) -> float:
+    def solve(self, objective: Any, *, solver: str = DEFAULT_SOLVER, **kw: Any) -> float:
         """Solve ``maximize/minimize objective`` (a cvxpy objective).
 
         Parameters
@@ -528,7 +528,7 @@ class SOSProgram:
         self.problem = cp.Problem(objective, self.constraints)
         return self.resolve(solver=solver, **kw)
 
-    def resolve(self, *, solver: str = MOMENT, **kw: Any) -> float:
+    def resolve(self, *, solver: str = DEFAULT_SOLVER, **kw: Any) -> float:
         """Solve :attr:`problem` again (after changing the values of its cvxpy ``Parameter``s): cvxpy reuses its
         compilation, so only the solver runs. Returns and raises as :meth:`solve`."""
         prob = self.problem
