@@ -17,8 +17,8 @@ result would; the residual of the recovered point in the original data is checke
 not redundant shows as a failure, not as a wrong answer.
 
 The route is exact (no relaxation): the same program, solved from the other side. It is opt-in
-(``solver="CVXOPT_MOMENT"``; the default stays Clarabel, see :data:`DEFAULT_SOLVER` for why). It is used for programs with
-nonnegative and PSD cones only, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
+(``solver="CVXOPT_MOMENT"``; the default stays Clarabel, see :data:`DEFAULT_SOLVER` for why). It is used for
+programs with nonnegative and PSD cones only, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
 ``MOMENT_MAX_NONNEG`` nonnegative rows; anything else (small programs, the V steps' hinge objectives, second-order
 or exponential cones) goes to Clarabel unchanged, and so does a program CVXOPT does not solve within
 ``MOMENT_MAX_ITERATIONS``. A pure feasibility program (zero
