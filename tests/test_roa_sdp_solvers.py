@@ -1,5 +1,6 @@
 """The moment-form SDP route (``CVXOPT_MOMENT``): same optimum and feasible points as Clarabel, exact recovery of the
-eliminated variables, dependent data, infeasible and unbounded programs, feasibility programs, solver names."""
+eliminated variables, dependent data, infeasible and unbounded programs, which programs it hands to Clarabel,
+solver names."""
 from __future__ import annotations
 
 import cvxpy as cp
@@ -11,7 +12,22 @@ from hypothesis import strategies as st
 import glidectl as gc
 from glidectl.errors import ArgumentError, SolverError
 from glidectl.roa import MOMENT_MIN_BLOCK, Poly, SOSProgram, monomials, solve_moment
-from glidectl.roa.sdp_solvers import MOMENT, moment_form
+from glidectl.roa import sdp_solvers as sdp
+from glidectl.roa.sdp_solvers import MOMENT, MOMENT_MAX_NONNEG, moment_form, solver_argument
+
+
+@pytest.fixture
+def moment_calls(monkeypatch: pytest.MonkeyPatch) -> list:
+    """Records every call of the moment route (``solve_moment``) made by ``CvxoptMoment``."""
+    calls: list = []
+    real = sdp.solve_moment
+
+    def counted(*a: object, **k: object) -> object:
+        calls.append(a[5])
+        return real(*a, **k)
+
+    monkeypatch.setattr(sdp, "solve_moment", counted)
+    return calls
 
 
 def _clarabel_data(prob: cp.Problem) -> tuple:
@@ -98,7 +114,7 @@ def test_dependent_equations_and_free_columns_are_dropped() -> None:
     assert r.obj_val == pytest.approx(ref, abs=1e-6)
 
 
-def test_big_block_programs_go_through_cvxopt_and_agree_with_clarabel() -> None:
+def test_big_block_programs_go_through_cvxopt_and_agree_with_clarabel(moment_calls: list) -> None:
     """A lower bound of a sextic in 5 variables: a 56 x 56 Gram matrix, above MOMENT_MIN_BLOCK."""
     nv = 5
     rng = np.random.default_rng(1)
@@ -108,50 +124,66 @@ def test_big_block_programs_go_through_cvxopt_and_agree_with_clarabel() -> None:
     for e in monomials(nv, 4):
         if 0 < sum(e):
             p = p + Poly({e: float(rng.normal(scale=0.3))}, nv)
-    vals = {}
+    vals, checks = {}, {}
     for solver in ("CLARABEL", MOMENT):
         prog = SOSProgram(nv)
         gu, g = prog.scalar("gamma")
         prog.add_sos("bound", g + p, hb)
         prog.constraints.append(gu.var >= -1e6)         # a far bound (the level programs cap rho at 1e6)
         vals[solver] = prog.solve(cp.Minimize(gu.var[0]), solver=solver)
-        assert all(c.passed for c in prog.check()) or vals[solver] > 0
+        checks[solver] = prog.check()[0]
+    assert len(moment_calls) == 1 and max(moment_calls[0]) == len(hb)      # only the MOMENT solve took the route
     assert vals[MOMENT] == pytest.approx(vals["CLARABEL"], rel=1e-5, abs=1e-6)
+    # the identity p + gamma = m' Q m holds as tightly as Clarabel's
+    assert checks[MOMENT].max_residual < 1e-6 and checks[MOMENT].min_eig > -1e-7
 
 
-def test_feasibility_program_returns_an_interior_point() -> None:
+def test_small_hinge_and_feasibility_programs_go_to_clarabel(moment_calls: list) -> None:
     n = MOMENT_MIN_BLOCK
     X = cp.Variable((n, n), symmetric=True)
-    prob = cp.Problem(cp.Minimize(0), [X >> 0, cp.trace(X) == n, X[0, 1] == 0.5])
-    from glidectl.roa.sdp_solvers import solver_argument
-    prob.solve(solver=solver_argument(MOMENT))
-    assert prob.status == cp.OPTIMAL
-    assert np.trace(X.value) == pytest.approx(n, rel=1e-7)
-    assert X.value[0, 1] == pytest.approx(0.5, abs=1e-7)
-    assert np.linalg.eigvalsh(X.value)[0] > 0.1          # the largest common margin, not a boundary point
+    t = cp.Variable(MOMENT_MAX_NONNEG + 1)
+    base = [X >> 0, cp.trace(X) == n, X[0, 1] == 0.5]
+    programs = {
+        "small block": cp.Problem(cp.Minimize(cp.trace(X[:5, :5])), [X[:5, :5] >> 0, cp.trace(X[:5, :5]) == 1]),
+        "many nonnegative rows": cp.Problem(cp.Minimize(cp.sum(t) + X[0, 0]), [*base, t >= 0, t >= X[0, 0] - 1]),
+        "feasibility": cp.Problem(cp.Minimize(0), base),
+    }
+    for name, prob in programs.items():
+        ref = prob.solve(solver="CLARABEL")
+        Xref = X.value.copy()
+        val = prob.solve(solver=solver_argument(MOMENT))
+        assert prob.status == cp.OPTIMAL, name
+        assert val == pytest.approx(ref, abs=1e-12), name          # Clarabel's own answer, bit for bit
+        assert np.array_equal(X.value, Xref), name
+    assert moment_calls == []
+    with pytest.raises(ArgumentError, match="nonzero objective"):
+        solve_moment(*_clarabel_data(programs["feasibility"]))
 
 
 @pytest.mark.parametrize("kind", ["infeasible", "unbounded"])
-def test_infeasible_and_unbounded_programs_are_reported(kind: str) -> None:
+def test_infeasible_and_unbounded_programs_are_reported(kind: str, moment_calls: list) -> None:
     n = MOMENT_MIN_BLOCK
     X = cp.Variable((n, n), symmetric=True)
     if kind == "infeasible":
         prob = cp.Problem(cp.Minimize(X[0, 0]), [X >> 0, cp.trace(X) == -1.0])
     else:
         prob = cp.Problem(cp.Minimize(-cp.trace(X)), [X >> 0, X[0, 1] == 0.0])
-    from glidectl.roa.sdp_solvers import solver_argument
     prob.solve(solver=solver_argument(MOMENT))
     assert prob.status == (cp.INFEASIBLE if kind == "infeasible" else cp.UNBOUNDED)
+    assert len(moment_calls) == 1
 
 
-def test_sos_program_raises_solver_error_on_an_infeasible_moment_program() -> None:
+def test_sos_program_raises_solver_error_on_an_infeasible_moment_program(moment_calls: list) -> None:
     nv = 5
     prog = SOSProgram(nv)
-    p = Poly({(1, 0, 0, 0, 0): 1.0, (6, 0, 0, 0, 0): -1.0}, nv)     # x1 - x1^6 + c is never SOS
-    _, c = prog.scalar("c")
+    p = Poly({}, nv)
+    for i in range(nv):         # sum(x_i - x_i^6) + c is never SOS; its Newton polytope keeps all 56 monomials
+        p = p + Poly({tuple(int(k == i) for k in range(nv)): 1.0, tuple(6 * int(k == i) for k in range(nv)): -1.0}, nv)
+    cu, c = prog.scalar("c")
     prog.add_sos("neg", c + p, monomials(nv, 3))
     with pytest.raises(SolverError, match="infeasible"):
-        prog.solve(cp.Minimize(0), solver=MOMENT)
+        prog.solve(cp.Minimize(cu.var[0]), solver=MOMENT)
+    assert len(moment_calls) == 1
 
 
 def test_solver_names_are_checked() -> None:

@@ -100,8 +100,6 @@ _BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per
 #: least-squares recovery costs seconds per thousand monomials; ``method="exact"`` tries up to degree 4).
 _AUTO_RECAST_BASIS = 500
 
-#: SDP-capable solvers cvxpy may have installed.
-
 
 # --------------------------------------------------------------------------------------------- helpers
 def _zsq(nz: int) -> Poly:
@@ -1818,7 +1816,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     solver : str
         An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CLARABEL"``; ``"CVXOPT_MOMENT"``
         solves programs with a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster
-        per program, but it changes the alternation's path: see :mod:`glidectl.roa.sdp_solvers`).
+        per program: see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of the sampling (>= 0).
     center : float

@@ -78,7 +78,6 @@ from .sdp_solvers import DEFAULT_SOLVER, check_solver, solver_argument
 
 __all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
 
-#: SDP-capable solvers cvxpy may have installed.
 
 def _sat(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
     """``clip(v, lo, hi)`` carrying a complex step (derivative 1 inside, 0 outside)."""
@@ -932,7 +931,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
     solver : str
         An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CLARABEL"``; ``"CVXOPT_MOMENT"``
         solves programs with a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster
-        per program, but it changes the alternation's path: see :mod:`glidectl.roa.sdp_solvers`).
+        per program: see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of every sampling (>= 0).
 

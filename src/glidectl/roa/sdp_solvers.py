@@ -17,13 +17,12 @@ result would; the residual of the recovered point in the original data is checke
 not redundant shows as a failure, not as a wrong answer.
 
 The route is exact (no relaxation): the same program, solved from the other side. It is opt-in
-(``solver="CVXOPT_MOMENT"``; the default stays Clarabel, see :data:`DEFAULT_SOLVER` for why). It is used for
-programs with nonnegative and PSD cones only, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
-``MOMENT_MAX_NONNEG`` nonnegative rows; anything else (small programs, the V steps' hinge objectives, second-order
-or exponential cones) goes to Clarabel unchanged, and so does a program CVXOPT does not solve within
-``MOMENT_MAX_ITERATIONS``. A pure feasibility program (zero
-objective) is solved for its largest common margin ``t <= 1`` in every cone (``s - t e`` in the cones, ``e`` their
-identity): any feasible point is an answer, and the moment problem of a zero objective has no interior.
+(``solver="CVXOPT_MOMENT"``; the default stays Clarabel, see :data:`DEFAULT_SOLVER`). It takes programs with
+nonnegative and PSD cones only, a nonzero objective, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
+``MOMENT_MAX_NONNEG`` nonnegative rows. Everything else goes to Clarabel unchanged: small programs, the V steps'
+hinge objectives, second-order or exponential cones, feasibility programs (a zero objective leaves the moment
+problem without an interior, and the alternation's next V step is tuned on Clarabel's analytic-centre-like point),
+and any program CVXOPT does not solve within ``MOMENT_MAX_ITERATIONS``.
 """
 from __future__ import annotations
 
@@ -41,24 +40,25 @@ from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import CLARABEL
 from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
 
 from .. import checks
-from ..errors import ArgumentTypeError
+from ..errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MAX_NONNEG", "MOMENT_MIN_BLOCK", "SDP_SOLVERS",
            "CvxoptMoment", "check_solver", "installed_sdp_solvers", "moment_form", "solve_moment", "solver_argument"]
 
 DEFAULT_SOLVER = "CLARABEL"
-"""The default SDP solver of the ROA layer. ``CVXOPT_MOMENT`` is opt-in: per program it is 2-5 times faster on the
-large ones, but the V-lambda alternation follows a different path with it (its level and centering solutions are
-not Clarabel's), and on the chapter-5 glider (K_M = -50, degree 2, 8 iterations) that path ended at a 5 times
-smaller certified set (0.0295 against 0.1543) in 32 s against 59 s."""
+"""The default SDP solver of the ROA layer; ``CVXOPT_MOMENT`` is opt-in. It is 2-5 times faster on a large program
+(the CTOL level program: 20.9 s against 95-113 s, same level), but it has not been measured as the default over
+the designs. A first version also solved the centering feasibility programs, for their largest common margin,
+and that changed the alternation's path (the chapter-5 glider, K_M = -50, degree 2, 8 iterations, ended at 0.0295
+against Clarabel's 0.1543); those programs now go to Clarabel, which gives the glider's 0.15431 again."""
 
 MOMENT = "CVXOPT_MOMENT"
 """Name of the moment-form CVXOPT route (:class:`CvxoptMoment`)."""
 
 MOMENT_MIN_BLOCK = 40
 """``CVXOPT_MOMENT`` hands programs whose largest PSD block is smaller than this to Clarabel: there the primal
-KKT system is small, Clarabel is faster per solve (no reduction in Python) and its feasibility points are
-analytic-center like (the SOS iterations of the small benchmarks are tuned on them)."""
+KKT system is small and the reduction in Python costs more than Clarabel's whole solve (Van der Pol at degree 6,
+37 small programs: 25.8 s through the moment form against 2.9 s)."""
 
 MOMENT_MAX_NONNEG = 64
 """``CVXOPT_MOMENT`` hands programs with more nonnegative rows than this to Clarabel. The V step's objective
@@ -199,8 +199,8 @@ def moment_form(A: Any, b: np.ndarray, c: np.ndarray, zero: int) -> _MomentForm:
     A_pR = Ac[piv][:, R].tocsr()
     Wz = (Az[:, P] @ sps.diags(dinv)).tocsr()              # A_zP D^-1
     E_R = sps.vstack([Az[:, R] - Wz @ A_pR, Ac[nonpiv][:, R]]).tocsr()
-    Es_z = sps.csr_matrix((-Wz).tocoo(), shape=(zero, len(piv)))
-    Es_z = sps.csr_matrix((Es_z.tocoo().data, (Es_z.tocoo().row, piv[Es_z.tocoo().col])), shape=(zero, nc))
+    Wc = Wz.tocoo()                                         # -A_zP D^-1 on the pivot slacks
+    Es_z = sps.csr_matrix((-Wc.data, (Wc.row, piv[Wc.col])), shape=(zero, nc))
     Es_n = sps.csr_matrix((np.ones(len(nonpiv)), (np.arange(len(nonpiv)), nonpiv)), shape=(len(nonpiv), nc))
     E_s = sps.vstack([Es_z, Es_n]).tocsr()
     bz, bc = b[:zero], b[zero:]
@@ -284,9 +284,11 @@ class CvxoptMoment(CLARABEL):
                        solver_cache: Any = None) -> Any:
         """Solve the Clarabel-form data by CVXOPT on the moment form; return a Clarabel-like result."""
         dims = data[ConicSolver.DIMS]
+        # solver_opts are CVXOPT's: a program handed to Clarabel gets Clarabel's defaults
         if (dims.soc or dims.exp or getattr(dims, "p3d", None) or getattr(dims, "pnd", None)
-                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK or dims.nonneg > MOMENT_MAX_NONNEG):
-            return super().solve_via_data(data, warm_start, verbose, solver_opts, solver_cache)
+                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK or dims.nonneg > MOMENT_MAX_NONNEG
+                or not np.any(data["c"])):
+            return super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
         res = solve_moment(data["A"], data["b"], data["c"], dims.zero, dims.nonneg, list(dims.psd),
                            verbose=verbose, **solver_opts)
         if res.status in ("Solved", "AlmostSolved", "PrimalInfeasible", "DualInfeasible"):
@@ -320,12 +322,20 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     types.SimpleNamespace
         ``x``, ``z`` (None: no duals), ``s``, ``status`` (Clarabel's status names), ``obj_val``, ``solve_time``,
         ``iterations``, ``residual`` (relative residual of ``A x + s - b`` on the original data).
+
+    Raises
+    ------
+    ArgumentError
+        If ``c`` is zero (a feasibility program: its moment problem has no interior).
     """
     from cvxopt import matrix, solvers
 
     t0 = time.perf_counter()
     b = np.asarray(b, dtype=float)
     c = np.asarray(c, dtype=float)
+    if not np.any(c):
+        raise ArgumentError("solve_moment needs a nonzero objective: the moment problem of a feasibility program "
+                            "has no interior (CVXOPT_MOMENT hands such programs to Clarabel)")
     n = c.size
     mf = moment_form(A, b, c, zero)
     # a nonnegative row that stays an equation (a bound x_j <= b_i) gets its slack in units of |b_i|: a cap such
@@ -333,22 +343,7 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     w = np.ones(len(mf.h))
     bound = np.setdiff1d(np.arange(nonneg), mf.piv)
     w[bound] = np.maximum(1.0, np.abs(b[zero + bound]))
-    E_R, E_s, f0, g0, h0, nn = mf.E_R, (mf.E_s @ sps.diags(w)).tocsr(), mf.f, mf.g, mf.h * w, nonneg
-    feasibility = not np.any(c)
-    if feasibility:
-        # any feasible point will do: return the one with the largest margin t <= 1 in every cone (s = s' + t e,
-        # s' in K, e the cones' identity); the moment problem of a pure feasibility program has no interior
-        e = np.concatenate([np.ones(nonneg)] + [_svec_identity(nb) for nb in psd])
-        nR0 = E_R.shape[1]
-        cap = sps.csr_matrix(([1.0], ([0], [nR0])), shape=(1, nR0 + 1))
-        E_R = sps.vstack([sps.hstack([E_R, sps.csr_matrix(E_s @ e).T]), cap]).tocsr()
-        E_s = sps.vstack([E_s, sps.csr_matrix((1, E_s.shape[1]))]).tocsr()
-        E_s = sps.hstack([E_s[:, :nonneg], sps.csr_matrix(([1.0], ([E_s.shape[0] - 1], [0])),
-                                                          shape=(E_s.shape[0], 1)), E_s[:, nonneg:]]).tocsr()
-        f0 = np.append(f0, 1.0)
-        g0 = np.append(g0, -1.0)
-        h0 = np.insert(h0, nonneg, 0.0)
-        nn = nonneg + 1
+    E_R, E_s, f0, g0, h0 = mf.E_R, (mf.E_s @ sps.diags(w)).tocsr(), mf.f, mf.g, mf.h * w
     # coefficients at rounding level (cvxpy's canonicalization leaves some of 1e-19) would become constraints of
     # order one when the rows are normalized below: drop them first
     E_R, E_s = _drop_rounding(E_R), _drop_rounding(E_s)
@@ -365,7 +360,7 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     E = E[rows].tocsr()
     f = f0[rows] * scale[rows]
     nR = len(keep)
-    Emap, blocks, pos = _cone_map(nn, psd)
+    Emap, blocks, pos = _cone_map(nonneg, psd)
     G = (Emap @ E[:, nR:].T).tocoo()
     h = Emap @ h0
     AeqT = E[:, :nR].T.tocoo()
@@ -373,9 +368,9 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     opts = {"show_progress": bool(verbose), "maxiters": MOMENT_MAX_ITERATIONS}
     opts.update(options)
     kkt = opts.pop("kktsolver", "sparse")
-    cvx_dims = {"l": nn, "q": [], "s": blocks}
+    cvx_dims = {"l": nonneg, "q": [], "s": blocks}
     if kkt == "sparse":
-        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nn, blocks)
+        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nonneg, blocks)
     kw: dict[str, Any] = {"options": opts, "kktsolver": kkt}
     if nR:
         kw["A"], kw["b"] = _cvx_sparse(AeqT), matrix(g0[keep])
@@ -392,10 +387,6 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     x_R = np.zeros(E_R.shape[1])
     if nR:
         x_R[keep] = np.array(sol["y"]).ravel()
-    if feasibility:
-        t = x_R[-1]
-        x_R = x_R[:-1]
-        s = np.delete(s, nonneg) + t * e
     s = s * w
     x = mf.primal(x_R, s, n)
     sfull = np.concatenate([np.zeros(zero), s])
@@ -504,11 +495,6 @@ def _cholesky(H: np.ndarray) -> Any:
                               check_finite=False)
     except np.linalg.LinAlgError as exc:
         raise ArithmeticError(f"Schur complement not positive definite: {exc}") from exc
-
-
-def _svec_identity(nb: int) -> np.ndarray:
-    """svec (upper triangle, column-major) of the ``nb x nb`` identity."""
-    return np.concatenate([np.r_[np.zeros(j), 1.0] for j in range(nb)]) if nb else np.zeros(0)
 
 
 def _cvx_sparse(M: Any) -> Any:
