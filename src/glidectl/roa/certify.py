@@ -1814,9 +1814,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Sampling of the certified set on the true model (>= 1), number of simulations from the outermost samples
         (>= 0) and their length (> 0; default 25 slowest time constants).
     solver : str
-        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CLARABEL"``; ``"CVXOPT_MOMENT"``
-        solves programs with a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster
-        per program: see :mod:`glidectl.roa.sdp_solvers`).
+        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: programs with
+        a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster per program, the others
+        by Clarabel; see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of the sampling (>= 0).
     center : float

@@ -929,9 +929,9 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
     horizon : float, optional
         Length of those simulations (default 25 slowest time constants of the linearization).
     solver : str
-        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CLARABEL"``; ``"CVXOPT_MOMENT"``
-        solves programs with a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster
-        per program: see :mod:`glidectl.roa.sdp_solvers`).
+        An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: programs with
+        a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster per program, the others
+        by Clarabel; see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of every sampling (>= 0).
 

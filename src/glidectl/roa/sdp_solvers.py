@@ -16,8 +16,8 @@ and hands it to CVXOPT's ``conelp``, whose *dual* is then the SOS program: CVXOP
 result would; the residual of the recovered point in the original data is checked, so a dropped equation that was
 not redundant shows as a failure, not as a wrong answer.
 
-The route is exact (no relaxation): the same program, solved from the other side. It is opt-in
-(``solver="CVXOPT_MOMENT"``; the default stays Clarabel, see :data:`DEFAULT_SOLVER`). It takes programs with
+The route is exact (no relaxation): the same program, solved from the other side. It is the
+default (:data:`DEFAULT_SOLVER`; ``solver="CLARABEL"`` for Clarabel throughout). It takes programs with
 nonnegative and PSD cones only, a nonzero objective, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
 ``MOMENT_MAX_NONNEG`` nonnegative rows. Everything else goes to Clarabel unchanged: small programs, the V steps'
 hinge objectives, second-order or exponential cones, feasibility programs (a zero objective leaves the moment
@@ -45,12 +45,13 @@ from ..errors import ArgumentError, ArgumentTypeError
 __all__ = ["DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MAX_NONNEG", "MOMENT_MIN_BLOCK", "SDP_SOLVERS",
            "CvxoptMoment", "check_solver", "installed_sdp_solvers", "moment_form", "solve_moment", "solver_argument"]
 
-DEFAULT_SOLVER = "CLARABEL"
-"""The default SDP solver of the ROA layer; ``CVXOPT_MOMENT`` is opt-in. It is 2-5 times faster on a large program
-(the CTOL level program: 20.9 s against 95-113 s, same level), but it has not been measured as the default over
-the designs. A first version also solved the centering feasibility programs, for their largest common margin,
-and that changed the alternation's path (the chapter-5 glider, K_M = -50, degree 2, 8 iterations, ended at 0.0295
-against Clarabel's 0.1543); those programs now go to Clarabel, which gives the glider's 0.15431 again."""
+DEFAULT_SOLVER = "CVXOPT_MOMENT"
+"""The default SDP solver of the ROA layer. Measured in the same run against Clarabel
+(``bench/bench_sdp_solvers.py``): the chapter-5 glider (K_M = -50, degree 2, 8 iterations) 46.5 s against 74.1 s,
+volume 0.154306 against 0.154309; the CTOL closed loop 368.7 s against 535.2 s, volume 0.000982 against 0.000909.
+Programs it does not take go to Clarabel (module docstring). A first version also solved the centering
+feasibility programs, for their largest common margin; that changed the alternation's path (the glider ended at
+0.0295), which is why those programs go to Clarabel."""
 
 MOMENT = "CVXOPT_MOMENT"
 """Name of the moment-form CVXOPT route (:class:`CvxoptMoment`)."""
