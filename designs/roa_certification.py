@@ -492,8 +492,9 @@ def _report(res: _Results) -> Report:
         rep.figure(stem, fig, cap)
     rep.text("Method", (
         "glidectl.roa: a small polynomial layer (Poly, monomials), SOS programs compiled as sparse coefficient "
-        "equalities with PSD Gram matrices in cvxpy (programs with a Gram block of order 40 or more solved by "
-        "CVXOPT on their moment form, the others, the V steps and the centering programs by Clarabel), exact "
+        "equalities with PSD Gram matrices in cvxpy (programs with a Gram block of order 40 or more whose moment "
+        "form is the smaller side solved by CVXOPT on that form, the others and the centering programs by "
+        "Clarabel), exact "
         "recasting of the glider models "
         "(gammabar -> (sin, 1 - cos) with s^2 + c^2 = 2c, the 1/V factor cleared with the cut V >= 0.1 V_e; the "
         "polynomial is recovered from the model's own right-hand side and checked to 1e-15), the level problem "
@@ -510,8 +511,9 @@ def _report(res: _Results) -> Report:
         "Degree 2 for the 4-state models and the closed loops: a degree-4 V in the 5 lifted variables of the glider "
         "needs a 104 x 104 Gram matrix per constraint and one level SDP takes about 100 s with Clarabel on 2 cores "
         "(measured); the CTOL closed loop (7 lifted variables: alphabar kept and enclosed by Taylor bounds) takes "
-        "about 110 s per SDP with Clarabel already at degree 2 (about 20 s on the moment form; its V step, in "
-        "Clarabel, about 200 s), so it runs one alternation. An LMI path with linear-plus-sector "
+        "about 110 s per SDP with Clarabel already at degree 2 (about 20 s on the moment form, its V step about "
+        "55 s; the centering program, in Clarabel, about 70-110 s), so it runs one alternation. An LMI path with "
+        "linear-plus-sector "
         "bounds is now built: see 'Saturated loops'. When the solver fails on a V step "
         "the alternation stops there and keeps the best V found (rows 'V step failed' in the history table)."))
     return rep

@@ -13,7 +13,7 @@ import glidectl as gc
 from glidectl.errors import ArgumentError, SolverError
 from glidectl.roa import MOMENT_MIN_BLOCK, Poly, SOSProgram, monomials, solve_moment
 from glidectl.roa import sdp_solvers as sdp
-from glidectl.roa.sdp_solvers import MOMENT, MOMENT_MAX_NONNEG, moment_form, solver_argument
+from glidectl.roa.sdp_solvers import MOMENT, moment_form, moment_pays, solver_argument
 
 
 @pytest.fixture
@@ -62,12 +62,14 @@ def _random_sdp(seed: int, n: int, m: int) -> tuple[cp.Problem, cp.Variable]:
 
 
 @settings(max_examples=12, deadline=None)
-@given(seed=st.integers(0, 10_000), n=st.integers(2, 7), m=st.integers(1, 6))
-def test_moment_form_gives_clarabels_optimum_and_a_feasible_point(seed: int, n: int, m: int) -> None:
+@given(seed=st.integers(0, 10_000), n=st.integers(2, 7), m=st.integers(1, 6),
+       on_singular=st.sampled_from(["regularize", "stop"]))
+def test_moment_form_gives_clarabels_optimum_and_a_feasible_point(seed: int, n: int, m: int,
+                                                                 on_singular: str) -> None:
     prob, _ = _random_sdp(seed, n, m)
     ref = prob.solve(solver="CLARABEL")
     A, b, c, zero, nonneg, psd = _clarabel_data(prob)
-    r = solve_moment(A, b, c, zero, nonneg, psd)
+    r = solve_moment(A, b, c, zero, nonneg, psd, on_singular=on_singular)
     assert r.status in ("Solved", "AlmostSolved")
     assert r.obj_val == pytest.approx(ref, rel=1e-5, abs=1e-5)      # no constant in the objective
     # the point is feasible in the original data: equations, nonnegative rows and PSD blocks
@@ -138,14 +140,14 @@ def test_big_block_programs_go_through_cvxopt_and_agree_with_clarabel(moment_cal
     assert checks[MOMENT].max_residual < 1e-6 and checks[MOMENT].min_eig > -1e-7
 
 
-def test_small_hinge_and_feasibility_programs_go_to_clarabel(moment_calls: list) -> None:
+def test_small_larger_moment_and_feasibility_programs_go_to_clarabel(moment_calls: list) -> None:
     n = MOMENT_MIN_BLOCK
     X = cp.Variable((n, n), symmetric=True)
-    t = cp.Variable(MOMENT_MAX_NONNEG + 1)
+    t = cp.Variable(500)        # 1000 rows left as equations: a moment form of order > n (n + 1) / 2 = 820
     base = [X >> 0, cp.trace(X) == n, X[0, 1] == 0.5]
     programs = {
         "small block": cp.Problem(cp.Minimize(cp.trace(X[:5, :5])), [X[:5, :5] >> 0, cp.trace(X[:5, :5]) == 1]),
-        "many nonnegative rows": cp.Problem(cp.Minimize(cp.sum(t) + X[0, 0]), [*base, t >= 0, t >= X[0, 0] - 1]),
+        "larger moment form": cp.Problem(cp.Minimize(cp.sum(t) + X[0, 0]), [*base, t >= 0, t >= X[0, 0] - 1]),
         "feasibility": cp.Problem(cp.Minimize(0), base),
     }
     for name, prob in programs.items():
@@ -158,6 +160,34 @@ def test_small_hinge_and_feasibility_programs_go_to_clarabel(moment_calls: list)
     assert moment_calls == []
     with pytest.raises(ArgumentError, match="nonzero objective"):
         solve_moment(*_clarabel_data(programs["feasibility"]))
+
+
+def test_split_hinge_keeps_one_equation_per_sample_and_the_optimum(moment_calls: list) -> None:
+    """The V step's hinge ``sum max(a_k' d - 1, 0)`` written as ``p - q`` with ``p, q >= 0`` (what
+    ``_coverage_objective`` builds): its moment form has one equation per sample where ``cp.pos`` leaves two, it goes
+    through the route, and it has the optimum of the ``cp.pos`` form in Clarabel."""
+    n, K = MOMENT_MIN_BLOCK, 30
+    rng = np.random.default_rng(3)
+    Am = rng.uniform(0.0, 0.1, (K, n))
+    X = cp.Variable((n, n), symmetric=True)
+    base = [X >> 0, cp.trace(X) == n, X[0, 1] == 0.5]
+    d = cp.diag(X)
+    pos = cp.Problem(cp.Minimize(cp.sum(cp.pos(Am @ d - 1))), base)
+    p, q = cp.Variable(K, nonneg=True), cp.Variable(K, nonneg=True)
+    split = cp.Problem(cp.Minimize(cp.sum(p)), [*base, Am @ d - 1 == p - q])
+    forms = {}
+    for name, prob in (("pos", pos), ("split", split)):
+        A, b, c, zero, _nonneg, psd = _clarabel_data(prob)
+        forms[name] = moment_form(A, b, c, zero)
+        assert moment_pays(forms[name], psd)
+    assert forms["split"].E_R.shape[0] == 2 + K                  # trace, X[0, 1] and one equation per sample
+    assert forms["pos"].E_R.shape[0] >= 2 + 2 * K
+    ref = pos.solve(solver="CLARABEL")
+    assert ref > 0.1                                    # the hinge is active
+    val = split.solve(solver=solver_argument(MOMENT))
+    assert len(moment_calls) == 1 and split.status == cp.OPTIMAL
+    assert val == pytest.approx(ref, rel=1e-6)
+    assert np.allclose(p.value, np.maximum(Am @ np.diag(X.value) - 1, 0.0), atol=1e-6)
 
 
 @pytest.mark.parametrize("kind", ["infeasible", "unbounded"])

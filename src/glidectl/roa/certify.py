@@ -953,9 +953,20 @@ def _v_step(ps: PolySystem, F: list[Poly], degV: int, lam: Poly, Zt: np.ndarray,
         if prog.problem is not None:
             prog.resolve(solver=solver)
             return prog, out
-    M = monomial_matrix(Zt, out["V"].basis)
-    prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
+    prog.solve(_coverage_objective(prog, out["V"], Zt), solver=solver)
     return prog, out
+
+
+def _coverage_objective(prog: SOSProgram, V: Any, Zt: np.ndarray) -> Any:
+    """The V step's objective ``mean(max(V(z_k) - 1, 0))`` over the simulated points ``Zt``, with its constraints
+    added to ``prog``: ``max(V(z_k) - 1, 0) = p_k`` at the optimum of ``min sum p`` with ``V(z_k) - 1 = p_k - q_k``,
+    ``p, q >= 0``. Each ``p_k``, ``q_k`` sits in one cone row, so the moment form of ``CVXOPT_MOMENT`` eliminates
+    both and keeps one equation per sample; ``cp.pos`` would make one variable in two rows, two equations per
+    sample (the same optimum)."""
+    M = monomial_matrix(Zt, V.basis)
+    p, q = cp.Variable(len(Zt), nonneg=True), cp.Variable(len(Zt), nonneg=True)
+    prog.constraints.append(M @ V.var - 1 == p - q)
+    return cp.Minimize(cp.sum(p) / len(Zt))
 
 
 def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = DEFAULT_SOLVER,
@@ -2062,8 +2073,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                         prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache, V0=V)
                     else:
                         prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner, V0=V)
-                        M = monomial_matrix(Zt, out["V"].basis)
-                        prog.solve(cp.Minimize(cp.sum(cp.pos(M @ out["V"].var - 1)) / len(Zt)), solver=solver)
+                        prog.solve(_coverage_objective(prog, out["V"], Zt), solver=solver)
                     t_solve += prog.solve_time
                     Vn = out["V"].poly()
                     if out_of_time(f"degree {degV}, after a V step"):

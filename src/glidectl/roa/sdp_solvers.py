@@ -18,11 +18,12 @@ not redundant shows as a failure, not as a wrong answer.
 
 The route is exact (no relaxation): the same program, solved from the other side. It is the
 default (:data:`DEFAULT_SOLVER`; ``solver="CLARABEL"`` for Clarabel throughout). It takes programs with
-nonnegative and PSD cones only, a nonzero objective, a PSD block of order ``MOMENT_MIN_BLOCK`` or more and at most
-``MOMENT_MAX_NONNEG`` nonnegative rows. Everything else goes to Clarabel unchanged: small programs, the V steps'
-hinge objectives, second-order or exponential cones, feasibility programs (a zero objective leaves the moment
-problem without an interior, and the alternation's next V step is tuned on Clarabel's analytic-centre-like point),
-and any program CVXOPT does not solve within ``MOMENT_MAX_ITERATIONS``.
+nonnegative and PSD cones only, a nonzero objective, a PSD block of order ``MOMENT_MIN_BLOCK`` or more, and a
+moment form smaller than the primal (:func:`moment_pays`). Everything else goes to Clarabel unchanged: small
+programs, programs whose moment form is the larger side (the glider's V steps, with one equation per simulated
+sample), second-order or exponential cones, feasibility programs (a zero objective leaves the moment problem
+without an interior, and the alternation's next V step is tuned on Clarabel's analytic-centre-like point), and any
+program CVXOPT does not solve within ``MOMENT_MAX_ITERATIONS``.
 """
 from __future__ import annotations
 
@@ -42,14 +43,17 @@ from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MAX_NONNEG", "MOMENT_MIN_BLOCK", "SDP_SOLVERS",
-           "CvxoptMoment", "check_solver", "installed_sdp_solvers", "moment_form", "solve_moment", "solver_argument"]
+__all__ = ["DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOCK", "SDP_SOLVERS", "CvxoptMoment",
+           "check_solver", "installed_sdp_solvers", "moment_form", "moment_pays", "solve_moment", "solver_argument"]
 
 DEFAULT_SOLVER = "CVXOPT_MOMENT"
 """The default SDP solver of the ROA layer. Measured in the same run against Clarabel
 (``bench/bench_sdp_solvers.py``): the chapter-5 glider (K_M = -50, degree 2, 8 iterations) 46.5 s against 74.1 s,
 volume 0.154306 against 0.154309; the CTOL closed loop 368.7 s against 535.2 s, volume 0.000982 against 0.000909.
-Programs it does not take go to Clarabel (module docstring). A first version also solved the centering
+With the V step's hinge at one equation per sample (``_coverage_objective`` in ``certify.py``) and runs stopped
+at a singular Schur complement (``on_singular`` of :func:`solve_moment`), the CTOL certificate took 230 s,
+volume 0.00207 (``OMP_NUM_THREADS=1``, alone on the machine). Programs it does not take go to Clarabel (module
+docstring). A first version also solved the centering
 feasibility programs, for their largest common margin; that changed the alternation's path (the glider ended at
 0.0295), which is why those programs go to Clarabel."""
 
@@ -59,13 +63,8 @@ MOMENT = "CVXOPT_MOMENT"
 MOMENT_MIN_BLOCK = 40
 """``CVXOPT_MOMENT`` hands programs whose largest PSD block is smaller than this to Clarabel: there the primal
 KKT system is small and the reduction in Python costs more than Clarabel's whole solve (Van der Pol at degree 6,
-37 small programs: 25.8 s through the moment form against 2.9 s)."""
-
-MOMENT_MAX_NONNEG = 64
-"""``CVXOPT_MOMENT`` hands programs with more nonnegative rows than this to Clarabel. The V step's objective
-``mean(max(V(z_k) - 1, 0))`` puts two such rows per sample on one auxiliary variable; the moment form keeps them as
-equations, so its Schur complement grows by two rows per sample (on the CTOL V step, 1024 samples, CVXOPT did not
-converge in 50 iterations: 205 s)."""
+37 small programs: 25.8 s through the moment form against 2.9 s, measured with the first version of the
+route)."""
 
 MOMENT_MAX_ITERATIONS = 50
 """Iteration limit of CVXOPT on the moment form; the converged runs of the ROA programs take 14-30 iterations.
@@ -213,6 +212,34 @@ def moment_form(A: Any, b: np.ndarray, c: np.ndarray, zero: int) -> _MomentForm:
     return _MomentForm(E_R, E_s, f, g, h, R, P, piv, dinv, A_pR, bc[piv])
 
 
+def moment_pays(form: _MomentForm, psd: list[int]) -> bool:
+    """Whether the moment form is the cheaper side of a program: its dense Schur complement, of the order ``m`` of
+    its equations, against the dense Hessian blocks of the primal's Gram matrices (order ``n_b (n_b + 1) / 2`` each,
+    what Clarabel factors), compared by the cubes of the orders (the factorization flops, up to a constant).
+
+    Parameters
+    ----------
+    form : _MomentForm
+        The program's moment form (:func:`moment_form`).
+    psd : list of int
+        Orders of its PSD blocks.
+
+    Returns
+    -------
+    bool
+        True for the CTOL programs (the level program: ``m = 1739`` against one 103 x 103 Gram matrix, 5356; the
+        V step: ``m = 2810`` with its 1024 sample equations) and the glider's level programs (``m`` about 480 against
+        a 49 x 49 Gram matrix, 1225); False for the glider's V steps (``m = 2550`` with 2048 sample equations).
+
+    Raises
+    ------
+    None
+    """
+    m = form.E_R.shape[0]           # equations of the reduced program (the original ones and unpivoted cone rows)
+    primal = sum(float(nb * (nb + 1) // 2) ** 3 for nb in psd)
+    return float(m) ** 3 < primal
+
+
 def _drop_rounding(E: Any, rel: float = 1e-14) -> sps.csr_matrix:
     """``E`` without the entries below ``rel`` times its largest one."""
     E = sps.csr_matrix(E, copy=True)
@@ -287,11 +314,13 @@ class CvxoptMoment(CLARABEL):
         dims = data[ConicSolver.DIMS]
         # solver_opts are CVXOPT's: a program handed to Clarabel gets Clarabel's defaults
         if (dims.soc or dims.exp or getattr(dims, "p3d", None) or getattr(dims, "pnd", None)
-                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK or dims.nonneg > MOMENT_MAX_NONNEG
-                or not np.any(data["c"])):
+                or max(dims.psd, default=0) < MOMENT_MIN_BLOCK or not np.any(data["c"])):
+            return super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
+        mf = moment_form(data["A"], data["b"], data["c"], dims.zero)
+        if not moment_pays(mf, list(dims.psd)):
             return super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
         res = solve_moment(data["A"], data["b"], data["c"], dims.zero, dims.nonneg, list(dims.psd),
-                           verbose=verbose, **solver_opts)
+                           verbose=verbose, form=mf, **solver_opts)
         if res.status in ("Solved", "AlmostSolved", "PrimalInfeasible", "DualInfeasible"):
             return res
         # not converged (a program at the edge of feasibility, such as the level of a V the V step has just
@@ -302,7 +331,7 @@ class CvxoptMoment(CLARABEL):
 
 
 def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, psd: list[int], *,
-                 verbose: bool = False, **options: Any) -> SimpleNamespace:
+                 verbose: bool = False, form: _MomentForm | None = None, **options: Any) -> SimpleNamespace:
     """``min c'x, A x + s = b, s in {0}^zero x R+^nonneg x PSD(psd)`` by CVXOPT on the moment form.
 
     Parameters
@@ -316,7 +345,13 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     verbose : bool
         CVXOPT's progress output.
     **options
-        CVXOPT solver options (``abstol``, ``reltol``, ``feastol``, ``maxiters``, ``kktsolver``).
+        CVXOPT solver options (``abstol``, ``reltol``, ``feastol``, ``maxiters``, ``kktsolver``), and
+        ``on_singular``: ``"stop"`` (default) ends the run at a Schur complement that is not numerically positive
+        definite, with the last iterate (accepted as ``AlmostSolved`` when its residuals are below 1e-5);
+        ``"regularize"`` retries it with a small diagonal shift. On the CTOL certificate the regularized steps sent
+        the V step's and the next level program's iterates off (the V step's dual residual grew from 2e-6 to 1e2
+        in 23 iterations; both then went to Clarabel after 50 iterations); stopping gave 230 s and volume 0.00207
+        against 369 s and 0.000982.
 
     Returns
     -------
@@ -338,7 +373,7 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
         raise ArgumentError("solve_moment needs a nonzero objective: the moment problem of a feasibility program "
                             "has no interior (CVXOPT_MOMENT hands such programs to Clarabel)")
     n = c.size
-    mf = moment_form(A, b, c, zero)
+    mf = moment_form(A, b, c, zero) if form is None else form
     # a nonnegative row that stays an equation (a bound x_j <= b_i) gets its slack in units of |b_i|: a cap such
     # as rho <= 1e6 would otherwise put 1e6 into the moment objective next to terms of order 1e-3
     w = np.ones(len(mf.h))
@@ -369,9 +404,10 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     opts = {"show_progress": bool(verbose), "maxiters": MOMENT_MAX_ITERATIONS}
     opts.update(options)
     kkt = opts.pop("kktsolver", "sparse")
+    on_singular = opts.pop("on_singular", "stop")
     cvx_dims = {"l": nonneg, "q": [], "s": blocks}
     if kkt == "sparse":
-        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nonneg, blocks)
+        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nonneg, blocks, regularize=on_singular != "stop")
     kw: dict[str, Any] = {"options": opts, "kktsolver": kkt}
     if nR:
         kw["A"], kw["b"] = _cvx_sparse(AeqT), matrix(g0[keep])
@@ -409,8 +445,9 @@ class _SparseKKT:
     ``chol``/``qr`` solvers scale and factor the dense ``N x m`` matrix ``W^-T G`` instead). The equations
     ``A u = b`` enter as ``[H + A'A, A'; A, 0]``, solved by two Cholesky factorizations."""
 
-    def __init__(self, G: sps.csr_matrix, AeqT: sps.csr_matrix, nonneg: int, blocks: list[int]) -> None:
-        self.G, self.m = G, G.shape[1]
+    def __init__(self, G: sps.csr_matrix, AeqT: sps.csr_matrix, nonneg: int, blocks: list[int], *,
+                 regularize: bool = False) -> None:
+        self.G, self.m, self.regularize = G, G.shape[1], regularize
         self.Aeq = AeqT.toarray() if AeqT.shape[0] else np.zeros((0, self.m))
         self.nonneg = nonneg
         self.Gl = G[:nonneg].tocsc()
@@ -452,10 +489,10 @@ class _SparseKKT:
         H = 0.5 * (H + H.T)
         A = self.Aeq
         Ht = H + A.T @ A
-        Lh = _cholesky(Ht)
+        Lh = _cholesky(Ht, self.regularize)
         if A.shape[0]:
             HiAt = sla.cho_solve(Lh, A.T, check_finite=False)
-            Lk = _cholesky(A @ HiAt)
+            Lk = _cholesky(A @ HiAt, self.regularize)
         G, dims = self.G, self.dims
         Gc = _cvx_sparse(G)
 
@@ -484,13 +521,17 @@ class _SparseKKT:
         return solve
 
 
-def _cholesky(H: np.ndarray) -> Any:
-    """Cholesky factor of a Schur complement; near the optimum it can lose definiteness to rounding: then once more
-    with ``1e-12 max(diag H)`` on the diagonal, and ArithmeticError (CVXOPT then stops with the last iterate)."""
+def _cholesky(H: np.ndarray, regularize: bool = False) -> Any:
+    """Cholesky factor of a Schur complement. Near the optimum it can lose definiteness to rounding: then, with
+    ``regularize``, once more with ``1e-12 max(diag H)`` on the diagonal, and ArithmeticError if that fails too
+    (CVXOPT then stops with the last iterate). Without ``regularize`` ArithmeticError at once: on a program whose
+    optimal face is not a point the regularized steps can send the iterates off (the dual residual of the CTOL V
+    step grew from 2e-6 to 1e2 in 23 iterations) where stopping keeps a usable point."""
     try:
         return sla.cho_factor(H, lower=True, check_finite=False)
-    except np.linalg.LinAlgError:
-        pass
+    except np.linalg.LinAlgError as exc:
+        if not regularize:
+            raise ArithmeticError(f"Schur complement not positive definite: {exc}") from exc
     try:
         return sla.cho_factor(H + 1e-12 * float(np.max(np.diag(H))) * np.eye(len(H)), lower=True,
                               check_finite=False)
