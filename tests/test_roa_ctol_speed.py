@@ -3,6 +3,8 @@ that are solved give the same certificate."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -78,3 +80,31 @@ def test_certified_set_has_negative_true_derivative():
     r2 = np.sum(X**2, axis=1)
     d = dVdt(cert.V, ps.lift, ps.rhs, X)
     assert np.all(d[r2 > 1e-8] < 0)
+
+
+def test_margin_checks_failing_on_the_moment_route_are_taken_again_by_clarabel(monkeypatch):
+    """The moment route stops at a singular Schur complement with residuals near 1e-6: when the final margin
+    program's Gram check fails at every backoff there, the same backoff steps are taken again with Clarabel, and the
+    certificate is the one Clarabel gives. (The checks are made to fail: Van der Pol's programs are small and go to
+    Clarabel anyway, so the certificate equals the plain Clarabel run's.)"""
+    ps = gc.benchmarks.van_der_pol()
+    ref = gc.certify_roa(ps, **CHEAP, solver="CLARABEL")
+    real = SOSProgram.check
+    seen = {"margin": 0}
+
+    def failing(self, *a, **k):
+        out = real(self, *a, **k)
+        if getattr(self, "margin", None) is not None and seen["margin"] < 4:
+            seen["margin"] += 1
+            return [dataclasses.replace(c, min_eig=-1.0) for c in out]
+        return out
+
+    monkeypatch.setattr(SOSProgram, "check", failing)
+    cert = gc.certify_roa(ps, **CHEAP, solver="CVXOPT_MOMENT")
+    steps = [h["step"] for h in cert.history]
+    assert seen["margin"] == 4
+    margins = [s for s in steps if s.startswith("final margin")]
+    assert margins == [f"final margin at backoff {b:g}" for b in (0.003, 0.009, 0.027, 0.081)] + [
+        "final margin at backoff 0.003 (Clarabel)"]
+    assert any(s.endswith("the same steps by Clarabel from backoff 0.003") for s in steps)
+    assert cert.certified and cert.rho == pytest.approx(ref.rho, rel=1e-12)

@@ -58,7 +58,7 @@ from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, 
 from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
-from .sdp_solvers import DEFAULT_SOLVER, check_solver
+from .sdp_solvers import DEFAULT_SOLVER, MOMENT, check_solver
 from .sector import sector_system
 from .sos import (
     GRAM_CONES,
@@ -1805,7 +1805,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     backoff : float
         Certified level ``(1 - backoff) rho*``, ``backoff`` in ``[0, 1)``; tripled (up to 3 times, at most 0.25;
         from 0.01 when it is 0) when the Gram margins at that level do not exceed the coefficient residuals
-        (recorded in ``history``).
+        (recorded in ``history``). With ``solver="CVXOPT_MOMENT"``, if no backoff passes, the same steps are
+        taken again with Clarabel (the moment route stops at a singular Schur complement with residuals near
+        1e-6).
     eps : float
         ``V - eps |z|^2`` must be SOS in the V step (strict positivity), ``eps > 0``.
     initial : Poly or array_like (n, n), optional
@@ -2125,30 +2127,43 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                             "volume": vol(V), "sdp_time": lvs.solve_time, "compile_time": lvs.compile_time,
                             "solver_time": lvs.solver_time})
         # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
-        # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
-        bo = backoff
+        # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter). The
+        # moment route stops at a singular Schur complement with residuals near 1e-6, which a small margin may not
+        # cover: if no backoff passes there, the same steps are taken again with Clarabel
+        bo, fin_solver, solves = backoff, solver, 0
         prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=None, eps=0.0, extra=ex, margin=True)
         rho_p = cp.Parameter(nonneg=True)
         prog.constraints.append(outf["rho"].var == rho_p)
-        for i in range(4):
+        while True:
             rho_c = (1 - bo) * fin_rho
             rho_p.value = rho_c
-            if i == 0:
-                prog.solve(cp.Maximize(outf["margin"]), solver=solver)
+            if prog.problem is None:
+                prog.solve(cp.Maximize(outf["margin"]), solver=fin_solver)
             else:
-                prog.resolve(solver=solver)
+                prog.resolve(solver=fin_solver)
             t_solve += prog.solve_time
+            solves += 1
             checks_ = tuple(prog.check())
             rad = max((c.radius for c in checks_ if c.name == "decrease"), default=0.0)
             gram = checks_ + _local_robust(outf.get("W"), pss, rad)
-            history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}", "rho": rho_c,
+            history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}"
+                            + (" (Clarabel)" if fin_solver != solver else ""), "rho": rho_c,
                             "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
                             "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
                             "solver_time": prog.solver_time})
-            if all(c.passed for c in gram) or bo >= 0.25:
+            if all(c.passed for c in gram):
                 break
-            history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
-                            f"{bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
+            slack = min(c.slack for c in gram)
+            if bo >= 0.25 or solves >= 4:
+                if fin_solver != MOMENT:
+                    break
+                history.append({"degree": V.degree, "step": f"Gram slack {slack:.2g} at backoff {bo:g}: the same "
+                                f"steps by Clarabel from backoff {backoff:g}", "rho": rho_c, "volume": math.nan,
+                                "sdp_time": 0.0})
+                bo, fin_solver, solves = backoff, "CLARABEL", 0
+                continue
+            history.append({"degree": V.degree, "step": f"Gram slack {slack:.2g} at backoff {bo:g}: backing off",
+                            "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
             bo = min(3 * bo, 0.25) if bo > 0 else 0.01
         Vz = _from_scaled(V, k)
         ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
