@@ -75,6 +75,13 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   constant monomial of the decrease condition (tau(0) ~ 4e-8 with linear terms ~3e-3, which no exact certificate
   can have), so they proved dV/dt < 0 only outside a small ball. The exact program's level for the starting V is
   0.0012-0.0014 against 0.0025-0.0044 before, so the volume target 0.00441 was set by that residual.
+- ctol and glider4, 2026-12-02 16:30-17:40 (seventh session, 99f604b; the ``ctol`` and ``glider4`` cases of this
+  file run with every SDP timed, ``OMP_NUM_THREADS=1``): ctol alone **215.3 s**, volume **0.00207**, certified
+  (backoff 0.027), against 369-396 s and 0.000982 at 7059cd5: the V step, with its hinge at one equation per
+  sample, takes the moment route (57 s against 226 s in Clarabel); the centering feasibility program (Clarabel,
+  65-95 s) is now the largest step; 3.6x the 60 s target. glider4 (beside CI, not timed end to end): volume 0.15527
+  (>= the degree-2 0.154291: volume target met), about 116 s per degree-4 alternation alone (V step 62-74 s on the
+  moment route, centering 45-60 s in Clarabel, level 8-15 s): about 8x the 60 s target.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
