@@ -182,6 +182,13 @@ def test_buoyancy_loop_certificate_is_sound_on_the_true_loop(buoyancy):
     assert cert.volume_fraction > 0
     fig = cert.plot(dims=("V", "m0"))
     assert fig.axes
+    # the title (the loop's name, wrapped to the figure's width) stays inside the figure, even for a long name
+    long = dataclasses.replace(cert, loop=dataclasses.replace(cert.loop, name=" ".join([cert.loop.name] * 4)))
+    for c in (cert, long):
+        fig = c.plot(dims=("V", "m0"))
+        fig.canvas.draw()
+        box = fig.axes[0].title.get_window_extent(fig.canvas.get_renderer())
+        assert box.x0 >= 0 and box.x1 <= fig.bbox.x1
 
 
 def test_elevator_and_lqr_loops_are_extracted_with_their_saturations():

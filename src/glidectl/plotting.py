@@ -18,6 +18,7 @@ membership on a grid, nothing more). glidectl never calls :func:`matplotlib.use`
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -1008,8 +1009,9 @@ def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any]
     ax.set_xlabel(label(loop.state_names[i]))
     ax.set_ylabel(label(loop.state_names[j]))
     status = "verified" if cert.certified else "NOT verified"
-    ax.set_title(f"{loop.name}\nLMI region of attraction ({status}), "
-                 f"{100 * cert.volume_fraction:.3g} % of the box", fontsize=8)
+    # a loop's name can be longer than the axes are wide: wrapped, as the figure's width allows
+    ax.set_title(textwrap.fill(loop.name, width=max(40, int(14 * ax.figure.get_figwidth())))
+                 + f"\nLMI region of attraction ({status}), {100 * cert.volume_fraction:.3g} % of the box", fontsize=8)
     ax.legend(loc="lower right", fontsize=7)
     ax.grid(True, alpha=0.3)
     return ax.figure
