@@ -1828,8 +1828,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         (>= 0) and their length (> 0; default 25 slowest time constants).
     solver : str
         An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: programs with
-        a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster per program, the others
-        by Clarabel; see :mod:`glidectl.roa.sdp_solvers`).
+        a Gram block of order 40 or more whose moment form is the smaller side by CVXOPT on that form, 2-5 times
+        faster per program, the others by Clarabel; see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of the sampling (>= 0).
     center : float
@@ -2127,44 +2127,44 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                             "volume": vol(V), "sdp_time": lvs.solve_time, "compile_time": lvs.compile_time,
                             "solver_time": lvs.solver_time})
         # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
-        # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter). The
-        # moment route stops at a singular Schur complement with residuals near 1e-6, which a small margin may not
-        # cover: if no backoff passes there, the same steps are taken again with Clarabel
-        bo, fin_solver, solves = backoff, solver, 0
+        # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
         prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=None, eps=0.0, extra=ex, margin=True)
         rho_p = cp.Parameter(nonneg=True)
         prog.constraints.append(outf["rho"].var == rho_p)
-        while True:
-            rho_c = (1 - bo) * fin_rho
-            rho_p.value = rho_c
-            if prog.problem is None:
-                prog.solve(cp.Maximize(outf["margin"]), solver=fin_solver)
-            else:
-                prog.resolve(solver=fin_solver)
-            t_solve += prog.solve_time
-            solves += 1
-            checks_ = tuple(prog.check())
-            rad = max((c.radius for c in checks_ if c.name == "decrease"), default=0.0)
-            gram = checks_ + _local_robust(outf.get("W"), pss, rad)
-            history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}"
-                            + (" (Clarabel)" if fin_solver != solver else ""), "rho": rho_c,
-                            "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
-                            "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
-                            "solver_time": prog.solver_time})
-            if all(c.passed for c in gram):
-                break
-            slack = min(c.slack for c in gram)
-            if bo >= 0.25 or solves >= 4:
-                if fin_solver != MOMENT:
+
+        def margin_steps(fin_solver: str) -> tuple[float, tuple, float]:
+            nonlocal t_solve
+            bo, tag = backoff, "" if fin_solver == solver else f" ({fin_solver.capitalize()})"
+            for i in range(4):
+                rho_c = (1 - bo) * fin_rho
+                rho_p.value = rho_c
+                if prog.problem is None:
+                    prog.solve(cp.Maximize(outf["margin"]), solver=fin_solver)
+                else:
+                    prog.resolve(solver=fin_solver)
+                t_solve += prog.solve_time
+                checks_ = tuple(prog.check())
+                rad = max((c.radius for c in checks_ if c.name == "decrease"), default=0.0)
+                gram = checks_ + _local_robust(outf.get("W"), pss, rad)
+                history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}{tag}", "rho": rho_c,
+                                "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
+                                "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
+                                "solver_time": prog.solver_time})
+                if all(c.passed for c in gram) or bo >= 0.25 or i == 3:
                     break
-                history.append({"degree": V.degree, "step": f"Gram slack {slack:.2g} at backoff {bo:g}: the same "
-                                f"steps by Clarabel from backoff {backoff:g}", "rho": rho_c, "volume": math.nan,
-                                "sdp_time": 0.0})
-                bo, fin_solver, solves = backoff, "CLARABEL", 0
-                continue
-            history.append({"degree": V.degree, "step": f"Gram slack {slack:.2g} at backoff {bo:g}: backing off",
+                history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at "
+                                f"backoff {bo:g}: backing off", "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
+                bo = min(3 * bo, 0.25) if bo > 0 else 0.01
+            return rho_c, gram, bo
+
+        rho_c, gram, bo = margin_steps(solver)
+        if solver == MOMENT and not all(c.passed for c in gram):
+            # the moment route stops at a singular Schur complement with residuals near 1e-6, which a small margin
+            # may not cover: the same steps with Clarabel
+            history.append({"degree": V.degree, "step": f"Gram slack {min(c.slack for c in gram):.2g} at backoff "
+                            f"{bo:g}: the same steps by Clarabel from backoff {backoff:g}",
                             "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
-            bo = min(3 * bo, 0.25) if bo > 0 else 0.01
+            rho_c, gram, _ = margin_steps("CLARABEL")
         Vz = _from_scaled(V, k)
         ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
                       deadline=deadline if on_budget == "raise" else None)

@@ -930,8 +930,8 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
         Length of those simulations (default 25 slowest time constants of the linearization).
     solver : str
         An SDP solver of :func:`glidectl.roa.installed_sdp_solvers` (default ``"CVXOPT_MOMENT"``: programs with
-        a Gram block of order 40 or more by CVXOPT on their moment form, 2-5 times faster per program, the others
-        by Clarabel; see :mod:`glidectl.roa.sdp_solvers`).
+        a Gram block of order 40 or more whose moment form is the smaller side by CVXOPT on that form, 2-5 times
+        faster per program, the others by Clarabel; see :mod:`glidectl.roa.sdp_solvers`).
     seed : int
         Seed of every sampling (>= 0).
 

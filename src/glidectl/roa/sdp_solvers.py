@@ -47,15 +47,15 @@ __all__ = ["DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOC
            "check_solver", "installed_sdp_solvers", "moment_form", "moment_pays", "solve_moment", "solver_argument"]
 
 DEFAULT_SOLVER = "CVXOPT_MOMENT"
-"""The default SDP solver of the ROA layer. Measured in the same run against Clarabel
-(``bench/bench_sdp_solvers.py``): the chapter-5 glider (K_M = -50, degree 2, 8 iterations) 46.5 s against 74.1 s,
-volume 0.154306 against 0.154309; the CTOL closed loop 368.7 s against 535.2 s, volume 0.000982 against 0.000909.
-With the V step's hinge at one equation per sample (``_coverage_objective`` in ``certify.py``) and runs stopped
-at a singular Schur complement (``on_singular`` of :func:`solve_moment`), the CTOL certificate took 230 s,
-volume 0.00207 (``OMP_NUM_THREADS=1``, alone on the machine). Programs it does not take go to Clarabel (module
-docstring). A first version also solved the centering
-feasibility programs, for their largest common margin; that changed the alternation's path (the glider ended at
-0.0295), which is why those programs go to Clarabel."""
+"""The default SDP solver of the ROA layer; programs it does not take go to Clarabel (module docstring). Measured in
+the same run against Clarabel throughout (``bench/bench_sdp_solvers.py``, first version of the route): the chapter-5
+glider (K_M = -50, degree 2, 8 iterations) 46.5 s against 74.1 s, volume 0.154306 against 0.154309; the CTOL
+closed loop 368.7 s against 535.2 s, volume 0.000982 against 0.000909. With the V step's hinge at one equation per
+sample (``_coverage_objective`` in ``certify.py``), the routing by :func:`moment_pays` and runs stopped at a
+singular Schur complement (:func:`_cholesky`), the CTOL certificate takes 212.1 s against that version's 385.0 s,
+volume 0.002069 against 0.000982 (``bench/bench_roa.py --cases ctol --baseline-src``, same run). A first version
+also solved the centering feasibility programs, for their largest common margin; that changed the alternation's
+path (the glider ended at 0.0295), which is why those programs go to Clarabel."""
 
 MOMENT = "CVXOPT_MOMENT"
 """Name of the moment-form CVXOPT route (:class:`CvxoptMoment`)."""
@@ -67,7 +67,7 @@ KKT system is small and the reduction in Python costs more than Clarabel's whole
 route)."""
 
 MOMENT_MAX_ITERATIONS = 50
-"""Iteration limit of CVXOPT on the moment form; the converged runs of the ROA programs take 14-30 iterations.
+"""Iteration limit of CVXOPT on the moment form; the runs of the ROA programs take 14-42 iterations.
 A run that does not converge within it goes to Clarabel (:class:`CvxoptMoment`)."""
 
 SDP_SOLVERS = ("CLARABEL", MOMENT, "SCS", "MOSEK", "CVXOPT", "COPT", "SDPA")
@@ -293,8 +293,8 @@ def _cone_map(nonneg: int, psd: list[int]) -> tuple[sps.csr_matrix, list[int], n
 
 
 class CvxoptMoment(CLARABEL):
-    """cvxpy custom solver ``CVXOPT_MOMENT``: CVXOPT's ``conelp`` on the moment (dual) form of the program (see
-    the module docstring). Falls back to Clarabel for cones other than zero, nonnegative and PSD."""
+    """cvxpy custom solver ``CVXOPT_MOMENT``: CVXOPT's ``conelp`` on the moment (dual) form of the program, for the
+    programs the module docstring lists; Clarabel for the others."""
 
     MIP_CAPABLE = False
 
@@ -345,13 +345,9 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     verbose : bool
         CVXOPT's progress output.
     **options
-        CVXOPT solver options (``abstol``, ``reltol``, ``feastol``, ``maxiters``, ``kktsolver``), and
-        ``on_singular``: ``"stop"`` (default) ends the run at a Schur complement that is not numerically positive
-        definite, with the last iterate (accepted as ``AlmostSolved`` when its residuals are below 1e-5);
-        ``"regularize"`` retries it with a small diagonal shift. On the CTOL certificate the regularized steps sent
-        the V step's and the next level program's iterates off (the V step's dual residual grew from 2e-6 to 1e2
-        in 23 iterations; both then went to Clarabel after 50 iterations); stopping gave 230 s and volume 0.00207
-        against 369 s and 0.000982.
+        CVXOPT solver options (``abstol``, ``reltol``, ``feastol``, ``maxiters``, ``kktsolver``). A run that
+        meets a Schur complement that is not numerically positive definite stops there (:func:`_cholesky`); its
+        last iterate is ``AlmostSolved`` when its residuals are below 1e-5.
 
     Returns
     -------
@@ -404,10 +400,9 @@ def solve_moment(A: Any, b: np.ndarray, c: np.ndarray, zero: int, nonneg: int, p
     opts = {"show_progress": bool(verbose), "maxiters": MOMENT_MAX_ITERATIONS}
     opts.update(options)
     kkt = opts.pop("kktsolver", "sparse")
-    on_singular = opts.pop("on_singular", "stop")
     cvx_dims = {"l": nonneg, "q": [], "s": blocks}
     if kkt == "sparse":
-        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nonneg, blocks, regularize=on_singular != "stop")
+        kkt = _SparseKKT(G.tocsr(), AeqT.tocsr(), nonneg, blocks)
     kw: dict[str, Any] = {"options": opts, "kktsolver": kkt}
     if nR:
         kw["A"], kw["b"] = _cvx_sparse(AeqT), matrix(g0[keep])
@@ -445,9 +440,8 @@ class _SparseKKT:
     ``chol``/``qr`` solvers scale and factor the dense ``N x m`` matrix ``W^-T G`` instead). The equations
     ``A u = b`` enter as ``[H + A'A, A'; A, 0]``, solved by two Cholesky factorizations."""
 
-    def __init__(self, G: sps.csr_matrix, AeqT: sps.csr_matrix, nonneg: int, blocks: list[int], *,
-                 regularize: bool = False) -> None:
-        self.G, self.m, self.regularize = G, G.shape[1], regularize
+    def __init__(self, G: sps.csr_matrix, AeqT: sps.csr_matrix, nonneg: int, blocks: list[int]) -> None:
+        self.G, self.m = G, G.shape[1]
         self.Aeq = AeqT.toarray() if AeqT.shape[0] else np.zeros((0, self.m))
         self.nonneg = nonneg
         self.Gl = G[:nonneg].tocsc()
@@ -489,10 +483,10 @@ class _SparseKKT:
         H = 0.5 * (H + H.T)
         A = self.Aeq
         Ht = H + A.T @ A
-        Lh = _cholesky(Ht, self.regularize)
+        Lh = _cholesky(Ht)
         if A.shape[0]:
             HiAt = sla.cho_solve(Lh, A.T, check_finite=False)
-            Lk = _cholesky(A @ HiAt, self.regularize)
+            Lk = _cholesky(A @ HiAt)
         G, dims = self.G, self.dims
         Gc = _cvx_sparse(G)
 
@@ -521,20 +515,16 @@ class _SparseKKT:
         return solve
 
 
-def _cholesky(H: np.ndarray, regularize: bool = False) -> Any:
-    """Cholesky factor of a Schur complement. Near the optimum it can lose definiteness to rounding: then, with
-    ``regularize``, once more with ``1e-12 max(diag H)`` on the diagonal, and ArithmeticError if that fails too
-    (CVXOPT then stops with the last iterate). Without ``regularize`` ArithmeticError at once: on a program whose
-    optimal face is not a point the regularized steps can send the iterates off (the dual residual of the CTOL V
-    step grew from 2e-6 to 1e2 in 23 iterations) where stopping keeps a usable point."""
+def _cholesky(H: np.ndarray) -> Any:
+    """Cholesky factor of a Schur complement, or ArithmeticError if it is not numerically positive definite: CVXOPT
+    then stops with its last iterate. Near the optimum of a program whose optimal face is not a point, rounding
+    takes the definiteness away; a regularized factor (``1e-12 max(diag H)`` on the diagonal, the first version)
+    sent the iterates off there: the CTOL V step's dual residual grew from 2e-6 to 1e2 in 23 iterations, and that
+    program and the next level program went to Clarabel after 50 iterations. Stopping keeps the V step at 41
+    iterations and a relative gap near 3e-4 (the V step only steers the search; the level program that follows
+    certifies the V it returns)."""
     try:
         return sla.cho_factor(H, lower=True, check_finite=False)
-    except np.linalg.LinAlgError as exc:
-        if not regularize:
-            raise ArithmeticError(f"Schur complement not positive definite: {exc}") from exc
-    try:
-        return sla.cho_factor(H + 1e-12 * float(np.max(np.diag(H))) * np.eye(len(H)), lower=True,
-                              check_finite=False)
     except np.linalg.LinAlgError as exc:
         raise ArithmeticError(f"Schur complement not positive definite: {exc}") from exc
 
