@@ -96,7 +96,7 @@ def test_margin_checks_failing_on_the_moment_route_are_taken_again_by_clarabel(m
         out = real(self, *a, **k)
         if getattr(self, "margin", None) is not None and seen["margin"] < 4:
             seen["margin"] += 1
-            return [dataclasses.replace(c, min_eig=-1.0) for c in out]
+            return [dataclasses.replace(c, min_eig=-1.0, projected_min_eig=-1.0) for c in out]
         return out
 
     monkeypatch.setattr(SOSProgram, "check", failing)

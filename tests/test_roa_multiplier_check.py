@@ -13,20 +13,22 @@ from glidectl.roa.polynomial import Poly, monomials
 from glidectl.roa.sos import LinPoly, SOSProgram
 
 
-def _program() -> tuple[SOSProgram, object, list]:
-    """``2 x^2 + 1 - sigma`` SOS with the multiplier ``sigma = s x^2`` SOS (``0 <= s <= 2``)."""
+def _program(a: float = 2.0, solve: bool = True) -> tuple[SOSProgram, object, list]:
+    """``a x^2 + 1 - sigma`` SOS with the multiplier ``sigma = s x^2`` SOS (``0 <= s <= a``); solved with ``solve``
+    (only a feasible program: ``a >= 0``)."""
     x = Poly.variables(1)[0]
     prog = SOSProgram(1)
     u, sigma = prog.sos_poly("sigma", [(1,)])
-    us = prog.add_sos("p", LinPoly(2.0 * x**2 + 1.0) - sigma, monomials(1, 1))
-    prog.solve(cp.Minimize(0))
+    us = prog.add_sos("p", LinPoly(a * x**2 + 1.0) - sigma, monomials(1, 1))
+    if solve:
+        prog.solve(cp.Minimize(0))
     return prog, u, us
 
 
-def _fake(u: object, us: list, s: float) -> None:
-    """Set the multiplier to ``s x^2`` and the constraint's Gram matrix to match ``(2 - s) x^2 + 1`` exactly."""
+def _fake(u: object, us: list, s: float, a: float = 2.0) -> None:
+    """Set the multiplier to ``s x^2`` and the constraint's Gram matrix to match ``(a - s) x^2 + 1`` exactly."""
     u.var.value = np.array([[s]])
-    coef = {(0,): 1.0, (1,): 2.0 - s}       # Gram diagonal on the monomials 1 and x (one block each, or one block)
+    coef = {(0,): 1.0, (1,): a - s}         # Gram diagonal on the monomials 1 and x (one block each, or one block)
     for g in us:
         g.var.value = np.diag([coef[tuple(b)] for b in g.basis])
 
@@ -40,31 +42,49 @@ def test_a_solved_program_with_a_psd_multiplier_passes_unshifted():
 
 
 def test_a_negative_multiplier_fails_the_check_it_used_to_pass():
-    """``sigma = -0.6 x^2`` is not SOS. With it, ``p = 2.6 x^2 + 1`` has an exact Gram matrix (what the check saw
-    before: residual 0, passed); made SOS (``sigma = 0``) the constraint is ``2 x^2 + 1`` against the Gram matrix of
-    ``2.6 x^2 + 1``: residual 0.6 on x^2, slack 1 - 2 * 0.6 < 0."""
-    prog, u, us = _program()
-    _fake(u, us, -0.6)
+    """``sigma = -0.6 x^2`` is not SOS. With ``a = -0.5``, ``p = 0.1 x^2 + 1`` has an exact PSD Gram matrix (what
+    the check saw before: residual 0, passed); made SOS (``sigma = 0``) the constraint is ``-0.5 x^2 + 1``, which is
+    not SOS: residual 0.6 on x^2, and the projected Gram matrix ``diag(1, 0.1 - 0.6)`` is indefinite."""
+    prog, u, us = _program(a=-0.5, solve=False)
+    _fake(u, us, -0.6, a=-0.5)
     _, expr, grams = prog.sos_constraints[0]
     raw = expr.value() - sum((g.poly() for g in grams), Poly({}, 1))
     assert raw.max_abs_coefficient() < 1e-15          # the old check's residual: the certificate looked exact
     (chk,) = prog.check()
     assert chk.multiplier_shift == pytest.approx(0.6, rel=1e-12)
     assert chk.max_residual == pytest.approx(0.6, rel=1e-12)
-    assert not chk.passed and chk.slack == pytest.approx(1.0 - 2 * 0.6, rel=1e-12)
+    assert chk.projected_min_eig == pytest.approx(-0.5, rel=1e-12) and chk.projected_residual < 1e-15
+    assert not chk.passed and chk.slack == pytest.approx(max(0.1 - 2 * 0.6, -0.5), rel=1e-12)
+
+
+def test_the_projection_passes_a_residual_the_bound_could_not_absorb():
+    """``sigma = -0.6 x^2`` against ``2 x^2 + 1``: made SOS, the constraint ``2 x^2 + 1`` is SOS, but the Gram matrix
+    of ``2.6 x^2 + 1`` leaves a residual 0.6 that ``n_basis max|r| = 1.2`` cannot absorb (unprojected slack -0.2).
+    Spread onto the Gram entry of ``x^2`` it gives ``diag(1, 2)``: passed, with the exact certificate."""
+    prog, u, us = _program()
+    _fake(u, us, -0.6)
+    (chk,) = prog.check()
+    assert chk.min_eig - chk.n_basis * chk.max_residual == pytest.approx(1.0 - 2 * 0.6, rel=1e-12)
+    assert chk.projected_min_eig == pytest.approx(1.0, rel=1e-12) and chk.projected_residual < 1e-15
+    assert chk.passed and chk.slack == pytest.approx(1.0, rel=1e-12)
 
 
 @settings(max_examples=25, deadline=None)
-@given(st.floats(min_value=1e-9, max_value=1.0))
-def test_the_shift_is_the_multipliers_negative_eigenvalue(q: float):
-    prog, u, us = _program()
-    _fake(u, us, -q)
+@given(st.floats(min_value=1e-9, max_value=1.0), st.floats(min_value=-1.0, max_value=2.0))
+def test_the_shift_is_the_multipliers_negative_eigenvalue(q: float, a: float):
+    """Made SOS, the multiplier is 0 and the constraint ``a x^2 + 1``: it passes iff ``a > 0``, whatever the
+    solver's Gram matrix ``diag(1, a + q)``; the unprojected bound ``min(1, a + q) - 2 q`` is never more lenient."""
+    prog, u, us = _program(a=a, solve=False)
+    _fake(u, us, -q, a=a)
     (chk,) = prog.check()
     (Qp,) = prog.multiplier_values().values()
     assert np.linalg.eigvalsh(Qp)[0] >= 0.0
     assert chk.multiplier_shift == pytest.approx(q, rel=1e-9)
     assert chk.max_residual == pytest.approx(q, rel=1e-9)
-    assert chk.passed == (1.0 - 2 * q > 0)
+    assert chk.projected_min_eig == pytest.approx(min(1.0, a), rel=1e-9, abs=1e-12)
+    if abs(a) > 1e-9:
+        assert chk.passed == (a > 0)
+    assert chk.slack >= min(1.0, a + q) - 2 * q - 1e-12
 
 
 def test_real_level_program_multipliers_are_made_psd_and_counted():
@@ -207,3 +227,40 @@ def test_cut_multipliers_lose_the_constant_only_where_it_is_forced():
     assert _tau_low_degrees(ps) == [1, 0, 0, 0, 0]
     bad = dataclasses.replace(ps, cuts=(ps.cuts[0], ps.cuts[0] - 1.0))      # 0.9 and -0.1 at the glide
     assert _tau_low_degrees(bad) == [0] * 6
+
+
+def _gram_poly(Q: np.ndarray, basis: list) -> Poly:
+    """``m^T Q m`` as a polynomial."""
+    t: dict = {}
+    for i, bi in enumerate(basis):
+        for j, bj in enumerate(basis):
+            e = tuple(a + b for a, b in zip(bi, bj, strict=True))
+            t[e] = t.get(e, 0.0) + Q[i, j]
+    return Poly(t, len(basis[0]))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**31 - 1), st.floats(1e-8, 1e-1), st.floats(-0.5, 0.5))
+def test_the_projected_check_is_never_weaker_and_never_passes_a_negative_polynomial(seed: int, err: float,
+                                                                                      shift: float):
+    """``p = m^T Q0 m`` on the 10 monomials of degree <= 3 in two variables (``Q0`` with its spectrum shifted by
+    ``shift``, so ``p`` may be negative somewhere), checked against a Gram matrix ``Q0 + E`` (a solver's error of
+    size ``err``): the projected check leaves only rounding, its slack is at least the unprojected bound's, and it
+    never passes a ``p`` that is negative at a sampled point."""
+    rng = np.random.default_rng(seed)
+    basis = monomials(2, 3)
+    n = len(basis)
+    L = rng.normal(size=(n, n))
+    Q0 = L @ L.T / n
+    Q0 = Q0 - (np.linalg.eigvalsh(Q0)[0] - shift) * np.eye(n)
+    p = _gram_poly(Q0, basis)
+    prog = SOSProgram(2, reduce=False)
+    (g,) = prog.add_sos("p", LinPoly(p), basis)
+    E = rng.normal(size=(n, n)) * err
+    g.var.value = Q0 + 0.5 * (E + E.T)
+    (chk,) = prog.check()
+    assert chk.projected_residual < 1e-12 * (1.0 + np.max(np.abs(Q0)))
+    assert chk.slack >= chk.min_eig - n * chk.max_residual - 1e-12
+    Z = rng.uniform(-3.0, 3.0, (4000, 2))
+    if np.min(p(Z)) < -1e-9:
+        assert not chk.passed

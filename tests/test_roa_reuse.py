@@ -4,6 +4,7 @@ form 2x2 inverse of the batch integrator, and the verification still rejects a w
 
 from __future__ import annotations
 
+import cvxpy as cp
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -45,6 +46,43 @@ def test_reused_level_program_matches_fresh_build():
         assert r.rho == pytest.approx(f.rho, rel=1e-6)
         assert r.n_sdp == 2 and all(c.max_residual < 1e-7 for c in r.checks)
     assert reused[0].rho == pytest.approx(2.3045, rel=2e-4)          # Drake's level of x'Px
+
+
+def _margin_with(pss, F, V, lam, rho, ex) -> float:
+    """Largest ``t`` with every Gram matrix of the level conditions ``>= t I`` at level ``rho`` with the multiplier
+    fixed to ``lam`` (the slack the V step gets from it)."""
+    prog, out = C._build(pss, F, 2, V=V, lam=None, rho=rho, eps=0.0, extra=ex, margin=True)
+    u = out["lambda"]
+    prog.constraints.append(u.var == np.array([lam.terms.get(e, 0.0) for e in u.basis]))
+    return prog.solve(cp.Maximize(out["margin"]), solver="CLARABEL")
+
+
+@pytest.mark.parametrize("reuse", [False, True])
+def test_a_large_program_is_centred_by_its_level_program_under_a_cap(monkeypatch, reuse):
+    """Where the largest Gram block reaches CENTER_BY_LEVEL_MIN_BLOCK (patched to 1 here: Van der Pol's blocks are
+    small) on the moment route, the centering multiplier is the level program's, re-solved with ``rho <= (1 - c)
+    rho*``: two SDPs, the uncapped level, and a multiplier with a positive Gram margin at ``(1 - c) rho*`` where the
+    uncapped level program's multiplier has none at ``rho*``. Without the patch the feasibility program is used, as
+    with Clarabel throughout."""
+    pss, F, V0 = _prepared(gc.benchmarks.van_der_pol())
+    ex = C._auto_extra(pss, None)
+    plain = C._level(pss, F, V0, rho_cap=1e6, solver="CLARABEL", center=0.0, extra=ex)
+    kept = C._level(pss, F, V0, rho_cap=1e6, solver="CVXOPT_MOMENT", center=0.1, extra=ex,
+                    cache={} if reuse else None)
+    feas = C._level(pss, F, V0, rho_cap=1e6, solver="CLARABEL", center=0.1, extra=ex)
+    assert (kept.lam - feas.lam).max_abs_coefficient() < 1e-6 * feas.lam.max_abs_coefficient()
+    monkeypatch.setattr(C, "CENTER_BY_LEVEL_MIN_BLOCK", 1)
+    cache: dict = {}
+    capped = C._level(pss, F, V0, rho_cap=1e6, solver="CVXOPT_MOMENT", center=0.1, extra=ex,
+                      cache=cache if reuse else None)
+    assert capped.n_sdp == 2 and capped.rho == pytest.approx(plain.rho, rel=1e-6)
+    assert (capped.lam - feas.lam).max_abs_coefficient() > 1e-6 * feas.lam.max_abs_coefficient()
+    assert len(cache) == (1 if reuse else 0)        # no separate centering program
+    assert _margin_with(pss, F, V0, capped.lam, 0.9 * plain.rho, ex) > 1e-6
+    assert _margin_with(pss, F, V0, plain.lam, plain.rho, ex) < 1e-7
+    if reuse:                                       # re-solved at the full cap after the centering
+        again = C._level(pss, F, V0, rho_cap=1e6, solver="CVXOPT_MOMENT", center=0.1, extra=ex, cache=cache)
+        assert again.rho == pytest.approx(plain.rho, rel=1e-6)
 
 
 def test_reused_v_step_matches_fresh_build():

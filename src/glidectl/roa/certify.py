@@ -100,6 +100,16 @@ _BYTES_PER_GRAM_ENTRY = 1000.0      # the Python polynomials of the builder, per
 #: least-squares recovery costs seconds per thousand monomials; ``method="exact"`` tries up to degree 4).
 _AUTO_RECAST_BASIS = 500
 
+#: Smallest Gram block for which the centering multiplier of the alternation (``certify_roa``'s ``center``) comes
+#: from the level program re-solved with ``rho <= (1 - center) rho*`` on the moment route, instead of the
+#: feasibility program by Clarabel (:func:`_centers_by_level`). Clarabel factors the dense ``n(n+1)/2`` Hessian
+#: block of each Gram matrix: a few seconds at the chapter-5 glider's 49 x 49, 65-95 s per program at the CTOL
+#: loop's 103 x 103 and 45-60 s at the degree-4 glider's 104 x 104, where the moment route re-solves the level
+#: program in 10-20 s. Below it the feasibility program stays: the two give different interior points, and on the
+#: degree-2 glider the re-solved level program's multiplier steered the alternation to a smaller set (0.1436
+#: against 0.1543).
+CENTER_BY_LEVEL_MIN_BLOCK = 64
+
 
 # --------------------------------------------------------------------------------------------- helpers
 def _zsq(nz: int) -> Poly:
@@ -867,12 +877,22 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
     return V.substitute([Z[i] / float(k[i]) for i in range(V.nvars)])
 
 
+def _centers_by_level(prog: SOSProgram, solver: str) -> bool:
+    """Whether the centering multiplier comes from the level program itself re-solved with ``rho <= (1 - center)
+    rho*`` (its optimal face is the feasibility program's set; the solver returns a point inside it) instead of
+    the feasibility program by Clarabel: on the moment route, for a Gram block of order
+    :data:`CENTER_BY_LEVEL_MIN_BLOCK` or more (see there)."""
+    return solver == MOMENT and max((max(b, default=0) for b in prog.gram_sizes().values()), default=0) \
+        >= CENTER_BY_LEVEL_MIN_BLOCK
+
+
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
            extra: int, cache: dict | None = None, basis: Any = None, cone: str = "sos") -> LevelResult:
     """The level problem for a fixed ``V``: ``rho`` is a variable of the SDP (no bisection). With ``center > 0``
-    a multiplier with slack for the V step is found by a feasibility SDP at ``(1 - center) rho*`` (the
-    interior-point solution of the program built with that fixed level). With a ``cache`` (exact route), both
-    programs are built once per monomial ``basis`` of ``V`` with ``V`` and the level as cvxpy Parameters and
+    a multiplier with slack for the V step is found at ``(1 - center) rho*``: by the level program re-solved with
+    ``rho <= (1 - center) rho*`` where :func:`_centers_by_level` says so, else by a feasibility SDP at that level
+    (the interior-point solution of the program built with that fixed level). With a ``cache`` (exact route), the
+    programs are built once per monomial ``basis`` of ``V`` with ``V`` and the levels as cvxpy Parameters and
     re-solved (:func:`_level_reused`)."""
     if cache is not None and not ps.remainder and cone == "sos":
         res = _level_reused(ps, F, V, rho_cap=rho_cap, solver=solver, center=center, extra=extra, cache=cache,
@@ -881,35 +901,44 @@ def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: st
             return res
     degV = _even_up(V.degree)
     prog, out = _build(ps, F, degV, V=V, lam=None, rho=None, eps=0.0, extra=extra, cone=cone)
-    prog.constraints.append(out["rho"].var <= rho_cap)
+    cap = cp.Parameter(nonneg=True, value=rho_cap)
+    prog.constraints.append(out["rho"].var <= cap)
     prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
     rho = float(out["rho"].value()[0])
     checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
     t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0:
-        prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra, cone=cone)
-        prog2.solve(cp.Minimize(0), solver=solver)
-        lam = out2["lambda"].poly()
+        if _centers_by_level(prog, solver):
+            cap.value = (1 - center) * rho
+            prog.resolve(solver=solver)
+            lam, prog2 = out["lambda"].poly(), prog
+        else:
+            prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra,
+                                 cone=cone)
+            prog2.solve(cp.Minimize(0), solver=solver)
+            lam = out2["lambda"].poly()
         t, tc, ts, n = t + prog2.solve_time, tc + prog2.compile_time, ts + prog2.solver_time, 2
     return LevelResult(rho, lam, checks, t, status, tc, ts, n)
 
 
 def _level_reused(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
                   extra: int, cache: dict, basis: list[tuple[int, ...]]) -> LevelResult | None:
-    """:func:`_level` through programs built once per (degree, basis of ``V``) with the coefficients of ``V`` (and
-    the centering level) as cvxpy Parameters: the same SOS conditions, compiled once and re-solved. None if ``V``
-    has a term outside ``basis``."""
+    """:func:`_level` through programs built once per (degree, basis of ``V``) with the coefficients of ``V`` and
+    the levels as cvxpy Parameters: the same SOS conditions, compiled once and re-solved. None if ``V`` has a term
+    outside ``basis``."""
     degV = _even_up(V.degree)
     basis = sorted(basis)
-    key = ("level", degV, tuple(basis), float(rho_cap))
+    key = ("level", degV, tuple(basis))
     if key not in cache:
         Vp = _Fixed.on(basis, ps.nz)
         prog, out = _build(ps, F, degV, V=Vp, lam=None, rho=None, eps=0.0, extra=extra)
-        prog.constraints.append(out["rho"].var <= rho_cap)
-        cache[key] = (prog, out, Vp)
-    prog, out, Vp = cache[key]
+        cap = cp.Parameter(nonneg=True, value=rho_cap)
+        prog.constraints.append(out["rho"].var <= cap)
+        cache[key] = (prog, out, Vp, cap)
+    prog, out, Vp, cap = cache[key]
     if not Vp.set(V):
         return None
+    cap.value = rho_cap
     if prog.problem is None:
         prog.solve(cp.Maximize(out["rho"].var[0]), solver=solver)
     else:
@@ -917,7 +946,12 @@ def _level_reused(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, sol
     rho = float(out["rho"].value()[0])
     checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
     t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
-    if center > 0:
+    if center > 0 and _centers_by_level(prog, solver):
+        cap.value = (1 - center) * rho
+        prog.resolve(solver=solver)
+        lam = out["lambda"].poly()
+        t, tc, ts, n = t + prog.solve_time, tc + prog.compile_time, ts + prog.solver_time, 2
+    elif center > 0:
         key2 = ("center", degV, tuple(basis))
         if key2 not in cache:
             Vc, rp = _Fixed.on(basis, ps.nz), _Fixed([Poly.const(1.0, ps.nz)])
@@ -1834,7 +1868,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Seed of the sampling (>= 0).
     center : float
         The multiplier of the V step comes from the level problem re-solved at ``(1 - center) rho*``, ``center`` in
-        ``[0, 1)``.
+        ``[0, 1)``: a feasibility program at that level (Clarabel), or, for a Gram block of order
+        :data:`CENTER_BY_LEVEL_MIN_BLOCK` or more on the moment route, the level program itself with ``rho`` capped
+        there.
     max_degree : int
         Largest ``degree`` accepted (default :data:`MAX_DEGREE` = 8): SDP time grows steeply with the degree.
     time_limit : float, optional

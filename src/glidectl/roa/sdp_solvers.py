@@ -22,7 +22,9 @@ nonnegative and PSD cones only, a nonzero objective, a PSD block of order ``MOME
 moment form smaller than the primal (:func:`moment_pays`). Everything else goes to Clarabel unchanged: small
 programs, programs whose moment form is the larger side (the glider's V steps, with one equation per simulated
 sample), second-order or exponential cones, feasibility programs (a zero objective leaves the moment problem
-without an interior, and the alternation's next V step is tuned on Clarabel's analytic-centre-like point), and any
+without an interior, and the alternation's next V step is tuned on Clarabel's analytic-centre-like point; where
+Clarabel's centering is slow, from a Gram block of order ``certify.CENTER_BY_LEVEL_MIN_BLOCK``, the alternation
+centers by the level program capped at the lower level instead, which has an objective and takes the route), and any
 program CVXOPT does not solve within ``MOMENT_MAX_ITERATIONS``.
 """
 from __future__ import annotations
@@ -55,7 +57,10 @@ sample (``_coverage_objective`` in ``certify.py``), the routing by :func:`moment
 singular Schur complement (:func:`_cholesky`), the CTOL certificate takes 212.1 s against that version's 385.0 s,
 volume 0.002069 against 0.000982 (``bench/bench_roa.py --cases ctol --baseline-src``, same run). A first version
 also solved the centering feasibility programs, for their largest common margin; that changed the alternation's
-path (the glider ended at 0.0295), which is why those programs go to Clarabel."""
+path (the glider ended at 0.0295), which is why those programs go to Clarabel. The large programs' centering by the
+capped level program (``certify.CENTER_BY_LEVEL_MIN_BLOCK``) and the projected Gram check
+(:class:`~glidectl.roa.sos.GramCheck`) take the CTOL certificate to 175.5 s against 330.0 s, volume 0.002161
+against 0.001941 (two single-threaded runs side by side, 2026-12-02)."""
 
 MOMENT = "CVXOPT_MOMENT"
 """Name of the moment-form CVXOPT route (:class:`CvxoptMoment`)."""

@@ -12,7 +12,9 @@ After the solve, :meth:`SOSProgram.check` recomputes every SOS constraint in flo
 unknowns, with every SOS multiplier made exactly SOS first (its Gram matrix shifted to positive semidefinite,
 :meth:`SOSProgram.multiplier_values`), and returns the smallest Gram eigenvalue and the coefficient residual: when
 ``lambda_min(Q) > n_basis * max|residual|`` the residual can be absorbed in ``Q`` (a symmetric matrix ``R`` with
-``m^T R m = residual`` has ``||R||_2 <= n_basis max|r|``), so the polynomial is exactly SOS.
+``m^T R m = residual`` has ``||R||_2 <= n_basis max|r|``), so the polynomial is exactly SOS. The check also forms
+that ``R`` (the residual spread evenly over the Gram entries that reach each monomial) and takes the smallest
+eigenvalue of ``Q + R`` itself (:class:`GramCheck`, projection), which is never the weaker test.
 
 **Basis reduction** (:func:`reduce_basis`, applied by :meth:`SOSProgram.add_sos`): the support ``S`` of ``expr``
 is known before the solve (the union of the supports of its constant part and of every column, an outer
@@ -321,7 +323,8 @@ class GramCheck:
 
     ``slack = lambda_min(Q) - n_basis max|residual|`` (positive means exactly SOS, see the module docstring);
     ``margin = lambda_min(Q) / (n_basis max|residual|)`` (``>= 1`` holds; ``inf`` for a zero residual and
-    ``lambda_min(Q) > 0``); ``passed`` is ``slack > 0`` (equivalently ``margin > 1``). The residual is that of the
+    ``lambda_min(Q) > 0``); each the better of that and the same number for the projected Gram matrix (below);
+    ``passed`` is ``slack > 0`` (equivalently ``margin > 1``). The residual is that of the
     constraint with every SOS multiplier made exactly SOS first (``multiplier_shift``, see
     :meth:`SOSProgram.multiplier_values`).
 
@@ -333,6 +336,14 @@ class GramCheck:
     ``slack |z|^2 >= |c_0| + |c_1| |z|``, i.e. for ``|z| >= radius`` (``radius = 0`` without such residual; ``inf``
     if the basis lacks a degree-1 monomial). Inside that ball something else must hold (the local check of the
     surrogate routes of :func:`glidectl.certify_roa`). ``slack`` still counts it as if it were absorbable.
+
+    **Projection** (as Peyrl and Parrilo's rounding of an SOS certificate, in floating point): the residual ``r_a``
+    on each monomial ``a`` that pairs of the half basis reach is spread evenly over those pairs, ``R_ij = r_a / n_a``
+    for the ``n_a`` ordered pairs with ``b_i + b_j = a``, so that ``m^T (Q + R) m`` matches the constraint up to
+    rounding; ``projected_min_eig = lambda_min(Q + R)`` and ``projected_residual`` is what is left (rounding, and
+    residuals on monomials no pair reaches). Since ``||R||_2 <= ||R||_F <= n_basis max|r|``, the projected check
+    passes whenever the unprojected one does; it passes in addition where the solver's residual, though small, is
+    not small against ``lambda_min(Q) / n_basis``. ``slack`` and ``margin`` take the better of the two.
     """
 
     name: str
@@ -342,6 +353,8 @@ class GramCheck:
     multiplier_shift: float = 0.0   # largest ``delta`` added to a multiplier's Gram matrix (``Q + delta I >= 0``)
     low: tuple[float, float] = (0.0, 0.0)   # unreachable residual of degree 0 and 1: (|c_0|, norm of c_1)
     full_linear: bool = True        # the half basis has every degree-1 monomial
+    projected_min_eig: float = -math.inf    # lambda_min(Q + R): the residual spread over the Gram entries
+    projected_residual: float = math.inf    # what is left of the residual after that (rounding, unreachable terms)
 
     @property
     def radius(self) -> float:
@@ -357,16 +370,21 @@ class GramCheck:
 
     @property
     def slack(self) -> float:
-        """``lambda_min(Q) - n_basis max|residual|``: positive means exactly SOS (see module docstring)."""
-        return self.min_eig - self.n_basis * self.max_residual
+        """The larger of ``lambda_min(Q) - n_basis max|residual|`` and ``lambda_min(Q + R) - n_basis
+        max|residual left|`` (the projected Gram matrix, see the class docstring): positive means exactly SOS."""
+        raw = self.min_eig - self.n_basis * self.max_residual
+        if not math.isfinite(self.projected_residual):
+            return raw
+        return max(raw, self.projected_min_eig - self.n_basis * self.projected_residual)
 
     @property
     def margin(self) -> float:
-        """``lambda_min(Q) / (n_basis max|residual|)``: ``> 1`` means exactly SOS."""
-        bound = self.n_basis * self.max_residual
-        if bound > 0:
-            return self.min_eig / bound
-        return float("inf") if self.min_eig > 0 else 0.0
+        """The larger of ``lambda_min(Q) / (n_basis max|residual|)`` and the same ratio of the projected Gram matrix:
+        ``> 1`` means exactly SOS."""
+        out = _ratio(self.min_eig, self.n_basis * self.max_residual)
+        if math.isfinite(self.projected_residual):
+            out = max(out, _ratio(self.projected_min_eig, self.n_basis * self.projected_residual))
+        return out
 
     @property
     def passed(self) -> bool:
@@ -634,8 +652,9 @@ class SOSProgram:
         c1 = math.sqrt(sum(c * c for e, c in unreached.items() if sum(e) == 1))
         linear = {tuple(int(k == i) for k in range(self.nvars)) for i in range(self.nvars)}
         shift = max((shifts[u] for u in _unknowns_of(expr) if u in shifts), default=0.0)
+        pmin, pres = _projected(us, res) if math.isfinite(r) else (-math.inf, math.inf)
         return GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift, (c0, c1),
-                         linear <= set(basis))
+                         linear <= set(basis), pmin, pres)
 
     def _cancel_unreached(self, name: str, expr: Any, us: list[Unknown],
                           mult: Mapping[Unknown, np.ndarray]) -> dict[Unknown, np.ndarray] | None:
@@ -691,6 +710,49 @@ def _gram_residual(expr: Any, us: list[Unknown],
         res = res - u.poly()
     basis = [b for u in us for b in u.basis]
     return res, basis, _pair_sums(basis, distinct=False)
+
+
+def _projected(us: list[Unknown], res: Poly) -> tuple[float, float]:
+    """``(lambda_min(Q + R), max|residual left|)`` for the Gram blocks ``us`` (block diagonal ``Q`` on their joint
+    basis) and the residual ``res = expr - m^T Q m``: ``R_ij = r_a / n_a`` on the ``n_a`` ordered pairs of the joint
+    basis with ``b_i + b_j = a`` (:class:`GramCheck`, projection). ``R`` may couple blocks. The residual left is
+    computed, not assumed: ``|r_a - sum R_ij|`` (rounding) and ``|r_a|`` where no pair reaches ``a``."""
+    basis = [b for u in us for b in u.basis]
+    n = len(basis)
+    if n == 0:
+        return math.inf, res.max_abs_coefficient()
+    Q = np.zeros((n, n))
+    k = 0
+    for u in us:
+        B = u.value()
+        m = len(u.basis)
+        Q[k:k + m, k:k + m] = 0.5 * (B + B.T)
+        k += m
+    index: dict[Exp, int] = {}
+    E = np.empty((n, n), dtype=int)
+    for i in range(n):
+        for j in range(i, n):
+            e = tuple(a + b for a, b in zip(basis[i], basis[j], strict=True))
+            E[i, j] = E[j, i] = index.setdefault(e, len(index))
+    r = np.zeros(len(index))
+    left = 0.0
+    for e, c in res.terms.items():
+        at = index.get(e)
+        if at is None:
+            left = max(left, abs(c))
+        else:
+            r[at] = c
+    counts = np.bincount(E.ravel(), minlength=len(index))
+    R = (r / counts)[E]
+    after = np.abs(r - np.bincount(E.ravel(), weights=R.ravel(), minlength=len(index)))
+    return float(np.linalg.eigvalsh(Q + R)[0]), max(left, float(np.max(after, initial=0.0)))
+
+
+def _ratio(eig: float, bound: float) -> float:
+    """``eig / bound``; ``inf`` (``eig > 0``) or 0 for a zero bound."""
+    if bound > 0:
+        return eig / bound
+    return float("inf") if eig > 0 else 0.0
 
 
 def _unknowns_of(expr: Any) -> list[Unknown]:
