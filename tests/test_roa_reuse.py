@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 import glidectl as gc
 from glidectl.batch import _inverse
-from glidectl.roa import Poly, polynomial_system
+from glidectl.roa import Poly, polynomial_system, sector_system
 from glidectl.roa import certify as C
 from glidectl.roa.polynomial import field_evaluator
 
@@ -212,6 +212,25 @@ def test_contains_with_cuts_and_angles_equals_the_full_loop():
         assert 0 < ref.sum() < len(X)
         assert np.array_equal(C._contains(ps, V, rho, X), ref)
         assert np.array_equal(C._PathPoints(ps, X).contains(V, rho), ref)
+
+
+def test_contains_on_a_saturated_surrogate_system_in_batches_equals_the_full_loop(monkeypatch):
+    """Same on the chapter-6 buoyancy loop's saturation system (surrogate plant; the lift computes the saturated
+    input from ``K x``), with the segment points evaluated in batches of several sizes (``_PATH_BATCH``)."""
+    sph = gc.load_vehicle("sphere_ch5")
+    sl = gc.saturated_loop(gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)))
+    ps = sector_system(sl, method="surrogate")
+    V = C.lyapunov_quadratic(ps)
+    lo, hi = ps.box
+    x0 = np.asarray(ps.equilibrium, dtype=float)
+    X = x0 + 0.2 * (lo + (hi - lo) * np.random.default_rng(4).random((300, ps.n)) - x0)
+    vals = C._V_of(V, ps, X)
+    for rho in np.quantile(vals, [0.3, 0.7]):
+        ref = _contains_reference(ps, V, rho, X)
+        assert 0 < ref.sum() < len(X)
+        for batch in (1, 97, 10**6):
+            monkeypatch.setattr(C, "_PATH_BATCH", batch)
+            assert np.array_equal(C._contains(ps, V, rho, X), ref), (rho, batch)
 
 
 # ------------------------------------------------------------------------------------------- integrator
