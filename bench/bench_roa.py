@@ -82,6 +82,15 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   65-95 s) is now the largest step; 3.6x the 60 s target. glider4 (beside CI, not timed end to end): volume 0.15527
   (>= the degree-2 0.154291: volume target met), about 116 s per degree-4 alternation alone (V step 62-74 s on the
   moment route, centering 45-60 s in Clarabel, level 8-15 s): about 8x the 60 s target.
+- ctol, glider2 and glider4, 2026-12-02 20:45-21:10 (eighth session, a fresh machine; ``OMP_NUM_THREADS=1``, two
+  single-threaded runs side by side): with the large programs centred by their capped level program
+  (``certify.CENTER_BY_LEVEL_MIN_BLOCK``) and the projected Gram check, ctol **175.5 s** (CPU 168.1 s), certified at
+  backoff 0.003, volume **0.002161**, against b8bdaf6's 330.0 s (CPU 320.3 s), volume 0.001941 on this machine (its
+  final margin failed at backoffs 0.003, 0.009 and 0.027 and passed at 0.081; the previous machine passed at 0.027
+  with 0.002069): ratio 0.53 in time, 1.11 in volume; 2.9x the 60 s target. glider2 unchanged: 0.1542909 (its
+  blocks are 49 x 49: Clarabel's centering stays). glider4: 520.3 s, volume 0.154598 (>= 0.154291); one degree-4
+  alternation is a V step of 66 s (moment route, 29 iterations), a level program of 13 s and its capped re-solve of
+  12 s: about 9x the 60 s target.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes

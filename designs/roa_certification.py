@@ -140,13 +140,17 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
     """Run every certification and comparison of the study: independent parts, on the build's workers
     (``glidectl report --jobs N``; serially otherwise), the longest first."""
     tasks: list[tuple[Settings, str, Any]] = []
+    if s.saturated:             # the saturated user glider's SOS path is the longest part (~5 min on one core)
+        tasks.append((s, "sat", "user_sat"))
     if s.ctol:
         tasks.append((s, "ctol", None))
+    if s.saturated:
+        tasks.append((s, "sat", "user_unsat"))
     tasks += [(s, "full", KM) for KM in s.full_KM]
     if s.torque_speed is not None:
         tasks.append((s, "torque", s.torque_speed))
     if s.saturated:
-        tasks += [(s, "sat", "user"), (s, "sat", "ch6")]
+        tasks += [(s, "sat", "buoyancy"), (s, "sat", "elevator")]
     tasks += [(s, "reduced", None), (s, "vdp", None)]
     if s.saturated:
         tasks.append((s, "sat", "poly"))
@@ -525,6 +529,10 @@ def _report(res: _Results) -> Report:
 
 
 # --------------------------------------------------------------------------------------------- saturated loops
+SAT_CASES = ("user_unsat", "user_sat", "buoyancy", "elevator")
+"""The saturated loops of the report, in its order (one part of :func:`_saturated_part` each)."""
+
+
 def _user_glider_loop() -> Any:
     """The LQR dive-cycle loop of the user glider (designs/slocum_dive_cycle.py, issue 16): slocum_shallow, the
     0.35 m/s, -25 deg leg, gc.lqr_glide with acceleration inputs (w1, w3, w4; r_P3 fixed by the vehicle file)."""
@@ -612,38 +620,42 @@ def _saturation_reach(cert: Any) -> float | None:
 
 
 def _saturated_part(s: Settings, which: str) -> tuple[str, Any, float]:
-    """One part of the saturated-loop section: ``"user"`` (the user glider's LQR dive-cycle loop, unsaturated and
-    saturated), ``"ch6"`` (the chapter-6 buoyancy and elevator loops, LMI path) or ``"poly"`` (the SOS path with the
-    saturation graph against the LMI path on a polynomial loop). Returns ``(which, result, wall time)``."""
+    """One part of the saturated-loop section: one of :data:`SAT_CASES` (``"user_unsat"``, ``"user_sat"``: the user
+    glider's LQR dive-cycle loop without and with its pump saturation; ``"buoyancy"``, ``"elevator"``: the
+    chapter-6 loops, pump rate saturated), each by the LMI path and, if in ``s.sat_sos_cases``, the SOS path; or
+    ``"poly"`` (the SOS path with the saturation graph against the LMI path on a polynomial loop). One part per
+    loop, so that the build's workers run them side by side. Returns ``(which, result, wall time)``."""
     kw = dict(rounds=s.sat_rounds, n_radii=s.sat_n_radii, refine=s.sat_refine)
     t0 = time.perf_counter()
-    cases: dict[str, Any] = {}
-    if which == "user":
+    if which in ("user_unsat", "user_sat"):
         loop = _user_glider_loop()
-        inf = [math.inf] * len(loop.plant.input_names)
         ukw = dict(kw, rounds=s.sat_user_rounds)
-        cases["user_unsat"] = _sat_case("user glider LQR, unsaturated", gc.saturated_loop(
-            loop, u_min=[-x for x in inf], u_max=inf), ukw, s, ("theta", "m0"))
-        cases["user_sat"] = _sat_case("user glider LQR, pump saturated", gc.saturated_loop(loop), ukw, s,
-                                      ("theta", "m0"))
-        # the SOS path: the closed loop itself (no saturating channel), and the saturated loop
-        for key, system in (("user_unsat", loop), ("user_sat", cases["user_sat"]["loop"])):
-            if key in s.sat_sos_cases:
-                cases[key]["sos"] = _sos_case(system, cases[key]["cert"], s)
-        return which, cases, time.perf_counter() - t0
-    if which == "ch6":
-        sph = gc.load_vehicle("sphere_ch5")
-        beq = gc.buoyancy_equilibrium(sph, 1.5)
-        ev = gc.load_vehicle("elevator_ch6")
-        eeq = gc.elevator_equilibrium(ev, 1.0, -math.pi / 4)
-        for key, cl, dims in (("buoyancy", gc.closed_loop(gc.BuoyancyController(beq, sph, 5.0)), ("V", "m0")),
-                              ("elevator", gc.closed_loop(gc.ElevatorBuoyancyController(eeq, ev, 1.0)),
-                               ("gamma", "m0"))):
-            sl = gc.saturated_loop(cl)
-            cases[key] = _sat_case(f"chapter-6 {key} loop, pump rate saturated", sl, kw, s, dims)
-            if key in s.sat_sos_cases:      # the SOS path: the saturation graph and a surrogate of the plant
-                cases[key]["sos"] = _sos_case(sl, cases[key]["cert"], s)
-        return which, cases, time.perf_counter() - t0
+        if which == "user_unsat":
+            inf = [math.inf] * len(loop.plant.input_names)
+            case = _sat_case("user glider LQR, unsaturated", gc.saturated_loop(
+                loop, u_min=[-x for x in inf], u_max=inf), ukw, s, ("theta", "m0"))
+            system = loop           # the SOS path: the closed loop itself (no saturating channel)
+        else:
+            case = _sat_case("user glider LQR, pump saturated", gc.saturated_loop(loop), ukw, s, ("theta", "m0"))
+            system = case["loop"]
+        if which in s.sat_sos_cases:
+            case["sos"] = _sos_case(system, case["cert"], s)
+        return which, {which: case}, time.perf_counter() - t0
+    if which in ("buoyancy", "elevator"):
+        if which == "buoyancy":
+            sph = gc.load_vehicle("sphere_ch5")
+            cl = gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0))
+            dims = ("V", "m0")
+        else:
+            ev = gc.load_vehicle("elevator_ch6")
+            cl = gc.closed_loop(gc.ElevatorBuoyancyController(gc.elevator_equilibrium(ev, 1.0, -math.pi / 4), ev,
+                                                              1.0))
+            dims = ("gamma", "m0")
+        sl = gc.saturated_loop(cl)
+        case = _sat_case(f"chapter-6 {which} loop, pump rate saturated", sl, kw, s, dims)
+        if which in s.sat_sos_cases:      # the SOS path: the saturation graph and a surrogate of the plant
+            case["sos"] = _sos_case(sl, case["cert"], s)
+        return which, {which: case}, time.perf_counter() - t0
     poly = gc.SaturatedLoop("x1' = x2, x2' = x1 + 0.3 x1^2 + sat(-2 x1 - 2 x2)", ("x1", "x2"), ("u",), _poly_field,
                             np.zeros(2), np.array([[-2.0, -2.0]]), np.array([-1.0]), np.array([1.0]),
                             (-2.0 * np.ones(2), 2.0 * np.ones(2)))
@@ -662,9 +674,11 @@ def _poly_field(X: np.ndarray, W: np.ndarray) -> np.ndarray:
 
 
 def _saturated(parts: list[tuple[str, Any, float]]) -> dict[str, Any]:
-    """The saturated-loop section's results from its parts (:func:`_saturated_part`)."""
+    """The saturated-loop section's results from its parts (:func:`_saturated_part`), in the order of
+    :data:`SAT_CASES` whatever order the parts ran in."""
+    order = {k: i for i, k in enumerate((*SAT_CASES, "poly"))}
     out: dict[str, Any] = {"cases": {}, "timing": {}}
-    for which, value, wall in parts:
+    for which, value, wall in sorted(parts, key=lambda p: order[p[0]]):
         out["timing"][which] = wall
         if which == "poly":
             out["poly"] = value
