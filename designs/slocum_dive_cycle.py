@@ -47,9 +47,12 @@ class Settings:
     seed: int = 2026  # noise seed (same for every controller)
     envelope_speeds: tuple[float, float, int] = (0.05, 0.8, 76)  # m/s, linspace
     envelope_gammas_deg: tuple[float, float, int] = (-60.0, 60.0, 121)  # deg, linspace
-    #: s, budget of gc.certify_roa on the down leg's LQR loop (degree 2); the SOS route certifies this 8-state loop
-    #: in about 30 s on an idle machine (measured 2026-12-02); QUICK gives it 20 s and shows the budget answer
-    roa_time_limit: float = 120.0
+    #: s, budget of gc.certify_roa on the down leg's LQR loop (degree 2): a safety net, not a result. The SOS route
+    #: certifies this 8-state loop in about 30 s on an idle fast machine, 120 s on a slower one beside another run,
+    #: and in a FULL build beside the other designs a budget of 120 s was once exceeded (BudgetError in the final
+    #: verification, a certificate that another build had): the report must not depend on the machine's load
+    #: (measured 2026-12-02). QUICK gives it 20 s and shows the budget answer.
+    roa_time_limit: float = 900.0
 
 
 FULL = Settings()
