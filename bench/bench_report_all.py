@@ -18,6 +18,31 @@ Run from the project root::
     python bench/bench_report_all.py --full --no-total --baseline-src ../base/src   # before/after, same run
 
 Writes ``bench/results/report_all.json`` (``--tag`` adds a suffix: ``report_all_<tag>.json``).
+
+Measured 2026-12-02 (eighth session, a 2-core machine about 1.7 times slower than the one of the earlier notes), the
+README's main job cold, ``OMP_NUM_THREADS=1 PYTHONPATH=src /usr/bin/time -v python -m glidectl report all --no-cache
+--jobs 2 --out DIR`` in a checkout of each version, one after the other on the idle machine ("done in" per design,
+measured in its worker beside the others):
+
+=====================  ==========  ==========
+design                 b8bdaf6     cca7e35
+=====================  ==========  ==========
+ch2_longitudinal       31.4 s      20.7 s
+ch4_phugoid            12.8 s      10.2 s
+ch5_singular_pert.     28.9 s      30.5 s
+ch6_controllers        63.9 s      57.6 s
+ch7_ctol               200.8 s     181.1 s
+ch8_helix              106.8 s     106.4 s
+roa_certification      1053.8 s    868.8 s
+slocum_dive_cycle      265.0 s     293.2 s
+end to end (wall)      1063.1 s    875.2 s  (ratio 0.82)
+user CPU               1920.4 s    1651.9 s (0.86)
+peak RSS               2.60 GB     0.82 GB
+=====================  ==========  ==========
+
+The warm rebuild (nothing changed, every design a cache hit) took 4.8 s. The makespan is about the CPU time over
+the 2 cores, so only less CPU shortens it. Within roa_certification the CTOL certificate took 265.9 s against 535.7
+s, and the saturated user glider's SOS path is now the longest part (478.6 s in the build).
 """
 
 from __future__ import annotations
