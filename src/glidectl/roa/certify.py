@@ -899,10 +899,20 @@ def _from_scaled(V: Poly, k: np.ndarray) -> Poly:
 def _centers_by_level(prog: SOSProgram, solver: str) -> bool:
     """Whether the centering multiplier comes from the level program itself re-solved with ``rho <= (1 - center)
     rho*`` (its optimal face is the feasibility program's set; the solver returns a point inside it) instead of
-    the feasibility program by Clarabel: on the moment route, for a Gram block of order
+    the feasibility program by Clarabel: with the ``CVXOPT_MOMENT`` solver (which takes such a program on the
+    moment form when :func:`~glidectl.roa.sdp_solvers.moment_pays`) and a Gram block of order
     :data:`CENTER_BY_LEVEL_MIN_BLOCK` or more (see there)."""
     return solver == MOMENT and max((max(b, default=0) for b in prog.gram_sizes().values()), default=0) \
         >= CENTER_BY_LEVEL_MIN_BLOCK
+
+
+def _capped_centre(prog: SOSProgram, out: dict[str, Any], cap: Any, rho: float, center: float,
+                   solver: str) -> Poly:
+    """The multiplier of the level program ``prog`` (solved, with ``rho <= cap``) re-solved with its cap at
+    ``(1 - center) rho`` (:func:`_centers_by_level`)."""
+    cap.value = (1 - center) * rho
+    prog.resolve(solver=solver)
+    return out["lambda"].poly()
 
 
 def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: str, center: float,
@@ -928,9 +938,7 @@ def _level(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, solver: st
     t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0:
         if _centers_by_level(prog, solver):
-            cap.value = (1 - center) * rho
-            prog.resolve(solver=solver)
-            lam, prog2 = out["lambda"].poly(), prog
+            lam, prog2 = _capped_centre(prog, out, cap, rho, center, solver), prog
         else:
             prog2, out2 = _build(ps, F, degV, V=V, lam=None, rho=(1 - center) * rho, eps=0.0, extra=extra,
                                  cone=cone)
@@ -966,9 +974,7 @@ def _level_reused(ps: PolySystem, F: list[Poly], V: Poly, *, rho_cap: float, sol
     checks, status, lam = tuple(prog.check()), prog.status, out["lambda"].poly()
     t, tc, ts, n = prog.solve_time, prog.compile_time, prog.solver_time, 1
     if center > 0 and _centers_by_level(prog, solver):
-        cap.value = (1 - center) * rho
-        prog.resolve(solver=solver)
-        lam = out["lambda"].poly()
+        lam = _capped_centre(prog, out, cap, rho, center, solver)
         t, tc, ts, n = t + prog.solve_time, tc + prog.compile_time, ts + prog.solver_time, 2
     elif center > 0:
         key2 = ("center", degV, tuple(basis))
