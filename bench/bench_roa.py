@@ -91,6 +91,12 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   blocks are 49 x 49: Clarabel's centering stays). glider4: 520.3 s, volume 0.154598 (>= 0.154291); one degree-4
   alternation is a V step of 66 s (moment route, 29 iterations), a level program of 13 s and its capped re-solve of
   12 s: about 9x the 60 s target.
+- ctol and glider4, 2026-12-03 06:11-06:25 (ninth session, another machine, about 1.6x faster than the eighth's;
+  the same two runs side by side, abe1ee5 against a1b820c, the moment route's Schur complement from the rows of
+  each moment column): ctol CPU **134.0 s vs 165.3 s** (ratio 0.81; wall 292 s vs 324 s: two stray runs shared the
+  cores), the same path and volume **0.002124** (backoff 0.003 fails by rounding on this machine, 0.009 passes):
+  2.2x the 60 s target in CPU time. glider4 **336.7 s vs 393.6 s** (0.86; CPU 318.9 s vs 376.5 s), the same path,
+  volume 0.154601 (>= 0.154291); a degree-4 alternation (V step + level) 73 s against 86-96 s: 5.6x the target.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes
