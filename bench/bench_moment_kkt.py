@@ -10,9 +10,11 @@ Each (case, checkout) runs in its own subprocess, alternating, ``--repeats`` tim
 ``--calls`` KKT factorizations of the case's first moment-route program (``__call__``, which forms the Schur
 complement and factors it) and reports their median. The ratio is new over baseline (lower is faster).
 
-Measured 2026-12-03 (2-core machine, ``OMP_NUM_THREADS=1``), the CTOL first level (a 103 x 103 Gram block,
-m = 1740 moment variables, 628 equations): 0.417 s per KKT call at abe1ee5, 0.262 s with the row-grouped Schur
-complement, ``A'A`` formed once and ``A (H + A'A)^-1 A' = X'X`` from one triangular solve (ratio 0.63).
+Measured 2026-12-03 06:52 (2-core machine, ``OMP_NUM_THREADS=1``, ``--cases ctol --repeats 3 --baseline-src
+<checkout of abe1ee5>/src``), the CTOL first level (a 103 x 103 Gram block, m = 1740 moment variables, 628
+equations): **0.344 s per KKT call against 0.469 s (ratio 0.73)** with the row-grouped Schur complement and
+``A'A`` formed once. A variant that also formed ``A (H + A'A)^-1 A'`` as ``X'X`` (``X = L^-1 A'``, one triangular
+solve) reached 0.63 but changed where the CTOL margin programs stop (see ``_SparseKKT``) and was not kept.
 """
 from __future__ import annotations
 
