@@ -43,6 +43,29 @@ peak RSS               2.60 GB     0.82 GB
 The warm rebuild (nothing changed, every design a cache hit) took 4.8 s. The makespan is about the CPU time over
 the 2 cores, so only less CPU shortens it. Within roa_certification the CTOL certificate took 265.9 s against 535.7
 s, and the saturated user glider's SOS path is now the longest part (478.6 s in the build).
+
+Measured 2026-12-03 (ninth session, a machine about 1.6 times faster; its speed drifts by up to 30 % between runs,
+so the pair below ran side by side, both builds at once with ``--jobs 2``, 4 processes on 2 cores), abe1ee5 against
+a1b820c (the moment route's row-grouped Schur complement):
+
+=====================  ==========  ==========
+design                 abe1ee5     a1b820c
+=====================  ==========  ==========
+ch2_longitudinal       28.8 s      29.0 s
+ch4_phugoid            13.8 s      13.4 s
+ch5_singular_pert.     33.0 s      33.2 s
+ch6_controllers        62.1 s      66.0 s
+ch7_ctol               266.2 s     265.9 s
+ch8_helix              153.9 s     151.5 s
+slocum_dive_cycle      356.1 s     357.4 s
+roa_certification      1083.8 s    1054.3 s
+end to end (wall)      1092.2 s    1063.5 s (ratio 0.97)
+user CPU               1018.2 s    1000.9 s (0.98)
+=====================  ==========  ==========
+
+Every ledger number other than timings agreed to 1e-9 relative. Alone on the idle machine, abe1ee5 took 523.8 s
+(CPU 923 s) at 05:17 and main (636c432) 533.7 s (CPU 1005 s) at 07:17, when the untouched ch7 was 24 % slower;
+the warm rebuild took 3.1 s.
 """
 
 from __future__ import annotations
