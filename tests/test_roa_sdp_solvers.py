@@ -274,7 +274,7 @@ def test_solver_names_are_checked() -> None:
 def test_sparse_kkt_schur_complement_equals_the_dense_formula(monkeypatch: pytest.MonkeyPatch) -> None:
     """The row-grouped Schur complement of ``_SparseKKT`` (``S G_l S`` from the rows ``R_l`` of each column) equals
     ``H_kl = <G_k, S G_l S>`` (plus ``G_l' D^-2 G_l`` for the nonnegative rows) formed densely from ``G``, on the
-    moment form of a 56 x 56 SOS program whose columns have 1 to 21 rows, for random scalings."""
+    moment form of a 56 x 56 SOS program whose columns have 1 to 20 rows (10 groups), for random scalings."""
     made: list = []
     real = sdp._SparseKKT
 
