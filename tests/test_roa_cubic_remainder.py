@@ -153,6 +153,33 @@ def test_second_remainder_box_round_is_skipped_when_the_box_would_not_change():
     assert not any(h["step"].startswith("remainder-box round") for h in one.history)
     np.testing.assert_array_equal(two.box, one.box)
     assert two.rho == one.rho and two.V.terms == one.V.terms
+    # the first round's sampled checks ran after the round was skipped: the same as run at once
+    assert two.verification == one.verification and two.verification.n_sampled > 0
+
+
+def test_first_round_is_sampled_only_when_it_is_the_certificate_kept(monkeypatch: pytest.MonkeyPatch) -> None:
+    """With a second remainder-box round, the first round's sampling and simulations wait: when the second round
+    is kept (the whole box, no box search, on this loop) they never run; the second round's do, in full."""
+    from glidectl.roa import certify as ce
+
+    calls: list[int] = []
+    real = ce._verify
+
+    def counted(*a: object, **k: object) -> object:
+        calls.append(int(k["n_verify"]))
+        return real(*a, **k)
+
+    monkeypatch.setattr(ce, "_verify", counted)
+    cert = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, box_rounds=2, **OPTS)
+    steps = [h["step"] for h in cert.history if h["step"].startswith("remainder-box round")]
+    assert steps == ["remainder-box round 2: the box three times the extents of the certified set"]     # kept
+    assert calls == [OPTS["n_verify"]]
+    v = cert.verification
+    assert cert.certified and v.n_sampled > 0 and v.n_simulated == v.n_converged == OPTS["n_simulate"]
+    calls.clear()
+    one = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, box_rounds=1, **OPTS)
+    assert calls == [OPTS["n_verify"]] and one.certified
+    assert cert.volume(n=2**14) > one.volume(n=2**14)
 
 
 @settings(max_examples=30, deadline=None)

@@ -1757,10 +1757,7 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
     sampling = (f"sampling the certified set (n_verify = {n_verify} points) and checking the true dV/dt there",
                 "n_verify")
     x0 = ps.equilibrium
-    H = hessian(lambda X: _V_of(V, ps, X), x0)
-    A = _linearization(ps)
-    hmin = float(np.linalg.eigvalsh(H)[0])
-    lmax = float(np.linalg.eigvalsh(A.T @ H + H @ A)[-1])
+    hmin, lmax = _local_checks(ps, V)
     # sample the certified set (rejection from the system's box)
     lo, hi = ps.box
     rng = np.random.default_rng(seed)
@@ -1804,6 +1801,14 @@ def _verify(ps: PolySystem, V: Poly, rho: float, gram: tuple[GramCheck, ...], *,
                               f"raise time_limit, or lower {sims[1]} ({exc})") from exc
         conv = int(np.sum(res.converged_to(x0, 1e-3 * max(1.0, float(np.max(hi - lo))))))
     return ROAVerification(gram, hmin, lmax, int(Xs.shape[0]), max_vd, nsim, conv, horizon)
+
+
+def _local_checks(ps: PolySystem, V: Poly) -> tuple[float, float]:
+    """The checks of :class:`ROAVerification` at the equilibrium: the smallest eigenvalue of the Hessian ``H`` of
+    ``V(lift(x))`` there and the largest of ``A'H + HA`` (``A`` the linearization)."""
+    H = hessian(lambda X: _V_of(V, ps, X), ps.equilibrium)
+    A = _linearization(ps)
+    return float(np.linalg.eigvalsh(H)[0]), float(np.linalg.eigvalsh(A.T @ H + H @ A)[-1])
 
 
 def _default_horizon(ps: PolySystem) -> float:
@@ -1951,8 +1956,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Surrogate routes: rounds of certification (default 2; 1: one). After a certificate, the box is set to three
         times the extents of the certified set (clipped to the route's box), the surrogate is built on it and the
         alternation runs again from the certificate's ``V``; the new certificate is kept if it is certified and
-        larger (``history`` holds both rounds; a round stops early when the box would not change, the first is not
-        certified, or the time limit is reached).
+        larger (``history`` holds both rounds; a round stops early when the box would not change, the first fails
+        its Gram or local checks, or the time limit is reached). Without a ``time_limit``, the first round's sampled
+        checks and simulations (``n_verify``, ``n_simulate``) run only if it is the certificate returned.
 
     Returns
     -------
@@ -2072,9 +2078,14 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                              out_of_time=out_of_time)
         spent["remainder-box search"] = time.perf_counter() - t_stage
         full = full.with_free_box(ps.box) if full is not None else None
-    def run(ps: PolySystem, V0: Poly, full: _Full | None, t_solve: float) -> ROACertificate:
+    def run(ps: PolySystem, V0: Poly, full: _Full | None, t_solve: float,
+            verify: bool = True) -> tuple[ROACertificate, Callable[[], ROACertificate]]:
         """The alternation from ``V0`` on ``ps`` and its final certificate (a remainder-box round runs it again on
-        another box); ``t_solve`` is the SDP time spent before it."""
+        another box); ``t_solve`` is the SDP time spent before it. Returns the certificate and a function that
+        returns it verified (:func:`_verify`). With ``verify=False`` the certificate carries only the checks that
+        cost no sampling (Gram, Hessian, ``A'H + HA``; :attr:`ROACertificate.certified` is then False) and the
+        sampling and simulations run when that function is called: the first of several remainder-box rounds is
+        verified only if it is the one kept."""
         k = _scaling(ps)
         pss = _rescale(ps, k)
         F = _scaled(pss)
@@ -2227,22 +2238,37 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                             "rho": rho_c, "volume": math.nan, "sdp_time": 0.0})
             rho_c, gram, _ = margin_steps("CLARABEL")
         Vz = _from_scaled(V, k)
-        ver = _verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz, seed=seed,
-                      deadline=deadline if on_budget == "raise" else None)
         scale = k * (ps.scale if ps.scale is not None else 1.0)
-        return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree, tuple(history),
-                              ver, t_solve, time.perf_counter() - t_wall, ps.provenance, stopped_by, method=ps.method,
-                              scale=np.asarray(scale, dtype=float),
-                              held=() if full is None else tuple(full.names[i] for i in full.held))
+
+        def made(ver: ROAVerification) -> ROACertificate:
+            return ROACertificate(ps if full is None else _embed(ps, full), Vz, rho_c, fin_rho, Vz.degree,
+                                  tuple(history), ver, t_solve, time.perf_counter() - t_wall, ps.provenance,
+                                  stopped_by, method=ps.method, scale=np.asarray(scale, dtype=float),
+                                  held=() if full is None else tuple(full.names[i] for i in full.held))
+
+        def verified() -> ROACertificate:
+            return made(_verify(ps, Vz, rho_c, gram, n_verify=n_verify, n_simulate=n_simulate, horizon=hz,
+                                seed=seed, deadline=deadline if on_budget == "raise" else None))
+
+        if verify:
+            cert = verified()
+            return cert, lambda: cert
+        hmin, lmax = _local_checks(ps, Vz)
+        return made(ROAVerification(gram, hmin, lmax, 0, math.nan, 0, 0, hz)), verified
 
     def note(degree: int, step: str) -> None:
         history.append({"degree": degree, "step": step, "rho": math.nan, "volume": math.nan, "sdp_time": 0.0})
 
-    cert = run(ps, V0, full, 0.0)
-    for rnd in range(2, box_rounds + 1 if rebuild is not None else 0):
+    rounds = range(2, box_rounds + 1 if rebuild is not None else 0)
+    # the first round's sampling and simulations wait until it is known to be the certificate kept (a second
+    # round, verified in full, replaces it when larger); not under a time limit, which they could then exceed
+    pending = bool(rounds) and deadline.limit is None
+    cert, verify_first = run(ps, V0, full, 0.0, verify=not pending)
+    for rnd in rounds:
         # a remainder-box round: the box three times the extents of the certified set (clipped to the box of the
         # route), a surrogate on it, and the alternation again from the certificate's V; kept if larger
-        if not cert.certified or cert.stopped_by == "time_limit":
+        v1 = cert.verification
+        if not (v1.gram_passed and v1.hessian_V_min > 0 and v1.lyapunov_max < 0) or cert.stopped_by == "time_limit":
             break
         cur = cert.system if full is None else ps
         free = list(range(cur.n)) if full is None else list(full.free)
@@ -2256,14 +2282,16 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         try:
             ps2 = rebuild((blo, bhi))
             full2 = full.with_free_box((blo, bhi)) if full is not None else None
-            cert2 = run(ps2, _transport(cert.V, cur, ps2), full2, cert.solve_time)
+            cert2, _ = run(ps2, _transport(cert.V, cur, ps2), full2, cert.solve_time)
         except (BudgetError, SolverError, ModelError) as exc:
             note(cert.degree, f"remainder-box round {rnd} stopped: {exc}")
             break
         if not (cert2.certified and cert2.volume() > cert.volume()):
             note(cert.degree, f"remainder-box round {rnd} not kept (not certified or not larger)")
             break
-        cert, ps, full = cert2, ps2, full2
+        cert, ps, full, pending = cert2, ps2, full2, False
+    if pending:                                 # the first round is the certificate kept: its sampled checks
+        cert = verify_first()
     if len(history) > len(cert.history):        # the rounds that were tried, kept or not
         cert = dataclasses.replace(cert, history=tuple(history))
     return cert
