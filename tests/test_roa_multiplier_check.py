@@ -276,3 +276,44 @@ def test_the_projected_check_is_never_weaker_and_never_passes_a_negative_polynom
             assert good.passed
             proved_only_by_projection += good.min_eig - n * good.max_residual <= 0
     assert negative >= 10 and proved_only_by_projection >= 10, (negative, proved_only_by_projection)
+
+
+def _unreached_program(shared: bool = False) -> tuple[SOSProgram, object, object]:
+    """``1e-7 (1 + x^2) + psi x^3`` SOS on the half basis ``(1, x)`` (pairs reach 1, x, x^2, not x^3), ``psi`` a
+    free constant (an equality multiplier): exactly SOS only with ``psi = 0``. The values are set as a solver would
+    leave them: the exact Gram matrix ``1e-7 I`` and ``psi = 1e-6``, a residual on the unreached ``x^3`` that the
+    check counts whole. With ``shared``, ``psi`` also enters a second constraint."""
+    x = Poly.variables(1)[0]
+    prog = SOSProgram(1)
+    psi_u, psi = prog.free_poly("psi", [(0,)])
+    (g,) = prog.add_sos("p", LinPoly(1e-7 * (1.0 + x**2)) + psi * x**3, monomials(1, 1))
+    if shared:
+        for g2 in prog.add_sos("q", LinPoly(1.0 + x**2) + psi * x**2, monomials(1, 1)):    # exact Gram blocks
+            g2.var.value = np.diag([{(0,): 1.0, (1,): 1.0 + 1e-6}[tuple(b)] for b in g2.basis])
+    g.var.value = 1e-7 * np.eye(2)
+    psi_u.var.value = np.array([1e-6])
+    return prog, psi_u, g
+
+
+def test_polish_cancels_a_residual_no_gram_entry_reaches():
+    """A final check's polish (``check(polish=True)``) moves the free multiplier to cancel the residual on the
+    monomial no Gram pair reaches: the check that failed (slack ``1e-7 - 2e-6 < 0``) passes, with the residual left
+    at rounding; the plain check leaves the solver's values as they were."""
+    prog, psi_u, _ = _unreached_program()
+    (plain,) = prog.check()
+    assert not plain.passed and plain.projected_residual == pytest.approx(1e-6, rel=1e-12)
+    assert psi_u.var.value[0] == 1e-6                      # untouched
+    (pol,) = prog.check(polish=True)
+    assert pol.passed and pol.projected_residual < 1e-20 and pol.min_eig == pytest.approx(1e-7, rel=1e-12)
+    assert abs(psi_u.var.value[0]) < 1e-20
+    _, expr, grams = prog.sos_constraints[0]
+    left = expr.value() - sum((g.poly() for g in grams), Poly({}, 1))
+    assert left.max_abs_coefficient() < 1e-20              # the identity holds with the polished values
+
+
+def test_polish_leaves_a_multiplier_that_another_constraint_uses():
+    """``psi`` enters a second constraint: changing it would change that one too, so the polish does not touch it
+    and the failing check stays failed (nothing is assumed)."""
+    prog, psi_u, _ = _unreached_program(shared=True)
+    chk = prog.check(polish=True)
+    assert not chk[0].passed and psi_u.var.value[0] == 1e-6

@@ -2198,8 +2198,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             history.append({"degree": V.degree, "step": f"final SOS level ({inner} level 1)", "rho": lvs.rho,
                             "volume": vol(V), "sdp_time": lvs.solve_time, "compile_time": lvs.compile_time,
                             "solver_time": lvs.solver_time})
-        # the largest Gram eigenvalue margin at rho_c; if rounding leaves it below the coefficient residuals, back off
-        # further (x3, at most 3 times) and re-solve the same compiled program (rho_c is a cvxpy Parameter)
+        # the largest Gram eigenvalue margin at rho_c, checked with the residual on monomials no Gram pair reaches
+        # cancelled by the free multipliers first (check(polish=True)); if rounding still leaves the margin below
+        # the coefficient residuals, back off further (x3, at most 3 times) and re-solve the same compiled program
+        # (rho_c is a cvxpy Parameter)
         prog, outf = _build(pss, F, _even_up(V.degree), V=V, lam=None, rho=None, eps=0.0, extra=ex, margin=True)
         rho_p = cp.Parameter(nonneg=True)
         prog.constraints.append(outf["rho"].var == rho_p)
@@ -2215,7 +2217,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 else:
                     prog.resolve(solver=fin_solver)
                 t_solve += prog.solve_time
-                checks_ = tuple(prog.check())
+                checks_ = tuple(prog.check(polish=True))
                 rad = max((c.radius for c in checks_ if c.name == "decrease"), default=0.0)
                 gram = checks_ + _local_robust(outf.get("W"), pss, rad)
                 history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}{tag}", "rho": rho_c,

@@ -605,7 +605,7 @@ class SOSProgram:
             out[u] = (Q + delta * np.eye(len(Q)) if delta > 0 else Q, delta)
         return out
 
-    def check(self) -> list[GramCheck]:
+    def check(self, polish: bool = False) -> list[GramCheck]:
         """Gram eigenvalues against coefficient residuals for every SOS constraint (:class:`GramCheck`).
 
         With a block-diagonal Gram matrix, ``min_eig`` is the smallest eigenvalue over the blocks and ``n_basis``
@@ -613,7 +613,15 @@ class SOSProgram:
         unreduced basis reaches but the reduced one does not cannot be absorbed: it counts as an infinite residual
         (the reduction never makes a certificate pass that the unreduced program would fail). The constraints are
         evaluated with every SOS multiplier made exactly SOS (:meth:`multiplier_values`): a check that passes
-        holds for multipliers that are SOS, not only for the solver's approximately SOS ones."""
+        holds for multipliers that are SOS, not only for the solver's approximately SOS ones.
+
+        With ``polish``, a constraint that fails also gets the residual on every monomial its half basis does not
+        reach cancelled by its own free unknowns (:meth:`_cancel_unreached` at every degree, not only 0 and 1), and
+        the check of the corrected values is kept if its slack is larger: the solver leaves such residuals at its
+        tolerance, and no Gram entry can absorb them (the projected check counts them whole). This changes the
+        values of those unknowns (the equality multipliers ``psi_j``, a free ``lambda``), so it is for a final
+        check, whose unknowns feed nothing else (``certify_roa``'s final margin), not for the alternation's level
+        programs, whose ``lambda`` steers the next V step."""
         found = self._multipliers()
         mult = {u: Q for u, (Q, _) in found.items()}
         shifts = {u: d for u, (_, d) in found.items()}
@@ -627,6 +635,15 @@ class SOSProgram:
                     if chk2.radius < chk.radius:
                         chk = chk2
                     else:                       # no better: the solver's values stand
+                        for u, v in saved.items():
+                            u.var.value = v
+            if polish and not chk.passed:
+                saved = self._cancel_unreached(name, expr, us, mult, max_degree=None)
+                if saved:
+                    chk2 = self._check_one(name, expr, us, mult, shifts)
+                    if chk2.slack > chk.slack and chk2.radius <= chk.radius:
+                        chk = chk2
+                    else:
                         for u, v in saved.items():
                             u.var.value = v
             out.append(chk)
@@ -656,10 +673,11 @@ class SOSProgram:
         return GramCheck(name, nb, min(mins, default=math.inf if nb == 0 else 0.0), r, shift, (c0, c1),
                          linear <= set(basis), pmin, pres)
 
-    def _cancel_unreached(self, name: str, expr: Any, us: list[Unknown],
-                          mult: Mapping[Unknown, np.ndarray]) -> dict[Unknown, np.ndarray] | None:
-        """Cancel the residual on monomials of degree 0 and 1 that no pair of the half basis reaches, with the free
-        unknowns that only this constraint uses (the equality multipliers ``psi_j`` of the decrease condition).
+    def _cancel_unreached(self, name: str, expr: Any, us: list[Unknown], mult: Mapping[Unknown, np.ndarray],
+                          max_degree: int | None = 1) -> dict[Unknown, np.ndarray] | None:
+        """Cancel the residual on monomials of degree 0 and 1 (up to ``max_degree``; None: every degree) that no
+        pair of the half basis reaches, with the free unknowns that only this constraint uses (the equality
+        multipliers ``psi_j`` of the decrease condition).
 
         The solver leaves such residuals at its tolerance (for example ``lambda dV/dt`` and ``psi_j(0) h_j`` both
         have a term in ``1 - cos x``, which must cancel exactly); no Gram entry can absorb them, so they would
@@ -676,7 +694,8 @@ class SOSProgram:
         if not free:
             return None
         res, _, reach = _gram_residual(expr, us, mult)
-        low = sorted(e for e, c in res.terms.items() if e not in reach and sum(e) <= 1 and c != 0.0)
+        top = math.inf if max_degree is None else max_degree
+        low = sorted(e for e, c in res.terms.items() if e not in reach and sum(e) <= top and c != 0.0)
         if not low:
             return None
         row = {e: i for i, e in enumerate(low)}
