@@ -97,6 +97,13 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   cores), the same path and volume **0.002124** (backoff 0.003 fails by rounding on this machine, 0.009 passes):
   2.2x the 60 s target in CPU time. glider4 **336.7 s vs 393.6 s** (0.86; CPU 318.9 s vs 376.5 s), the same path,
   volume 0.154601 (>= 0.154291); a degree-4 alternation (V step + level) 73 s against 86-96 s: 5.6x the target.
+- ctol and glider4, 2026-12-03 08:16-08:38 (tenth session, the ninth's machine; ``hist.py``: this module's
+  ``_model(case)`` through ``gc.certify_roa``, two single-threaded runs side by side, 4582c9b against 1bfa43c, the
+  final margin check with its unreached residual polished by the free multipliers): ctol **111.5 s vs 125.4 s**
+  (0.89; CPU 109.9 s vs 123.7 s), certified at backoff **0.003** (it failed there by a slack of -0.00049 and passed
+  at 0.009 before), volume **0.00216064** against 0.00212402; one margin SDP fewer, the rest the same path: 1.86x
+  the 60 s target. glider4 316.8 s vs 315.1 s, the same path and volume 0.154601 (its margin passed at 0.003
+  before): 5.3x the target.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,ctol] [--baseline-src DIR]``; writes

@@ -621,7 +621,18 @@ class SOSProgram:
         tolerance, and no Gram entry can absorb them (the projected check counts them whole). This changes the
         values of those unknowns (the equality multipliers ``psi_j``, a free ``lambda``), so it is for a final
         check, whose unknowns feed nothing else (``certify_roa``'s final margin), not for the alternation's level
-        programs, whose ``lambda`` steers the next V step."""
+        programs, whose ``lambda`` steers the next V step.
+
+        Parameters
+        ----------
+        polish : bool
+            Cancel the unreached residual of a failing constraint first (above); default False.
+
+        Returns
+        -------
+        list of GramCheck
+            One per SOS constraint, in the order of :attr:`sos_constraints`.
+        """
         found = self._multipliers()
         mult = {u: Q for u, (Q, _) in found.items()}
         shifts = {u: d for u, (_, d) in found.items()}
