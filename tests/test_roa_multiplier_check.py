@@ -317,3 +317,19 @@ def test_polish_leaves_a_multiplier_that_another_constraint_uses():
     prog, psi_u, _ = _unreached_program(shared=True)
     chk = prog.check(polish=True)
     assert not chk[0].passed and psi_u.var.value[0] == 1e-6
+
+
+def test_polish_leaves_an_unknown_a_constraint_of_the_caller_holds():
+    """A scalar ``rho`` that also reaches ``x^3`` but is held by a constraint of the caller (``rho == 0``: the fixed
+    level of a final margin program) is not moved: the whole correction goes to the free ``psi``. (Least squares
+    over both would split it, and the check would then prove the identity at another ``rho`` than the one held.)"""
+    x = Poly.variables(1)[0]
+    prog = SOSProgram(1)
+    psi_u, psi = prog.free_poly("psi", [(0,)])
+    rho_u, rho = prog.scalar("rho")
+    (g,) = prog.add_sos("p", LinPoly(1e-7 * (1.0 + x**2)) + psi * x**3 + rho * x**3, monomials(1, 1))
+    prog.constraints.append(rho_u.var == 0.0)
+    g.var.value = 1e-7 * np.eye(2)
+    psi_u.var.value, rho_u.var.value = np.array([1e-6]), np.array([0.0])
+    (chk,) = prog.check(polish=True)
+    assert chk.passed and rho_u.var.value[0] == 0.0 and abs(psi_u.var.value[0]) < 1e-20

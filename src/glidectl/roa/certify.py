@@ -2217,6 +2217,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
                 else:
                     prog.resolve(solver=fin_solver)
                 t_solve += prog.solve_time
+                outf["rho"].var.value = np.full(outf["rho"].var.shape, rho_c)    # the level checked: rho_c exactly
                 checks_ = tuple(prog.check(polish=True))
                 rad = max((c.radius for c in checks_ if c.name == "decrease"), default=0.0)
                 gram = checks_ + _local_robust(outf.get("W"), pss, rad)

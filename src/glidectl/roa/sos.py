@@ -409,6 +409,7 @@ class SOSProgram:
     problem: Any = None             # the cvxpy Problem of the last solve (resolve() re-solves it)
     full_bases: dict[str, list[Exp]] = field(default_factory=dict)   # add_sos half bases before reduction
     margin: Any = None      # optional cvxpy scalar t: Gram matrices of add_sos constraints satisfy Q >= t I
+    coefficient_rows: set[int] = field(default_factory=set, repr=False)    # ids of add_zero's constraints
     cone: str = "sos"       # Gram matrices PSD ("sos"), or SDD ("sdsos") / DD ("dsos") inner approximations
 
     def enable_margin(self, cap: float = 1.0) -> Any:
@@ -518,6 +519,7 @@ class SOSProgram:
             A = sps.csr_matrix((vals, (rows, cidx)), shape=(m, u.size))
             lhs = lhs + A @ u.flat
         self.constraints.append(lhs + b == 0)
+        self.coefficient_rows.add(id(self.constraints[-1]))
 
     def solve(self, objective: Any, *, solver: str = DEFAULT_SOLVER, **kw: Any) -> float:
         """Solve ``maximize/minimize objective`` (a cvxpy objective).
@@ -688,7 +690,8 @@ class SOSProgram:
                           max_degree: int | None = 1) -> dict[Unknown, np.ndarray] | None:
         """Cancel the residual on monomials of degree 0 and 1 (up to ``max_degree``; None: every degree) that no
         pair of the half basis reaches, with the free unknowns that only this constraint uses (the equality
-        multipliers ``psi_j`` of the decrease condition).
+        multipliers ``psi_j`` of the decrease condition) and that no other constraint of the program holds
+        (:attr:`constraints` beyond the coefficient equations: a fixed level ``rho``).
 
         The solver leaves such residuals at its tolerance (for example ``lambda dV/dt`` and ``psi_j(0) h_j`` both
         have a term in ``1 - cos x``, which must cancel exactly); no Gram entry can absorb them, so they would
@@ -701,7 +704,11 @@ class SOSProgram:
         if not isinstance(expr, LinPoly):
             return None
         others = {id(u) for n2, e2, _ in self.sos_constraints if n2 != name for u in _unknowns_of(e2)}
-        free = [u for u in expr.parts if not u.gram and id(u) not in others and u.var.value is not None]
+        # an unknown that a constraint of the caller's also holds (the level rho == rho_c of a final margin program,
+        # a cap rho <= c) is not free either: moving it would certify something other than what is reported
+        pinned = {id(v) for c in self.constraints if id(c) not in self.coefficient_rows for v in c.variables()}
+        free = [u for u in expr.parts if not u.gram and id(u) not in others and id(u.var) not in pinned
+                and u.var.value is not None]
         if not free:
             return None
         res, _, reach = _gram_residual(expr, us, mult)
