@@ -17,8 +17,9 @@ of the speed branch) in the same run:
 - ``ctol``: the CTOL closed loop of designs/roa_certification.py ``_ctol`` (``ClosedLoopCTOL(veh, gl, 10, 5)``,
   degree 2, 1 iteration): under 60 s with volume >= 0.00441.
 
-Every case reports wall time, total SDP time, the certified volume (``cert.volume(n=2**16)``), ``certified`` and,
-where the code records them, cvxpy compile and solver times summed over the history. ``--time-limit`` is passed to
+Every case reports wall time, total SDP time, the certified volume (``cert.volume(n=2**16)``), ``certified``,
+every step of ``cert.history`` (``history``: step, level, sampled volume, SDP time) and, where the code records
+them, cvxpy compile and solver times summed over the history. ``--time-limit`` is passed to
 ``certify_roa`` with ``on_budget="stop"`` (the best V so far is certified; 0 = none).
 ``cpu_s``: CPU time of the certification (less sensitive to the load than the wall time); the versions alternate
 run by run.
@@ -168,6 +169,9 @@ def worker(case: str, time_limit: float) -> dict:
         out["solver_s"] = float(sum(h.get("solver_time", 0.0) for h in hist))
     if case == "vdp":
         out["fraction_of_true"] = out["volume"] / gc.benchmarks.VAN_DER_POL_AREA
+    # the path: every step of the history (which backoff the final margin passed at, the rounds tried)
+    out["history"] = [{"degree": int(h["degree"]), "step": str(h["step"]), "rho": float(h["rho"]),
+                       "volume": float(h["volume"]), "sdp_s": float(h["sdp_time"])} for h in hist]
     return out
 
 
