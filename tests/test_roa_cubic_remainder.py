@@ -189,3 +189,16 @@ def test_quadratic_part_inverts_quadratic(n, seed):
     M = rng.normal(size=(n, n))
     p = Poly.quadratic(M) + Poly.const(1.5, n) + Poly.variables(n)[0] ** 3
     np.testing.assert_allclose(p.quadratic_part(), 0.5 * (M + M.T), rtol=1e-12, atol=1e-14)
+
+
+def test_unsampled_checks_gate_without_certifying():
+    """A verification with no samples yet (a first round waiting for its sampled checks) passes the unsampled checks
+    that gate a second round, and is not ``passed``; a failing local check fails both."""
+    from glidectl.roa.certify import ROAVerification
+
+    waiting = ROAVerification((), 1.0, -1.0, 0, float("nan"), 0, 0, 10.0)
+    assert waiting.unsampled_passed and not waiting.passed
+    assert not ROAVerification((), -1e-9, -1.0, 0, float("nan"), 0, 0, 10.0).unsampled_passed
+    assert not ROAVerification((), 1.0, 1e-9, 0, float("nan"), 0, 0, 10.0).unsampled_passed
+    done = ROAVerification((), 1.0, -1.0, 500, -0.3, 32, 32, 10.0)
+    assert done.unsampled_passed and done.passed

@@ -1137,9 +1137,15 @@ class ROAVerification:
         return all(c.passed for c in self.gram)
 
     @property
+    def unsampled_passed(self) -> bool:
+        """The checks that need no sampling pass: every Gram check, the Hessian of V positive definite and
+        ``A'H + HA`` negative definite (what gates a second remainder-box round of :func:`certify_roa`)."""
+        return bool(self.gram_passed and self.hessian_V_min > 0 and self.lyapunov_max < 0)
+
+    @property
     def passed(self) -> bool:
-        return bool(self.gram_passed and self.hessian_V_min > 0 and self.lyapunov_max < 0 and self.n_sampled > 0
-                    and self.max_Vdot < 0 and self.n_converged == self.n_simulated)
+        return bool(self.unsampled_passed and self.n_sampled > 0 and self.max_Vdot < 0
+                    and self.n_converged == self.n_simulated)
 
     @property
     def margins(self) -> dict[str, float]:
@@ -2270,8 +2276,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     for rnd in rounds:
         # a remainder-box round: the box three times the extents of the certified set (clipped to the box of the
         # route), a surrogate on it, and the alternation again from the certificate's V; kept if larger
-        v1 = cert.verification
-        if not (v1.gram_passed and v1.hessian_V_min > 0 and v1.lyapunov_max < 0) or cert.stopped_by == "time_limit":
+        if not cert.verification.unsampled_passed or cert.stopped_by == "time_limit":
             break
         cur = cert.system if full is None else ps
         free = list(range(cur.n)) if full is None else list(full.free)
