@@ -2122,7 +2122,14 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
         Pv = _PathPoints(pss, Xv)
 
         def vol(Vc: Poly) -> float:
-            return float(np.prod(hi - lo) * np.mean(Pv.contains(Vc, 1.0)))
+            """Volume of ``{V <= 1}`` in the box, chosen as ``ROACertificate.volume(method="auto")`` chooses: the
+            fraction of the Sobol points inside when at least MIN_SOBOL_HITS are, else the directed estimate (a thin
+            set holds a handful of the points or none: the Slocum loop's held none at every step, so no V step ever
+            counted as an improvement and its certificate was the starting V's)."""
+            inside = Pv.contains(Vc, 1.0)
+            if np.count_nonzero(inside) >= MIN_SOBOL_HITS or pss.held:
+                return float(np.prod(hi - lo) * np.mean(inside))
+            return _volume_directed(pss, Vc, 1.0, lo, hi, -(-len(inside) // _DIRECTED_PER_SOBOL), seed)[0]
 
         cur_vol = vol(V)
         best = (cur_vol, V)
