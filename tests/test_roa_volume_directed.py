@@ -22,7 +22,7 @@ import glidectl as gc
 from glidectl.analysis.measure import MIN_SOBOL_HITS
 from glidectl.errors import ArgumentError
 from glidectl.roa import Poly, polynomial_system
-from glidectl.roa.certify import ROACertificate, ROAVerification, _volume_directed
+from glidectl.roa.certify import ROACertificate, ROAVerification, _PathPoints, _sobol, _step_volume, _volume_directed
 
 
 def _system(n: int, lo, hi):
@@ -76,6 +76,33 @@ def test_thin_8d_ellipsoid_sobol_is_zero_and_auto_is_exact():
     assert auto == pytest.approx(exact, rel=1e-9)
     assert cert.volume(n=2**14, method="directed") == auto
     assert cert.volume(n=2**12, seed=4) == pytest.approx(exact, rel=1e-9)
+
+
+def test_alternation_judges_a_thin_set_by_the_directed_estimate():
+    # certify_roa keeps the V step whose set is largest; a thin set holds none of its 8192 Sobol points, so by the
+    # Sobol fraction every step had volume 0 and none was ever kept (the user glider's unsaturated loop)
+    axes = np.array([1.0] + [0.05] * 7)
+    P = _rotated_P(axes, 3)
+    ps = _system(8, [-1.5] * 8, [1.5] * 8)
+    lo, hi = ps.box
+    pts = _PathPoints(ps, lo + (hi - lo) * _sobol(8, 2, 2**13))
+    V = Poly.quadratic(P)
+    assert not np.any(pts.contains(V, 1.0))
+    assert _step_volume(ps, pts, V, lo, hi, 0) == pytest.approx(_ellipsoid_volume(P, 1.0), rel=1e-9)
+    # a larger thin set is judged larger (with the Sobol fraction both were 0)
+    assert _step_volume(ps, pts, V * (1 / 1.2), lo, hi, 0) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
+                                                                             rel=1e-9)
+
+
+def test_alternation_keeps_the_sobol_fraction_on_a_fat_set():
+    cert = _fat_quartic()
+    ps = cert.system
+    lo, hi = ps.box
+    pts = _PathPoints(ps, lo + (hi - lo) * _sobol(2, 2, 2**13))
+    V = cert.V * (1 / cert.rho)
+    inside = pts.contains(V, 1.0)
+    assert np.count_nonzero(inside) >= MIN_SOBOL_HITS
+    assert _step_volume(ps, pts, V, lo, hi, 0) == float(np.prod(hi - lo) * np.mean(inside))
 
 
 def _cut_volume(ax: np.ndarray, clip: float) -> float:
