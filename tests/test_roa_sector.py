@@ -158,6 +158,23 @@ def test_bad_saturated_loops_are_refused():
         sector_system(lin, box_cuts=1)
 
 
+def test_certificate_times_cover_the_whole_call_and_rounds_not_kept():
+    """``wall_time`` and ``solve_time`` are those of the whole call: under a time limit the first round is verified
+    at once, and the second round (not kept on this loop) ran after that certificate was made; its SDPs, and the
+    remainder-box search's, are counted (solve_time is the sum of the history's SDP times)."""
+    import time
+
+    sl = _loop("sin", lambda X: np.stack([X[..., 1], np.sin(X[..., 0])], -1), K2, -1.0, 1.0, 2.0)
+    t0 = time.perf_counter()
+    cert = gc.certify_roa(sl, degree=2, time_limit=600.0, **SMALL)
+    wall = time.perf_counter() - t0
+    steps = [h["step"] for h in cert.history]
+    assert "remainder-box round 2 not kept (not certified or not larger)" in steps
+    assert any(s.startswith("remainder box r = ") for s in steps)
+    assert 0.97 * wall - 0.01 <= cert.wall_time <= wall
+    assert cert.solve_time == pytest.approx(sum(h["sdp_time"] for h in cert.history), rel=1e-12)
+
+
 def test_non_polynomial_plant_gets_a_surrogate_and_a_sound_certificate():
     """x1' = x2, x2' = sin(x1) + sat(-2 x1 - 2 x2): the plant does not recast, so the SOS path takes a surrogate of
     it in (x, v) with its remainder bound (method 'sos-sector+remainder'); the certificate holds on the saturated

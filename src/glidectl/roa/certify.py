@@ -1196,7 +1196,9 @@ class ROACertificate:
     verification : ROAVerification
         A-posteriori checks; ``certified`` is ``verification.passed``.
     solve_time : float
-        Total SDP solver time (s); ``wall_time`` includes building and verification.
+        Total SDP solver time (s); ``wall_time`` includes building and verification. Both are those of the whole
+        :func:`certify_roa` call, remainder-box rounds that were not kept included (the SDP time of a round stopped
+        by an error is not counted).
     provenance : str
         The system's provenance (its vehicle's parameter hash for recast glidectl models).
     stopped_by : str
@@ -2307,7 +2309,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
     # the first round's sampling and simulations wait until it is known to be the certificate kept (a second
     # round, verified in full, replaces it when larger); not under a time limit, which they could then exceed
     pending = bool(rounds) and deadline.limit is None
-    cert, verify_first = run(ps, V0, full, 0.0, verify=not pending)
+    searched = float(sum(h["sdp_time"] for h in history))     # the remainder-box search's level programs
+    cert, verify_first = run(ps, V0, full, searched, verify=not pending)
+    untaken = 0.0           # SDP time of rounds not kept (a round starts its count from the certificate's)
     for rnd in rounds:
         # a remainder-box round: the box three times the extents of the certified set (clipped to the box of the
         # route), a surrogate on it, and the alternation again from the certificate's V; kept if larger
@@ -2331,13 +2335,15 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int = 4, backoff: f
             break
         if not (cert2.certified and cert2.volume() > cert.volume()):
             note(cert.degree, f"remainder-box round {rnd} not kept (not certified or not larger)")
+            untaken += cert2.solve_time - cert.solve_time
             break
         cert, ps, full, pending = cert2, ps2, full2, False
     if pending:                                 # the first round is the certificate kept: its sampled checks
         cert = verify_first()
-    if len(history) > len(cert.history):        # the rounds that were tried, kept or not
-        cert = dataclasses.replace(cert, history=tuple(history))
-    return cert
+    # the rounds that were tried, kept or not, in the history, and in the times: a certificate made before a later
+    # round was tried (under a time limit, or one kept before a round that was not) would otherwise report its own
+    return dataclasses.replace(cert, history=tuple(history), solve_time=cert.solve_time + untaken,
+                               wall_time=time.perf_counter() - t_wall)
 
 
 # --------------------------------------------------------------------------------------------- routes (issue 17)
