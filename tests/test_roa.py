@@ -197,6 +197,11 @@ VDP = gc.benchmarks.van_der_pol()
     (ArgumentError, dict(degree=2, backoff=2.0)),
     (ArgumentError, dict(degree=2, backoff=float("nan"))),
     (ArgumentError, dict(degree=2, iterations=0)),
+    (ArgumentError, dict(degree=4, iterations=(3,))),          # one count per degree 2, 4
+    (ArgumentError, dict(degree=4, iterations=(3, 1, 1))),
+    (ArgumentError, dict(degree=4, iterations=(3, 0))),
+    (ArgumentTypeError, dict(degree=4, iterations=(3, 1.0))),
+    (ArgumentTypeError, dict(degree=4, iterations="31")),
     (ArgumentError, dict(degree=2, eps=0.0)),
     (ArgumentError, dict(degree=2, center=1.0)),
     (ArgumentError, dict(degree=2, n_truth=0)),
@@ -218,6 +223,19 @@ def test_certify_roa_checks_every_argument(exc, kwargs):
     with pytest.raises(exc):
         gc.certify_roa(VDP, **kwargs)
     assert time.perf_counter() - t0 < 2.0, "refused before any SDP"
+
+
+def test_iterations_per_degree():
+    """``iterations`` as one count per degree: at most that many V steps at each (fewer when two in a row do not
+    enlarge the set); one integer is the same count at every degree, with the same result."""
+    kw = dict(degree=4, n_truth=256, n_verify=2000, n_simulate=8)
+    staged = gc.certify_roa(VDP, iterations=(3, 1), **kw)
+    steps = [h["degree"] for h in staged.history if h["step"] == "V step + level"]
+    assert steps.count(4) == 1 and 1 <= steps.count(2) <= 3 and staged.certified
+    same = gc.certify_roa(VDP, iterations=(2, 2), **kw)
+    one = gc.certify_roa(VDP, iterations=2, **kw)
+    assert same.V.terms == one.V.terms and same.rho == one.rho
+    assert [h["step"] for h in same.history] == [h["step"] for h in one.history]
 
 
 def test_certify_roa_refuses_systems_it_cannot_certify():
