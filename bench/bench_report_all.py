@@ -91,6 +91,35 @@ Numbers that changed (``cmpnum.py``-style comparison of every ``numbers.json``, 
 certificate's, which now passes its final margin check at backoff 0.003 instead of 0.009:
 ``ctol_certified_volume`` 0.0021240 -> 0.0021606, ``ctol_ratio_to_theorem5`` 421893 -> 429167,
 ``ctol_fraction_of_true`` 0.001770 -> 0.001801. Inside the build, the CTOL part took 425.8 s against 482.2 s.
+
+Measured 2026-12-03 13:02-13:21 (eleventh session, the same machine), side by side in the same way, 34741c0 against
+b6358e3 (the alternation judges thin sets by the directed volume estimate; iterations per degree, which no design
+uses; the certificate's times). The designs it does not touch differ by the load alone (ch2 16.3 s against 36.1 s):
+
+=====================  ==========  ==========
+design                 34741c0     b6358e3
+=====================  ==========  ==========
+ch2_longitudinal       36.1 s      16.3 s
+ch4_phugoid            15.0 s      8.4 s
+ch5_singular_pert.     34.8 s      23.9 s
+ch6_controllers        91.5 s      78.1 s
+ch7_ctol               289.9 s     285.7 s
+ch8_helix              158.9 s     151.3 s
+slocum_dive_cycle      373.4 s     492.7 s
+roa_certification      1096.0 s    1121.5 s
+end to end (wall)      1104.7 s    1130.9 s (ratio 1.02)
+user CPU               1034.7 s    1085.3 s (1.05)
+peak RSS               0.80 GB     0.80 GB
+=====================  ==========  ==========
+
+Numbers that changed (every ``numbers.json``, 1e-9 *relative*; an absolute tolerance misses changes to volumes of
+1e-11): the user glider's unsaturated LQR loop, whose sets held no Sobol point, so that no V step had counted:
+``roa_lqr_volume`` (slocum_dive_cycle) 1.553e-12 -> 3.633e-11 and ``sat_user_unsat_sos_volume_ratio`` 854.3 ->
+19980.9; the saturated loop's first round now keeps its 4th V step, which changes the second round's box:
+``sat_user_sat_sos_volume_ratio`` 2059.1 -> 1922.2. The price is the extra V steps' path on those two loops: the
+slocum design +119 s and the unsaturated part of roa_certification +84 s in these loaded builds (the Slocum ROA
+alone: 82 s against 61 s). The same build of b6358e3's numbers (29223a0) alone at 11:46: **490.4 s** end to end, CPU
+916.1 s.
 """
 
 from __future__ import annotations
