@@ -522,7 +522,8 @@ def _check_iterations(iterations: Any, degree: int) -> tuple[int, ...]:
         If a count is below 1, or the sequence does not have one count per degree.
     """
     n = degree // 2
-    if isinstance(iterations, str) or not isinstance(iterations, Sequence | np.ndarray):
+    if not ((isinstance(iterations, Sequence) and not isinstance(iterations, str))
+            or (isinstance(iterations, np.ndarray) and iterations.ndim == 1)):
         return (checks.integer("iterations", iterations, lo=1),) * n
     its = tuple(checks.integer(f"iterations[{i}]", v, lo=1) for i, v in enumerate(iterations))
     if len(its) != n:
@@ -1934,8 +1935,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         One number for every degree, or one per degree 2, 4, ..., ``degree`` (the counts of degrees below that of
         the starting ``V`` go unused). The V steps of a low degree are much cheaper, and a ``V`` taken further
         there leaves less to do at the high degree: on the chapter-5 glider (4 states, ``K_M = -50``),
-        ``degree=4, iterations=(9, 1)`` certified a volume of 0.197 in about 80 s where ``iterations=4`` gives
-        0.155 in 290 s (``bench/bench_roa.py``, case ``glider4``).
+        ``degree=4, iterations=(9, 1)`` certified a volume of 0.197 in 109 s where ``iterations=4`` gives 0.155 in
+        322 s (``bench/bench_roa.py``, cases ``glider4_staged`` and ``glider4``, one run).
     backoff : float
         Certified level ``(1 - backoff) rho*``, ``backoff`` in ``[0, 1)``; tripled (up to 3 times, at most 0.25;
         from 0.01 when it is 0) when the Gram margins at that level do not exceed the coefficient residuals
