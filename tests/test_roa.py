@@ -202,6 +202,7 @@ VDP = gc.benchmarks.van_der_pol()
     (ArgumentError, dict(degree=4, iterations=(3, 0))),
     (ArgumentTypeError, dict(degree=4, iterations=(3, 1.0))),
     (ArgumentTypeError, dict(degree=4, iterations="31")),
+    (ArgumentTypeError, dict(degree=4, iterations=b"\x03\x01")),
     (ArgumentTypeError, dict(degree=4, iterations=np.array(3))),
     (ArgumentTypeError, dict(degree=4, iterations=[[3, 1]])),
     (ArgumentError, dict(degree=2, eps=0.0)),

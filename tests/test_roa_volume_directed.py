@@ -92,6 +92,9 @@ def test_alternation_judges_a_thin_set_by_the_directed_estimate():
     # a larger thin set is judged larger (with the Sobol fraction both were 0)
     assert _step_volume(ps, pts, V * (1 / 1.2), lo, hi, 0) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
                                                                              rel=1e-9)
+    # at another level (the history's final-margin rows): the same set
+    assert _step_volume(ps, pts, V, lo, hi, 0, rho=1.2) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
+                                                                          rel=1e-9)
 
 
 def test_alternation_keeps_the_sobol_fraction_on_a_fat_set():

@@ -522,7 +522,7 @@ def _check_iterations(iterations: Any, degree: int) -> tuple[int, ...]:
         If a count is below 1, or the sequence does not have one count per degree.
     """
     n = degree // 2
-    if not ((isinstance(iterations, Sequence) and not isinstance(iterations, str))
+    if not ((isinstance(iterations, Sequence) and not isinstance(iterations, str | bytes))
             or (isinstance(iterations, np.ndarray) and iterations.ndim == 1)):
         return (checks.integer("iterations", iterations, lo=1),) * n
     its = tuple(checks.integer(f"iterations[{i}]", v, lo=1) for i, v in enumerate(iterations))
@@ -1727,12 +1727,13 @@ def _sample_directed(ps: PolySystem, V: Poly, rho: float, n: int, seed: int, che
 _VOLUME_CHUNK = 4096     # directions per batch of _volume_directed (bounds memory; the result does not depend on it)
 
 
-def _step_volume(ps: PolySystem, points: _PathPoints, V: Poly, lo: np.ndarray, hi: np.ndarray, seed: int) -> float:
-    """Volume of ``{V <= 1}`` in the box ``[lo, hi]`` by which the alternation of :func:`certify_roa` judges a step,
-    chosen as :meth:`ROACertificate.volume` ``(method="auto")`` chooses: ``prod(hi - lo)`` times the fraction of the
-    fixed Sobol ``points`` inside when at least ``MIN_SOBOL_HITS`` of them are (or when the system holds states:
-    the directed estimate integrates over the free ones), else the directed estimate (:func:`_volume_directed`,
-    ``ceil(N / 16)`` directions for ``N`` points, seeded: common random numbers from step to step).
+def _step_volume(ps: PolySystem, points: _PathPoints, V: Poly, lo: np.ndarray, hi: np.ndarray, seed: int,
+                 rho: float = 1.0) -> float:
+    """Volume of ``{V <= rho}`` in the box ``[lo, hi]`` by which the alternation of :func:`certify_roa` judges a step
+    (and its history records the final level), chosen as :meth:`ROACertificate.volume` ``(method="auto")`` chooses:
+    ``prod(hi - lo)`` times the fraction of the fixed Sobol ``points`` inside when at least ``MIN_SOBOL_HITS`` of
+    them are, else the directed estimate (:func:`_volume_directed`, ``ceil(N / 16)`` directions for ``N`` points,
+    with the same seeded Gaussian draws at every step; the directions also depend on each V's Hessian).
 
     A thin set holds a handful of the points or none. The user glider's unsaturated LQR loop (8 free states) held
     none at every step, so no V step ever counted as an improvement and its certificate was the starting V's
@@ -1741,7 +1742,8 @@ def _step_volume(ps: PolySystem, points: _PathPoints, V: Poly, lo: np.ndarray, h
     Parameters
     ----------
     ps : PolySystem
-        The (scaled) system of the alternation; its box contains the equilibrium.
+        The (scaled) system of the alternation, in its free states (it holds none); its box contains the
+        equilibrium.
     points : _PathPoints
         The fixed Sobol points of the box, with their segment points cached.
     V : Poly
@@ -1750,16 +1752,18 @@ def _step_volume(ps: PolySystem, points: _PathPoints, V: Poly, lo: np.ndarray, h
         The box.
     seed : int
         Seed of the directions.
+    rho : float
+        The level.
 
     Returns
     -------
     float
         The volume, in the units of ``ps``'s states.
     """
-    inside = points.contains(V, 1.0)
-    if np.count_nonzero(inside) >= MIN_SOBOL_HITS or ps.held:
+    inside = points.contains(V, rho)
+    if np.count_nonzero(inside) >= MIN_SOBOL_HITS:
         return float(np.prod(hi - lo) * np.mean(inside))
-    return _volume_directed(ps, V, 1.0, lo, hi, -(-len(inside) // _DIRECTED_PER_SOBOL), seed)[0]
+    return _volume_directed(ps, V, rho, lo, hi, -(-len(inside) // _DIRECTED_PER_SOBOL), seed)[0]
 
 
 def _volume_directed(ps: PolySystem, V: Poly, rho: float, lo: np.ndarray, hi: np.ndarray, n: int, seed: int,
@@ -2120,7 +2124,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
             parts.append(f"{len(v_steps)} V step(s) with their level problems, {max(v_steps):.1f} s at most each")
             per = max(v_steps)
             need = sum(spent.values()) + per * sum(its) + per
-            est = (f"degree {degree} with iterations = {iterations} needs about {need:.0f} s before the final "
+            shown = its if len(set(its)) > 1 else its[0]
+            est = (f"degree {degree} with iterations = {shown} needs about {need:.0f} s before the final "
                    f"verification: raise time_limit to that, or lower iterations (or degree)")
         else:
             est = "no V step finished within the limit: raise time_limit, or lower degree or n_truth"
@@ -2293,7 +2298,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                 rad = max((c.radius for c in checks_ if c.name == "decrease"), default=0.0)
                 gram = checks_ + _local_robust(outf.get("W"), pss, rad)
                 history.append({"degree": V.degree, "step": f"final margin at backoff {bo:g}{tag}", "rho": rho_c,
-                                "volume": float(np.prod(hi - lo) * np.mean(Pv.contains(V, rho_c))),
+                                "volume": _step_volume(pss, Pv, V, lo, hi, seed, rho_c),
                                 "sdp_time": prog.solve_time, "compile_time": prog.compile_time,
                                 "solver_time": prog.solver_time})
                 if all(c.passed for c in gram) or bo >= 0.25 or i == 3:
