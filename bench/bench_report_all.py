@@ -118,8 +118,8 @@ Numbers that changed (every ``numbers.json``, 1e-9 *relative*; an absolute toler
 19980.9; the saturated loop's first round now keeps its 4th V step, which changes the second round's box:
 ``sat_user_sat_sos_volume_ratio`` 2059.1 -> 1922.2. The price is the extra V steps' path on those two loops: the
 slocum design +119 s and the unsaturated part of roa_certification +84 s in these loaded builds (the Slocum ROA
-alone: 82 s against 61 s). A build of 29223a0 (the directed step volume; the same numbers as b6358e3) alone at 11:46: **490.4 s**
-end to end, CPU 916.1 s.
+alone: 82 s against 61 s). A build of 29223a0 (the directed step volume; the same numbers as b6358e3) alone at
+11:46: **490.4 s** end to end, CPU 916.1 s.
 """
 
 from __future__ import annotations
