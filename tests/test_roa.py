@@ -235,6 +235,10 @@ def test_iterations_per_degree():
     staged = gc.certify_roa(VDP, iterations=(3, 1), **kw)
     steps = [h["degree"] for h in staged.history if h["step"] == "V step + level"]
     assert steps.count(4) == 1 and 1 <= steps.count(2) <= 3 and staged.certified
+    # the counts are taken in the order of the degrees (a reversed lookup would run three quadratic steps here)
+    rev = gc.certify_roa(VDP, iterations=(1, 3), **kw)
+    steps = [h["degree"] for h in rev.history if h["step"] == "V step + level"]
+    assert steps.count(2) == 1 and 1 <= steps.count(4) <= 3 and steps[0] == 2
     same = gc.certify_roa(VDP, iterations=(2, 2), **kw)
     one = gc.certify_roa(VDP, iterations=2, **kw)
     assert same.V.terms == one.V.terms and same.rho == one.rho

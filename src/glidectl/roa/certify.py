@@ -1747,13 +1747,13 @@ def _step_volume(ps: PolySystem, points: _PathPoints, V: Poly, lo: np.ndarray, h
     points : _PathPoints
         The fixed Sobol points of the box, with their segment points cached.
     V : Poly
-        The candidate; the set is ``{V <= 1}``.
+        The candidate; the set is ``{V <= rho}``.
     lo, hi : ndarray, shape (n,)
         The box.
     seed : int
         Seed of the directions.
     rho : float
-        The level.
+        The level (1 for the alternation's steps, whose V is normalized by its level).
 
     Returns
     -------
