@@ -19,6 +19,7 @@ so the user glider runs 2 rounds of the remainder-box search (``sat_user_rounds`
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -29,7 +30,7 @@ import numpy as np
 from scipy.stats import qmc
 
 import glidectl as gc
-from glidectl.report import BHATTA_2006, Report, map_parts, new_figure, run_script
+from glidectl.report import BHATTA_2006, Report, cached, map_parts, new_figure, run_script
 
 TITLE = "Region-of-attraction certification by SOS programs: Van der Pol and the chapter-5 glider"
 #: build times on a 2-core machine (s): order a first cold `glidectl report all` longest first
@@ -533,12 +534,27 @@ SAT_CASES = ("user_unsat", "user_sat", "buoyancy", "elevator")
 """The saturated loops of the report, in its order (one part of :func:`_saturated_part` each)."""
 
 
-def _user_glider_loop() -> Any:
+USER_SPEED, USER_GAMMA = 0.35, -math.radians(25.0)     # m/s, rad: the down leg of designs/slocum_dive_cycle.py
+#: gc.certify_roa's arguments for the user glider's unsaturated loop: those of designs/slocum_dive_cycle.py, which
+#: certifies the same loop under the same cache key (:func:`_certify_lqr_loop`), so a build computes it once
+USER_ROA_ARGS = {"degree": 2}
+
+
+def _user_glider_loop() -> tuple[gc.Vehicle, Any]:
     """The LQR dive-cycle loop of the user glider (designs/slocum_dive_cycle.py, issue 16): slocum_shallow, the
-    0.35 m/s, -25 deg leg, gc.lqr_glide with acceleration inputs (w1, w3, w4; r_P3 fixed by the vehicle file)."""
+    0.35 m/s, -25 deg leg, gc.lqr_glide with acceleration inputs (w1, w3, w4; r_P3 fixed by the vehicle file).
+    Returns the vehicle and the loop."""
     veh = gc.load_vehicle("slocum_shallow")
-    glide = gc.steady_glide(veh, 0.35, math.radians(-25.0), r_p3=veh.actuators["r_P3"].fixed)
-    return gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
+    glide = gc.steady_glide(veh, USER_SPEED, USER_GAMMA, r_p3=veh.actuators["r_P3"].fixed)
+    return veh, gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
+
+
+def _certify_lqr_loop(veh: gc.Vehicle, speed: float, gamma: float, loop: Any) -> gc.ROACertificate:
+    """``gc.certify_roa(loop, **USER_ROA_ARGS)`` cached under the key designs/slocum_dive_cycle.py uses for the same
+    loop (its ``_certify_lqr_loop``: the vehicle, the leg's ``speed`` (m/s) and ``gamma`` (rad), the arguments); in a
+    build, the design that asks second waits for the first and reads its certificate."""
+    key = ("certify_roa", "lqr_glide loop, acceleration inputs", veh, float(speed), float(gamma), USER_ROA_ARGS)
+    return cached(key, lambda: gc.certify_roa(loop, **USER_ROA_ARGS))
 
 
 def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tuple[str, str]) -> dict[str, Any]:
@@ -573,18 +589,21 @@ def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tu
             "names": [sl.state_names[i] for i in f]}
 
 
-def _sos_case(system: Any, lmi: Any, s: Settings) -> dict[str, Any]:
+def _sos_case(system: Any, lmi: Any, s: Settings, certify: Callable[[], Any] | None = None) -> dict[str, Any]:
     """The SOS path on one glider loop (a closed loop: surrogate route; a SaturatedLoop: the saturation graph with a
-    surrogate of the plant), its volume against the LMI ellipsoid's ``lmi`` (same free states, same box)."""
+    surrogate of the plant), its volume against the LMI ellipsoid's ``lmi`` (same free states, same box).
+    ``certify`` (optional) makes the certificate instead (the user glider's unsaturated loop: the cached one that
+    designs/slocum_dive_cycle.py shares). The wall time is the certificate's own (``cert.wall_time``: the whole
+    certify_roa call, also when the certificate came from the cache)."""
     t0 = time.perf_counter()
     try:
-        cert = gc.certify_roa(system, degree=s.sat_sos_degree, iterations=s.sat_sos_iterations,
-                              n_simulate=s.sat_n_simulate, n_verify=s.sat_n_verify)
+        cert = certify() if certify is not None else gc.certify_roa(
+            system, degree=s.sat_sos_degree, iterations=s.sat_sos_iterations, n_simulate=s.sat_n_simulate,
+            n_verify=s.sat_n_verify)
     except gc.GlidectlError as exc:
         return {"error": f"{type(exc).__name__}: {exc}", "wall": time.perf_counter() - t0}
-    wall = time.perf_counter() - t0
     vol = cert.volume() if cert.certified else 0.0
-    return {"cert": cert, "wall": wall, "volume": vol, "ratio": vol / lmi.volume(),
+    return {"cert": cert, "wall": cert.wall_time, "volume": vol, "ratio": vol / lmi.volume(),
             "fraction": vol / lmi.volume() * lmi.volume_fraction}
 
 
@@ -628,18 +647,20 @@ def _saturated_part(s: Settings, which: str) -> tuple[str, Any, float]:
     kw = dict(rounds=s.sat_rounds, n_radii=s.sat_n_radii, refine=s.sat_refine)
     t0 = time.perf_counter()
     if which in ("user_unsat", "user_sat"):
-        loop = _user_glider_loop()
+        veh, loop = _user_glider_loop()
         ukw = dict(kw, rounds=s.sat_user_rounds)
+        certify = None
         if which == "user_unsat":
             inf = [math.inf] * len(loop.plant.input_names)
             case = _sat_case("user glider LQR, unsaturated", gc.saturated_loop(
                 loop, u_min=[-x for x in inf], u_max=inf), ukw, s, ("theta", "m0"))
             system = loop           # the SOS path: the closed loop itself (no saturating channel)
+            certify = functools.partial(_certify_lqr_loop, veh, USER_SPEED, USER_GAMMA, loop)
         else:
             case = _sat_case("user glider LQR, pump saturated", gc.saturated_loop(loop), ukw, s, ("theta", "m0"))
             system = case["loop"]
         if which in s.sat_sos_cases:
-            case["sos"] = _sos_case(system, case["cert"], s)
+            case["sos"] = _sos_case(system, case["cert"], s, certify)
         return which, {which: case}, time.perf_counter() - t0
     if which in ("buoyancy", "elevator"):
         if which == "buoyancy":

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 import glidectl as gc
-from glidectl.report import Report, run_script
+from glidectl.report import Report, cached, run_script
 
 TITLE = "A Slocum-class glider end to end: envelope, LQR and LQG designs, dive-cycle missions"
 #: build times on a 2-core machine (s): order a first cold `glidectl report all` longest first
@@ -53,6 +53,21 @@ class Settings:
     #: verification, a certificate that another build had): the report must not depend on the machine's load
     #: (measured 2026-12-02). QUICK gives it 20 s and shows the budget answer.
     roa_time_limit: float = 900.0
+
+
+#: gc.certify_roa's arguments for the down leg's LQR loop. designs/roa_certification.py certifies the same loop
+#: with the same arguments under the same cache key (``_certify_lqr_loop``), so a build computes it once.
+ROA_ARGS = {"degree": 2}
+
+
+def _certify_lqr_loop(veh: gc.Vehicle, speed: float, gamma: float, loop: gc.ClosedLoop,
+                     time_limit: float | None) -> gc.ROACertificate:
+    """``gc.certify_roa(loop, **ROA_ARGS)`` for the LQR loop (``gc.lqr_glide(..., inputs="acceleration")``) of the
+    steady glide of ``veh`` at ``speed`` (m/s) and ``gamma`` (rad), cached under a key of exactly those (in a build,
+    a design that asks while another computes it waits and reads it). ``time_limit`` (s) is not in the key: a
+    certificate that is returned does not depend on it (a budget stop raises, and nothing is cached)."""
+    key = ("certify_roa", "lqr_glide loop, acceleration inputs", veh, float(speed), float(gamma), ROA_ARGS)
+    return cached(key, lambda: gc.certify_roa(loop, time_limit=time_limit, **ROA_ARGS))
 
 
 FULL = Settings()
@@ -99,7 +114,7 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     roa_box = gc.validity_box(loop)  # certify_roa's default box (the same as gc.saturated_loop's)
     roa_volume = None
     try:
-        cert = gc.certify_roa(loop, degree=2, time_limit=s.roa_time_limit)
+        cert = _certify_lqr_loop(veh, s.speed, -gamma, loop, s.roa_time_limit)
         roa_message = f"{'certified' if cert.certified else 'NOT certified'}: {cert}"
         roa_volume = cert.volume() if cert.certified else None
     except gc.GlidectlError as exc:

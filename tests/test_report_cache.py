@@ -224,3 +224,109 @@ def test_cached_helper(tmp_path):
         cached("k", 3)
     with pytest.raises(gc.ArgumentTypeError, match="canonical"):
         cached(object(), lambda: 1)
+
+
+# ------------------------------------------------------------------ one value shared by the designs of a build
+def _slow_double(args: tuple[str, str, str, bool, float]) -> tuple[int, list[bool]]:
+    """A process that asks for a cached value which takes ``delay`` s: logs each computation to ``log``; returns
+    the value and whether, inside the computation, this process held the key's lock."""
+    import time as _t
+
+    from glidectl.report.cache import _holds_lock
+
+    root, log, build, refresh, delay = args
+    held: list[bool] = []
+
+    def compute() -> int:
+        held.append(_holds_lock())
+        with open(log, "a") as f:
+            f.write("x")
+        _t.sleep(delay)
+        return 42
+
+    with recording(Path(root), refresh=refresh, build=build):
+        return cached(("shared", 1), compute), held
+
+
+def test_a_value_two_processes_of_one_cold_build_ask_for_is_computed_once(tmp_path):
+    """Two processes of the same --no-cache build (refresh, same build id) ask for one key at the same time: one
+    computes it under the key's lock, the other waits and reads it. A later cold build (another id) computes it
+    again; a warm one (no refresh) reads it whatever its id."""
+    import multiprocessing
+
+    log = tmp_path / "log"
+    args = (str(tmp_path), str(log), "build-1", True, 1.5)
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        out = pool.map(_slow_double, [args, args])
+    assert [v for v, _ in out] == [42, 42]
+    assert log.read_text() == "x"                      # computed once
+    assert [h for _, h in out if h] == [[True]]        # by the process that held the lock
+    # another cold build: an entry of build-1 is stale for it
+    assert _slow_double((str(tmp_path), str(log), "build-2", True, 0.0)) == (42, [True])
+    assert log.read_text() == "xx"
+    # the same cold build again, and a warm build: the entry is read
+    assert _slow_double((str(tmp_path), str(log), "build-2", True, 0.0)) == (42, [])
+    assert _slow_double((str(tmp_path), str(log), "build-3", False, 0.0)) == (42, [])
+    assert log.read_text() == "xx"
+    # a cold run without a build id (a design run alone under recording(refresh=True)) always computes
+    assert _slow_double((str(tmp_path), str(log), None, True, 0.0)) == (42, [True])
+    assert log.read_text() == "xxx"
+
+
+def test_nested_cached_calls_take_one_lock_and_never_wait_for_themselves(tmp_path):
+    """Only the outermost cached call of a process locks (a nested call with the same key would otherwise wait for
+    its own lock forever); the parts a design starts under a lock are told not to lock."""
+    from glidectl.report.cache import _holds_lock
+
+    seen = []
+    with recording(tmp_path):
+        def inner() -> int:
+            seen.append(_holds_lock())
+            return cached(("outer",), lambda: 7) + 1     # the same key as the outer call: no self-wait
+
+        assert cached(("outer",), inner) == 8
+        assert not _holds_lock()
+    assert seen == [True]
+    locks = sorted(tmp_path.joinpath("results").glob("*.lock"))
+    assert len(locks) == 1                              # the outer key's
+    with recording(tmp_path, lock=False):
+        assert cached(("unlocked",), lambda: _holds_lock()) is False
+    assert sorted(tmp_path.joinpath("results").glob("*.lock")) == locks
+
+
+def test_two_designs_of_a_cold_parallel_build_share_a_cached_value(tmp_path):
+    """The build machinery gives every design of one build the same id: with --no-cache and two workers, a value
+    both designs cache under the same key is computed once, and both reports show it."""
+    src = '''
+from pathlib import Path
+import time
+from glidectl.report import Report, cached
+
+TITLE = "shares"
+
+
+def design(progress, quick=False):
+    def compute():
+        with open(Path(__file__).parent / "computed.log", "a") as f:
+            f.write("x")
+        time.sleep(1.0)
+        return 2.5
+
+    rep = Report(TITLE)
+    rep.number("shared", cached(("shared value", 1), compute), "-")
+    return rep
+'''
+    folder = tmp_path / "designs"
+    folder.mkdir()
+    paths = []
+    for name in ("first", "second"):
+        p = folder / f"{name}.py"
+        p.write_text(src)
+        paths.append(p)
+    out = tmp_path / "out"
+    for round_ in (1, 2):
+        res = build_designs([load_design(p) for p in paths], out, quick=True, jobs=2, use_cache=False,
+                            stream=_Null())
+        assert [_numbers(out, r.name)["shared"] for r in res] == [2.5, 2.5]
+        assert (folder / "computed.log").read_text() == "x" * round_   # once per cold build
+        assert sorted((r.sub_hits, r.sub_misses) for r in res) == [(0, 1), (1, 0)]

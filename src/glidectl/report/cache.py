@@ -30,7 +30,8 @@ import os
 import pickle
 import sys
 import tempfile
-from collections.abc import Callable, Iterable, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -332,6 +333,8 @@ class _Run:
 
     cache_root: Path | None
     refresh: bool = False
+    build: str | None = None    # id of the build this run belongs to (entries it wrote are reused under refresh)
+    lock: bool = True           # cached() waits for another process computing the same key
     reads: set[str] = field(default_factory=set)
     hits: int = 0
     misses: int = 0
@@ -422,15 +425,23 @@ class recording:
     cache_root : Path or None
         The cache folder for :func:`cached` (None: :func:`cached` computes without caching).
     refresh : bool
-        :func:`cached` computes every value again and overwrites the cache (``--no-cache``).
+        :func:`cached` computes every value again and overwrites the cache (``--no-cache``), except values written
+        by the same ``build``.
+    build : str, optional
+        Id of the build the run belongs to (random, one per ``glidectl report`` call): under ``refresh``, a value
+        another design of the same build has cached is reused, so one cold build computes a shared value once.
+    lock : bool
+        :func:`cached` waits while another process computes the same key (False inside a part of a design that
+        holds such a lock, see :func:`_holds_lock`).
 
     Raises
     ------
     None
     """
 
-    def __init__(self, cache_root: Path | None, refresh: bool = False) -> None:
-        self.run = _Run(None if cache_root is None else Path(cache_root), bool(refresh))
+    def __init__(self, cache_root: Path | None, refresh: bool = False, build: str | None = None,
+                 lock: bool = True) -> None:
+        self.run = _Run(None if cache_root is None else Path(cache_root), bool(refresh), build, bool(lock))
         self._token: contextvars.Token[_Run | None] | None = None
 
     def __enter__(self) -> recording:
@@ -488,8 +499,10 @@ def cached(key: Any, fn: Callable[[], T]) -> T:
 
     Inside ``glidectl report`` the value is pickled into ``<out>/.cache/results/`` under a hash of ``key`` and
     glidectl's version and source code; a later build with the same key loads it instead of calling ``fn``
-    (``--no-cache`` calls ``fn`` and overwrites the entry). Outside a build (a plain ``design()`` call) ``fn()`` is
-    simply called.
+    (``--no-cache`` calls ``fn`` and overwrites the entry, except an entry written by another design of the same
+    build: two designs that cache the same computation under the same key compute it once per build). While one
+    process computes a key, another that asks for it waits and then loads it (a lock file next to the entry).
+    Outside a build (a plain ``design()`` call) ``fn()`` is simply called.
     An unreadable entry is ignored and recomputed.
 
     Parameters
@@ -522,14 +535,72 @@ def cached(key: Any, fn: Callable[[], T]) -> T:
     if run is None or run.cache_root is None:
         return fn()
     path = run.cache_root / "results" / f"{k}.pkl"
-    entry = None if run.refresh else _load_pickle(path)
-    if isinstance(entry, dict) and entry.get("format") == CACHE_FORMAT and entry.get("key") == k and "value" in entry:
-        run.hits += 1
-        return entry["value"]
-    run.misses += 1
-    value = fn()
+    with _key_lock(path, run.lock):
+        entry = _load_pickle(path)
+        if (isinstance(entry, dict) and entry.get("format") == CACHE_FORMAT and entry.get("key") == k
+                and "value" in entry and (not run.refresh or (run.build is not None
+                                                              and entry.get("build") == run.build))):
+            run.hits += 1
+            return entry["value"]
+        run.misses += 1
+        value = fn()
+        try:
+            _atomic_pickle(path, {"format": CACHE_FORMAT, "key": k, "build": run.build, "value": value})
+        except (OSError, pickle.PicklingError, TypeError, AttributeError):
+            pass  # an unpicklable value is simply not cached
+        return value
+
+
+_HELD: list[str] = []   # the cache key this process is computing under its lock (at most one: see _key_lock)
+
+
+def _holds_lock() -> bool:
+    """Whether this process is computing a :func:`cached` value under its key's lock (then the parts it starts do
+    not lock: see :func:`_key_lock`).
+
+    Returns
+    -------
+    bool
+
+    Raises
+    ------
+    None
+    """
+    return bool(_HELD)
+
+
+@contextmanager
+def _key_lock(path: Path, enabled: bool = True) -> Iterator[None]:
+    """Hold an exclusive lock on ``<path>.lock`` (``fcntl.flock``): a design that needs a value another design
+    is computing in the same build waits for it and then reads it, instead of computing it again.
+
+    Only the outermost :func:`cached` call of a process locks, and parts started under a lock do not lock either
+    (``enabled`` False), so a process that holds a lock never waits for another: the waits cannot form a cycle.
+    Where locks are not available (no ``fcntl``, a file system that refuses them) the value is computed without
+    one, as before: at worst twice."""
+    if not enabled or _HELD:
+        yield
+        return
     try:
-        _atomic_pickle(path, {"format": CACHE_FORMAT, "key": k, "value": value})
-    except (OSError, pickle.PicklingError, TypeError, AttributeError):
-        pass  # an unpicklable value is simply not cached
-    return value
+        import fcntl
+
+        path.parent.mkdir(parents=True, exist_ok=True)
+        f = open(path.with_suffix(".lock"), "a+b")      # closed below, after the unlock
+    except (ImportError, OSError):
+        yield
+        return
+    try:
+        try:
+            fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+            locked = True
+        except OSError:
+            locked = False
+        _HELD.append(str(path))
+        try:
+            yield
+        finally:
+            _HELD.pop()
+            if locked:
+                fcntl.flock(f.fileno(), fcntl.LOCK_UN)
+    finally:
+        f.close()

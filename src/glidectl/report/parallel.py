@@ -75,7 +75,7 @@ def _init_worker(queue: Any) -> None:
 
 def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str | None = None,
               progress: Callable[[str], None] | None = None, refresh: bool = False, jobs: int = 1,
-              dask: bool = False, start_method: str = "spawn") -> BuildResult | DesignFailure:
+              dask: bool = False, start_method: str = "spawn", build: str | None = None) -> BuildResult | DesignFailure:
     """Run one design and return the files its report consists of (nothing is written outside a temporary folder).
 
     Parameters
@@ -100,6 +100,9 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
         The design runs on a dask worker: its parts are submitted to the same cluster.
     start_method : str
         Start method of the parts' process pool (``"spawn"`` by default).
+    build : str, optional
+        Id of the build (one per :func:`build_designs` call): under ``refresh``, values that another design of the
+        same build cached are reused (:func:`~glidectl.report.cached`).
 
     Returns
     -------
@@ -120,8 +123,8 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
     try:
         design = load_design_source(name, path, source)
         with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
-            with recording(None if cache_root is None else Path(cache_root), refresh) as rec, \
-                    parts_context(name, path, source, jobs, cache_root, refresh, dask, start_method):
+            with recording(None if cache_root is None else Path(cache_root), refresh, build) as rec, \
+                    parts_context(name, path, source, jobs, cache_root, refresh, dask, start_method, build):
                 t0 = time.perf_counter()
                 rep = design.report(progress, quick)
                 progress("writing the report")
@@ -152,7 +155,8 @@ def _build_on_dask(build: str, name: str, path: str, source: bytes, quick: bool,
         worker.log_event(_DASK_TOPIC, [build, name, str(msg)])  # msgpack: a list of strings
 
     progress(_STARTED)
-    return build_one(name, path, source, quick, cache_root, progress=progress, refresh=refresh, jobs=2, dask=True)
+    return build_one(name, path, source, quick, cache_root, progress=progress, refresh=refresh, jobs=2, dask=True,
+                     build=build)
 
 
 def require_dask() -> None:
@@ -394,6 +398,7 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
         todo.sort(key=lambda t: -(estimates.get(t[0].name) or 0.0))  # longest first: shortest makespan
         cache_root = str(store.root)
         refresh = not use_cache
+        build = uuid.uuid4().hex     # this build's id: what one design caches, another reuses (cold builds too)
         keys = {d.name: key for d, key, _ in todo}
 
         def finish(res: BuildResult | DesignFailure) -> None:
@@ -412,15 +417,16 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
 
         method = mp_context.get_start_method() if mp_context is not None else "spawn"
         if scheduler is not None:
-            _run_dask(todo, scheduler, quick, cache_root, refresh, display, finish)
+            _run_dask(todo, scheduler, quick, cache_root, refresh, display, finish, build)
         elif jobs == 1 or len(todo) <= 1:
             for d, _, source in todo:
                 display.start(d.name)
                 finish(build_one(d.name, str(d.path), source, quick, cache_root,
                                  progress=lambda m, n=d.name: display.message(n, m), refresh=refresh, jobs=jobs,
-                                 start_method=method))
+                                 start_method=method, build=build))
         else:
-            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context, jobs)
+            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context, jobs,
+                      build)
     finally:
         display.close()
     if failures:
@@ -457,7 +463,8 @@ def _drain(queue: Any, display: _Display, started: Callable[[str, int], None] | 
 
 
 def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, cache_root: str, refresh: bool,
-              display: _Display, finish: Callable[[Any], None], mp_context: Any, jobs: int) -> None:
+              display: _Display, finish: Callable[[Any], None], mp_context: Any, jobs: int,
+              build: str | None = None) -> None:
     """The designs on a process pool, their lines in the order of events on the workers: a worker sends a design's
     result before it takes the next design, so when a design starts on a worker (its first message names the
     worker's pid), the design that worker ran before is finished first (its future is done, or about to be)."""
@@ -468,7 +475,7 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
         pending: dict[Any, str] = {}
         for d, _, source in todo:
             pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,
-                              jobs=jobs, start_method=ctx.get_start_method())] = d.name
+                              jobs=jobs, start_method=ctx.get_start_method(), build=build)] = d.name
         future_of = {name: f for f, name in pending.items()}
         on_worker: dict[int, str] = {}          # worker pid -> the design it runs
 
@@ -496,7 +503,7 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
 
 
 def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool, cache_root: str, refresh: bool,
-              display: _Display, finish: Callable[[Any], None]) -> None:
+              display: _Display, finish: Callable[[Any], None], build: str | None = None) -> None:
     """The designs on a dask cluster; the display gets its events in the order they happened on the workers.
 
     The designs' messages come through :data:`_DASK_TOPIC` to :func:`receive` (the client's event loop thread), in
@@ -509,7 +516,7 @@ def _run_dask(todo: list[tuple[Design, str, bytes]], scheduler: Any, quick: bool
 
     client = dask_client(scheduler)
     own = client is not scheduler
-    build = uuid.uuid4().hex
+    build = build or uuid.uuid4().hex
     events: queue_mod.Queue[tuple[str, str]] = queue_mod.Queue()
     lock = threading.Lock()
     pending: dict[str, Any] = {}     # design name -> future, until its end is in ``events``

@@ -32,7 +32,7 @@ from typing import Any, TypeVar
 import cloudpickle
 
 from ..errors import ArgumentError, ArgumentTypeError
-from .cache import merge_run, recording
+from .cache import _holds_lock, merge_run, recording
 
 __all__ = ["map_parts", "parts_context"]
 
@@ -52,6 +52,7 @@ class _Context:
     refresh: bool
     dask: bool
     start_method: str
+    build: str | None = None
 
 
 _CONTEXT: contextvars.ContextVar[_Context | None] = contextvars.ContextVar("glidectl_report_parts", default=None)
@@ -59,7 +60,8 @@ _CONTEXT: contextvars.ContextVar[_Context | None] = contextvars.ContextVar("glid
 
 @contextmanager
 def parts_context(name: str, path: str, source: bytes, jobs: int, cache_root: str | None = None,
-                  refresh: bool = False, dask: bool = False, start_method: str = "spawn") -> Iterator[None]:
+                  refresh: bool = False, dask: bool = False, start_method: str = "spawn",
+                  build: str | None = None) -> Iterator[None]:
     """Let :func:`map_parts` calls inside the block use ``jobs`` workers (the build machinery sets this).
 
     Parameters
@@ -76,6 +78,8 @@ def parts_context(name: str, path: str, source: bytes, jobs: int, cache_root: st
         The design runs on a dask worker: parts are submitted to the same cluster.
     start_method : str
         How the parts' pool starts its workers (``"spawn"``, safe everywhere; ``"fork"`` where available).
+    build : str, optional
+        Id of the build (parts reuse what other designs of the same build cached, as the design does).
 
     Yields
     ------
@@ -92,7 +96,7 @@ def parts_context(name: str, path: str, source: bytes, jobs: int, cache_root: st
         raise ArgumentError(f"start_method must be one of {multiprocessing.get_all_start_methods()}, got "
                             f"{start_method!r}")
     token = _CONTEXT.set(_Context(name, str(path), bytes(source), jobs, cache_root, bool(refresh), bool(dask),
-                                  start_method))
+                                  start_method, build))
     try:
         yield
     finally:
@@ -115,10 +119,12 @@ def _resolve(module: str, qualname: str, ctx: tuple[str, str, bytes]) -> Callabl
 
 
 def _run_part(module: str, qualname: str, ctx: tuple[str, str, bytes], item: bytes, cache_root: str | None,
-              refresh: bool) -> bytes:
-    """Worker side of one part: load the design, call the function under a recording, return everything pickled."""
+              refresh: bool, build: str | None = None, lock: bool = True) -> bytes:
+    """Worker side of one part: load the design, call the function under a recording, return everything pickled.
+    ``lock`` is False when the design started the parts inside a :func:`~glidectl.report.cached` computation that
+    holds its key's lock (the parts then never wait for a lock: no cycle of waits)."""
     fn = _resolve(module, qualname, ctx)
-    with recording(None if cache_root is None else Path(cache_root), refresh) as rec:
+    with recording(None if cache_root is None else Path(cache_root), refresh, build, lock) as rec:
         value = fn(pickle.loads(item))
     return cloudpickle.dumps((value, sorted(rec.run.reads), rec.run.hits, rec.run.misses))
 
@@ -171,7 +177,9 @@ def map_parts(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
     if ctx is None or ctx.jobs <= 1 or len(items) <= 1:
         return [fn(x) for x in items]
     where = (ctx.name, ctx.path, ctx.source)
-    args = [(module, qualname, where, cloudpickle.dumps(x), ctx.cache_root, ctx.refresh) for x in items]
+    lock = not _holds_lock()
+    args = [(module, qualname, where, cloudpickle.dumps(x), ctx.cache_root, ctx.refresh, ctx.build, lock)
+            for x in items]
     if ctx.dask:
         from distributed import worker_client
 
