@@ -120,6 +120,33 @@ Numbers that changed (every ``numbers.json``, 1e-9 *relative*; an absolute toler
 slocum design +119 s and the unsaturated part of roa_certification +84 s in these loaded builds (the Slocum ROA
 alone: 82 s against 61 s). A build of 29223a0 (the directed step volume; the same numbers as b6358e3) alone at
 11:46: **490.4 s** end to end, CPU 916.1 s.
+
+Measured 2026-12-03 14:19-14:40 (twelfth session, the same machine), side by side in the same way, 40abd49 against
+96cf89b (``cached`` values shared by the designs of one build: the user glider's LQR-loop certificate, which
+slocum_dive_cycle and roa_certification both made, is computed once; roa_certification's SOS path on it now runs
+certify_roa's default checks, 20000 samples and 256 simulations, as slocum_dive_cycle's):
+
+=====================  ==========  ==========
+design                 40abd49     96cf89b
+=====================  ==========  ==========
+ch2_longitudinal       32.1 s      31.2 s
+ch4_phugoid            12.7 s      13.5 s
+ch5_singular_pert.     31.6 s      32.5 s
+ch6_controllers        80.2 s      85.0 s
+ch7_ctol               309.1 s     307.6 s
+ch8_helix              174.8 s     174.9 s
+slocum_dive_cycle      502.6 s     502.3 s (computed the shared certificate: 0/1 sub-results from the cache)
+roa_certification      1204.9 s    1176.2 s (read it: 1/1; its part waited 127 s for slocum_dive_cycle's lock)
+end to end (wall)      1210.5 s    1182.1 s (ratio 0.98)
+user CPU               1149.3 s    1081.1 s (0.94)
+peak RSS               0.80 GB     0.80 GB
+=====================  ==========  ==========
+
+No ledger number changed (every ``numbers.json``, 1e-9 relative, timings left out). The unsaturated user loop's
+verification note in roa_certification now reads 10007 samples and 256/256 simulations (it read 2000 and 32/32).
+The wall time gains less than the CPU: in that build slocum_dive_cycle started its certificate at 310 s (after
+ch7_ctol), after roa_certification's part had asked for it, so the part waited. The part now runs last in
+roa_certification (after that measurement), by when a full build has the certificate.
 """
 
 from __future__ import annotations

@@ -117,6 +117,12 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   volume 1.28 times the degree-2 reference 0.154291. Its one quartic V step is 49 s of it (the moment route: 3581
   moment variables, 2048 of them the samples' equations, one 104 x 104 Gram block); nine quadratic steps take
   2.7-6.7 s each, and each still enlarges the set (0.0086 -> 0.171).
+- ctol and glider4_staged, 2026-12-03 14:40-14:50 (twelfth session; two single-threaded runs side by side, 40abd49
+  against this session's ``_SparseKKT.schur``, which keeps ``Ylow`` column-major so that the sparse product does
+  not copy it and symmetrizes in place: bitwise the same Schur complement): ctol **106.9 s vs 111.4 s** (0.96; CPU
+  104.8 s vs 110.3 s), the same volume 0.00216064, certified: 1.78x the 60 s target in this loaded pair (1.50x
+  alone, above). glider4_staged **106.2 s vs 106.6 s** (1.00), the same volume 0.197150: its quartic V step's time
+  is not in the Schur complement's copies. Both targets stay unmet.
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,glider4_staged,ctol]

@@ -145,8 +145,6 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
         tasks.append((s, "sat", "user_sat"))
     if s.ctol:
         tasks.append((s, "ctol", None))
-    if s.saturated:
-        tasks.append((s, "sat", "user_unsat"))
     tasks += [(s, "full", KM) for KM in s.full_KM]
     if s.torque_speed is not None:
         tasks.append((s, "torque", s.torque_speed))
@@ -154,7 +152,9 @@ def _compute(s: Settings, progress: Callable[[str], None]) -> _Results:
         tasks += [(s, "sat", "buoyancy"), (s, "sat", "elevator")]
     tasks += [(s, "reduced", None), (s, "vdp", None)]
     if s.saturated:
-        tasks.append((s, "sat", "poly"))
+        # the unsaturated user glider last: its SOS certificate is the one slocum_dive_cycle computes (the same
+        # cache key), which a full build has usually finished by then, so this part reads it instead of waiting
+        tasks += [(s, "sat", "poly"), (s, "sat", "user_unsat")]
     progress(f"{len(tasks)} independent parts: Van der Pol (degree {s.vdp_degree}, Drake's fixed-V level), the "
              f"reduced glider (degree {s.reduced_degree}, Phi < 2/3, Taylor trap), the full glider for K_M in "
              f"{s.full_KM} (degree {s.full_degree}, L*)"
@@ -794,7 +794,9 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
         "masses that depend on the ballast, angles) is replaced by a polynomial surrogate in (x, v) matched to "
         "second order at the equilibrium, with a cubic remainder bound a |y|^2 + b |y|^3 on the box that enters "
         "the decrease condition through Young's inequality (method 'sos-sector+remainder'; the unsaturated user "
-        "loop takes the plain surrogate route, 'surrogate+remainder'); the bound holds on the whole box, so "
+        "loop takes the plain surrogate route, 'surrogate+remainder', with certify_roa's default checks: it is "
+        "the certificate of the slocum_dive_cycle report, computed once per build and shared through the build "
+        "cache, its SOS time that of the certify_roa call that made it); the bound holds on the whole box, so "
         "certify_roa first searches a smaller box (three times the extents of the best level set of the starting "
         "V, one level SDP per box) and certifies there, then runs a second round on the box three times the "
         "extents of that certified set, from its V, and keeps the larger certificate. The table compares the two "
