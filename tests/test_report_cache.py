@@ -232,13 +232,13 @@ def _slow_double(args: tuple[str, str, str, bool, float]) -> tuple[int, list[boo
     the value and whether, inside the computation, this process held the key's lock."""
     import time as _t
 
-    from glidectl.report.cache import _holds_lock
+    from glidectl.report.cache import holds_lock
 
     root, log, build, refresh, delay = args
     held: list[bool] = []
 
     def compute() -> int:
-        held.append(_holds_lock())
+        held.append(holds_lock())
         with open(log, "a") as f:
             f.write("x")
         _t.sleep(delay)
@@ -276,21 +276,21 @@ def test_a_value_two_processes_of_one_cold_build_ask_for_is_computed_once(tmp_pa
 def test_nested_cached_calls_take_one_lock_and_never_wait_for_themselves(tmp_path):
     """Only the outermost cached call of a process locks (a nested call with the same key would otherwise wait for
     its own lock forever); the parts a design starts under a lock are told not to lock."""
-    from glidectl.report.cache import _holds_lock
+    from glidectl.report.cache import holds_lock
 
     seen = []
     with recording(tmp_path):
         def inner() -> int:
-            seen.append(_holds_lock())
+            seen.append(holds_lock())
             return cached(("outer",), lambda: 7) + 1     # the same key as the outer call: no self-wait
 
         assert cached(("outer",), inner) == 8
-        assert not _holds_lock()
+        assert not holds_lock()
     assert seen == [True]
     locks = sorted(tmp_path.joinpath("results").glob("*.lock"))
     assert len(locks) == 1                              # the outer key's
     with recording(tmp_path, lock=False):
-        assert cached(("unlocked",), lambda: _holds_lock()) is False
+        assert cached(("unlocked",), lambda: holds_lock()) is False
     assert sorted(tmp_path.joinpath("results").glob("*.lock")) == locks
 
 

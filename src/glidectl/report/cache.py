@@ -432,7 +432,7 @@ class recording:
         another design of the same build has cached is reused, so one cold build computes a shared value once.
     lock : bool
         :func:`cached` waits while another process computes the same key (False inside a part of a design that
-        holds such a lock, see :func:`_holds_lock`).
+        holds such a lock, see :func:`holds_lock`).
 
     Raises
     ------
@@ -554,7 +554,7 @@ def cached(key: Any, fn: Callable[[], T]) -> T:
 _HELD: list[str] = []   # the cache key this process is computing under its lock (at most one: see _key_lock)
 
 
-def _holds_lock() -> bool:
+def holds_lock() -> bool:
     """Whether this process is computing a :func:`cached` value under its key's lock (then the parts it starts do
     not lock: see :func:`_key_lock`).
 

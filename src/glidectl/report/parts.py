@@ -32,7 +32,7 @@ from typing import Any, TypeVar
 import cloudpickle
 
 from ..errors import ArgumentError, ArgumentTypeError
-from .cache import _holds_lock, merge_run, recording
+from .cache import holds_lock, merge_run, recording
 
 __all__ = ["map_parts", "parts_context"]
 
@@ -177,7 +177,7 @@ def map_parts(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
     if ctx is None or ctx.jobs <= 1 or len(items) <= 1:
         return [fn(x) for x in items]
     where = (ctx.name, ctx.path, ctx.source)
-    lock = not _holds_lock()
+    lock = not holds_lock()
     args = [(module, qualname, where, cloudpickle.dumps(x), ctx.cache_root, ctx.refresh, ctx.build, lock)
             for x in items]
     if ctx.dask:
