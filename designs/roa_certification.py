@@ -86,6 +86,7 @@ class Settings:
     sat_sos_degree: int = 2                 # the SOS path with the saturation graph on the polynomial example
     # the SOS path on the glider loops (gc.certify_roa: surrogate with its cubic remainder bound, the saturation
     # graph for the saturated ones, the remainder-box search), against the LMI path's ellipsoids
+    # (the unsaturated user loop runs with USER_ROA_ARGS instead: the certificate slocum_dive_cycle shares)
     sat_sos_cases: tuple[str, ...] = ("user_unsat", "user_sat", "buoyancy", "elevator")
     sat_sos_iterations: int = 4
 
@@ -535,25 +536,28 @@ SAT_CASES = ("user_unsat", "user_sat", "buoyancy", "elevator")
 
 
 USER_SPEED, USER_GAMMA = 0.35, -math.radians(25.0)     # m/s, rad: the down leg of designs/slocum_dive_cycle.py
-#: gc.certify_roa's arguments for the user glider's unsaturated loop: those of designs/slocum_dive_cycle.py, which
-#: certifies the same loop under the same cache key (:func:`_certify_lqr_loop`), so a build computes it once
-USER_ROA_ARGS = {"degree": 2}
+#: gc.certify_roa's arguments for the user glider's unsaturated loop: those of designs/slocum_dive_cycle.py (its
+#: ROA_ARGS and its FULL time limit, none), which certifies the same loop under the same cache key
+#: (:func:`_certify_lqr_loop`), so a build computes it once
+USER_ROA_ARGS = {"degree": 2, "time_limit": None}
 
 
-def _user_glider_loop() -> tuple[gc.Vehicle, Any]:
+def _user_glider_loop() -> tuple[gc.Vehicle, Any, Any]:
     """The LQR dive-cycle loop of the user glider (designs/slocum_dive_cycle.py, issue 16): slocum_shallow, the
     0.35 m/s, -25 deg leg, gc.lqr_glide with acceleration inputs (w1, w3, w4; r_P3 fixed by the vehicle file).
-    Returns the vehicle and the loop."""
+    Returns the vehicle, the controller and the loop."""
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, USER_SPEED, USER_GAMMA, r_p3=veh.actuators["r_P3"].fixed)
-    return veh, gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
+    ctrl = gc.lqr_glide(veh, glide, inputs="acceleration")
+    return veh, ctrl, gc.closed_loop(ctrl)
 
 
-def _certify_lqr_loop(veh: gc.Vehicle, speed: float, gamma: float, loop: Any) -> gc.ROACertificate:
+def _certify_lqr_loop(veh: gc.Vehicle, controller: Any, loop: Any) -> gc.ROACertificate:
     """``gc.certify_roa(loop, **USER_ROA_ARGS)`` cached under the key designs/slocum_dive_cycle.py uses for the same
-    loop (its ``_certify_lqr_loop``: the vehicle, the leg's ``speed`` (m/s) and ``gamma`` (rad), the arguments); in a
-    build, the design that asks second waits for the first and reads its certificate."""
-    key = ("certify_roa", "lqr_glide loop, acceleration inputs", veh, float(speed), float(gamma), USER_ROA_ARGS)
+    loop (its ``_certify_lqr_loop``: the vehicle, the gain, the loop's equilibrium, the arguments); in a build, the
+    design that asks second waits for the first and reads its certificate."""
+    key = ("certify_roa", "lqr_glide loop", veh, np.asarray(controller.K), np.asarray(loop.equilibrium),
+           USER_ROA_ARGS)
     return cached(key, lambda: gc.certify_roa(loop, **USER_ROA_ARGS))
 
 
@@ -647,7 +651,7 @@ def _saturated_part(s: Settings, which: str) -> tuple[str, Any, float]:
     kw = dict(rounds=s.sat_rounds, n_radii=s.sat_n_radii, refine=s.sat_refine)
     t0 = time.perf_counter()
     if which in ("user_unsat", "user_sat"):
-        veh, loop = _user_glider_loop()
+        veh, ctrl, loop = _user_glider_loop()
         ukw = dict(kw, rounds=s.sat_user_rounds)
         certify = None
         if which == "user_unsat":
@@ -655,7 +659,7 @@ def _saturated_part(s: Settings, which: str) -> tuple[str, Any, float]:
             case = _sat_case("user glider LQR, unsaturated", gc.saturated_loop(
                 loop, u_min=[-x for x in inf], u_max=inf), ukw, s, ("theta", "m0"))
             system = loop           # the SOS path: the closed loop itself (no saturating channel)
-            certify = functools.partial(_certify_lqr_loop, veh, USER_SPEED, USER_GAMMA, loop)
+            certify = functools.partial(_certify_lqr_loop, veh, ctrl, loop)
         else:
             case = _sat_case("user glider LQR, pump saturated", gc.saturated_loop(loop), ukw, s, ("theta", "m0"))
             system = case["loop"]

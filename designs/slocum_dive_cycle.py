@@ -47,27 +47,29 @@ class Settings:
     seed: int = 2026  # noise seed (same for every controller)
     envelope_speeds: tuple[float, float, int] = (0.05, 0.8, 76)  # m/s, linspace
     envelope_gammas_deg: tuple[float, float, int] = (-60.0, 60.0, 121)  # deg, linspace
-    #: s, budget of gc.certify_roa on the down leg's LQR loop (degree 2): a safety net, not a result. The SOS route
-    #: certifies this 8-state loop in about 30 s on an idle fast machine, 120 s on a slower one beside another run,
-    #: and in a FULL build beside the other designs a budget of 120 s was once exceeded (BudgetError in the final
-    #: verification, a certificate that another build had): the report must not depend on the machine's load
-    #: (measured 2026-12-02). QUICK gives it 20 s and shows the budget answer.
-    roa_time_limit: float = 900.0
+    #: s, budget of gc.certify_roa on the down leg's LQR loop (degree 2), None: none. FULL has none: a budget is a
+    #: safety net, not a result, and a FULL build beside the other designs once exceeded 120 s (BudgetError in the
+    #: final verification, a certificate that another build had): the report must not depend on the machine's load
+    #: (measured 2026-12-02). Without a budget, certify_roa also skips the sampled checks of a first remainder-box
+    #: round that the second replaces. QUICK gives it 20 s and shows the budget answer.
+    roa_time_limit: float | None = None
 
 
-#: gc.certify_roa's arguments for the down leg's LQR loop. designs/roa_certification.py certifies the same loop
-#: with the same arguments under the same cache key (``_certify_lqr_loop``), so a build computes it once.
+#: gc.certify_roa's arguments for the down leg's LQR loop (with the settings' time limit). designs/roa_certification.py
+#: certifies the same loop with the same arguments under the same cache key (``_certify_lqr_loop``), so a build
+#: computes it once.
 ROA_ARGS = {"degree": 2}
 
 
-def _certify_lqr_loop(veh: gc.Vehicle, speed: float, gamma: float, loop: gc.ClosedLoop,
-                     time_limit: float | None) -> gc.ROACertificate:
-    """``gc.certify_roa(loop, **ROA_ARGS)`` for the LQR loop (``gc.lqr_glide(..., inputs="acceleration")``) of the
-    steady glide of ``veh`` at ``speed`` (m/s) and ``gamma`` (rad), cached under a key of exactly those (in a build,
-    a design that asks while another computes it waits and reads it). ``time_limit`` (s) is not in the key: a
-    certificate that is returned does not depend on it (a budget stop raises, and nothing is cached)."""
-    key = ("certify_roa", "lqr_glide loop, acceleration inputs", veh, float(speed), float(gamma), ROA_ARGS)
-    return cached(key, lambda: gc.certify_roa(loop, time_limit=time_limit, **ROA_ARGS))
+def _certify_lqr_loop(veh: gc.Vehicle, controller: Any, loop: gc.ClosedLoop,
+                      time_limit: float | None) -> gc.ROACertificate:
+    """``gc.certify_roa(loop, time_limit=time_limit, **ROA_ARGS)`` for the closed loop of ``controller`` (a
+    ``gc.lqr_glide``) on ``veh``, cached under a key of the vehicle, the gain, the loop's equilibrium and every
+    argument (the time limit too: a budget can stop the second remainder-box round and return the first round's
+    certificate). In a build, a design that asks while another computes it waits and reads it."""
+    args = dict(ROA_ARGS, time_limit=time_limit)
+    key = ("certify_roa", "lqr_glide loop", veh, np.asarray(controller.K), np.asarray(loop.equilibrium), args)
+    return cached(key, lambda: gc.certify_roa(loop, **args))
 
 
 FULL = Settings()
@@ -114,7 +116,7 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     roa_box = gc.validity_box(loop)  # certify_roa's default box (the same as gc.saturated_loop's)
     roa_volume = None
     try:
-        cert = _certify_lqr_loop(veh, s.speed, -gamma, loop, s.roa_time_limit)
+        cert = _certify_lqr_loop(veh, lqr_path[0], loop, s.roa_time_limit)
         roa_message = f"{'certified' if cert.certified else 'NOT certified'}: {cert}"
         roa_volume = cert.volume() if cert.certified else None
     except gc.GlidectlError as exc:
@@ -272,10 +274,11 @@ def report(res: SlocumResults) -> Report:
              "Omega2, v1 and v3 about the glide, each shrunk by 0.1 %. The vehicle file fixes r_P3, so r_P3 and "
              "rdot_P3 never move under this law: certify_roa holds them at their values (cert.held) and certifies "
              "on the other 8 states, through a polynomial surrogate of the loop with a remainder bound. "
-             f"With degree 2 and a budget of {res.settings.roa_time_limit:g} s it answered: "
+             + ("With degree 2 and no time limit" if res.settings.roa_time_limit is None else
+                f"With degree 2 and a budget of {res.settings.roa_time_limit:g} s") + " it answered: "
              f"{res.roa_message[:500]}"
-             + ("\n\nThe SOS route does not finish on this loop in this budget: with the FULL settings' 120 s it "
-                "certifies it (about 30 s on an idle machine, measured 2026-12-02). The LMI path certifies this "
+             + ("\n\nThe SOS route does not finish on this loop in this budget: without one (the FULL settings) it "
+                "certifies it (about 80 s on one core, measured 2026-12-03). The LMI path certifies this "
                 "loop too, unsaturated and saturated at the pump rate, with the same default box and the same held "
                 "states: see the roa_certification design, section 'Saturated loops' "
                 "(gc.certify_roa_lmi(gc.saturated_loop(loop)))."

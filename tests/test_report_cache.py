@@ -273,6 +273,52 @@ def test_a_value_two_processes_of_one_cold_build_ask_for_is_computed_once(tmp_pa
     assert log.read_text() == "xxx"
 
 
+def test_the_key_lock_is_held_while_the_value_is_computed(tmp_path):
+    """While one process computes a key, its lock file is taken (a non-blocking try fails), and free afterwards:
+    what makes a second process of the build wait instead of computing the value again."""
+    import fcntl
+    import multiprocessing
+    import time
+
+    log = tmp_path / "log"
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        res = pool.apply_async(_slow_double, [(str(tmp_path), str(log), "b", True, 3.0)])
+        t0 = time.perf_counter()
+        while not log.exists() and time.perf_counter() - t0 < 60:
+            time.sleep(0.05)
+        lock, = tmp_path.joinpath("results").glob("*.lock")
+        with open(lock, "a+b") as f:
+            with pytest.raises(BlockingIOError):
+                fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+            assert res.get(timeout=60) == (42, [True])
+            fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)      # released: taken at once
+
+
+def test_threads_of_one_process_share_a_value_too(tmp_path):
+    """Threads (a dask worker runs designs on threads) lock per thread: the second waits for the first's lock and
+    reads the value, so it is computed once."""
+    import threading
+    import time
+
+    calls, out = [], []
+
+    def compute() -> int:
+        calls.append(1)
+        time.sleep(1.0)
+        return 5
+
+    def ask() -> None:
+        with recording(tmp_path, refresh=True, build="t"):
+            out.append(cached(("threads", 1), compute))
+
+    threads = [threading.Thread(target=ask) for _ in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(60)
+    assert out == [5, 5] and len(calls) == 1
+
+
 def test_nested_cached_calls_take_one_lock_and_never_wait_for_themselves(tmp_path):
     """Only the outermost cached call of a process locks (a nested call with the same key would otherwise wait for
     its own lock forever); the parts a design starts under a lock are told not to lock."""

@@ -245,6 +245,50 @@ def test_iterations_per_degree():
     assert [h["step"] for h in same.history] == [h["step"] for h in one.history]
 
 
+def test_history_sdp_times_add_up_to_solve_time_when_a_level_program_fails(monkeypatch):
+    """A V step whose level program fails: its row carries the V step's SDP time, which ``solve_time`` counts (it
+    showed 0 before), so the rows add up to ``solve_time``; the certificate is the last good V's."""
+    from glidectl.roa import certify as C
+
+    real, calls = C._level, []
+
+    def failing(*a, **k):
+        calls.append(1)
+        if len(calls) == 3:             # the initial level, the first V step's level, then the second's: fails
+            raise C.SolverError("level program failed (test)")
+        return real(*a, **k)
+
+    monkeypatch.setattr(C, "_level", failing)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
+    failed = [h for h in cert.history if h["step"].startswith("V step failed")]
+    assert len(failed) == 1 and failed[0]["sdp_time"] > 0
+    assert cert.stopped_by == "solver failure" and cert.certified
+    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+
+
+def test_a_v_step_cut_off_by_the_time_limit_keeps_its_sdp_time_in_the_history(monkeypatch):
+    """``on_budget="stop"``: a V step solved when the time limit has passed is not used, and its row says so with
+    its SDP time (there was no row before, though ``solve_time`` counted it)."""
+    import time as _time
+
+    from glidectl.roa import certify as C
+
+    real = C._v_step
+
+    def slow(*a, **k):
+        out = real(*a, **k)
+        _time.sleep(3.0)                # past the 2.5 s limit once this V step is solved
+        return out
+
+    monkeypatch.setattr(C, "_v_step", slow)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8, time_limit=2.5,
+                          on_budget="stop")
+    cut = [h for h in cert.history if h["step"].startswith("V step solved, not used")]
+    assert len(cut) == 1 and cut[0]["sdp_time"] > 0 and cert.stopped_by == "time_limit"
+    assert not any(h["step"] == "V step + level" for h in cert.history)
+    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+
+
 def test_certify_roa_refuses_systems_it_cannot_certify():
     with pytest.raises(ArgumentTypeError, match="PolySystem"):
         gc.certify_roa("vdp")

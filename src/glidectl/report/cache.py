@@ -9,7 +9,9 @@ Everything lives under ``<out>/.cache/``:
   file) are recorded with their SHA-256 and checked again on every lookup, so a changed vehicle file invalidates
   exactly the designs that read it. A changed setting changes the design file, hence its key.
 - ``results/<key>.pkl``: values cached by :func:`cached` inside a design, keyed by what the design passes (include
-  the settings fields and the vehicle provenance the value depends on) and glidectl's version and source code.
+  the settings fields and the vehicle provenance the value depends on) and glidectl's version and source code, with
+  the id of the build that wrote them; ``results/<key>.lock`` is the lock a process holds while it computes that
+  value (another process of the build that asks for it waits, then reads it; the files stay, empty).
 - ``timings.json``: the last build time of every design (quick and full), for the progress estimates and the order
   of a build (longest first); before a design's first build its declared ``EXPECTED_SECONDS`` stands in
   (:func:`expected_seconds`).
@@ -30,6 +32,7 @@ import os
 import pickle
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -551,11 +554,11 @@ def cached(key: Any, fn: Callable[[], T]) -> T:
         return value
 
 
-_HELD: list[str] = []   # the cache key this process is computing under its lock (at most one: see _key_lock)
+_HELD = threading.local()   # .keys: the cache keys this thread computes under their locks (at most one: _key_lock)
 
 
 def holds_lock() -> bool:
-    """Whether this process is computing a :func:`cached` value under its key's lock (then the parts it starts do
+    """Whether this thread is computing a :func:`cached` value under its key's lock (then the parts it starts do
     not lock: see :func:`_key_lock`).
 
     Returns
@@ -566,7 +569,41 @@ def holds_lock() -> bool:
     ------
     None
     """
-    return bool(_HELD)
+    return bool(getattr(_HELD, "keys", None))
+
+
+def _wait_for(f: Any) -> bool:
+    """Take the exclusive lock of the open file ``f``, waiting for its holder; True if taken. On a dask worker the
+    thread secedes from the worker's pool while it waits (``distributed.secede``), so a waiter never takes the slot
+    that the holder's own parts would need."""
+    import fcntl
+
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return True
+    except BlockingIOError:
+        pass
+    except OSError:
+        return False
+    seceded = False
+    try:
+        from distributed import get_worker, secede
+
+        get_worker()                                    # ValueError: not on a dask worker
+        secede()
+        seceded = True
+    except (ImportError, ValueError):
+        pass
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        return True
+    except OSError:
+        return False
+    finally:
+        if seceded:
+            from distributed import rejoin
+
+            rejoin()
 
 
 @contextmanager
@@ -574,15 +611,15 @@ def _key_lock(path: Path, enabled: bool = True) -> Iterator[None]:
     """Hold an exclusive lock on ``<path>.lock`` (``fcntl.flock``): a design that needs a value another design
     is computing in the same build waits for it and then reads it, instead of computing it again.
 
-    Only the outermost :func:`cached` call of a process locks, and parts started under a lock do not lock either
-    (``enabled`` False), so a process that holds a lock never waits for another: the waits cannot form a cycle.
-    Where locks are not available (no ``fcntl``, a file system that refuses them) the value is computed without
-    one, as before: at worst twice."""
-    if not enabled or _HELD:
+    Only the outermost :func:`cached` call of a thread locks, and parts started under a lock do not lock either
+    (``enabled`` False), so a thread that holds a lock never waits for another: the waits cannot form a cycle. The
+    lock goes with the process (a killed holder releases it). Where locks are not available (no ``fcntl``, a file
+    system that refuses them) the value is computed without one, as before: at worst twice."""
+    if not enabled or holds_lock():
         yield
         return
     try:
-        import fcntl
+        import fcntl  # POSIX only: elsewhere no lock
 
         path.parent.mkdir(parents=True, exist_ok=True)
         f = open(path.with_suffix(".lock"), "a+b")      # closed below, after the unlock
@@ -590,16 +627,12 @@ def _key_lock(path: Path, enabled: bool = True) -> Iterator[None]:
         yield
         return
     try:
-        try:
-            fcntl.flock(f.fileno(), fcntl.LOCK_EX)
-            locked = True
-        except OSError:
-            locked = False
-        _HELD.append(str(path))
+        locked = _wait_for(f)
+        _HELD.keys = [*getattr(_HELD, "keys", []), str(path)]
         try:
             yield
         finally:
-            _HELD.pop()
+            _HELD.keys = _HELD.keys[:-1]
             if locked:
                 fcntl.flock(f.fileno(), fcntl.LOCK_UN)
     finally:

@@ -2218,6 +2218,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                     stopped_by = "time_limit"
                     break
                 t_stage = time.perf_counter()
+                step_sdp = 0.0      # SDP time of this step counted in t_solve (its history row shows the same)
                 try:
                     if inner == "sos":
                         prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache, V0=V)
@@ -2225,8 +2226,11 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                         prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner, V0=V)
                         prog.solve(_coverage_objective(prog, out["V"], Zt), solver=solver)
                     t_solve += prog.solve_time
+                    step_sdp = prog.solve_time
                     Vn = out["V"].poly()
                     if out_of_time(f"degree {degV}, after a V step"):
+                        history.append({"degree": degV, "step": "V step solved, not used: time limit before its level",
+                                        "rho": math.nan, "volume": math.nan, "sdp_time": step_sdp})
                         stopped_by = "time_limit"
                         break
                     # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
@@ -2236,7 +2240,7 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                     t_solve += lv.solve_time
                 except SolverError as exc:
                     history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
-                                    "volume": math.nan, "sdp_time": 0.0})
+                                    "volume": math.nan, "sdp_time": step_sdp})
                     stopped_by = "solver failure"
                     break
                 V, lam = Vn / lv.rho, lv.lam

@@ -499,7 +499,8 @@ class _SparseKKT:
         if self.nonneg:
             d = np.array(W["d"]).ravel()
             Gl = sps.diags(1.0 / d) @ self.Gl
-            P = (Gl.T @ Gl).tocoo()             # a product has no repeated (row, col): bitwise += P.toarray()
+            P = (Gl.T @ Gl).tocoo()
+            P.sum_duplicates()                  # (a product has none): then bitwise H += P.toarray()
             H[P.row, P.col] += P.data
         for (nb, J, groups, Gw, i, j), rti in zip(self.blocks, W["rti"], strict=True):
             R = np.array(rti)
@@ -514,7 +515,8 @@ class _SparseKKT:
                 for a in range(0, len(cols), _KKT_CHUNK):                   # (bounded memory)
                     Ylow[cols[a:a + _KKT_CHUNK]] = np.matmul(SR[a:a + _KKT_CHUNK], B[a:a + _KKT_CHUNK])[:, i, j]
             H[np.ix_(J, J)] += np.asarray(Gw @ Ylow.T)
-        H += H.T                                # in place: bitwise 0.5 * (H + H.T), two m x m arrays fewer
+        # in place: bitwise 0.5 * (H + H.T), with one m x m array fewer (NumPy copies the overlapping H.T)
+        H += H.T
         H *= 0.5
         return H
 
