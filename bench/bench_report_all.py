@@ -147,6 +147,30 @@ verification note in roa_certification now reads 10007 samples and 256/256 simul
 The wall time gains less than the CPU: in that build slocum_dive_cycle started its certificate at 310 s (after
 ch7_ctol), after roa_certification's part had asked for it, so the part waited. The part now runs last in
 roa_certification (after that measurement), by when a full build has the certificate.
+
+Measured 2026-12-03 15:27-15:47, side by side in the same way, 40abd49 against ec160bc (the above, the shared part
+last, slocum_dive_cycle's FULL certificate without a time limit, as roa_certification's: the same cache key, and the
+first remainder-box round's sampled checks skipped when the second replaces it; the moment route's Schur complement
+without its 63 MB copies, bitwise the same):
+
+=====================  ==========  ==========
+design                 40abd49     ec160bc
+=====================  ==========  ==========
+ch2_longitudinal       30.6 s      30.1 s
+ch4_phugoid            10.5 s      12.7 s
+ch5_singular_pert.     31.0 s      30.4 s
+ch6_controllers        83.7 s      85.8 s
+ch7_ctol               307.8 s     306.9 s
+ch8_helix              161.7 s     170.0 s
+slocum_dive_cycle      480.6 s     468.1 s (computed the shared certificate: 0/1 sub-results from the cache)
+roa_certification      1158.3 s    1116.4 s (read it: 1/1; the part took 34.9 s against 268.3 s, no wait)
+end to end (wall)      1166.0 s    1124.7 s (ratio 0.96)
+user CPU               1137.1 s    1065.3 s (0.94)
+peak RSS               0.80 GB     0.80 GB
+=====================  ==========  ==========
+
+No ledger number changed (1e-9 relative, timings left out). The CTOL certificate inside roa_certification took
+369.5 s against 407.4 s in this loaded pair.
 """
 
 from __future__ import annotations
