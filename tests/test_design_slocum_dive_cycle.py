@@ -122,3 +122,36 @@ def test_mission_comparison_numbers(quick_build, design):
     else:
         assert "roa_lqr_volume" not in nums and "without one (the FULL settings) it certifies it" in body
         assert "a budget of 20 s it answered: BudgetError" in body
+
+
+def test_the_lqr_loop_certificate_is_shared_with_roa_certification(design, monkeypatch):
+    """slocum_dive_cycle (FULL) and roa_certification ask ``cached`` for the user glider's LQR-loop certificate
+    under the same key and the same call, so a build computes it once; a QUICK run (20 s budget, which can change
+    the certificate) asks under another key."""
+    import json
+
+    from glidectl.report import load_design
+    from glidectl.report.cache import _digest
+
+    other = load_design(design.path.parent / "roa_certification.py").module
+    seen: dict[str, list] = {"slocum": [], "roa": []}
+
+    def recorder(tag):
+        def fake(key, fn):
+            seen[tag].append(json.dumps(_digest(key)))
+            return None
+        return fake
+
+    m = design.module
+    veh = gc.load_vehicle(m.FULL.vehicle)
+    glide = gc.steady_glide(veh, m.FULL.speed, -math.radians(m.FULL.gamma_deg), r_p3=veh.actuators["r_P3"].fixed)
+    ctrl = gc.lqr_glide(veh, glide, inputs="acceleration")
+    loop = gc.closed_loop(ctrl)
+    monkeypatch.setattr(m, "cached", recorder("slocum"))
+    monkeypatch.setattr(other, "cached", recorder("roa"))
+    m._certify_lqr_loop(veh, ctrl, loop, m.FULL.roa_time_limit)
+    m._certify_lqr_loop(veh, ctrl, loop, m.QUICK.roa_time_limit)
+    other._certify_lqr_loop(*other._user_glider_loop())
+    full, quick = seen["slocum"]
+    assert seen["roa"] == [full] and quick != full
+    assert dict(m.ROA_ARGS, time_limit=m.FULL.roa_time_limit) == other.USER_ROA_ARGS

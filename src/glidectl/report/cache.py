@@ -554,7 +554,7 @@ def cached(key: Any, fn: Callable[[], T]) -> T:
         return value
 
 
-_HELD = threading.local()   # .keys: the cache keys this thread computes under their locks (at most one: _key_lock)
+_HELD = threading.local()   # .active: this thread computes a cached value under its key's lock (see _key_lock)
 
 
 def holds_lock() -> bool:
@@ -569,7 +569,7 @@ def holds_lock() -> bool:
     ------
     None
     """
-    return bool(getattr(_HELD, "keys", None))
+    return bool(getattr(_HELD, "active", False))
 
 
 def _wait_for(f: Any) -> bool:
@@ -628,11 +628,11 @@ def _key_lock(path: Path, enabled: bool = True) -> Iterator[None]:
         return
     try:
         locked = _wait_for(f)
-        _HELD.keys = [*getattr(_HELD, "keys", []), str(path)]
+        _HELD.active = True         # nested calls of this thread (and the parts it starts) do not lock
         try:
             yield
         finally:
-            _HELD.keys = _HELD.keys[:-1]
+            _HELD.active = False
             if locked:
                 fcntl.flock(f.fileno(), fcntl.LOCK_UN)
     finally:
