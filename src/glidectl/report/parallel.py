@@ -32,6 +32,7 @@ from ..errors import ArgumentError, DesignError, GlidectlError
 from .cache import BuildResult, DesignCache, design_key, expected_seconds, recording, settings_of
 from .designs import Design, load_design_source
 from .parts import parts_context
+from .threads import worker_threads
 
 __all__ = ["DesignFailure", "build_designs", "build_one", "dask_client", "require_dask"]
 
@@ -470,8 +471,8 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
     worker's pid), the design that worker ran before is finished first (its future is done, or about to be)."""
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                             initargs=(queue,)) as ex:
+    with worker_threads(jobs), ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                                   initargs=(queue,)) as ex:
         pending: dict[Any, str] = {}
         for d, _, source in todo:
             pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,

@@ -33,6 +33,7 @@ import cloudpickle
 
 from ..errors import ArgumentError, ArgumentTypeError
 from .cache import holds_lock, merge_run, recording
+from .threads import worker_threads
 
 __all__ = ["map_parts", "parts_context"]
 
@@ -188,6 +189,6 @@ def map_parts(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
             blobs = client.gather(futures)
     else:
         mp = multiprocessing.get_context(ctx.start_method)
-        with ProcessPoolExecutor(max_workers=min(ctx.jobs, len(items)), mp_context=mp) as ex:
+        with worker_threads(ctx.jobs), ProcessPoolExecutor(max_workers=min(ctx.jobs, len(items)), mp_context=mp) as ex:
             blobs = list(ex.map(_run_part, *zip(*args, strict=True)))
     return [_merge(b) for b in blobs]

@@ -1,0 +1,61 @@
+"""Threads of the worker processes of a build: one pool of ``jobs`` processes shares the machine's cores.
+
+numpy's OpenBLAS, CVXOPT's BLAS and Clarabel's supernodal solver (faer, on a rayon thread pool) each start one
+thread per core in every process. On a pool of one worker per core that oversubscribes the machine, and the idle
+threads spin: one Clarabel solve of the user glider's saturated V step (2-core machine, nothing else running) took
+6.3 s of wall time and 9.4 s of CPU with the libraries' defaults, 6.4 s and 6.4 s with one thread each
+(2026-12-03). :func:`worker_threads` gives the workers of a pool ``cores // jobs`` threads each (at least one) by the
+environment variables these libraries read when they load, which spawned workers inherit.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+from collections.abc import Iterator
+
+from .. import checks
+
+__all__ = ["THREAD_VARIABLES", "worker_threads"]
+
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "RAYON_NUM_THREADS")
+"""The environment variables :func:`worker_threads` sets: OpenMP, OpenBLAS, MKL and rayon (Clarabel's faer)."""
+
+
+@contextlib.contextmanager
+def worker_threads(jobs: int, cores: int | None = None) -> Iterator[dict[str, str]]:
+    """Within the block, processes started by this one use ``max(1, cores // jobs)`` threads per library.
+
+    Parameters
+    ----------
+    jobs : int
+        Worker processes of the pool started within the block (>= 1).
+    cores : int, optional
+        Cores of the machine (default ``os.cpu_count()``).
+
+    Yields
+    ------
+    dict of str to str
+        The variables of :data:`THREAD_VARIABLES` set for the block. A variable the environment already has (set by
+        the user, or inherited from the build's own pool by a design that starts a pool for its parts) is left as
+        it is. On leaving the block the environment is what it was.
+
+    Notes
+    -----
+    The libraries read these variables when they are loaded, so they apply to workers that start a fresh
+    interpreter (the ``spawn`` start method, the build's default), not to this process or forked workers.
+
+    Raises
+    ------
+    ArgumentError
+        If ``jobs`` or ``cores`` is not a positive integer.
+    """
+    jobs = checks.integer("jobs", jobs, lo=1)
+    cores = checks.integer("cores", os.cpu_count() or 1 if cores is None else cores, lo=1)
+    per = str(max(1, cores // jobs))
+    new = {k: per for k in THREAD_VARIABLES if k not in os.environ}
+    os.environ.update(new)
+    try:
+        yield new
+    finally:
+        for k in new:
+            os.environ.pop(k, None)
