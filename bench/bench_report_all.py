@@ -173,6 +173,60 @@ No ledger number changed (1e-9 relative, timings left out). The CTOL certificate
 369.5 s against 407.4 s in this loaded pair. 04e49a9 (the same numbers) built alone at 15:54, nothing else running:
 **480.3 s** for the 8 designs (8 min 3 s with the interpreter), CPU 908.0 s, peak 0.80 GB; roa_certification,
 the critical path, 477.5 s. The warm rebuild after it: 4.7 s, 8 of 8 from the cache.
+
+Measured 2026-12-03 16:39-17:01, the README's command as a user runs it (no thread variables set:
+``PYTHONPATH=src /usr/bin/time -v python -m glidectl report all --no-cache --jobs 2 --out DIR``), side by side,
+68af791 against 9af701c (the build's workers get ``cores // jobs`` library threads, ``glidectl.report.threads``):
+
+=====================  ==========  ==========
+design                 68af791     9af701c
+=====================  ==========  ==========
+ch2_longitudinal       17.8 s      27.5 s
+ch4_phugoid            5.4 s       9.8 s
+ch5_singular_pert.     15.9 s      34.0 s
+ch6_controllers        59.3 s      111.0 s
+ch7_ctol               281.9 s     281.2 s
+ch8_helix              181.4 s     172.7 s
+slocum_dive_cycle      649.6 s     527.4 s (its certificate step: 424.7 s against 312.0 s)
+roa_certification      1290.9 s    1155.5 s
+end to end (wall)      1296.2 s    1171.8 s (ratio 0.90)
+user CPU               1547.5 s    948.1 s (0.61)
+share of the 2 cores   121 %       82 %
+peak RSS               0.81 GB     0.80 GB
+=====================  ==========  ==========
+
+With the libraries' defaults every worker ran one OpenBLAS and one rayon (Clarabel's faer) thread per core, and the
+idle ones spin: 68af791 burnt 1.6 times the CPU for the same work and took 121 % of the machine against 82 %, which
+is why the short designs of 9af701c, built while 68af791's spinning threads held the cores, took longer in this
+pair. Numbers that changed: the certificates' volumes, by the rounding of the linear algebra, which depends on the
+number of threads (a parallel BLAS or factorization adds in another order, and the SOS alternation carries that
+difference along its path): roa_certification's full_KM100 volume +1.8e-5 relative, the reduced glider's area
+-7.9e-5, the saturated user loop's SOS volume 3.662e-12 against 3.389e-12 (-7.4 %), the unsaturated one's +0.2 %,
+slocum_dive_cycle's LQR-loop certificate +0.17 %; every certificate stays certified, no ledger flag changed. The new
+numbers are those of a single-threaded run (the saturated user loop alone, one thread: 3.389e-12, the same).
+
+Then each alone, the same command (``--jobs`` default: 2), nothing else running: 68af791 at 17:23-17:36 against
+9af701c at 17:10-17:19:
+
+=====================  ==========  ==========
+design                 68af791     9af701c
+=====================  ==========  ==========
+ch2_longitudinal       19.8 s      9.6 s
+ch4_phugoid            6.5 s       4.3 s
+ch5_singular_pert.     17.0 s      10.3 s
+ch6_controllers        34.9 s      28.3 s
+ch7_ctol               190.5 s     150.1 s
+ch8_helix              90.2 s      67.8 s
+slocum_dive_cycle      343.7 s     251.1 s (computed the shared certificate)
+roa_certification      753.6 s     504.6 s (read it: 1/1)
+end to end (wall)      756.9 s     **517.5 s (ratio 0.68)**, 8 min 42 s with the interpreter
+user CPU               1457.9 s    1006.3 s (0.69)
+=====================  ==========  ==========
+
+The warm rebuild after it: 3.9 s, 8 of 8 from the cache. 9af701c's numbers were the same alone as in the pair
+(1e-9 relative): with one thread per worker the build is deterministic. 04e49a9's 480.3 s above was measured with
+``OMP_NUM_THREADS=1`` set by hand (rayon still at one thread per core), an hour earlier on this machine that drifts
+by +-30 %; the README's command, as a user runs it, took 756.9 s before this change.
 """
 
 from __future__ import annotations

@@ -147,3 +147,26 @@ def test_a_fresh_worker_loads_the_design_it_runs_a_part_of(parted, tmp_path):
     assert module in sys.modules and K_M(2.0) == -73.0
     assert str(veh) in pickle.loads(blob)[1]
     assert m0 == gc.steady_glide(gc.load_vehicle(str(veh)), 0.3, -35.0 * 3.141592653589793 / 180, r_p3=0.05).m0
+
+
+def test_parts_started_inside_a_cached_computation_take_no_lock(tmp_path, monkeypatch):
+    """A design that runs map_parts inside cached() holds that key's lock while its parts run: the parts then take
+    no lock of their own (a part waiting for a lock that another design holds while that design waits for this
+    design's key would be a cycle). Outside cached() they lock as usual. The spy reaches forked workers."""
+    from glidectl.report import parts
+    from glidectl.report.cache import recording
+
+    log = tmp_path / "locks.txt"
+    real = parts.recording
+
+    def spy(cache_root, refresh=False, build=None, lock=True):
+        with log.open("a") as f:
+            f.write(f"{int(lock)}\n")
+        return real(cache_root, refresh, build, lock)
+
+    monkeypatch.setattr(parts, "recording", spy)
+    cache = tmp_path / "cache"
+    with recording(cache), parts_context("x", "x.py", b"", jobs=2, cache_root=str(cache), start_method="fork"):
+        assert map_parts(abs, [-1, -2]) == [1, 2]
+        assert cached(("outer",), lambda: map_parts(abs, [-3, -4])) == [3, 4]
+    assert log.read_text().split() == ["1", "1", "0", "0"]
