@@ -123,6 +123,15 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   104.8 s vs 110.3 s), the same volume 0.00216064, certified: 1.78x the 60 s target in this loaded pair (1.50x
   alone, above). glider4_staged **106.2 s vs 106.6 s** (1.00), the same volume 0.197150: its quartic V step's time
   is not in the Schur complement's copies. Both targets stay unmet.
+- 2026-12-03 17:52-18:03 (thirteenth session, main at ee44935, nothing else running; ``--cases
+  vdp,ctol,glider4_staged --repeats 3``, first with ``OMP_NUM_THREADS=1 RAYON_NUM_THREADS=1``, what a worker of
+  ``glidectl report all`` now gets on 2 cores, then with the libraries' defaults, one thread per core): vdp **2.27
+  s** (1.92 s), 96.50 % of the true area, certified: 0.76 of the 3 s target. ctol **84.6 s**, CPU 84.5 s (defaults:
+  81.2 s, CPU 137.5 s), volume 0.00216064, certified: **1.41x** the 60 s target. glider4_staged **80.3 s**, CPU
+  80.3 s (defaults: 82.5 s, CPU 143.5 s), volume **0.197147** (defaults: 0.197141; 0.197150 in the eleventh
+  session), certified: **1.34x** the 60 s target, 1.28 times the degree-2 volume. The second thread of OpenBLAS
+  and faer buys no wall time on these programs and costs 1.6-1.8x the CPU; the volumes differ by the rounding of
+  the thread count (as the report builds' numbers do: ``bench/bench_report_all.py``).
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,glider4_staged,ctol]
