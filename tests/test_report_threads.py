@@ -88,3 +88,24 @@ def test_designs_on_the_build_pool_run_with_the_limits(clean_env, tmp_path):
         got = {n["name"]: n["value"] for n in json.loads((tmp_path / "out" / name / "numbers.json").read_text())}
         assert got == dict.fromkeys(THREAD_VARIABLES, max(1, (os.cpu_count() or 1) // 2))
     assert not any(k in os.environ for k in THREAD_VARIABLES)
+
+
+def test_blocks_that_overlap_in_two_threads_keep_the_limits_until_the_last_ends(clean_env):
+    import threading
+
+    entered, release = threading.Event(), threading.Event()
+
+    def other():
+        with worker_threads(2, cores=2):
+            entered.set()
+            release.wait(10)
+
+    t = threading.Thread(target=other)
+    t.start()
+    assert entered.wait(10)
+    with worker_threads(2, cores=2) as new:     # the other thread's block set them: the same values
+        assert new == dict.fromkeys(THREAD_VARIABLES, "1")
+    assert all(os.environ[k] == "1" for k in THREAD_VARIABLES)     # the other block is still open
+    release.set()
+    t.join(10)
+    assert not any(k in os.environ for k in THREAD_VARIABLES)

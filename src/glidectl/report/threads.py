@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import threading
 from collections.abc import Iterator
 
 from .. import checks
@@ -42,7 +43,9 @@ def worker_threads(jobs: int, cores: int | None = None) -> Iterator[dict[str, st
     Notes
     -----
     The libraries read these variables when they are loaded, so they apply to workers that start a fresh
-    interpreter (the ``spawn`` start method, the build's default), not to this process or forked workers.
+    interpreter (the ``spawn`` start method, the build's default), not to this process or forked workers. Blocks
+    that overlap in several threads of one process share the values of the first: the variables stay set until the
+    last of them ends.
 
     Raises
     ------
@@ -52,10 +55,23 @@ def worker_threads(jobs: int, cores: int | None = None) -> Iterator[dict[str, st
     jobs = checks.integer("jobs", jobs, lo=1)
     cores = checks.integer("cores", os.cpu_count() or 1 if cores is None else cores, lo=1)
     per = str(max(1, cores // jobs))
-    new = {k: per for k in THREAD_VARIABLES if k not in os.environ}
-    os.environ.update(new)
+    with _STATE_LOCK:
+        if _STATE["blocks"] == 0:
+            _STATE["set"] = {k: per for k in THREAD_VARIABLES if k not in os.environ}
+            os.environ.update(_STATE["set"])
+        _STATE["blocks"] += 1
+        new = dict(_STATE["set"])
     try:
         yield new
     finally:
-        for k in new:
-            os.environ.pop(k, None)
+        with _STATE_LOCK:
+            _STATE["blocks"] -= 1
+            if _STATE["blocks"] == 0:
+                for k in _STATE["set"]:
+                    os.environ.pop(k, None)
+                _STATE["set"] = {}
+
+
+# the blocks open in this process and the variables the first of them set (threads may overlap their blocks)
+_STATE_LOCK = threading.Lock()
+_STATE: dict = {"blocks": 0, "set": {}}
