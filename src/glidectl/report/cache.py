@@ -572,12 +572,10 @@ def holds_lock() -> bool:
     return bool(getattr(_HELD, "active", False))
 
 
-def _wait_for(f: Any) -> bool:
-    """Take the exclusive lock of the open file ``f``, waiting for its holder; True if taken. On a dask worker the
-    thread secedes from the worker's pool while it waits (``distributed.secede``), so a waiter never takes the slot
-    that the holder's own parts would need."""
-    import fcntl
-
+def _wait_for(fcntl: Any, f: Any) -> bool:
+    """Take the exclusive lock of the open file ``f`` (``fcntl``: the module, imported by the caller), waiting for
+    its holder; True if taken. On a dask worker the thread secedes from the worker's pool while it waits
+    (``distributed.secede``), so a waiter never takes the slot that the holder's own parts would need."""
     try:
         fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
         return True
@@ -627,7 +625,7 @@ def _key_lock(path: Path, enabled: bool = True) -> Iterator[None]:
         yield
         return
     try:
-        locked = _wait_for(f)
+        locked = _wait_for(fcntl, f)
         _HELD.active = True         # nested calls of this thread (and the parts it starts) do not lock
         try:
             yield

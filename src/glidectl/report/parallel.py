@@ -471,6 +471,8 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
     worker's pid), the design that worker ran before is finished first (its future is done, or about to be)."""
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
+    # cores // jobs threads per worker, not cores // workers: each design may start a parts pool of `jobs` workers,
+    # which inherit this share (a larger one would oversubscribe the cores when the parts run)
     with worker_threads(jobs), ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                                    initargs=(queue,)) as ex:
         pending: dict[Any, str] = {}
