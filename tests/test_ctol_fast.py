@@ -1,7 +1,8 @@
 """The CTOL right-hand sides on a single state (the calls of a simulation): the vehicle constants read once per model,
-numpy scalars instead of 0-d views, no re-validation of the control law per call. A single state must give the batch
-row to the last bit (real and complex-step states), the constants must be the vehicle's, and the argument checks at
-the fast path's boundary must still raise the same errors."""
+scalars instead of 0-d views (Python floats, with libm's sin and cos and numpy's arctan, in the aircraft model and
+the steady-glide law), no re-validation of the control law per call. A single state must give the batch row to the
+last bit (real and complex-step states), the constants must be the vehicle's, and the argument checks at the fast
+path's boundary must still raise the same errors."""
 
 from __future__ import annotations
 

@@ -74,7 +74,7 @@ class SteadyGlideController:
         """Inputs ``(u1, u2)`` (N, N m), shape ``(..., 2)``, at full states ``x = (x, y, xdot, ydot, theta,
         Omega2)`` (shape ``(..., 6)``)."""
         x = trailing_array("x", x, 6)
-        th, Om = (x[4], x[5]) if single_real_state(x) else (x[..., 4], x[..., 5])  # numpy scalars for one real state
+        th, Om = x[4:].tolist() if single_real_state(x) else (x[..., 4], x[..., 5])  # Python floats for one state
         return steady_glide_inputs(self.vehicle, self.glide, self.k3, self.k4, self.T, th, Om)
 
     def reduced_input(self, s: Any) -> np.ndarray:

@@ -237,7 +237,8 @@ def _augmented(model: CTOLAircraft, ctrl: SteadyGlideController, z: Any) -> Any:
     x = z[..., :6]
     u = ctrl.u(x)
     if u.ndim == 1 and u.dtype.kind == "f":  # one real state (the solvers' calls): scalar squares, same values
-        q1, q2 = u[0] * u[0], u[1] * u[1]
+        u1, u2 = u.tolist()
+        q1, q2 = u1 * u1, u2 * u2
         out = np.empty(9)
         out[:6] = model.rhs(x, u)
         out[6], out[7], out[8] = q1, q2, q1 + q2

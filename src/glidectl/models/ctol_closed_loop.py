@@ -15,6 +15,7 @@ certification (:class:`ClosedLoopCTOLAlpha`).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -116,9 +117,11 @@ def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T
     closed-loop right-hand sides."""
     eps = veh.epsilon
     k1, k2 = glide.k1, glide.k2
-    s, c = np.sin(theta), np.cos(theta)
+    # Python floats (one state, from SteadyGlideController.u): libm's sin and cos, the ones numpy's float64 loops call
+    sin, cos = (math.sin, math.cos) if type(theta) is float else (np.sin, np.cos)
+    s, c = sin(theta), cos(theta)
     u1 = -k1 * s - k2 * c
-    u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * np.sin(theta - glide.theta) - k4 * T * Omega2
+    u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * sin(theta - glide.theta) - k4 * T * Omega2
     if getattr(u1, "ndim", 0) == 0 and getattr(u2, "ndim", 0) == 0:  # one state (scalars): no broadcasting
         return np.array((u1, u2))
     return np.stack(np.broadcast_arrays(u1, u2), -1)
