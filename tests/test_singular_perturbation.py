@@ -285,6 +285,10 @@ def test_compact_form_is_the_dimensional_model_in_new_variables(name: str, p: np
     np.testing.assert_allclose(got, ref, rtol=0, atol=1e-11 * scale)
     np.testing.assert_allclose(got[2:], sp.g(p, q) / np.array([sp.eps1, sp.eps2]), rtol=0, atol=1e-11 * scale)
     np.testing.assert_allclose(got[:2], sp.f(p, q), rtol=0, atol=1e-12 * scale)
+    # one evaluation of the right-hand side serves f and g: exactly the values of the two separate calls
+    sc = sp.scaling
+    assert np.array_equal(got, np.concatenate([sc.f(p, q), sc.g(p, q) * np.array([sc.r1, sc.r2]) / sc.mu]))
+    assert sc.glider is sc.glider       # the dimensional model is built once per scaling
     # g1 = Omegabar2 - eps1 f2 (5.22) holds for unequal masses too, because alpha' = Omega2 - gamma' exactly
     assert sp.g(p, q)[0] == pytest.approx(q[1] - sp.eps1 * sp.f(p, q)[1], abs=1e-12 * scale)
 

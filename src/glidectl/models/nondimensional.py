@@ -18,6 +18,7 @@ and its result builds the models (``reduced_model()``, ``full_model()``, ``slow_
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -112,9 +113,10 @@ class NondimensionalScaling:
         """``mu / eps2`` (5.27)."""
         return self.mu / self.eps2
 
-    @property
+    @cached_property
     def glider(self) -> ReducedLongitudinalGlider:
-        """The dimensional model whose right-hand side every field here rescales."""
+        """The dimensional model whose right-hand side every field here rescales (built once per scaling: the
+        vehicle is immutable)."""
         return ReducedLongitudinalGlider(self.vehicle)
 
     # ---------------------------------------------------------------- coordinates (5.12)-(5.15), (5.19)
@@ -187,9 +189,9 @@ class NondimensionalScaling:
     def full_rhs_nondimensional(self, z: Any) -> np.ndarray:
         """``dz/dt_n`` for ``z = (p, q)`` (shape ``(..., 4)``): ``(f, A g / mu)``."""
         z = trailing_array("z", z, 4)
-        p, q = z[..., :2], z[..., 2:]
-        gg = self.g(p, q)
-        return np.concatenate([self.f(p, q), gg * np.array([self.r1, self.r2]) / self.mu], axis=-1)
+        Vd, gd, ad, Od = self._rates(z[..., :2], z[..., 2:])     # one evaluation of the right-hand side for f and g
+        gg = self._g_of(gd, ad, Od, True)
+        return np.concatenate([self._f_of(Vd, gd), gg * np.array([self.r1, self.r2]) / self.mu], axis=-1)
 
     def reduced_rhs(self, p: Any) -> np.ndarray:
         """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``, ``p`` of shape ``(..., 2)``."""
