@@ -231,3 +231,28 @@ def test_integer_states_take_the_checked_path_with_the_same_values():
     xi, ui = np.array([0, 0, 1, 0, 0, 2]), np.array([1, 3])
     assert _bitwise(model.rhs(xi, ui), model.rhs(xi.astype(float), ui.astype(float)))
     assert _bitwise(model.rhs(np.stack([xi, xi]), ui)[1], model.rhs(xi.astype(float), ui.astype(float)))
+
+
+@pytest.mark.parametrize("state", [
+    (0.0, 0.0, 0.0, 0.0, 0.1, 0.0),          # V = 0: cos gamma = 0 / 0
+    (0.0, 0.0, -1.0, 0.0, 0.1, 0.0),         # gamma = pi: the half-angle formula divides by V + xdot = 0
+    (0.0, 0.0, np.nan, 0.1, 0.1, 0.0),       # a NaN state (a solver's step that blew up)
+    (0.0, 0.0, 1.0, 0.1, np.inf, 0.0),       # an infinite pitch angle
+    (0.0, 0.0, 0.3, 0.1, np.nan, np.inf),
+    (0.0, 0.0, 1e200, 1e200, 0.2, 0.0),      # V^2 overflows
+])
+def test_single_state_at_a_singular_or_non_finite_point_gives_the_batch_row(state):
+    """Where the single-state path's Python floats raise (division by zero, math domain, overflow), the right-hand
+    side and the control law fall back to numpy scalars and return the batch row's inf and NaN, as before (a solver
+    then fails its step and the run reports it), instead of raising."""
+    x = np.array(state)
+    u = np.array([1.0, 2.0])
+    ctrl = SteadyGlideController(VEH, GLIDE, 7e5, 250.0, 1.3)
+    model = CTOLAircraft(VEH)
+    with np.errstate(all="ignore"):
+        for one, batch in ((model.rhs(x, u), model.rhs(x[None], u[None])[0]), (ctrl.u(x), ctrl.u(x[None])[0]),
+                           (_augmented(model, ctrl, np.r_[x, 0, 0, 0]),
+                            _augmented(model, ctrl, np.r_[x, 0, 0, 0][None])[0])):
+            assert one.dtype == np.float64 and one.shape == batch.shape
+            np.testing.assert_array_equal(one, batch)
+    assert not np.all(np.isfinite(model.rhs(x, u)))

@@ -111,6 +111,9 @@ def _float_arctan(v: float) -> float:
 #: takes 3.7 us against 5.3 us and returns identical values (tests/test_ctol_fast.py compares them to the batch).
 _FLOAT_MATH = (math.sqrt, _float_arctan, round, math.cos, math.sin)
 
+#: The same functions for arrays and numpy scalars.
+_NUMPY_MATH = (np.sqrt, np.arctan, np.rint, np.cos, np.sin)
+
 
 def _constants(veh: Vehicle) -> tuple[Any, ...]:
     """``(rho A_W/2 a_L, rho A_W/2 a_D, b, c, epsilon, m, g, J)`` of a CTOL aircraft: the constants of (7.1)-(7.7)
@@ -167,14 +170,21 @@ class CTOLAircraft:
         """
         x = trailing_array("x", x, 6, self.state_names)
         u = trailing_array("u", u, 2, self.input_names)
-        one = single_real_state(x, u)
-        if one:  # Python floats for one real state (the calls of a simulation): see _FLOAT_MATH
-            xd, yd, th, Om = x[2:].tolist()
-            u1, u2 = u.tolist()
-            sqrt, arctan, rint, cos, sin = _FLOAT_MATH
-        else:
-            xd, yd, th, Om, u1, u2 = x[..., 2], x[..., 3], x[..., 4], x[..., 5], u[..., 0], u[..., 1]
-            sqrt, arctan, rint, cos, sin = np.sqrt, np.arctan, np.rint, np.cos, np.sin
+        if single_real_state(x, u):  # one real state (the calls of a simulation): Python floats, see _FLOAT_MATH
+            cols = (*x[2:].tolist(), *u.tolist())
+            try:
+                return np.array(self._columns(*cols, _FLOAT_MATH))
+            except (ZeroDivisionError, ValueError, OverflowError):
+                # V = 0, gamma = pi, or a state that is not finite: numpy scalars give the batch row's inf and NaN
+                with np.errstate(all="ignore"):
+                    return np.array(self._columns(*np.array(cols), _NUMPY_MATH))
+        cols = (x[..., 2], x[..., 3], x[..., 4], x[..., 5], u[..., 0], u[..., 1])
+        return np.stack(np.broadcast_arrays(*self._columns(*cols, _NUMPY_MATH)), axis=-1)
+
+    def _columns(self, xd: Any, yd: Any, th: Any, Om: Any, u1: Any, u2: Any, fns: tuple[Any, ...]) -> tuple[Any, ...]:
+        """The six columns of (7.5)-(7.7) from the state and input columns, with ``fns = (sqrt, arctan, rint, cos,
+        sin)``: :data:`_FLOAT_MATH` for Python floats, :data:`_NUMPY_MATH` for arrays and numpy scalars."""
+        sqrt, arctan, rint, cos, sin = fns
         lift0, drag0, b, c, eps, m, g, J = self._constants  # the vehicle was checked in __post_init__
         V2 = xd * xd + yd * yd
         V = sqrt(V2)
@@ -187,9 +197,7 @@ class CTOLAircraft:
         cth, sth = cos(th), sin(th)
         xdd = (-D * cg - L * sg + u1 * cth + eps * u2 * sth) / m
         ydd = (-D * sg + L * cg + u1 * sth - eps * u2 * cth) / m - g
-        if one:
-            return np.array((xd, yd, xdd, ydd, Om, u2 / J))
-        return np.stack(np.broadcast_arrays(xd, yd, xdd, ydd, Om, u2 / J), axis=-1)
+        return xd, yd, xdd, ydd, Om, u2 / J
 
     @cached_property
     def _constants(self) -> tuple[Any, ...]:

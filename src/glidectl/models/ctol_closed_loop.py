@@ -115,16 +115,25 @@ def _steady_glide_inputs(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T
                          Omega2: Any) -> Any:
     """:func:`steady_glide_inputs` for data already checked (:func:`check_steady_glide_law`): the hot path of the
     closed-loop right-hand sides."""
-    eps = veh.epsilon
-    k1, k2 = glide.k1, glide.k2
-    # Python floats (one state, from SteadyGlideController.u): libm's sin and cos, the ones numpy's float64 loops call
-    sin, cos = (math.sin, math.cos) if type(theta) is float else (np.sin, np.cos)
-    s, c = sin(theta), cos(theta)
-    u1 = -k1 * s - k2 * c
-    u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * sin(theta - glide.theta) - k4 * T * Omega2
+    if type(theta) is float:  # one state in Python floats (SteadyGlideController.u): libm's sin and cos, which
+        try:                  # numpy's float64 loops call too; an infinite theta falls back to numpy (NaN)
+            return np.array(_law(veh.epsilon, glide, k3, k4, T, theta, Omega2, math.sin, math.cos))
+        except ValueError:
+            theta = np.float64(theta)
+    u1, u2 = _law(veh.epsilon, glide, k3, k4, T, theta, Omega2, np.sin, np.cos)
     if getattr(u1, "ndim", 0) == 0 and getattr(u2, "ndim", 0) == 0:  # one state (scalars): no broadcasting
         return np.array((u1, u2))
     return np.stack(np.broadcast_arrays(u1, u2), -1)
+
+
+def _law(eps: float, glide: CTOLGlide, k3: float, k4: float, T: float, theta: Any, Omega2: Any, sin: Any,
+         cos: Any) -> tuple[Any, Any]:
+    """``(u1, u2)`` of (7.16)-(7.20) with the given ``sin`` and ``cos`` (``math``'s for floats, numpy's else)."""
+    k1, k2 = glide.k1, glide.k2
+    s, c = sin(theta), cos(theta)
+    u1 = -k1 * s - k2 * c
+    u2 = (k1 * c - k2 * s) / eps - (k3 / eps) * sin(theta - glide.theta) - k4 * T * Omega2
+    return u1, u2
 
 
 @dataclass(frozen=True)
