@@ -227,6 +227,29 @@ The warm rebuild after it: 3.9 s, 8 of 8 from the cache. 9af701c's numbers were 
 (1e-9 relative): with one thread per worker the build is deterministic. 04e49a9's 480.3 s above was measured with
 ``OMP_NUM_THREADS=1`` set by hand (rayon still at one thread per core), an hour earlier on this machine that drifts
 by +-30 %; the README's command, as a user runs it, took 756.9 s before this change.
+
+Measured 2026-12-03 19:07-20:49 (sixth session), the README's command (no thread variables set), 665699d against
+2274156 (the CTOL single-state float path, full_rhs_nondimensional evaluating the glider once): side by side
+(``--jobs 2`` each, 4 processes on 2 cores), then alone twice, in both orders (new, base; base, new):
+
+=====================  ==========  ==========  ==========  ==========  ==========  ==========
+design                 pair 665..  pair 227..  alone1 665  alone1 227  alone2 665  alone2 227
+=====================  ==========  ==========  ==========  ==========  ==========  ==========
+ch2_longitudinal       16.2 s      20.0 s      9.5 s       10.3 s      10.3 s      7.6 s
+ch4_phugoid            4.6 s       8.7 s       3.8 s       3.9 s       3.8 s       3.1 s
+ch5_singular_pert.     21.5 s      20.3 s      9.8 s       13.4 s      13.9 s      9.3 s
+ch6_controllers        59.7 s      65.7 s      32.0 s      32.4 s      40.2 s      28.9 s
+ch7_ctol               322.0 s     296.2 s     151.0 s     103.2 s     146.2 s     140.9 s
+ch8_helix              137.2 s     142.4 s     88.3 s      68.4 s      79.9 s      68.2 s
+slocum_dive_cycle      433.8 s     439.3 s     231.2 s     186.0 s     210.8 s     237.1 s
+roa_certification      990.6 s     974.0 s     500.9 s     410.5 s     496.3 s     481.9 s
+end to end (wall)      1000.2 s    990.6 s     517.3 s     417.2 s     504.9 s     492.9 s
+user CPU               938.0 s     912.7 s     1004.9 s    813.6 s     981.8 s     958.2 s
+=====================  ==========  ==========  ==========  ==========  ==========  ==========
+
+The gain is about 2-3 % of the CPU (pair 0.97, second alone pair 0.98); the first alone pair's 0.81 is the machine's
+drift (ch8_helix, whose code did not change, went 88.3 s to 68.4 s in it). No ledger number changed in any design
+(1e-9, every run). Warm rebuild after the first new build: 3.6 s, 8 of 8 from the cache.
 """
 
 from __future__ import annotations
