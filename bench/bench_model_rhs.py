@@ -16,7 +16,7 @@ Usage::
 Each checkout runs in its own subprocess, alternating, ``--repeats`` times; the medians are reported with the ratio
 new over baseline (lower is faster) and whether the tracking run's arrays are bitwise the same.
 
-Measured 2026-12-03 20:50 (2-core machine, ``OMP_NUM_THREADS=1``, ``--repeats 1``), 665699d against 4eb204e/2274156:
+Measured 2026-12-03 20:50 (2-core machine, ``OMP_NUM_THREADS=1``, ``--repeats 1``), 665699d against 2274156:
 
 =====================  ==========  ==========  =====
 call                   665699d     2274156     ratio

@@ -189,9 +189,8 @@ class NondimensionalScaling:
     def full_rhs_nondimensional(self, z: Any) -> np.ndarray:
         """``dz/dt_n`` for ``z = (p, q)`` (shape ``(..., 4)``): ``(f, A g / mu)``."""
         z = trailing_array("z", z, 4)
-        Vd, gd, ad, Od = self._rates(z[..., :2], z[..., 2:])     # one evaluation of the right-hand side for f and g
-        gg = self._g_of(gd, ad, Od, True)
-        return np.concatenate([self._f_of(Vd, gd), gg * np.array([self.r1, self.r2]) / self.mu], axis=-1)
+        f, g, _ = self.f_and_g(z[..., :2], z[..., 2:])     # one evaluation of the right-hand side for f and g
+        return np.concatenate([f, g * np.array([self.r1, self.r2]) / self.mu], axis=-1)
 
     def reduced_rhs(self, p: Any) -> np.ndarray:
         """Reduced subsystem (5.33): ``dp/dt_n = f(p, 0)``, ``p`` of shape ``(..., 2)``."""
