@@ -2,7 +2,8 @@
 
 The design tests (``tests/test_design_<name>.py``) set ``DESIGN = "<name>"`` (a file of ``designs/``) and use
 ``design`` (the loaded design file, for its settings) and ``quick_build`` (its quick build, written once per test
-module). ``python_output`` runs code in a fresh interpreter (for matplotlib backend checks).
+module). ``python_output`` runs code in a fresh interpreter (for matplotlib backend checks). ``fast_mp`` is the
+process start method of the pool tests.
 
 Property tests (hypothesis) run derandomized by default, so a run of the suite is reproducible and CI cannot turn
 red by chance; set ``GLIDECTL_HYPOTHESIS_EXPLORE=1`` to draw new examples on every run (what a developer hunting
@@ -12,6 +13,7 @@ for counterexamples wants). Counterexamples found that way are added to the test
 from __future__ import annotations
 
 import json
+import multiprocessing
 import os
 import subprocess
 import sys
@@ -75,3 +77,11 @@ def python_output() -> Callable[..., str]:
         return proc.stdout.strip()
 
     return run
+
+
+@pytest.fixture(scope="session")
+def fast_mp() -> Any:
+    """The multiprocessing context of the pool tests: ``glidectl report`` starts its workers with "spawn" (safe
+    everywhere), and each spawned worker imports glidectl anew, seconds on a loaded 2-core machine, so the tests fork
+    where the platform can (the jobs are the same picklable calls either way)."""
+    return multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")

@@ -4,7 +4,6 @@ serial build gives; errors and progress output."""
 from __future__ import annotations
 
 import io
-import multiprocessing
 import pickle
 import sys
 from pathlib import Path
@@ -15,11 +14,6 @@ import glidectl as gc
 from glidectl.cli import main
 from glidectl.report import load_design
 from glidectl.report.parallel import DesignFailure, build_designs, build_one
-
-# The command's pool starts its workers with "spawn" (safe everywhere); each spawned worker imports glidectl anew,
-# which takes seconds on a loaded 2-core machine, so the tests fork where the platform can (same code path: the
-# jobs are the same picklable calls, checked below).
-FAST = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
 
 # two tiny designs with seeded random numbers and a figure (whose PNG must be identical too)
 DESIGN = '''
@@ -72,11 +66,11 @@ def serial(tmp_path_factory):
     return designs, names, files
 
 
-def test_pool_builds_what_the_serial_build_builds(serial, tmp_path):
+def test_pool_builds_what_the_serial_build_builds(serial, tmp_path, fast_mp):
     designs, names, files = serial
     stream = io.StringIO()
     res = build_designs(designs, tmp_path / "pool", quick=True, jobs=2, use_cache=False, stream=stream,
-                        mp_context=FAST)
+                        mp_context=fast_mp)
     assert [r.name for r in res] == names and not any(r.from_cache for r in res)
     assert _files(tmp_path / "pool", names) == files
     text = stream.getvalue()
@@ -120,7 +114,7 @@ def test_the_jobs_are_spawn_safe(tmp_path):
 RAISES = "TITLE = 'x'\n\ndef design(progress, quick=False):\n    return 1 / 0\n"
 
 
-def test_a_failing_design_is_one_line_and_the_others_are_built(tmp_path, capsys):
+def test_a_failing_design_is_one_line_and_the_others_are_built(tmp_path, capsys, fast_mp):
     folder = tmp_path / "designs"
     _designs(folder)
     (folder / "raises.py").write_text(RAISES)
@@ -132,7 +126,7 @@ def test_a_failing_design_is_one_line_and_the_others_are_built(tmp_path, capsys)
     designs = [load_design(p) for p in sorted(folder.glob("*.py"))]
     with pytest.raises(gc.DesignError, match=r"ZeroDivisionError.*raises\.py:4"):  # the same from a pool
         build_designs(designs, tmp_path / "pool", quick=True, jobs=2, use_cache=False, stream=io.StringIO(),
-                      mp_context=FAST)
+                      mp_context=fast_mp)
     assert (tmp_path / "pool" / "tiny_b" / "numbers.json").exists()
 
 
@@ -209,7 +203,7 @@ def test_invalid_expected_seconds_is_refused(tmp_path, decl):
         build_designs([load_design(p)], tmp_path / "o", quick=True, jobs=1, stream=io.StringIO())
 
 
-def test_summary_line_gives_the_designs_own_build_time(tmp_path):
+def test_summary_line_gives_the_designs_own_build_time(tmp_path, fast_mp):
     """'done in' is the time measured in the design's worker (what timings.json records), not the time since the
     start line (a pool hands a design to the call queue before a worker is free)."""
     import json
@@ -218,7 +212,7 @@ def test_summary_line_gives_the_designs_own_build_time(tmp_path):
     paths = _designs(tmp_path)
     stream = io.StringIO()
     build_designs([load_design(p) for p in paths], tmp_path / "o", quick=True, jobs=2, stream=stream,
-                  mp_context=FAST)
+                  mp_context=fast_mp)
     recorded = json.loads((tmp_path / "o" / ".cache" / "timings.json").read_text())
     shown = dict(re.findall(r"\] (tiny_\w): done in ([0-9.]+) s", stream.getvalue()))
     assert set(shown) == {"tiny_a", "tiny_b"}
@@ -226,7 +220,7 @@ def test_summary_line_gives_the_designs_own_build_time(tmp_path):
         assert abs(float(s) - recorded[f"{name}:quick"]) <= 0.051
 
 
-def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):
+def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path, fast_mp):
     """With 2 workers and 3 designs, the third design's start line comes after another design's last step: it is
     printed when a worker takes the design (the worker's first message), not when the pool hands it to its call
     queue, which happens at once, before any worker is free."""
@@ -242,7 +236,7 @@ def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path):
         paths.append(p)
     stream = io.StringIO()
     build_designs([load_design(p) for p in paths], tmp_path / "o", quick=True, jobs=2, stream=stream,
-                  mp_context=FAST)
+                  mp_context=fast_mp)
     lines = stream.getvalue().splitlines()
     starts = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"\] (slow_\w): tiny", ln))}
     assert set(starts) == {"slow_a", "slow_b", "slow_c"}, lines

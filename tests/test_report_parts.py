@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import io
 import json
-import multiprocessing
 from pathlib import Path
 
 import pytest
@@ -15,10 +14,6 @@ import glidectl as gc
 from glidectl.report import cached, load_design, map_parts
 from glidectl.report.parallel import build_designs, build_one
 from glidectl.report.parts import parts_context
-
-# map_parts starts its workers with "spawn" (safe everywhere); each spawned worker imports glidectl anew, seconds on a
-# loaded 2-core machine, so the pool tests fork where the platform can (the same picklable calls either way)
-FAST = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
 
 ROGUE = Path(gc.__file__).resolve().parent / "vehicles" / "rogue.toml"
 
@@ -89,7 +84,7 @@ def test_bad_arguments_are_refused():
         pass
 
 
-def test_pool_and_cluster_parts_equal_the_serial_parts_and_count_as_the_design_reads(parted, tmp_path):
+def test_pool_and_cluster_parts_equal_the_serial_parts_and_count_as_the_design_reads(parted, tmp_path, fast_mp):
     path, veh = parted
     design = load_design(path)
     serial = tmp_path / "serial"
@@ -98,14 +93,14 @@ def test_pool_and_cluster_parts_equal_the_serial_parts_and_count_as_the_design_r
     assert ref["processes"] == 1 and ref["K_M"] == [-36.5] * 3
     # one design, two jobs: its three parts run on a pool of two spawned workers
     res = build_one("parted", str(path), path.read_bytes(), True, cache_root=str(tmp_path / "cache"), jobs=2,
-                    start_method=FAST.get_start_method())
+                    start_method=fast_mp.get_start_method())
     assert res.sub_misses == 3 and res.sub_hits == 0  # the parts' cached() calls reach the build's cache
     assert str(veh) in res.deps  # the vehicle file read inside the workers is a dependency
     got = {n["name"]: n["value"] for n in json.loads(res.files["numbers.json"])}
     assert got["processes"] == 2
     assert {k: v for k, v in got.items() if k != "processes"} == {k: v for k, v in ref.items() if k != "processes"}
     again = build_one("parted", str(path), path.read_bytes(), True, cache_root=str(tmp_path / "cache"), jobs=2,
-                      start_method=FAST.get_start_method())
+                      start_method=fast_mp.get_start_method())
     assert again.sub_hits == 3 and again.sub_misses == 0
     distributed = pytest.importorskip("distributed")  # the dask extra (installed by .ci/run)
     with distributed.LocalCluster(processes=False, n_workers=1, threads_per_worker=2, dashboard_address=None) as lc:
@@ -114,15 +109,15 @@ def test_pool_and_cluster_parts_equal_the_serial_parts_and_count_as_the_design_r
     assert _numbers(tmp_path / "cluster") == ref  # threads of one process: the same pid, the same numbers
 
 
-def test_a_changed_file_read_only_inside_a_part_invalidates_the_design(parted, tmp_path):
+def test_a_changed_file_read_only_inside_a_part_invalidates_the_design(parted, tmp_path, fast_mp):
     path, veh = parted
     design = load_design(path)
     out = tmp_path / "out"
-    first = build_designs([design], out, quick=True, jobs=2, stream=io.StringIO(), mp_context=FAST)[0]
+    first = build_designs([design], out, quick=True, jobs=2, stream=io.StringIO(), mp_context=fast_mp)[0]
     assert not first.from_cache and str(veh) in first.deps
-    assert build_designs([design], out, quick=True, jobs=2, stream=io.StringIO(), mp_context=FAST)[0].from_cache
+    assert build_designs([design], out, quick=True, jobs=2, stream=io.StringIO(), mp_context=fast_mp)[0].from_cache
     veh.write_text(veh.read_text().replace("value = -36.5", "value = -40.0"))
-    res = build_designs([design], out, quick=True, jobs=2, stream=io.StringIO(), mp_context=FAST)[0]
+    res = build_designs([design], out, quick=True, jobs=2, stream=io.StringIO(), mp_context=fast_mp)[0]
     assert not res.from_cache and _numbers(out)["K_M"] == [-40.0] * 3
 
 

@@ -16,8 +16,6 @@ from glidectl.report import load_design
 from glidectl.report.parallel import build_designs
 from glidectl.report.threads import THREAD_VARIABLES, worker_threads
 
-FAST = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
-
 THREADS_DESIGN = '''
 import os
 
@@ -75,7 +73,7 @@ def test_a_spawned_worker_inherits_the_limits(clean_env):
     assert got == ["1"] * len(THREAD_VARIABLES)
 
 
-def test_designs_on_the_build_pool_run_with_the_limits(clean_env, tmp_path):
+def test_designs_on_the_build_pool_run_with_the_limits(clean_env, tmp_path, fast_mp):
     designs = []
     for name in ("threads_a", "threads_b"):    # two designs: one alone is built in this process
         path = tmp_path / "designs" / f"{name}.py"
@@ -83,7 +81,7 @@ def test_designs_on_the_build_pool_run_with_the_limits(clean_env, tmp_path):
         path.write_text(THREADS_DESIGN.format(names=THREAD_VARIABLES).replace('"threads"', repr(name)))
         designs.append(load_design(path))
     build_designs(designs, tmp_path / "out", quick=True, jobs=2, use_cache=False, stream=io.StringIO(),
-                  mp_context=FAST)
+                  mp_context=fast_mp)
     for name in ("threads_a", "threads_b"):
         got = {n["name"]: n["value"] for n in json.loads((tmp_path / "out" / name / "numbers.json").read_text())}
         assert got == dict.fromkeys(THREAD_VARIABLES, max(1, (os.cpu_count() or 1) // 2))

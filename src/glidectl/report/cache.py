@@ -43,6 +43,7 @@ from typing import Any, TypeVar
 import cloudpickle
 
 from ..errors import ArgumentTypeError, DesignError
+from .slots import lent
 
 __all__ = ["CACHE_FORMAT", "BuildResult", "DesignCache", "cached", "code_fingerprint", "design_key",
            "expected_seconds", "merge_run", "recording"]
@@ -593,7 +594,8 @@ def _wait_for(fcntl: Any, f: Any) -> bool:
     except (ImportError, ValueError):
         pass
     try:
-        fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        with lent():                # no compute slot is held while waiting (glidectl.report.slots)
+            fcntl.flock(f.fileno(), fcntl.LOCK_EX)
         return True
     except OSError:
         return False

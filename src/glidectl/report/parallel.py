@@ -32,6 +32,7 @@ from ..errors import ArgumentError, DesignError, GlidectlError
 from .cache import BuildResult, DesignCache, design_key, expected_seconds, recording, settings_of
 from .designs import Design, load_design_source
 from .parts import parts_context
+from .slots import holding, install
 from .threads import worker_threads
 
 __all__ = ["DesignFailure", "build_designs", "build_one", "dask_client", "require_dask"]
@@ -69,9 +70,10 @@ _STARTED = "\x00started"
 _ENDED = "\x00ended"
 
 
-def _init_worker(queue: Any) -> None:
+def _init_worker(queue: Any, slots: Any = None) -> None:
     global _WORKER_QUEUE
     _WORKER_QUEUE = queue
+    install(slots)      # the build's compute slots (glidectl.report.slots), shared with the design's parts pools
 
 
 def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str | None = None,
@@ -123,7 +125,7 @@ def build_one(name: str, path: str, source: bytes, quick: bool, cache_root: str 
             queue.put((name, (_STARTED, os.getpid())))   # the worker: its previous design's result is already sent
     try:
         design = load_design_source(name, path, source)
-        with tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
+        with holding(), tempfile.TemporaryDirectory(prefix="glidectl-build-") as tmp:
             with recording(None if cache_root is None else Path(cache_root), refresh, build) as rec, \
                     parts_context(name, path, source, jobs, cache_root, refresh, dask, start_method, build):
                 t0 = time.perf_counter()
@@ -471,10 +473,11 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
     worker's pid), the design that worker ran before is finished first (its future is done, or about to be)."""
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
+    slots = ctx.BoundedSemaphore(jobs)      # at most `jobs` of the designs and their parts compute at once
     # cores // jobs threads per worker, not cores // workers: each design may start a parts pool of `jobs` workers,
     # which inherit this share (a larger one would oversubscribe the cores when the parts run)
     with worker_threads(jobs), ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                                                   initargs=(queue,)) as ex:
+                                                   initargs=(queue, slots)) as ex:
         pending: dict[Any, str] = {}
         for d, _, source in todo:
             pending[ex.submit(build_one, d.name, str(d.path), source, quick, cache_root, refresh=refresh,

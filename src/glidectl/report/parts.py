@@ -3,7 +3,8 @@
 A design whose study splits into independent computations (the certificates of several systems, the runs of
 several controllers) writes them as ``map_parts(fn, items)``. Outside ``glidectl report`` (a plain ``design()`` call,
 ``python designs/NAME.py``) and in a build with ``--jobs 1`` this is ``[fn(x) for x in items]``. Inside a build with
-``--jobs N`` (N > 1) the parts run on a spawned process pool of ``min(N, len(items))`` workers; inside a
+``--jobs N`` (N > 1) the parts run on a spawned process pool of ``min(N, len(items))`` workers (in a build of
+several designs, at most N of the designs and their parts compute at once: :mod:`glidectl.report.slots`); inside a
 ``--scheduler`` build, on the dask cluster (``distributed.worker_client``). Each part runs under its own recording,
 so the data files a part reads (vehicle files) become dependencies of the design's cache entry and
 :func:`~glidectl.report.cached` works inside parts, exactly as in a serial run; the results come back in the order of
@@ -24,6 +25,7 @@ import pickle
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,6 +34,7 @@ from typing import Any, TypeVar
 import cloudpickle
 
 from ..errors import ArgumentError, ArgumentTypeError
+from . import slots
 from .cache import holds_lock, merge_run, recording
 from .threads import worker_threads
 
@@ -125,7 +128,7 @@ def _run_part(module: str, qualname: str, ctx: tuple[str, str, bytes], item: byt
     ``lock`` is False when the design started the parts inside a :func:`~glidectl.report.cached` computation that
     holds its key's lock (the parts then never wait for a lock: no cycle of waits)."""
     fn = _resolve(module, qualname, ctx)
-    with recording(None if cache_root is None else Path(cache_root), refresh, build, lock) as rec:
+    with slots.holding(), recording(None if cache_root is None else Path(cache_root), refresh, build, lock) as rec:
         value = fn(pickle.loads(item))
     return cloudpickle.dumps((value, sorted(rec.run.reads), rec.run.hits, rec.run.misses))
 
@@ -189,6 +192,14 @@ def map_parts(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
             blobs = client.gather(futures)
     else:
         mp = multiprocessing.get_context(ctx.start_method)
-        with worker_threads(ctx.jobs), ProcessPoolExecutor(max_workers=min(ctx.jobs, len(items)), mp_context=mp) as ex:
-            blobs = list(ex.map(_run_part, *zip(*args, strict=True)))
+        # the design's slot is lent until the pool is shut down: every part has finished then (a part that raised
+        # leaves the others running to the end, and they need slots)
+        with slots.lent(), worker_threads(ctx.jobs), ProcessPoolExecutor(
+                max_workers=min(ctx.jobs, len(items)), mp_context=mp, initializer=slots.install,
+                initargs=(slots.current(),)) as ex:
+            try:
+                blobs = list(ex.map(_run_part, *zip(*args, strict=True)))
+            except BrokenProcessPool:
+                slots.repay()       # a part's worker died, perhaps holding a slot: never leave the build waiting
+                raise
     return [_merge(b) for b in blobs]
