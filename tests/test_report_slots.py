@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import io
 import multiprocessing
+import threading
+import time
 from pathlib import Path
 
 import pytest
@@ -92,29 +94,46 @@ def test_a_design_waiting_for_a_shared_value_lends_its_slot(tmp_path, fast_mp):
 
 @pytest.fixture
 def one_slot():
-    sem = multiprocessing.get_context("spawn").BoundedSemaphore(1)
+    sem = slots.Slots(1, multiprocessing.get_context("spawn"))
     slots.install(sem)
     yield sem
     slots.install(None)
 
 
 def test_holding_lent_and_repay_on_one_slot(one_slot):
-    assert slots.current() is one_slot
+    assert slots.current() is one_slot and one_slot.held() == 0
     with slots.holding():
-        assert not one_slot.acquire(block=False)        # the slot is taken
+        assert one_slot.held() == 1
         with slots.holding():                           # a thread holds one slot, not two
-            pass
+            assert one_slot.held() == 1
         with slots.lent():
-            assert one_slot.acquire(block=False)        # given back while lent ...
-            one_slot.release()
-        assert not one_slot.acquire(block=False)        # ... and taken again after
-    assert one_slot.acquire(block=False)                # free after the block
-    slots.repay()                                       # a slot lost with a dead worker comes back
-    assert one_slot.acquire(block=False)
+            assert one_slot.held() == 0                 # given back while lent ...
+        assert one_slot.held() == 1                     # ... and taken again after
+    assert one_slot.held() == 0
+    slots.repay()                                       # nothing held: nothing to give back
+    assert one_slot.held() == 0
+    one_slot.acquire()                                  # a slot lost with a dead worker comes back
+    slots.repay()
+    assert one_slot.held() == 0
+    with slots.holding():
+        assert one_slot.held() == 1
+
+
+def test_slots_are_served_first_come_first_served(one_slot):
+    # a holder that gives its slot back and asks again at once comes after the request already waiting
+    order = []
+    one_slot.acquire()
+    waiter = threading.Thread(target=lambda: (one_slot.acquire(), order.append("waiter"), one_slot.release()))
+    waiter.start()
+    deadline = time.monotonic() + 30
+    while one_slot._issued.value < 2 and time.monotonic() < deadline:     # the waiter has taken its ticket
+        time.sleep(0.01)
     one_slot.release()
-    slots.repay()                                       # a full semaphore stays full
-    assert one_slot.acquire(block=False) and not one_slot.acquire(block=False)
+    one_slot.acquire()
+    order.append("holder again")
     one_slot.release()
+    waiter.join(30)
+    assert order == ["waiter", "holder again"]
 
 
 def test_without_a_semaphore_the_slots_do_nothing():

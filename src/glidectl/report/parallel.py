@@ -32,7 +32,7 @@ from ..errors import ArgumentError, DesignError, GlidectlError
 from .cache import BuildResult, DesignCache, design_key, expected_seconds, recording, settings_of
 from .designs import Design, load_design_source
 from .parts import parts_context
-from .slots import holding, install
+from .slots import Slots, holding, install
 from .threads import worker_threads
 
 __all__ = ["DesignFailure", "build_designs", "build_one", "dask_client", "require_dask"]
@@ -473,7 +473,7 @@ def _run_pool(todo: list[tuple[Design, str, bytes]], workers: int, quick: bool, 
     worker's pid), the design that worker ran before is finished first (its future is done, or about to be)."""
     ctx = mp_context or multiprocessing.get_context("spawn")
     queue = ctx.Queue()
-    slots = ctx.BoundedSemaphore(jobs)      # at most `jobs` of the designs and their parts compute at once
+    slots = Slots(jobs, ctx)        # at most `jobs` of the designs and their parts compute at once
     # cores // jobs threads per worker, not cores // workers: each design may start a parts pool of `jobs` workers,
     # which inherit this share (a larger one would oversubscribe the cores when the parts run)
     with worker_threads(jobs), ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
