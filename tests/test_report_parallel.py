@@ -221,15 +221,16 @@ def test_summary_line_gives_the_designs_own_build_time(tmp_path, fast_mp):
 
 
 def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path, fast_mp):
-    """With 2 workers and 3 designs, the third design's start line comes after another design's last step: it is
-    printed when a worker takes the design (the worker's first message), not when the pool hands it to its call
-    queue, which happens at once, before any worker is free."""
+    """With 2 jobs (4 design workers: twice the slots) and 5 designs, the fifth design's start line comes after
+    another design's last step: it is printed when a worker takes the design (the worker's first message), not when
+    the pool hands it to its call queue, which happens at once, before any worker is free."""
     import re
 
     folder = tmp_path / "d"
     folder.mkdir()
     paths = []
-    for name, seed in (("slow_a", 1), ("slow_b", 2), ("slow_c", 3)):
+    names = ("slow_a", "slow_b", "slow_c", "slow_d", "slow_e")
+    for seed, name in enumerate(names, 1):
         p = folder / f"{name}.py"
         p.write_text(DESIGN.format(name=name, seed=seed).replace(
             "    rng = np.random", "    import time\n    time.sleep(1.5)\n    rng = np.random"))
@@ -239,13 +240,13 @@ def test_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp_path, fast_m
                   mp_context=fast_mp)
     lines = stream.getvalue().splitlines()
     starts = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"\] (slow_\w): tiny", ln))}
-    assert set(starts) == {"slow_a", "slow_b", "slow_c"}, lines
+    assert set(starts) == set(names), lines
     third = max(starts, key=starts.get)
     last_steps = [i for i, ln in enumerate(lines) if "writing the report" in ln and third not in ln]
     assert last_steps and starts[third] > min(last_steps), lines
     # ... and after the summary line of the design whose worker it took (the worker sent that result first)
     dones = {m.group(1): i for i, ln in enumerate(lines) if (m := re.search(r"(slow_\w)\b.*done in", ln))}
-    assert set(dones) == {"slow_a", "slow_b", "slow_c"}, lines
+    assert set(dones) == set(names), lines
     assert starts[third] > min(dones[d] for d in dones if d != third), lines
 
 

@@ -116,7 +116,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     rp.add_argument("--out", default="reports", help="output folder; a design writes OUT/NAME/ (default: ./reports)")
     rp.add_argument("--quick", action="store_true", help="use each design's quick settings (smaller studies)")
     rp.add_argument("--jobs", "-j", type=_jobs, default=os.cpu_count() or 1,
-                    help="designs built at once, each in its own process (default: all cores)")
+                    help="processes that compute at once (designs and their parts; default: all cores)")
     rp.add_argument("--scheduler", metavar="ADDRESS", default=None,
                     help="build on a dask.distributed cluster at ADDRESS instead (needs the dask extra)")
     rp.add_argument("--no-cache", action="store_true",

@@ -345,7 +345,9 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
     quick : bool
         Use the designs' quick settings.
     jobs : int, optional
-        Worker processes (default ``os.cpu_count()``); 1 builds in this process.
+        Processes that compute at once (default ``os.cpu_count()``): the designs run on a pool of ``2 * jobs``
+        workers that share ``jobs`` compute slots with their parts (:mod:`glidectl.report.slots`); 1 builds in
+        this process.
     scheduler : str or distributed.Client, optional
         Address of a ``dask.distributed`` scheduler: the designs are built on its workers instead.
     use_cache : bool
@@ -428,7 +430,9 @@ def build_designs(designs: Sequence[Design], out: str | Path, *, quick: bool = F
                                  progress=lambda m, n=d.name: display.message(n, m), refresh=refresh, jobs=jobs,
                                  start_method=method, build=build))
         else:
-            _run_pool(todo, min(jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context, jobs,
+            # twice as many design processes as slots: a design that waits for its parts (or another's value) has
+            # lent its slot, and another design takes it instead of waiting for a free process (glidectl.report.slots)
+            _run_pool(todo, min(2 * jobs, len(todo)), quick, cache_root, refresh, display, finish, mp_context, jobs,
                       build)
     finally:
         display.close()
