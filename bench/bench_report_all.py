@@ -250,6 +250,32 @@ user CPU               938.0 s     912.7 s     1004.9 s    813.6 s     981.8 s  
 The gain is about 2-3 % of the CPU (pair 0.97, second alone pair 0.98); the first alone pair's 0.81 is the machine's
 drift (ch8_helix, whose code did not change, went 88.3 s to 68.4 s in it). No ledger number changed in any design
 (1e-9, every run). Warm rebuild after the first new build: 3.6 s, 8 of 8 from the cache.
+
+Measured 2026-12-03 23:03-23:46 (seventh session), the README's command (no thread variables set), alone, 80622ea
+against dac3327 (compute slots, ``glidectl.report.slots``: at most ``--jobs`` processes compute, first come first
+served, on a pool of 2 x jobs design workers), in both orders (base2 then dac3327 run 1, two runs apart;
+dac3327 run 2 then base3). A design's time now includes its waits for slots (ch7_ctol waits behind
+roa_certification's parts), so compare the totals:
+
+=====================  ==========  ==========  ==========  ==========
+design                 80622ea 2   dac3327 1   dac3327 2   80622ea 3
+=====================  ==========  ==========  ==========  ==========
+ch2_longitudinal       8.0 s       8.0 s       6.7 s       8.4 s
+ch4_phugoid            3.6 s       3.1 s       2.8 s       3.9 s
+ch5_singular_pert.     9.8 s       9.5 s       8.3 s       9.6 s
+ch6_controllers        21.4 s      19.1 s      17.1 s      32.0 s
+ch7_ctol               107.2 s     379.2 s     376.2 s     108.7 s
+ch8_helix              71.4 s      40.4 s      45.8 s      66.8 s
+slocum_dive_cycle      220.1 s     127.5 s     130.6 s     198.0 s
+roa_certification      420.7 s     395.3 s     385.1 s     417.8 s
+end to end (wall)      435.2 s     401.0 s     389.9 s     426.5 s
+user + system CPU      863.4 s     780.9 s     766.8 s     847.3 s
+=====================  ==========  ==========  ==========  ==========
+
+Wall 0.92 and 0.91, CPU 0.90 and 0.91: four single-threaded processes time-sliced on two cores (two designs with
+their parts pools) cost about 10 % more CPU than two, and the build now idles about 10 s (wall minus CPU / 2) against
+about 5 s. No ledger number changed (1e-9, every run). The FIFO slots on a pool of jobs design workers (bf2b3f8)
+gave 446.6 s and 418.6 s in the same hour: a design waiting for its parts then held back the designs queued behind it.
 """
 
 from __future__ import annotations
