@@ -36,7 +36,7 @@ def part(i):
 
 
 def slow_shared():
-    time.sleep(0.5)         # the other design reaches the lock and waits
+    time.sleep(1.0)         # the other design reaches the lock and waits (a loaded machine: a wide margin)
     return map_parts(part, [0, 1])
 
 

@@ -70,7 +70,7 @@ _STARTED = "\x00started"
 _ENDED = "\x00ended"
 
 
-def _init_worker(queue: Any, slots: Any = None) -> None:
+def _init_worker(queue: Any, slots: Slots | None = None) -> None:
     global _WORKER_QUEUE
     _WORKER_QUEUE = queue
     install(slots)      # the build's compute slots (glidectl.report.slots), shared with the design's parts pools

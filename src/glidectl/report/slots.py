@@ -22,6 +22,7 @@ What it changes (cold ``glidectl report all`` on 2 cores, 2026-12-03, same numbe
 a build drops by 5-15 % (four single-threaded processes time-sliced on two cores evict each other's caches), and a
 design's own time now includes its waits for slots (ch7_ctol: 285-379 s instead of 107-119 s, behind
 roa_certification's parts), which does not lengthen the build.
+
 Outside a pool build (a serial build, one design, a dask cluster, a plain script) no semaphore is installed and
 every function here does nothing: dask schedules its own workers' threads.
 """
@@ -70,15 +71,18 @@ class Slots:
             self._released.value += 1
             self._cond.notify_all()
 
+    def _held(self) -> int:     # with self._cond held
+        return min(self._issued.value, self.n + self._released.value) - self._released.value
+
     def held(self) -> int:
         """Slots held now: admitted tickets that were not given back."""
         with self._cond:
-            return min(self._issued.value, self.n + self._released.value) - self._released.value
+            return self._held()
 
     def repay(self) -> None:
         """Give back a slot that a dead process held, if any slot is held at all."""
         with self._cond:
-            if min(self._issued.value, self.n + self._released.value) > self._released.value:
+            if self._held() > 0:
                 self._released.value += 1
                 self._cond.notify_all()
 
@@ -104,8 +108,8 @@ def install(slots: Slots | None) -> None:
     _SLOTS = slots
 
 
-def current() -> Any:
-    """The semaphore this process uses, to pass on to the workers it starts (None: no limit).
+def current() -> Slots | None:
+    """The slots this process uses, to pass on to the workers it starts (None: no limit).
 
     Returns
     -------
