@@ -266,6 +266,46 @@ def test_history_sdp_times_add_up_to_solve_time_when_a_level_program_fails(monke
     assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
+@pytest.mark.parametrize("bad", [0.0, -0.0, -1e-9, math.nan])
+def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch, bad):
+    """A V step whose level program returns rho <= 0 (an inaccurate V step did: rho = -0.0) or NaN is not used:
+    before, ``V / rho`` was infinite and the next V step started from its multiplier. The alternation stops as for
+    a failed solve, the row counts both SDPs, and the certificate is the last good V's."""
+    import dataclasses
+
+    from glidectl.roa import certify as C
+
+    real, calls = C._level, []
+
+    def zero_level(*a, **k):
+        calls.append(1)
+        out = real(*a, **k)
+        return dataclasses.replace(out, rho=bad) if len(calls) == 3 else out     # the second V step's level
+
+    monkeypatch.setattr(C, "_level", zero_level)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
+    failed = [h for h in cert.history if h["step"].startswith("V step failed")]
+    assert len(failed) == 1 and "not positive" in failed[0]["step"] and failed[0]["sdp_time"] > 0
+    assert [h["step"] for h in cert.history].count("V step + level") == 1
+    assert cert.stopped_by == "solver failure" and cert.certified
+    assert np.all(np.isfinite(cert.V.arrays()[1])) and cert.rho > 0
+    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+
+
+def test_a_first_level_that_is_not_positive_is_a_clear_error(monkeypatch):
+    """The starting V's level <= 0 with SOS multipliers: a SolverError that says so (it said 'use inner=sos',
+    which was the option in use)."""
+    import dataclasses
+
+    from glidectl.roa import certify as C
+
+    real = C._level
+    monkeypatch.setattr(C, "_level", lambda *a, **k: dataclasses.replace(real(*a, **k), rho=0.0))
+    with pytest.raises(gc.SolverError, match="not positive: the starting V is not certified") as e:
+        gc.certify_roa(VDP, degree=2, iterations=1, n_truth=256, n_verify=2000, n_simulate=8)
+    assert "use inner" not in str(e.value)
+
+
 def test_a_v_step_cut_off_by_the_time_limit_keeps_its_sdp_time_in_the_history(monkeypatch):
     """``on_budget="stop"``: a V step solved when the time limit has passed is not used, and its row says so with
     its SDP time (there was no row before, though ``solve_time`` counted it). The clock is the test's: no time

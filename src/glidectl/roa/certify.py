@@ -2180,7 +2180,11 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                 raise
             raise SolverError(f"the first level problem with inner='{inner}' failed ({exc}): the {inner.upper()} inner "
                               "approximation cannot certify the starting V; use inner='sos'") from exc
-        if lvl.rho <= 0:
+        if not (math.isfinite(lvl.rho) and lvl.rho > 0):
+            if inner == "sos":
+                raise SolverError(f"the first level problem gives level {lvl.rho:.3g}, not positive: the starting V "
+                                  f"is not certified on any level set of '{ps.name}' (give another initial V, or a "
+                                  "smaller box)")
             raise SolverError(f"the first level problem with inner='{inner}' gives level {lvl.rho:.3g} <= 0: the "
                               f"{inner.upper()} inner approximation cannot certify the starting V; use inner='sos'")
         t_solve += lvl.solve_time
@@ -2238,6 +2242,12 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                     lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center, extra=ex,
                                 cache=cache, basis=out["V"].basis, cone=inner)
                     t_solve += lv.solve_time
+                    step_sdp += lv.solve_time
+                    if not (math.isfinite(lv.rho) and lv.rho > 0):
+                        # an inaccurate V step can return a V whose level is 0 (or a solver a NaN level): V / rho
+                        # would be infinite and its multiplier would steer the next step from nothing (2026-12-04: a
+                        # V step solved to 1e-6 on the saturated user glider gave rho = -0.0, then 868)
+                        raise SolverError(f"the level of the new V is {lv.rho:.3g}, not positive")
                 except SolverError as exc:
                     history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
                                     "volume": math.nan, "sdp_time": step_sdp})
