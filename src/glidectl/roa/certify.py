@@ -55,6 +55,7 @@ from ..analysis.jacobian import hessian, jacobians
 from ..analysis.measure import MIN_SOBOL_HITS, box_measure
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
+from .blas_threads import pinned_blas
 from .lmi import SaturatedLoop, held_motion, held_points
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import resolve_box, scaled_lyapunov
@@ -1050,6 +1051,7 @@ def _coverage_objective(prog: SOSProgram, V: Any, Zt: np.ndarray) -> Any:
     return cp.Minimize(cp.sum(p) / len(Zt))
 
 
+@pinned_blas
 def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = DEFAULT_SOLVER,
               extra: int | None = None, max_degree: int = MAX_DEGREE, memory_limit: float | None = None) -> LevelResult:
     """Largest ``rho`` of the level problem for a fixed ``V`` (one SDP, no bisection).
@@ -1908,6 +1910,7 @@ def _ground_truth(ps: PolySystem, n: int, horizon: float, seed: int,
     return X[res.converged_to(ps.equilibrium, 1e-3)]
 
 
+@pinned_blas
 def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int] = 4, backoff: float = 0.01,
                 eps: float = 1e-6, initial: Poly | np.ndarray | None = None, speed_floor: float = 0.1,
                 extra: int | None = None, n_truth: int = 2048, n_verify: int = 20_000, n_simulate: int = 256,
@@ -2034,6 +2037,11 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         larger (``history`` holds both rounds; a round stops early when the box would not change, the first fails
         its Gram or local checks, or the time limit is reached). Without a ``time_limit``, the first round's sampled
         checks and simulations (``n_verify``, ``n_simulate``) run only if it is the certificate returned.
+
+    The certificate is a function of the arguments only: the call runs with one BLAS thread
+    (:data:`glidectl.roa.blas_threads.BLAS_THREADS`) and Clarabel with one thread
+    (:data:`glidectl.roa.sdp_solvers.CLARABEL_THREADS`), whose parallel sums would otherwise change it between
+    machines.
 
     Returns
     -------

@@ -74,7 +74,8 @@ from ..analysis.jacobian import jacobians
 from ..analysis.measure import MIN_SOBOL_HITS
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
-from .sdp_solvers import DEFAULT_SOLVER, check_solver, solver_argument
+from .blas_threads import pinned_blas
+from .sdp_solvers import DEFAULT_SOLVER, check_solver, solver_argument, solver_options
 
 __all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
 
@@ -855,7 +856,7 @@ class _Round:
             prog.uu.value = np.minimum(-sc.lo, sc.hi)[prog.sat] ** 2 / rho**2
         t0 = time.perf_counter()
         try:
-            prog.prob.solve(solver=solver_argument(self.solver))
+            prog.prob.solve(solver=solver_argument(self.solver), **solver_options(self.solver))
             status = prog.prob.status
         except cp.SolverError as exc:
             status = f"solver error: {str(exc)[:60]}"
@@ -889,6 +890,7 @@ class _Round:
         return obj
 
 
+@pinned_blas
 def certify_roa_lmi(system: Any, *, shape: Any = None,
                     hessian_margin: float = 1.5, n_hessian: int = 1024, n_radii: int = 8, refine: int = 5,
                     rounds: int = 6, round_gain: float = 0.1,

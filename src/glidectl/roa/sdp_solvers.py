@@ -26,6 +26,10 @@ without an interior, and the alternation's next V step is tuned on Clarabel's an
 Clarabel's centering is slow, from a Gram block of order ``certify.CENTER_BY_LEVEL_MIN_BLOCK``, the alternation
 centers by the level program capped at the lower level instead, which has an objective and takes the route), and any
 program CVXOPT does not solve within ``MOMENT_MAX_ITERATIONS``.
+
+Clarabel always runs with :data:`CLARABEL_THREADS` (one) thread, whatever the machine's cores or
+``RAYON_NUM_THREADS`` (:func:`solver_options`): its parallel factorization would make a certificate depend on the
+thread count.
 """
 from __future__ import annotations
 
@@ -45,8 +49,9 @@ from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError
 
-__all__ = ["DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOCK", "SDP_SOLVERS", "CvxoptMoment",
-           "check_solver", "installed_sdp_solvers", "moment_form", "moment_pays", "solve_moment", "solver_argument"]
+__all__ = ["CLARABEL_THREADS", "DEFAULT_SOLVER", "MOMENT", "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOCK", "SDP_SOLVERS",
+           "CvxoptMoment", "check_solver", "installed_sdp_solvers", "moment_form", "moment_pays", "solve_moment",
+           "solver_argument", "solver_options"]
 
 DEFAULT_SOLVER = "CVXOPT_MOMENT"
 """The default SDP solver of the ROA layer; programs it does not take go to Clarabel (module docstring). Measured in
@@ -125,6 +130,33 @@ def check_solver(solver: Any) -> str:
     if not isinstance(solver, str):
         raise ArgumentTypeError(f"solver must be a solver name (str), got {type(solver).__name__} {solver!r}")
     return checks.choice("solver", solver, installed_sdp_solvers())
+
+
+CLARABEL_THREADS = 1
+"""Threads of Clarabel's factorization (its ``max_threads`` setting) in every program glidectl solves with it.
+Clarabel's default is one thread per core (or ``RAYON_NUM_THREADS``), and its parallel factorization adds in an
+order that depends on the thread count, which the SOS alternation carries along its path: the same certificate then
+differed between machines and between ``glidectl report all --jobs`` values (2026-12-04: the reduced glider's
+certified area 11.713554 with one thread, 11.714474 with two). One thread makes a certificate a function of its
+program only (with one BLAS thread: :mod:`glidectl.roa.blas_threads`)."""
+
+
+def solver_options(solver: str) -> dict[str, Any]:
+    """The options glidectl passes with ``solver`` to :meth:`cvxpy.Problem.solve`: Clarabel's thread count
+    (:data:`CLARABEL_THREADS`) for ``"CLARABEL"``, nothing for the others (``CVXOPT_MOMENT`` passes it to the
+    programs it hands to Clarabel).
+
+    Parameters
+    ----------
+    solver : str
+        A name of :data:`SDP_SOLVERS`.
+
+    Returns
+    -------
+    dict
+        Keyword arguments for :meth:`cvxpy.Problem.solve`.
+    """
+    return {"max_threads": CLARABEL_THREADS} if solver == "CLARABEL" else {}
 
 
 def solver_argument(solver: str) -> Any:
@@ -317,20 +349,21 @@ class CvxoptMoment(CLARABEL):
                        solver_cache: Any = None) -> Any:
         """Solve the Clarabel-form data by CVXOPT on the moment form; return a Clarabel-like result."""
         dims = data[ConicSolver.DIMS]
-        # solver_opts are CVXOPT's: a program handed to Clarabel gets Clarabel's defaults
+        # solver_opts are CVXOPT's: a program handed to Clarabel gets Clarabel's defaults and its thread count
+        clarabel_opts = solver_options("CLARABEL")
         if (dims.soc or dims.exp or getattr(dims, "p3d", None) or getattr(dims, "pnd", None)
                 or max(dims.psd, default=0) < MOMENT_MIN_BLOCK or not np.any(data["c"])):
-            return super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
+            return super().solve_via_data(data, warm_start, verbose, clarabel_opts, solver_cache)
         mf = moment_form(data["A"], data["b"], data["c"], dims.zero)
         if not moment_pays(mf, list(dims.psd)):
-            return super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
+            return super().solve_via_data(data, warm_start, verbose, clarabel_opts, solver_cache)
         res = solve_moment(data["A"], data["b"], data["c"], dims.zero, dims.nonneg, list(dims.psd),
                            verbose=verbose, form=mf, **solver_opts)
         if res.status in ("Solved", "AlmostSolved", "PrimalInfeasible", "DualInfeasible"):
             return res
         # not converged (a program at the edge of feasibility, such as the level of a V the V step has just
         # pushed to its limit, can leave the moment form without a usable interior): Clarabel, from scratch
-        out = super().solve_via_data(data, warm_start, verbose, {}, solver_cache)
+        out = super().solve_via_data(data, warm_start, verbose, clarabel_opts, solver_cache)
         return SimpleNamespace(x=out.x, z=out.z, s=out.s, status=str(out.status), obj_val=out.obj_val,
                                solve_time=res.solve_time + out.solve_time, iterations=res.iterations + out.iterations)
 

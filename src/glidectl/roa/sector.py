@@ -40,6 +40,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from .blas_threads import pinned_blas
 from .lmi import SaturatedLoop
 from .polynomial import Poly
 from .surrogate import surrogate_system
@@ -79,6 +80,7 @@ class _Augmented:
         return out
 
 
+@pinned_blas
 def sector_system(system: Any, *, box_cuts: bool = True, max_degree: int = 4, seed: int = 0, method: str = "auto",
                   surrogate_degree: int = 3, margin: float = 2.0, box: Any = None) -> PolySystem:
     """The polynomial system of a saturated loop in ``z = (lift of x_f - x_f,e, v)`` with the graph of the

@@ -44,8 +44,9 @@ import numpy as np
 import scipy.sparse as sps
 
 from ..errors import ArgumentError, BudgetError, SolverError
+from .blas_threads import pinned_blas
 from .polynomial import Exp, Poly
-from .sdp_solvers import DEFAULT_SOLVER, solver_argument
+from .sdp_solvers import DEFAULT_SOLVER, solver_argument, solver_options
 
 __all__ = ["GRAM_CONES", "GramCheck", "LinPoly", "SOSProgram", "Unknown", "dd_gram", "linear_support",
            "parity_generators", "reduce_basis", "sign_classes"]
@@ -548,6 +549,7 @@ class SOSProgram:
         self.problem = cp.Problem(objective, self.constraints)
         return self.resolve(solver=solver, **kw)
 
+    @pinned_blas
     def resolve(self, *, solver: str = DEFAULT_SOLVER, **kw: Any) -> float:
         """Solve :attr:`problem` again (after changing the values of its cvxpy ``Parameter``s): cvxpy reuses its
         compilation, so only the solver runs. Returns and raises as :meth:`solve`."""
@@ -559,7 +561,7 @@ class SOSProgram:
         try:
             with warnings.catch_warnings():   # "solution may be inaccurate": the status is checked below
                 warnings.simplefilter("ignore", UserWarning)
-                val = prob.solve(solver=solver_argument(solver), **kw)
+                val = prob.solve(solver=solver_argument(solver), **{**solver_options(solver), **kw})
         except MemoryError as exc:
             raise BudgetError(f"SDP solver {solver} ran out of memory on a program with {len(self.unknowns)} "
                               "unknown blocks: lower the degree (see glidectl.estimate_sos_size)") from exc

@@ -53,6 +53,7 @@ from scipy.stats import qmc
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from .blas_threads import pinned_blas
 from .polynomial import Poly, monomial_matrix, monomials
 from .scaling import box_scale, resolve_box
 from .systems import PolySystem
@@ -240,6 +241,7 @@ def _sobol(d: int, seed: int, n: int) -> np.ndarray:
         return qmc.Sobol(d, seed=seed).random(n)
 
 
+@pinned_blas
 def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: float = 2.0,
                      n_hessian: int | None = None, n_fit: int | None = None, seed: int = 0) -> PolySystem:
     """A polynomial surrogate of a closed loop with a remainder bound, as a :class:`PolySystem` for
