@@ -132,6 +132,13 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   session), certified: **1.34x** the 60 s target, 1.28 times the degree-2 volume. The second thread of OpenBLAS
   and faer buys no wall time on these programs and costs 1.6-1.8x the CPU; the volumes differ by the rounding of
   the thread count (as the report builds' numbers do: ``bench/bench_report_all.py``).
+- 2026-12-04 04:20-04:27 (eighth session, 78b6a06: Clarabel and BLAS held to one thread inside the ROA layer, so
+  the results no longer depend on the thread count; ``--cases vdp,ctol,glider4_staged --repeats 1``, alone, with
+  ``OMP_NUM_THREADS=1 RAYON_NUM_THREADS=1``, not paired with a base run): vdp **2.59 s**, 96.49 % of the true area,
+  certified (target met). ctol **91.0 s**, volume 0.00216064 (unchanged), certified: 1.52x the 60 s target.
+  glider4_staged **85.8 s**, volume **0.197132** (0.197147 before: Clarabel's ``max_threads=1`` rounds differently
+  from its default with one rayon thread), certified: 1.43x the target, 1.28 times the degree-2 volume. The times
+  are within this machine's drift of the thirteenth session's (no solver path got slower: the same steps).
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,glider4_staged,ctol]
