@@ -13,7 +13,7 @@ import glidectl as gc
 from glidectl.errors import ArgumentError, SolverError
 from glidectl.roa import MOMENT_MIN_BLOCK, Poly, SOSProgram, monomials, solve_moment
 from glidectl.roa import sdp_solvers as sdp
-from glidectl.roa.sdp_solvers import MOMENT, moment_form, moment_pays, solver_argument
+from glidectl.roa.sdp_solvers import MOMENT, moment_form, moment_pays, solver_argument, solver_options
 
 
 @pytest.fixture
@@ -198,7 +198,7 @@ def test_small_larger_moment_and_feasibility_programs_go_to_clarabel(moment_call
         "feasibility": cp.Problem(cp.Minimize(0), base),
     }
     for name, prob in programs.items():
-        ref = prob.solve(solver="CLARABEL")
+        ref = prob.solve(solver="CLARABEL", **solver_options("CLARABEL"))    # with glidectl's thread count
         Xref = X.value.copy()
         val = prob.solve(solver=solver_argument(MOMENT))
         assert prob.status == cp.OPTIMAL, name
