@@ -278,11 +278,11 @@ about 5 s. No ledger number changed (1e-9, every run). The FIFO slots on a pool 
 gave 446.6 s and 418.6 s in the same hour: a design waiting for its parts then held back the designs queued behind it.
 
 Measured 2026-12-04 03:25-04:20 (eighth session), the README's command (no thread variables set), alone, not paired
-(so not a speed comparison): f187741 421.5 s (CPU 825 s); 24d1798 (Clarabel held to one thread) 431.7 s (CPU
-845 s); 78b6a06 (and BLAS held to one thread in the ROA layer) with ``--jobs 1``, a serial build in the CLI process
+(so not a speed comparison): f187741 421.5 s (CPU 825 s); 2742e85 with only its Clarabel pin 431.7 s (CPU 845 s);
+2742e85 (Clarabel and BLAS held to one thread in the ROA layer) with ``--jobs 1``, a serial build in the CLI process
 with the libraries' default threads: 760.8 s (CPU 780 s), and every ledger number of the 8 designs bitwise equal to
-the ``--jobs 2`` build of 24d1798. Before the pins a serial build's ROA numbers differed from a pool build's (the
-saturated user glider's SOS volume by 5 %).
+the ``--jobs 2`` build with the Clarabel pin only. Before the pins a serial build's ROA numbers differed from a pool
+build's (the saturated user glider's SOS volume by 5 %).
 """
 
 from __future__ import annotations

@@ -132,7 +132,7 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   session), certified: **1.34x** the 60 s target, 1.28 times the degree-2 volume. The second thread of OpenBLAS
   and faer buys no wall time on these programs and costs 1.6-1.8x the CPU; the volumes differ by the rounding of
   the thread count (as the report builds' numbers do: ``bench/bench_report_all.py``).
-- 2026-12-04 04:20-04:27 (eighth session, 78b6a06: Clarabel and BLAS held to one thread inside the ROA layer, so
+- 2026-12-04 04:20-04:27 (eighth session, 2742e85: Clarabel and BLAS held to one thread inside the ROA layer, so
   the results no longer depend on the thread count; ``--cases vdp,ctol,glider4_staged --repeats 1``, alone, with
   ``OMP_NUM_THREADS=1 RAYON_NUM_THREADS=1``, not paired with a base run): vdp **2.59 s**, 96.49 % of the true area,
   certified (target met). ctol **91.0 s**, volume 0.00216064 (unchanged), certified: 1.52x the 60 s target.
