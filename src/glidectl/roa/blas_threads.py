@@ -10,10 +10,11 @@ therefore run with :data:`BLAS_THREADS` BLAS threads (``threadpoolctl``), and Cl
 :data:`glidectl.roa.sdp_solvers.CLARABEL_THREADS`. Together they make a certificate a function of its arguments:
 the same on a laptop, in a ``glidectl report --jobs N`` build for any ``N`` and on a dask cluster.
 
-The price is speed on machines with many cores for the largest programs (the dense Cholesky factor of the CTOL
-level program, order 2810, takes about 0.2 s on one core). Set ``glidectl.roa.blas_threads.BLAS_THREADS = None``
-to leave the libraries' thread counts alone (the results may then differ in their last digits, or more, between
-machines).
+On 2 cores a second thread bought no wall time on these programs (``bench/bench_roa.py``, 2026-12-03: the CTOL
+certificate 81.2 s with the libraries' defaults against 84.6 s with one thread, for 1.6 times the CPU). On machines
+with many cores the largest programs may lose some speed (the dense Cholesky factor of the CTOL level program, order
+2810, takes about 0.2 s on one core). Set ``glidectl.roa.blas_threads.BLAS_THREADS = None`` to leave the libraries'
+thread counts alone (the results may then differ in their last digits, or more, between machines).
 """
 from __future__ import annotations
 
