@@ -4,6 +4,7 @@ serial build gives; errors and progress output."""
 from __future__ import annotations
 
 import io
+import multiprocessing
 import pickle
 import sys
 from pathlib import Path
@@ -279,3 +280,38 @@ def test_on_a_cluster_a_queued_design_starts_its_line_when_a_worker_takes_it(tmp
         steps = [i for i, ln in enumerate(lines) if ln.startswith(f"  {name} [")]
         assert [lines[i].split(" s  ", 1)[1] for i in steps] == ["glides", "writing the report"], lines
         assert starts[name] < min(steps) and max(steps) < dones[name], lines
+
+
+# a design with an SOS certificate whose numbers follow the thread count unless the ROA layer pins it (Clarabel's
+# max_threads, BLAS through threadpoolctl): the reduced chapter-5 glider at degree 4, one V step (a few seconds)
+CERTIFYING = """
+import glidectl as gc
+from glidectl.report import Report
+
+TITLE = "certifying"
+
+
+def design(progress, quick=False):
+    rm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model()
+    c = gc.certify_roa(rm, degree=4, iterations=1, solver="CLARABEL", n_truth=256, n_verify=500, n_simulate=4)
+    rep = Report(TITLE)
+    rep.number("rho", c.rho, "-")
+    rep.number("V", [float(v) for v in c.V.arrays()[1]], "-")
+    return rep
+"""
+
+
+def test_a_certificate_is_the_same_from_a_serial_build_and_from_a_spawned_pool(tmp_path):
+    """The serial build runs in this process with the libraries' default threads (one per core), the pool's spawned
+    workers with ``cores // jobs`` (a second design makes it a pool); the ledgers are byte-identical because the ROA
+    layer holds BLAS and Clarabel to one thread (without that, 2 threads against 1 gave another certificate)."""
+    folder = tmp_path / "designs"
+    _designs(folder)
+    (folder / "certifying.py").write_text(CERTIFYING)
+    designs = [load_design(folder / f"{n}.py") for n in ("certifying", "tiny_a")]
+    for where, jobs in (("serial", 1), ("pool", 2)):
+        stream = io.StringIO()
+        build_designs(designs, tmp_path / where, quick=True, jobs=jobs, use_cache=False, stream=stream,
+                      mp_context=multiprocessing.get_context("spawn"))
+    serial, pool = ((tmp_path / w / "certifying" / "numbers.json").read_bytes() for w in ("serial", "pool"))
+    assert b'"rho"' in serial and serial == pool
