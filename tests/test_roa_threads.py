@@ -2,8 +2,10 @@
 build give the same reports; the number of cores of the machine must not change them either).
 
 Clarabel's parallel factorization adds in an order that depends on its thread count (``RAYON_NUM_THREADS``, by
-default the machine's cores), and the SOS alternation carries that rounding along its path. glidectl therefore runs
-Clarabel with ``sdp_solvers.CLARABEL_THREADS`` (one) thread in every program it solves."""
+default the machine's cores), and so do some OpenBLAS routines; the SOS alternation carries that rounding along its
+path. glidectl therefore runs Clarabel with ``sdp_solvers.CLARABEL_THREADS`` (one) thread in every program it solves,
+and its certifying functions with ``blas_threads.BLAS_THREADS`` (one) BLAS thread. The end-to-end check (a serial
+build against a spawned pool) is in tests/test_report_parallel.py."""
 
 from __future__ import annotations
 
