@@ -3,6 +3,7 @@ problem against known answers and Drake, certificates and their soundness on the
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 
@@ -271,8 +272,6 @@ def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch,
     """A V step whose level program returns rho <= 0 (an inaccurate V step did: rho = -0.0) or NaN is not used:
     before, ``V / rho`` was infinite and the next V step started from its multiplier. The alternation stops as for
     a failed solve, the row counts both SDPs, and the certificate is the last good V's."""
-    import dataclasses
-
     from glidectl.roa import certify as C
 
     real, calls = C._level, []
@@ -295,8 +294,6 @@ def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch,
 def test_a_first_level_that_is_not_positive_is_a_clear_error(monkeypatch):
     """The starting V's level <= 0 with SOS multipliers: a SolverError that says so (it said 'use inner=sos',
     which was the option in use)."""
-    import dataclasses
-
     from glidectl.roa import certify as C
 
     real = C._level

@@ -18,9 +18,10 @@ import cvxpy as cp
 import numpy as np
 import pytest
 from cvxpy.reductions.solvers.conic_solvers.clarabel_conif import CLARABEL
+from threadpoolctl import threadpool_info, threadpool_limits
 
 import glidectl as gc
-from glidectl.roa import SOSProgram, max_level, sdp_solvers
+from glidectl.roa import SOSProgram, blas_threads, max_level, resolve_box, sdp_solvers
 from glidectl.roa.certify import lyapunov_quadratic
 
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
@@ -99,8 +100,6 @@ def test_solver_options_are_clarabels_thread_count_only_and_a_callers_own_option
 
 def _blas_threads() -> dict[str, int]:
     """Threads of every BLAS library loaded (numpy's and SciPy's OpenBLAS; SCS's is built with one)."""
-    from threadpoolctl import threadpool_info
-
     return {i["filepath"]: i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"}
 
 
@@ -112,10 +111,6 @@ def test_certifying_functions_run_with_one_blas_thread_and_restore_the_callers(c
     """Every SDP solve (spied in Clarabel) and the right-hand-side calls of a surrogate build see one BLAS thread,
     though the caller set two; the caller's count is back afterwards. (With two OpenBLAS threads the saturated user
     glider's SOS certificate had volume 3.6618e-12 instead of 3.4762e-12.)"""
-    from threadpoolctl import threadpool_limits
-
-    from glidectl.roa import blas_threads
-
     assert blas_threads.BLAS_THREADS == 1
     with threadpool_limits(limits=2, user_api="blas"):
         before = _blas_threads()
@@ -123,8 +118,8 @@ def test_certifying_functions_run_with_one_blas_thread_and_restore_the_callers(c
         vdp = gc.benchmarks.van_der_pol()
         assert max_level(vdp, lyapunov_quadratic(vdp), solver="CLARABEL").rho > 0
         seen_rhs: list[set[int]] = []
-        loop = gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(gc.load_vehicle("sphere_ch5"), 1.5),
-                                                    gc.load_vehicle("sphere_ch5"), 5.0))
+        sph = gc.load_vehicle("sphere_ch5")
+        loop = gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0))
 
         class Spied:
             state_names, input_names, equilibrium = loop.state_names, (), loop.equilibrium
@@ -133,25 +128,20 @@ def test_certifying_functions_run_with_one_blas_thread_and_restore_the_callers(c
                 seen_rhs.append(_blas_threads())
                 return loop.rhs(X)
 
-        gc.roa.surrogate_system(Spied(), resolve_box_of(loop))
+        gc.roa.surrogate_system(Spied(), _small_box(loop))
         assert _blas_threads() == before            # restored
     assert clarabel_calls and all(_count(d) == {1} for _, d in clarabel_calls)
     assert seen_rhs and all(_count(d) == {1} for d in seen_rhs)
 
 
-def resolve_box_of(loop):
-    from glidectl.roa import resolve_box
-
+def _small_box(loop):
+    """5 % of the loop's own box about its equilibrium (a quick surrogate)."""
     lo, hi = resolve_box(loop, None, np.asarray(loop.equilibrium))
     xe = np.asarray(loop.equilibrium)
     return xe + 0.05 * (lo - xe), xe + 0.05 * (hi - xe)
 
 
 def test_blas_threads_none_leaves_the_callers_count(monkeypatch):
-    from threadpoolctl import threadpool_limits
-
-    from glidectl.roa import blas_threads
-
     monkeypatch.setattr(blas_threads, "BLAS_THREADS", None)
     seen: list[set[int]] = []
 
