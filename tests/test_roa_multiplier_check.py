@@ -90,9 +90,11 @@ def test_the_shift_is_the_multipliers_negative_eigenvalue(q: float, a: float):
 def test_real_level_program_multipliers_are_made_psd_and_counted():
     """A solved level program of the chapter-5 reduced glider (a recast with a speed cut, so with multipliers):
     every multiplier Gram matrix given to the check is PSD, and the check's residual of each constraint is the
-    residual at those matrices."""
+    residual at those matrices: matched modulo the angle equality (``glidectl.roa.quotient``), a polynomial equal to
+    it at every point of the lifted variety."""
     import glidectl as gc
     from glidectl.roa import certify as C
+    from glidectl.roa.sos import _gram_residual
 
     ps = gc.recast(gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model())
     assert ps.cuts
@@ -108,7 +110,12 @@ def test_real_level_program_multipliers_are_made_psd_and_counted():
         res = expr.value(mult)
         for g in grams:
             res = res - g.poly()
-        assert chk.max_residual == pytest.approx(res.max_abs_coefficient(), rel=1e-12, abs=1e-300)
+        assert prog.quotient is not None
+        checked, _, _ = _gram_residual(expr, grams, mult, prog.quotient)
+        assert chk.max_residual == pytest.approx(checked.max_abs_coefficient(), rel=1e-12, abs=1e-300)
+        assert chk.max_residual < 1e-6 < res.max_abs_coefficient()      # the ideal's multiple is not a residual
+        Z = ps.lift(np.random.default_rng(0).uniform(*ps.box, (200, ps.n)))
+        assert np.max(np.abs(checked(Z) - res(Z))) <= 1e-9 * max(1.0, res.max_abs_coefficient())
 
 
 def _low_program(c0: float, c1: float) -> SOSProgram:

@@ -412,6 +412,7 @@ class SOSProgram:
     margin: Any = None      # optional cvxpy scalar t: Gram matrices of add_sos constraints satisfy Q >= t I
     coefficient_rows: set[int] = field(default_factory=set, repr=False)    # ids of add_zero's constraints
     cone: str = "sos"       # Gram matrices PSD ("sos"), or SDD ("sdsos") / DD ("dsos") inner approximations
+    quotient: Any = None    # an AngleQuotient: coefficients are matched modulo its equalities (quotient.py)
 
     def enable_margin(self, cap: float = 1.0) -> Any:
         """Make every later :meth:`add_sos` Gram matrix satisfy ``Q >= t I`` for a new scalar ``t <= cap``
@@ -478,11 +479,13 @@ class SOSProgram:
             total = total + g
         return us, total
 
-    def add_sos(self, name: str, expr: LinPoly, half_basis: Sequence[Exp]) -> list[Unknown]:
+    def add_sos(self, name: str, expr: LinPoly, half_basis: Sequence[Exp], *,
+                support: Sequence[Exp] = ()) -> list[Unknown]:
         """Constrain ``expr`` to be SOS on ``half_basis``, reduced exactly first (:func:`reduce_basis`, when
-        :attr:`reduce`); returns the Gram unknowns (one per block)."""
+        :attr:`reduce`, on the support of ``expr`` and the monomials ``support``: with a :attr:`quotient`, those of
+        the multiples of its equalities that the program leaves out); returns the Gram unknowns (one per block)."""
         if self.reduce:
-            blocks = reduce_basis(linear_support(expr), half_basis)
+            blocks = reduce_basis(linear_support(expr) | {tuple(e) for e in support}, half_basis)
         else:
             blocks = [list(half_basis)]
         us, g = self.sos_poly_blocks(name + ".gram", blocks, margin=True)
@@ -496,8 +499,10 @@ class SOSProgram:
         return {name: [len(u.basis) for u in us] for name, _, us in self.sos_constraints}
 
     def add_zero(self, expr: LinPoly) -> None:
-        """All coefficients of ``expr`` are zero."""
+        """All coefficients of ``expr`` are zero (of its normal form, with a :attr:`quotient`)."""
         self.equalities.append(expr)
+        if self.quotient is not None:
+            expr = self.quotient.linpoly(expr)
         monos: dict[Exp, int] = {}
         for e in expr.const.terms:
             monos.setdefault(e, len(monos))
@@ -672,7 +677,7 @@ class SOSProgram:
         for u in us:
             Q = u.value()
             mins.append(float(np.linalg.eigvalsh(0.5 * (Q + Q.T))[0]))
-        res, basis, reach = _gram_residual(expr, us, mult)
+        res, basis, reach = _gram_residual(expr, us, mult, self.quotient)
         full = self.full_bases.get(name)
         lost = (_pair_sums(full, distinct=False) - reach) if full is not None else set()
         out_res = max((abs(c) for e, c in res.terms.items() if e in lost), default=0.0)
@@ -713,7 +718,7 @@ class SOSProgram:
                 and u.var.value is not None]
         if not free:
             return None
-        res, _, reach = _gram_residual(expr, us, mult)
+        res, _, reach = _gram_residual(expr, us, mult, self.quotient)
         top = math.inf if max_degree is None else max_degree
         low = sorted(e for e, c in res.terms.items() if e not in reach and sum(e) <= top and c != 0.0)
         if not low:
@@ -740,15 +745,18 @@ class SOSProgram:
         return saved
 
 
-def _gram_residual(expr: Any, us: list[Unknown],
-                   mult: Mapping[Unknown, np.ndarray]) -> tuple[Poly, list[Exp], set[Exp]]:
+def _gram_residual(expr: Any, us: list[Unknown], mult: Mapping[Unknown, np.ndarray],
+                   quotient: Any = None) -> tuple[Poly, list[Exp], set[Exp]]:
     """``expr - m^T Q m`` at the current values (multipliers ``mult`` made SOS), the half basis of the Gram
     unknowns ``us`` and the monomials its pairs reach."""
     res = expr.value(mult)
     for u in us:
         res = res - u.poly()
     basis = [b for u in us for b in u.basis]
-    return res, basis, _pair_sums(basis, distinct=False)
+    reach = _pair_sums(basis, distinct=False)
+    if quotient is not None:
+        res = quotient.lift(quotient.nf(res), reach)
+    return res, basis, reach
 
 
 def _projected(us: list[Unknown], res: Poly) -> tuple[float, float]:
