@@ -3,6 +3,8 @@ exactly SOS (its Gram matrix made positive semidefinite), not with the solver's 
 
 from __future__ import annotations
 
+import math
+
 import cvxpy as cp
 import numpy as np
 import pytest
@@ -87,7 +89,8 @@ def test_the_shift_is_the_multipliers_negative_eigenvalue(q: float, a: float):
     assert chk.slack >= min(1.0, a + q) - 2 * q - 1e-12
 
 
-def test_real_level_program_multipliers_are_made_psd_and_counted():
+@pytest.mark.parametrize("quotient", [False, True])
+def test_real_level_program_multipliers_are_made_psd_and_counted(quotient, monkeypatch):
     """A solved level program of the chapter-5 reduced glider (a recast with a speed cut, so with multipliers):
     every multiplier Gram matrix given to the check is PSD, and the check's residual of each constraint is the
     residual at those matrices: matched modulo the angle equality (``glidectl.roa.quotient``), a polynomial equal to
@@ -98,6 +101,7 @@ def test_real_level_program_multipliers_are_made_psd_and_counted():
 
     ps = gc.recast(gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model())
     assert ps.cuts
+    monkeypatch.setattr(C, "QUOTIENT_MIN_BLOCK", 0 if quotient else math.inf)
     F = C._scaled(ps)
     V = C.lyapunov_quadratic(ps)
     prog, out = C._build(ps, F, 2, V=V, lam=None, rho=None, eps=0.0, extra=0, margin=False)
@@ -110,6 +114,10 @@ def test_real_level_program_multipliers_are_made_psd_and_counted():
         res = expr.value(mult)
         for g in grams:
             res = res - g.poly()
+        if not quotient:
+            assert prog.quotient is None
+            assert chk.max_residual == pytest.approx(res.max_abs_coefficient(), rel=1e-12, abs=1e-300)
+            continue
         assert prog.quotient is not None
         checked, _, _ = _gram_residual(expr, grams, mult, prog.quotient)
         assert chk.max_residual == pytest.approx(checked.max_abs_coefficient(), rel=1e-12, abs=1e-300)

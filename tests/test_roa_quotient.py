@@ -2,6 +2,8 @@
 residual that no Gram entry reaches, and the quotient form's equivalence with the multiplier form it replaces."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -86,7 +88,7 @@ def test_quotient_program_equals_the_multiplier_program(reduced, monkeypatch):
     V = lyapunov_quadratic(reduced)
     out, sizes = {}, {}
     for flag in (False, True):
-        monkeypatch.setattr(certify, "QUOTIENT", flag)
+        monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", 0 if flag else math.inf)
         out[flag] = max_level(reduced, V)
         prog, _ = _build(reduced, list(reduced.F), 2, V=V, lam=None, rho=None, eps=1e-6)
         sizes[flag] = (sum(u.size for u in prog.unknowns if u.name.startswith("psi")),
@@ -99,8 +101,9 @@ def test_quotient_program_equals_the_multiplier_program(reduced, monkeypatch):
 
 def test_size_estimate_counts_the_quotient_form(reduced, monkeypatch):
     """estimate_sos_size: no multiplier unknowns and the standard monomials' equations with the quotient."""
+    monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", 0)
     with_q = gc.estimate_sos_size(reduced, 4)
-    monkeypatch.setattr(certify, "QUOTIENT", False)
+    monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", math.inf)
     without = gc.estimate_sos_size(reduced, 4)
     assert with_q.gram == without.gram and with_q.bytes == without.bytes
     assert with_q.n_free < without.n_free and with_q.n_constraints < without.n_constraints
@@ -111,7 +114,7 @@ def test_quotient_certificate_is_sound_and_matches_the_multiplier_form(reduced, 
     passed and the true dV/dt < 0 at sampled points of its set, and the same set to the solvers' accuracy."""
     cert = {}
     for flag in (False, True):
-        monkeypatch.setattr(certify, "QUOTIENT", flag)
+        monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", 0 if flag else math.inf)
         cert[flag] = gc.certify_roa(reduced, degree=2, iterations=1, n_verify=2000, n_simulate=32)
     c = cert[True]
     assert c.certified and c.verification.gram_passed, c.verification.summary()
@@ -122,3 +125,17 @@ def test_quotient_certificate_is_sound_and_matches_the_multiplier_form(reduced, 
     far = np.linalg.norm(X, axis=1) > 1e-3
     assert far.sum() > 300 and np.all(dV[far] < 0.0)
     assert c.volume() == pytest.approx(cert[False].volume(), rel=0.02)
+
+
+def test_quotient_only_for_programs_of_the_moment_route(reduced):
+    """By default only programs with a decrease Gram matrix of order QUOTIENT_MIN_BLOCK or more take the quotient
+    form: the reduced glider at degree 2 (order 24) and the full glider at degree 2 (49) keep their multipliers;
+    the full glider at degree 4 (104) does not."""
+    V = lyapunov_quadratic(reduced)
+    prog, _ = _build(reduced, list(reduced.F), 2, V=V, lam=None, rho=None, eps=1e-6)
+    assert prog.quotient is None and any(u.name.startswith("psi") for u in prog.unknowns)
+    full = recast(gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).full_model())
+    k = certify.QUOTIENT_MIN_BLOCK
+    assert certify._quotient(full, k - 1) is None and certify._quotient(full, k) is not None
+    assert gc.estimate_sos_size(full, 2).gram[0] == ("decrease", 49) and 49 < k
+    assert gc.estimate_sos_size(full, 4).gram[0] == ("decrease", 104) and 104 >= k

@@ -23,6 +23,9 @@ kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as t
 **Speed** (exact, no certificate is weakened): every SOS constraint's half basis is reduced by the Newton polytope,
 diagonal consistency and sign symmetry (:func:`~glidectl.roa.sos.reduce_basis`), and when the system has sign
 symmetries (odd Van der Pol: ``x -> -x``) every unknown is restricted to the matching monomials (:func:`_symmetry`);
+in the large programs, the angle equalities ``s^2 + c^2 - 2 c = 0`` of a recast are not multiplied by free ``psi_j``,
+``phi_kj``: every coefficient is matched modulo them instead (:mod:`glidectl.roa.quotient`,
+:data:`QUOTIENT_MIN_BLOCK`; the same feasible set);
 the level is a variable of one SDP (no bisection), the back-off re-solves reuse the compiled program through a cvxpy
 ``Parameter`` (the level), and the final level is not searched again (the kept ``V`` is normalized by its
 own optimal level). Each history entry records ``sdp_time`` and, split, ``compile_time`` (cvxpy) and
@@ -87,12 +90,19 @@ __all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "RO
 
 #: Default largest degree of ``V`` that :func:`certify_roa` accepts (its ``max_degree``): degree 8 in 2 variables
 #: takes ~20 s, degree 6 in 3 variables ~10 min, degree 4 in 5 variables hours.
-QUOTIENT = True
-"""Match the coefficients of every SOS condition modulo the angle equalities ``s^2 + c^2 - 2 c = 0`` of a recast
+QUOTIENT_MIN_BLOCK = 64
+"""Programs whose decrease Gram matrix has at least this order (as :func:`estimate_sos_size` counts it) match the
+coefficients of every SOS condition modulo the angle equalities ``s^2 + c^2 - 2 c = 0`` of a recast
 (:mod:`glidectl.roa.quotient`) instead of through free multipliers ``psi_j``: the same feasible set, fewer
-equations and no multiplier unknowns. On the CTOL closed loop of ``bench/bench_roa.py`` (together with the V step's
-tolerances, :data:`~glidectl.roa.sdp_solvers.STEERING_TOLERANCES`) the certificate took 54.3 s against 88.7 s, volume
-0.00216064 both (2026-12-04, one thread). False: the multiplier form (for comparisons)."""
+equations and no multiplier unknowns. These are the programs the whole alternation solves on the moment route
+(:data:`CENTER_BY_LEVEL_MIN_BLOCK`), where the equations set the order of the dense factorization: on the CTOL
+closed loop of ``bench/bench_roa.py`` (together with the V step's tolerances,
+:data:`~glidectl.roa.sdp_solvers.STEERING_TOLERANCES`) the certificate took 54.3 s against 88.7 s, volume 0.00216064
+both (2026-12-04, one thread). Smaller programs keep the multiplier form: their V steps and centering programs are
+Clarabel's, whose points on an optimal face or at a centre follow the equations as written, so the quotient form
+changes their alternation's path for no measurable time (the full glider at K_M = -100, degree 2, 8 iterations:
+29.0 s against 31.4 s, volume 0.1512 against 0.1687, one V step that gained less early on). ``math.inf``: never;
+0: always (for comparisons)."""
 MAX_DEGREE = 8
 
 #: Default ``memory_limit`` of :func:`certify_roa` and :func:`max_level`: this fraction of the physical memory.
@@ -432,7 +442,7 @@ def _size(ps: PolySystem, degree: int, extra: int) -> SOSSize:
              for k, g in enumerate(ps.cuts + ps.valid)]
     # equalities matched modulo the angle quotient have no multipliers, and the equations are on its standard
     # monomials (each s at most linear)
-    quot = angle_quotient(nz, ps.equalities) if QUOTIENT else None
+    quot = _quotient(ps, gram[0][1])
     eqs_m = [h for h in ps.equalities if quot is None or not quot.covers(h)]
     nq = len(quot.pairs) if quot is not None else 0
     free = _n_monomials(nz, degree, 1) + _n_monomials(nz, dg.lam)
@@ -639,7 +649,7 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
         degF = robust_degree(degV, degF)
     dg = _degrees(degV, degF, extra)
     prog = SOSProgram(nz, reduce=symmetry, cone=cone)
-    quot = angle_quotient(nz, ps.equalities) if QUOTIENT else None
+    quot = _quotient(ps, _n_monomials(nz, dg.D // 2, 1, len(ps.s_caps)))
     prog.quotient = quot
     out: dict[str, Any] = {}
 
@@ -722,6 +732,12 @@ def _build(ps: PolySystem, F: list[Poly], degV: int, *, V: Poly | None, lam: Pol
                 pos = pos + chi_h
         _add_sos(prog, "positivity", pos, no_in(monomials(nz, degV // 2, 1, ps.s_caps)), extra)
     return prog, out
+
+
+def _quotient(ps: PolySystem, n_decrease: int) -> Any:
+    """The angle quotient of ``ps`` (:func:`~glidectl.roa.quotient.angle_quotient`) for a program whose decrease
+    Gram matrix has order ``n_decrease`` (unreduced count), or None (:data:`QUOTIENT_MIN_BLOCK`)."""
+    return angle_quotient(ps.nz, ps.equalities) if n_decrease >= QUOTIENT_MIN_BLOCK else None
 
 
 def _tau_low_degrees(ps: PolySystem) -> list[int]:

@@ -6,7 +6,9 @@ scalars (:meth:`SOSProgram.scalar`). Every expression the algorithms write is *a
 :class:`LinPoly` is a constant polynomial plus, for each unknown, one known polynomial per unknown coefficient (the
 columns of a linear map). ``expr in SOS`` (:meth:`SOSProgram.add_sos`) introduces a Gram matrix ``Q >= 0`` and the
 equalities ``coeff_alpha(expr) = sum_{b_i + b_j = alpha} Q_ij`` for every monomial ``alpha``, assembled as one
-``scipy.sparse`` matrix per unknown and passed to cvxpy as ``A @ x + b == 0``.
+``scipy.sparse`` matrix per unknown and passed to cvxpy as ``A @ x + b == 0``. With a :attr:`SOSProgram.quotient`
+(the angle equalities of a recast), the coefficients are those of the normal forms modulo its equalities
+(:mod:`glidectl.roa.quotient`), and so are the residuals of the check.
 
 After the solve, :meth:`SOSProgram.check` recomputes every SOS constraint in floating point from the solved
 unknowns, with every SOS multiplier made exactly SOS first (its Gram matrix shifted to positive semidefinite,
