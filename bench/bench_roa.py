@@ -139,6 +139,18 @@ same run), this branch against its base (``--baseline-src`` of a checkout of 5cf
   glider4_staged **85.8 s**, volume **0.197132** (0.197147 before: Clarabel's ``max_threads=1`` rounds differently
   from its default with one rayon thread), certified: 1.43x the target, 1.28 times the degree-2 volume. The times
   are within this machine's drift of the thirteenth session's (no solver path got slower: the same steps).
+- 2026-12-04 06:12-06:17 (ninth session, 73dce59 against 1574fa3 in the same run: ``OMP_NUM_THREADS=1
+  RAYON_NUM_THREADS=1 python bench/bench_roa.py --cases vdp,ctol,glider4_staged --repeats 1 --baseline-src
+  <checkout of 1574fa3>/src``, nothing else running). The large programs match their coefficients modulo the angle
+  equalities (``roa/quotient.py``: no multiplier unknowns, 1113 equations instead of 1739 on the CTOL), the V step on
+  the moment route stops at ``STEERING_TOLERANCES`` and eliminates its sample equations first
+  (``ELIMINATE_DIAGONAL``): vdp **1.86 s** vs 2.23 s (0.84), 96.50 % of the true area both, certified (target met:
+  0.62 of 3 s). ctol **36.0 s** vs 81.5 s (ratio **0.44**; SDP 24.2 s vs 69.7 s), certified, volume 0.00216064 both
+  (the same Sobol count): **0.60 of the 60 s target**, met in time; the volume target 0.00441 stays the residual
+  artifact explained above. glider4_staged **46.6 s** vs 78.5 s (**0.59**; SDP 39.9 s vs 71.6 s), certified, volume
+  0.197132 both (1.28 times the degree-2 reference 0.154291): **0.78 of the 60 s target**, met. The degree-2 steps
+  of glider4_staged are the same programs as before (their Gram order 49 is under ``QUOTIENT_MIN_BLOCK``); its
+  quartic V step took 38 iterations (was 49 s, now about 25 s).
 - Drake: pydrake not installed; stored level 2.3045 (47.2 % of the true area), no stored time.
 
 Run ``python bench/bench_roa.py [--repeats N] [--cases vdp,glider2,glider4,glider4_staged,ctol]
