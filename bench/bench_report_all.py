@@ -283,6 +283,35 @@ Measured 2026-12-04 03:25-04:20 (eighth session), the README's command (no threa
 with the libraries' default threads: 760.8 s (CPU 780 s), and every ledger number of the 8 designs bitwise equal to
 the ``--jobs 2`` build with the Clarabel pin only. Before the pins a serial build's ROA numbers differed from a pool
 build's (the saturated user glider's SOS volume by 5 %).
+
+Measured 2026-12-04 05:52-07:03 (ninth session, a fresh machine), the README's command (no thread variables set),
+73dce59 (the large ROA programs matched modulo the angle equalities, the moment route's V step at steering
+tolerances with its sample equations eliminated first) against 1574fa3: alone, new then base then new; then side
+by side (``--jobs 2`` each, 4 processes on 2 cores):
+
+=====================  ==========  ==========  ==========  ==========  ==========
+design                 alone 73d.  alone 157.  alone 73d.  pair 157.   pair 73d.
+=====================  ==========  ==========  ==========  ==========  ==========
+ch2_longitudinal       6.8 s       9.3 s       7.0 s       16.9 s      18.9 s
+ch4_phugoid            3.0 s       3.7 s       2.8 s       6.8 s       8.9 s
+ch5_singular_pert.     8.0 s       9.7 s       9.4 s       17.4 s      19.1 s
+ch6_controllers        18.2 s      25.6 s      19.6 s      40.4 s      45.0 s
+ch7_ctol               337.9 s     397.9 s     380.9 s     787.9 s     763.6 s
+ch8_helix              40.0 s      46.0 s      62.1 s      99.6 s      99.6 s
+slocum_dive_cycle      118.0 s     133.7 s     155.0 s     274.9 s     277.6 s
+roa_certification      345.7 s     413.3 s     390.9 s     795.6 s     774.5 s
+end to end (wall)      350.3 s     418.8 s     397.4 s     804.8 s     784.5 s (ratio 0.975)
+user + system CPU      691 s       820 s       784 s       803 s       767 s (0.955)
+=====================  ==========  ==========  ==========  ==========  ==========
+
+The same code took 350.3 s and 397.4 s alone an hour apart (CPU 691 s and 784 s): the machine's drift, larger than
+the change. The pair is the comparison: 0.975 of the wall time, 0.955 of the CPU. Inside it the CTOL certificate
+took 95.3 s against 196.9 s; the other certificates (degree 2, Clarabel-centred, below ``QUOTIENT_MIN_BLOCK``) are
+the same programs. No ledger number changed in any design (every ``numbers.json``, 1e-9 relative, timings left
+out) except the CTOL certificate's verification text: the same volume 0.0021606, its final Gram check with slack
+3.71e-05 against 1.97e-05 (margin 1.45e+08 against 2.32). The cold build stays about 1.2-1.3 times the 300 s
+target: the saturated user glider's SOS path (about 130 s of CPU), the unsaturated one (about 80 s, shared with
+slocum_dive_cycle), the three full-glider certificates (about 30 s each) and ch7_ctol's simulations are the rest.
 """
 
 from __future__ import annotations

@@ -5,8 +5,9 @@ against Theorem 5, and all of them against the true regions from batch simulatio
 
 Run ``glidectl report roa_certification`` or ``python designs/roa_certification.py [OUTDIR] [--quick]``;
 writes ``OUTDIR/roa_certification/`` (default ``reports/``) with report.pdf, the figures and numbers.json.
-The FULL build takes about 15 minutes on 2 cores beside the other designs, 13 of them in the CTOL closed-loop
-certificate (8 minutes alone; ``Settings(ctol=False)`` skips it).
+The FULL build takes about 6 minutes on 2 cores beside the other designs (2026-12-04); the CTOL closed-loop
+certificate takes about 40 s of it (``Settings(ctol=False)`` skips it), the saturated user glider's SOS path about
+2 minutes.
 
 Saturated loops (issue 17, ``Settings(saturated=False)`` skips them): the user glider's LQR dive-cycle loop
 (slocum_shallow, unsaturated and saturated at the pump rate) and the chapter-6 buoyancy and elevator loops by the LMI
@@ -65,7 +66,7 @@ class Settings:
     torque_speed: float | None = 1.5        # m/s: chapter-6 torque design certified as a closed loop (None: skip)
     torque_Vbar: tuple[float, float] = (-0.4, 0.4)       # design_torque_control box
     torque_alphabar: tuple[float, float] = (-0.2, 0.2)
-    ctol: bool = True                       # the chapter-7 CTOL closed loop (~8-13 min)
+    ctol: bool = True                       # the chapter-7 CTOL closed loop (~40 s)
     ctol_degree: int = 2
     ctol_iterations: int = 1
     ctol_k3: float = 10.0
@@ -521,9 +522,11 @@ def _report(res: _Results) -> Report:
     rep.text("Left alone", (
         "Degree 2 for the 4-state models and the closed loops: a degree-4 V in the 5 lifted variables of the glider "
         "needs a 104 x 104 Gram matrix per constraint and one level SDP takes about 100 s with Clarabel on 2 cores "
-        "(measured); the CTOL closed loop (7 lifted variables: alphabar kept and enclosed by Taylor bounds) takes "
-        "about 110 s per SDP with Clarabel already at degree 2 (about 20 s on the moment form, its V step about "
-        "55 s; its centering, the capped level program, about 20 s), so it runs one alternation. An LMI path with "
+        "(measured; 25 s for the V step on the moment form, coefficients matched modulo the angle equality: "
+        "bench/bench_roa.py's glider4_staged case certifies it in about 50 s); the CTOL closed loop (7 lifted "
+        "variables: alphabar kept and enclosed by Taylor bounds) takes about 110 s per SDP with Clarabel already at "
+        "degree 2 (about 6 s on the moment form modulo the angle equalities, its V step about 17 s), and runs one "
+        "alternation. An LMI path with "
         "linear-plus-sector "
         "bounds is now built: see 'Saturated loops'. When the solver fails on a V step "
         "the alternation stops there and keeps the best V found (rows 'V step failed' in the history table)."))

@@ -304,3 +304,69 @@ def test_sparse_kkt_schur_complement_equals_the_dense_formula(monkeypatch: pytes
         off += nb * nb
     H = kkt.schur({"d": d, "rti": rti})
     assert np.allclose(H, ref, rtol=1e-10, atol=1e-10 * np.max(np.abs(ref)))
+
+
+def _hinge_program(seed: int, n: int = 8, k: int = 300) -> cp.Problem:
+    """A V-step-like program: free coefficients ``v`` tied to a Gram matrix ``X >= 0`` (n x n) by ``<C_i, X> = v_i``
+    and ``trace(X) = n``, and ``min mean(p)`` with one hinge equation per sample in ``v`` alone,
+    ``b_k . v - 1 = p_k - q_k``, ``p, q >= 0`` (as ``_coverage_objective`` writes it)."""
+    rng = np.random.default_rng(seed)
+    X = cp.Variable((n, n), symmetric=True)
+    v = cp.Variable(6)
+    p, q = cp.Variable(k, nonneg=True), cp.Variable(k, nonneg=True)
+    C = [(lambda M: M + M.T)(rng.standard_normal((n, n))) for _ in range(6)]
+    B = rng.standard_normal((k, 6))
+    cons = [X >> 0, cp.trace(X) == n, B @ v - 1 == p - q]
+    cons += [cp.trace(C[i] @ X) == v[i] for i in range(6)]
+    return cp.Problem(cp.Minimize(cp.sum(p) / k), cons)
+
+
+def test_diagonal_elimination_is_the_same_newton_system(monkeypatch) -> None:
+    """ELIMINATE_DIAGONAL (Woodbury on the sample columns of the Schur complement) gives the same iterations and
+    optimum as the whole factorization, and finds the sample columns (each in its own nonnegative rows)."""
+    prob = _hinge_program(1)
+    args = _clarabel_data(prob)
+    found = []
+    real = sdp._SparseKKT.__init__
+
+    def spy(self, *a, **k):
+        real(self, *a, **k)
+        found.append(self.diag)
+
+    monkeypatch.setattr(sdp._SparseKKT, "__init__", spy)
+    out = {}
+    for flag in (False, True):
+        monkeypatch.setattr(sdp, "ELIMINATE_DIAGONAL", flag)
+        out[flag] = solve_moment(*args)
+    assert found[0] is None and found[1] is not None and len(found[1][0]) == 300
+    assert out[True].status in ("Solved", "AlmostSolved") and out[False].status == out[True].status
+    assert out[True].iterations == out[False].iterations
+    assert out[True].obj_val == pytest.approx(out[False].obj_val, rel=1e-8, abs=1e-10)
+    assert out[True].obj_val == pytest.approx(prob.solve(solver="CLARABEL"), rel=1e-5, abs=1e-6)
+
+
+def test_steering_options_are_cvxopts_tolerances_on_the_moment_route_only() -> None:
+    assert sdp.steering_options(sdp.MOMENT) == sdp.STEERING_TOLERANCES == {"reltol": 1e-3, "feastol": 1e-5}
+    assert sdp.steering_options("CLARABEL") == {}
+    sdp.steering_options(sdp.MOMENT)["reltol"] = 1.0            # a copy: the module's tolerances stay
+    assert sdp.STEERING_TOLERANCES["reltol"] == 1e-3
+
+
+def test_the_v_step_is_solved_at_the_steering_tolerances(monkeypatch) -> None:
+    """certify_roa's V steps (and only they) pass the steering tolerances; its level programs the solver's
+    defaults."""
+    import glidectl as gc
+    from glidectl.roa.sos import SOSProgram
+
+    seen = []
+    real = SOSProgram.resolve
+
+    def spy(self, *, solver=sdp.DEFAULT_SOLVER, **kw):
+        seen.append((self.problem.objective.NAME, dict(kw)))
+        return real(self, solver=solver, **kw)
+
+    monkeypatch.setattr(SOSProgram, "resolve", spy)
+    gc.certify_roa(gc.benchmarks.van_der_pol(), degree=2, iterations=1, n_verify=500, n_simulate=8)
+    steer = [kw for _, kw in seen if kw]
+    assert steer and all(kw == sdp.STEERING_TOLERANCES for kw in steer)
+    assert any(name == "maximize" and not kw for name, kw in seen)      # the level programs: defaults

@@ -88,21 +88,24 @@ from .systems import PolySystem, recast
 __all__ = ["MAX_DEGREE", "MEMORY_FRACTION", "LevelResult", "ROACertificate", "ROAVerification", "SOSSize",
            "certify_roa", "dVdt", "estimate_sos_size", "lyapunov_matrix", "lyapunov_quadratic", "max_level"]
 
-#: Default largest degree of ``V`` that :func:`certify_roa` accepts (its ``max_degree``): degree 8 in 2 variables
-#: takes ~20 s, degree 6 in 3 variables ~10 min, degree 4 in 5 variables hours.
 QUOTIENT_MIN_BLOCK = 64
 """Programs whose decrease Gram matrix has at least this order (as :func:`estimate_sos_size` counts it) match the
 coefficients of every SOS condition modulo the angle equalities ``s^2 + c^2 - 2 c = 0`` of a recast
 (:mod:`glidectl.roa.quotient`) instead of through free multipliers ``psi_j``: the same feasible set, fewer
 equations and no multiplier unknowns. These are the programs the whole alternation solves on the moment route
 (:data:`CENTER_BY_LEVEL_MIN_BLOCK`), where the equations set the order of the dense factorization: on the CTOL
-closed loop of ``bench/bench_roa.py`` (together with the V step's tolerances,
-:data:`~glidectl.roa.sdp_solvers.STEERING_TOLERANCES`) the certificate took 54.3 s against 88.7 s, volume 0.00216064
-both (2026-12-04, one thread). Smaller programs keep the multiplier form: their V steps and centering programs are
+closed loop of ``bench/bench_roa.py`` the certificate took 54.3 s against 88.7 s with the V step's tolerances
+(:data:`~glidectl.roa.sdp_solvers.STEERING_TOLERANCES`), 36.0 s against 81.5 s with the elimination of its sample
+equations too (:data:`~glidectl.roa.sdp_solvers.ELIMINATE_DIAGONAL`), volume 0.00216064 throughout (2026-12-04,
+one thread). Smaller programs keep the multiplier form: their V steps and centering programs are
 Clarabel's, whose points on an optimal face or at a centre follow the equations as written, so the quotient form
 changes their alternation's path for no measurable time (the full glider at K_M = -100, degree 2, 8 iterations:
 29.0 s against 31.4 s, volume 0.1512 against 0.1687, one V step that gained less early on). ``math.inf``: never;
 0: always (for comparisons)."""
+
+#: Default largest degree of ``V`` that :func:`certify_roa` accepts (its ``max_degree``): degree 8 in 2 variables
+#: takes ~20 s, degree 6 in 3 variables ~10 min, degree 4 in 5 variables about a minute (the 4-state glider on
+#: the moment route, ``bench/bench_roa.py``'s glider4_staged; hours with Clarabel).
 MAX_DEGREE = 8
 
 #: Default ``memory_limit`` of :func:`certify_roa` and :func:`max_level`: this fraction of the physical memory.

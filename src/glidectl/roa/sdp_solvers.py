@@ -49,24 +49,10 @@ from cvxpy.reductions.solvers.conic_solvers.conic_solver import ConicSolver
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError
 
-__all__ = [
-    "CLARABEL_THREADS",
-    "DEFAULT_SOLVER",
-    "MOMENT",
-    "MOMENT_MAX_ITERATIONS",
-    "MOMENT_MIN_BLOCK",
-    "SDP_SOLVERS",
-    "STEERING_TOLERANCES",
-    "CvxoptMoment",
-    "check_solver",
-    "installed_sdp_solvers",
-    "moment_form",
-    "moment_pays",
-    "solve_moment",
-    "solver_argument",
-    "solver_options",
-    "steering_options",
-]
+__all__ = ["CLARABEL_THREADS", "DEFAULT_SOLVER", "ELIMINATE_DIAGONAL", "ELIMINATE_DIAGONAL_MIN", "MOMENT",
+           "MOMENT_MAX_ITERATIONS", "MOMENT_MIN_BLOCK", "SDP_SOLVERS", "STEERING_TOLERANCES", "CvxoptMoment",
+           "check_solver", "installed_sdp_solvers", "moment_form", "moment_pays", "solve_moment", "solver_argument",
+           "solver_options", "steering_options"]
 
 DEFAULT_SOLVER = "CVXOPT_MOMENT"
 """The default SDP solver of the ROA layer; programs it does not take go to Clarabel (module docstring). Measured in
