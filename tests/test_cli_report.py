@@ -277,3 +277,25 @@ def test_python_dash_m_glidectl_is_the_cli():
     bad = subprocess.run([sys.executable, "-m", "glidectl", "frobnicate"], capture_output=True, text=True,
                          timeout=120)
     assert bad.returncode == 2
+
+
+def test_a_long_table_caption_wraps_inside_the_page():
+    """A table caption longer than a line wraps within the page, and the table starts below it (the ROA design's
+    alternation-history caption ran off the page)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    figs = []
+
+    class Pages:
+        def savefig(self, fig):
+            figs.append(fig)
+
+    caption = " ".join(["level"] * 60)
+    Report("t")._table_pages(Pages(), caption, ["a"], [["1"]])
+    fig = figs[0]
+    r = FigureCanvasAgg(fig).get_renderer()
+    text = fig.texts[0]
+    assert text.get_text().count("\n") >= 2 and text.get_text().replace("\n", " ") == caption
+    box = text.get_window_extent(r)
+    assert box.x1 <= fig.bbox.x1
+    assert fig.axes[0].get_position().y1 * fig.bbox.height <= box.y0 + 1.0

@@ -337,8 +337,10 @@ class Report:
             widths = [x / sum(lens) for x in lens]
         for k in range(0, max(len(rows), 1), per):
             fig = Figure(figsize=(11.69, 8.27))
-            fig.text(0.04, 0.95, caption + (" (cont.)" if k else ""), fontsize=12, weight="bold", va="top")
-            ax = fig.add_axes((0.03, 0.04, 0.94, 0.86))
+            # a long caption wraps (about 110 characters of 12 pt bold across the landscape page), the table below it
+            lines = textwrap.wrap(caption + (" (cont.)" if k else ""), 110) or [""]
+            fig.text(0.04, 0.95, "\n".join(lines), fontsize=12, weight="bold", va="top")
+            ax = fig.add_axes((0.03, 0.04, 0.94, 0.86 - 0.025 * (len(lines) - 1)))
             ax.axis("off")
             chunk = rows[k:k + per] or [["-"] * len(header)]
             t = ax.table(cellText=chunk, colLabels=header, loc="upper left", cellLoc="left",
