@@ -882,11 +882,13 @@ def _plus(a: Any, b: Any) -> Any:
 
 
 def _add_sos(prog: SOSProgram, name: str, expr: Any, half_basis: list[tuple[int, ...]],
-             support: set[tuple[int, ...]] | None = None) -> None:
+             ideal_support: set[tuple[int, ...]] | None = None) -> None:
     """:meth:`SOSProgram.add_sos`, also for a :class:`_PLin` ``expr``: the half basis is reduced on the union of
-    the supports of all its parts (an outer approximation of the support for any Parameter values: exact), and the
-    coefficient equalities are ``A_0 x + b_0 + sum p[j] (A_pj x + b_pj) = 0`` (DPP: compiled once)."""
-    extra = support or set()
+    the supports of all its parts (an outer approximation of the support for any Parameter values: exact) and
+    ``ideal_support`` (the monomials of the multiples of the equalities the quotient form leaves out), and the
+    coefficient equalities are ``A_0 x + b_0 + sum p[j] (A_pj x + b_pj) = 0`` (DPP: compiled once), of the normal
+    forms with a :attr:`~glidectl.roa.sos.SOSProgram.quotient`."""
+    extra = ideal_support or set()
     if not isinstance(expr, _PLin):
         prog.add_sos(name, expr, half_basis, support=sorted(extra))
         return

@@ -100,13 +100,16 @@ class AngleQuotient:
         on the variety) is what a Gram matrix can absorb. The identity is exact: the returned polynomial equals
         ``res`` on the variety."""
         out = [e for e, v in res.terms.items() if e not in reach]
-        if not out:
+        if not out or not reach:
             return res
+        # multiples m h_k of degree at most the largest reached one: the monomials they bring in that are not
+        # reached become rows too (their coefficient must stay zero), a closure of bounded degree, hence finite
+        top = max(sum(e) for e in reach)
         rows: dict[Exp, int] = {}
         cols: list[Poly] = []
         seen: set[tuple[int, Exp]] = set()
         todo = list(out)
-        while todo and len(cols) < 10 * len(out) + 100:
+        while todo:
             a = todo.pop()
             rows.setdefault(a, len(rows))
             for k, h in enumerate(self.equalities):
@@ -116,6 +119,8 @@ class AngleQuotient:
                         continue
                     seen.add((k, m))
                     col = h * Poly({m: 1.0}, self.nvars)
+                    if col.degree > top:
+                        continue
                     cols.append(col)
                     for e in col.terms:
                         if e not in reach and e not in rows:

@@ -38,6 +38,7 @@ from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from .lmi import at_held_values
 from .polynomial import Poly, field_evaluator, monomial_matrix, monomials, powers_table
+from .quotient import AngleQuotient
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
 
@@ -430,16 +431,9 @@ def _chain_rule(G: list[Poly], slot: list[tuple[int, ...]], angles: tuple[int, .
 
 
 def _reduce_angle(p: Poly, sn: int, c: int) -> Poly:
-    """``p`` modulo ``s^2 + c^2 - 2 c`` with ``s`` at most linear: ``s^(2k + r) = (2c - c^2)^k s^r``."""
-    nz = p.nvars
-    Z = Poly.variables(nz)
-    out = Poly({}, nz)
-    for e, v in p.terms.items():
-        k, r = divmod(e[sn], 2)
-        rest = list(e)
-        rest[sn] = r
-        out = out + Poly({tuple(rest): v}, nz) * (2.0 * Z[c] - Z[c] ** 2) ** k
-    return out
+    """``p`` modulo ``s^2 + c^2 - 2 c`` with ``s`` at most linear: ``s^(2k + r) = (2c - c^2)^k s^r`` (the normal
+    form of :class:`~glidectl.roa.quotient.AngleQuotient`, for one pair in the recast's units)."""
+    return AngleQuotient(p.nvars, ((sn, c, -1.0, 2.0),), ()).nf(p)
 
 
 def taylor_system(system: Any, order: int = 3) -> PolySystem:
