@@ -255,14 +255,17 @@ def test_history_sdp_times_add_up_to_solve_time_when_a_level_program_fails(monke
 
     def failing(*a, **k):
         calls.append(1)
-        if len(calls) == 3:             # the initial level, the first V step's level, then the second's: fails
+        # the initial level, the first V step's level, then the second's: fails; its retry's multiplier (4th), the
+        # retried V step's level (5th): fails too
+        if len(calls) in (3, 5):
             raise C.SolverError("level program failed (test)")
         return real(*a, **k)
 
     monkeypatch.setattr(C, "_level", failing)
     cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
     failed = [h for h in cert.history if h["step"].startswith("V step failed")]
-    assert len(failed) == 1 and failed[0]["sdp_time"] > 0
+    assert len(failed) == 2 and "retried" in failed[0]["step"] and "retried" not in failed[1]["step"]
+    assert all(h["sdp_time"] > 0 for h in failed)
     assert cert.stopped_by == "solver failure" and cert.certified
     assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
@@ -279,16 +282,53 @@ def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch,
     def zero_level(*a, **k):
         calls.append(1)
         out = real(*a, **k)
-        return dataclasses.replace(out, rho=bad) if len(calls) == 3 else out     # the second V step's level
+        # the second V step's level (3rd call) and that of its retry (5th; the 4th centres the retry's multiplier)
+        return dataclasses.replace(out, rho=bad) if len(calls) in (3, 5) else out
 
     monkeypatch.setattr(C, "_level", zero_level)
     cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
     failed = [h for h in cert.history if h["step"].startswith("V step failed")]
-    assert len(failed) == 1 and "not positive" in failed[0]["step"] and failed[0]["sdp_time"] > 0
+    assert len(failed) == 2 and all("not positive" in h["step"] and h["sdp_time"] > 0 for h in failed)
+    assert "retried with the multiplier centred at (1 - 0.25) rho*" in failed[0]["step"]
     assert [h["step"] for h in cert.history].count("V step + level") == 1
     assert cert.stopped_by == "solver failure" and cert.certified
     assert np.all(np.isfinite(cert.V.arrays()[1])) and cert.rho > 0
     assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+
+
+def test_a_v_step_whose_level_is_not_positive_is_retried_from_a_deeper_multiplier(monkeypatch):
+    """One V step whose new V has no positive level (as Clarabel without iterative refinement gave on the saturated
+    user glider) is tried again with the current V's multiplier centred at ``(1 - RETRY_CENTER) rho*``: the
+    alternation goes on instead of stopping, the retry's multiplier really is the deeper one, and the certificate is
+    sound. With ``RETRY_CENTER = 0`` (no retry) the same failure stops the alternation, as before."""
+    from glidectl.roa import certify as C
+
+    real = C._level
+
+    def run(retry: float) -> tuple[gc.ROACertificate, list[float]]:
+        calls, centers = [], []
+
+        def once(*a, **k):
+            calls.append(1)
+            centers.append(k.get("center"))
+            out = real(*a, **k)
+            return dataclasses.replace(out, rho=-2.8e-7) if len(calls) == 3 else out   # the second V step's level
+
+        monkeypatch.setattr(C, "_level", once)
+        monkeypatch.setattr(C, "RETRY_CENTER", retry)
+        return gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8), centers
+
+    cert, centers = run(C.RETRY_CENTER)
+    steps = [h["step"] for h in cert.history]
+    assert sum(s.startswith("V step failed (the level of the new V is -2.8e-07, not positive): retried") for s in
+               steps) == 1
+    assert centers[3] == C.RETRY_CENTER == 0.25 and centers[1] == 0.05 and centers[2] == 0.05
+    assert steps.count("V step + level") == 3 and cert.stopped_by != "solver failure"
+    assert cert.certified and cert.verification.passed and cert.verification.max_Vdot < 0
+    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+    plain, _ = run(0.0)
+    assert plain.stopped_by == "solver failure" and [h["step"] for h in plain.history].count("V step + level") == 1
+    assert not any("retried" in h["step"] for h in plain.history)
 
 
 def test_a_first_level_that_is_not_positive_is_a_clear_error(monkeypatch):

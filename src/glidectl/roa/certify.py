@@ -131,6 +131,16 @@ _AUTO_RECAST_BASIS = 500
 #: against 0.1543).
 CENTER_BY_LEVEL_MIN_BLOCK = 64
 
+#: A V step whose new V has no positive level (or whose SDP fails) is tried once more, with the multiplier of the
+#: current V's level problem at ``(1 - RETRY_CENTER) rho*`` instead of ``(1 - center) rho*`` (a history row "V step
+#: failed (...): retried ..."); if that fails too, the alternation stops at the best V so far, as it did before.
+#: The multiplier centred just inside the limit lets the V step push the new V's decrease condition to where
+#: rounding decides it. On the saturated user glider (roa_certification), with Clarabel's iterative refinement
+#: off or at one step, the first V step of the second remainder-box round gave a level of -2.8e-7, the round was
+#: dropped and the certificate stayed at 4.7e-15; with the retry the round went on to 2.98e-12 (3.48e-12 with the
+#: default settings, where no step fails). Not a tuned value: a multiplier from well inside the set (a quarter).
+RETRY_CENTER = 0.25
+
 
 # --------------------------------------------------------------------------------------------- helpers
 def _zsq(nz: int) -> Poly:
@@ -2032,7 +2042,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         The multiplier of the V step comes from the level problem re-solved at ``(1 - center) rho*``, ``center`` in
         ``[0, 1)``: a feasibility program at that level (Clarabel), or, for a Gram block of order
         :data:`CENTER_BY_LEVEL_MIN_BLOCK` or more on the moment route, the level program itself with ``rho`` capped
-        there.
+        there. A V step that fails (its new V has no positive level, or its SDP fails) is tried once more with the
+        multiplier centred at ``(1 - RETRY_CENTER) rho*`` (:data:`RETRY_CENTER`, when larger than ``center``); a
+        second failure stops the alternation at the best V so far (``stopped_by = "solver failure"``).
     max_degree : int
         Largest ``degree`` accepted (default :data:`MAX_DEGREE` = 8): SDP time grows steeply with the degree.
     time_limit : float, optional
@@ -2285,35 +2297,61 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                     break
                 t_stage = time.perf_counter()
                 step_sdp = 0.0      # SDP time of this step counted in t_solve (its history row shows the same)
-                try:
-                    if inner == "sos":
-                        prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache, V0=V)
-                    else:
-                        prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner, V0=V)
-                        prog.solve(_coverage_objective(prog, out["V"], Zt), solver=solver)
-                    t_solve += prog.solve_time
-                    step_sdp = prog.solve_time
-                    Vn = out["V"].poly()
-                    if out_of_time(f"degree {degV}, after a V step"):
-                        history.append({"degree": degV, "step": "V step solved, not used: time limit before its level",
-                                        "rho": math.nan, "volume": math.nan, "sdp_time": step_sdp})
-                        stopped_by = "time_limit"
+                retried = False
+                while True:         # the V step, once more after a failure with a multiplier centred deeper
+                    try:
+                        if inner == "sos":
+                            prog, out = _v_step(pss, F, degV, lam, Zt, eps=eps, extra=ex, solver=solver, cache=cache,
+                                                V0=V)
+                        else:
+                            prog, out = _build(pss, F, degV, V=None, lam=lam, rho=1.0, eps=eps, extra=ex, cone=inner,
+                                               V0=V)
+                            prog.solve(_coverage_objective(prog, out["V"], Zt), solver=solver)
+                        t_solve += prog.solve_time
+                        step_sdp += prog.solve_time
+                        Vn = out["V"].poly()
+                        if out_of_time(f"degree {degV}, after a V step"):
+                            history.append({"degree": degV, "step": "V step solved, not used: time limit before its "
+                                            "level", "rho": math.nan, "volume": math.nan, "sdp_time": step_sdp})
+                            stopped_by = "time_limit"
+                            break
+                        # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
+                        last = degV == degree and it == its[-1] - 1
+                        lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center,
+                                    extra=ex, cache=cache, basis=out["V"].basis, cone=inner)
+                        t_solve += lv.solve_time
+                        step_sdp += lv.solve_time
+                        if not (math.isfinite(lv.rho) and lv.rho > 0):
+                            # an inaccurate V step can return a V whose level is 0 (or a solver a NaN level): V / rho
+                            # would be infinite and its multiplier would steer the next step from nothing (2026-12-04:
+                            # a V step solved to 1e-6 on the saturated user glider gave rho = -0.0, then 868)
+                            raise SolverError(f"the level of the new V is {lv.rho:.3g}, not positive")
                         break
-                    # the centred multiplier only feeds a later V step: none follows the last one (exact saving)
-                    last = degV == degree and it == its[-1] - 1
-                    lv = _level(pss, F, Vn, rho_cap=1e6, solver=solver, center=0.0 if last else center, extra=ex,
-                                cache=cache, basis=out["V"].basis, cone=inner)
-                    t_solve += lv.solve_time
-                    step_sdp += lv.solve_time
-                    if not (math.isfinite(lv.rho) and lv.rho > 0):
-                        # an inaccurate V step can return a V whose level is 0 (or a solver a NaN level): V / rho
-                        # would be infinite and its multiplier would steer the next step from nothing (2026-12-04: a
-                        # V step solved to 1e-6 on the saturated user glider gave rho = -0.0, then 868)
-                        raise SolverError(f"the level of the new V is {lv.rho:.3g}, not positive")
-                except SolverError as exc:
-                    history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
-                                    "volume": math.nan, "sdp_time": step_sdp})
-                    stopped_by = "solver failure"
+                    except SolverError as exc:
+                        if retried or not RETRY_CENTER > center or out_of_time(f"degree {degV}, before a retry"):
+                            history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
+                                            "volume": math.nan, "sdp_time": step_sdp})
+                            stopped_by = "solver failure"
+                            break
+                        # the V step took its multiplier from the level set just inside the current V's limit and
+                        # pushed the new V to where no level is certified: steer once more, from a multiplier centred
+                        # deeper inside (the same V, the level problem at (1 - RETRY_CENTER) rho*)
+                        try:
+                            lvc = _level(pss, F, V, rho_cap=1e6, solver=solver, center=RETRY_CENTER, extra=ex,
+                                         cache=None, cone=inner)
+                        except SolverError as exc2:
+                            history.append({"degree": degV, "step": f"V step failed: {exc}; its retry's multiplier: "
+                                            f"{exc2}", "rho": math.nan, "volume": math.nan, "sdp_time": step_sdp})
+                            stopped_by = "solver failure"
+                            break
+                        t_solve += lvc.solve_time
+                        step_sdp += lvc.solve_time
+                        history.append({"degree": degV, "step": f"V step failed ({exc}): retried with the multiplier "
+                                        f"centred at (1 - {RETRY_CENTER:g}) rho*", "rho": lvc.rho, "volume": math.nan,
+                                        "sdp_time": step_sdp})
+                        step_sdp = 0.0
+                        lam, retried = lvc.lam, True
+                if stopped_by in ("time_limit", "solver failure"):
                     break
                 V, lam = Vn / lv.rho, lv.lam
                 v_steps.append(time.perf_counter() - t_stage)
