@@ -312,6 +312,49 @@ out) except the CTOL certificate's verification text: the same volume 0.0021606,
 3.71e-05 against 1.97e-05 (margin 1.45e+08 against 2.32). The cold build stays about 1.2-1.3 times the 300 s
 target: the saturated user glider's SOS path (about 130 s of CPU), the unsaturated one (about 80 s, shared with
 slocum_dive_cycle), the three full-glider certificates (about 30 s each) and ch7_ctol's simulations are the rest.
+
+Profiled 2026-12-04 10:10-11:00 (tenth session), each part alone in one process with one thread (cProfile adds
+about 10-30 %), to see where the remaining CPU goes. The profile is flat: no single function holds more than a
+tenth of the build.
+
+=============================  =======  ===================================================================
+part                           s        where the time goes
+=============================  =======  ===================================================================
+user glider, pump saturated    150.6    SDP 98.5 s: 8 V steps by Clarabel (6-7 s each, 30 iterations of ~0.2 s:
+(roa_certification, SOS path)           the dense Hessian block of the 54 x 54 decrease Gram matrix, 1485^2),
+                                        8 centring programs by Clarabel (2.8 s), 19 level programs on the moment
+                                        route (1.2 s); remainder-box search 18 s, containment/sampling 16 s,
+                                        simulations 14 s, surrogates 9 s
+chapter-6 buoyancy loop        52.9 p   Clarabel 14 s (113 solves, 78 of them the LMI path's), simulations
+                                        10.7 s, surrogates 9.8 s, radii bisection 8.3 s, verification 7.3 s
+full glider K_M = -100         37.8 p   Clarabel 22 s (16 solves), simulations 10 s (5.3 s the design's
+                                        simulated region)
+ch7_ctol printed-gains run     47.7     LSODA through solve_ivp, 400 replanning intervals; about 10 us per
+                                        right-hand side and 15 us of solver overhead per step
+ch8_helix (whole design)       39.6 p   helix existence scan 20 s, the eight parameter sweeps 13 s
+ch6_controllers (whole)        30.1 p   batch integrations of compare_controllers 24.6 s
+=============================  =======  ===================================================================
+
+(p: under the profiler.) What was tried on them and not kept (details in ``bench/bench_roa_retry.py``):
+
+- **Clarabel settings.** Iterative refinement off, at one step, or at reltol 1e-10 saves 20-40 % of a V step, but
+  moves every Clarabel-centred path: the saturated user glider then lost its second remainder-box round (volume
+  4.7e-15 against 3.48e-12) and, refinement off for the V steps only, the K_M = -100 glider's V steps steered to
+  sets 1e7 times smaller than the starting V's (its certificate fell from 0.169 to 4.0e-6, the starting V's).
+  Chordal decomposition off: bitwise the same, no faster.
+- **The V steps of the degree-2 loops on the moment route** (routing by the equations left after the sample
+  equations are eliminated): 3.3 s against 6.6 s per V step, but every V step of the user glider, retried or not,
+  ended on a point whose level is -1.5e-9 to -4.5e-8 (volume 5.3e-16).
+- **Stiff methods for ch7_ctol's printed gains.** The pitch loop's eigenvalues at the level glide are
+  -125 +- 1522i: the ringing after each replanning decays by only e^-12.5 over the 0.1 s interval, so any method
+  has to follow it at the run's tolerance. Radau (with the exact complex-step Jacobian) took 530.6 s against LSODA's
+  47.7 s (the same max error 3.3045 m to 6 digits), BDF stopped at t = 0.3 s (step size underflow). LSODA stays.
+- **Vectorized polynomial evaluation** (all terms at once, the sums in the same order: bitwise the same): 7-11
+  times slower than the per-term loop from 2000 points up.
+
+What did land: the retried V step (``glidectl.roa.certify.RETRY_CENTER``), which makes the alternation survive a V
+step whose V has no positive level (the perturbed runs above), and which changes no number of this build (no step
+fails there): a build at 10:52 with it had every ledger number of the previous one (1e-9, timings left out).
 """
 
 from __future__ import annotations

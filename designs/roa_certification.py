@@ -528,8 +528,10 @@ def _report(res: _Results) -> Report:
         "degree 2 (about 6 s on the moment form modulo the angle equalities, its V step about 17 s), and runs one "
         "alternation. An LMI path with "
         "linear-plus-sector "
-        "bounds is now built: see 'Saturated loops'. When the solver fails on a V step "
-        "the alternation stops there and keeps the best V found (rows 'V step failed' in the history table)."))
+        "bounds is now built: see 'Saturated loops'. When a V step fails (its SDP, or its new V has no positive "
+        "level), it is tried once more with the multiplier centred deeper inside the current set (a row 'V step "
+        "failed (...): retried' in the history table); if that fails too, the alternation stops there and keeps the "
+        "best V found (a row 'V step failed')."))
     return rep
 
 

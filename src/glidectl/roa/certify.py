@@ -136,9 +136,10 @@ CENTER_BY_LEVEL_MIN_BLOCK = 64
 #: failed (...): retried ..."); if that fails too, the alternation stops at the best V so far, as it did before.
 #: The multiplier centred just inside the limit lets the V step push the new V's decrease condition to where
 #: rounding decides it. On the saturated user glider (roa_certification), with Clarabel's iterative refinement
-#: off or at one step, the first V step of the second remainder-box round gave a level of -2.8e-7, the round was
-#: dropped and the certificate stayed at 4.7e-15; with the retry the round went on to 2.98e-12 (3.48e-12 with the
-#: default settings, where no step fails). Not a tuned value: a multiplier from well inside the set (a quarter).
+#: off (or at one step), the first V step of the second remainder-box round gave a level of -2.6e-9 (-2.8e-7), the
+#: round was dropped and the certificate stayed at 4.7e-15; with the retry the round went on to 2.98e-12 (3.48e-12
+#: with the default settings, where no step fails; ``bench/bench_roa_retry.py``). Not a tuned value: a multiplier
+#: from well inside the set (a quarter of the way in).
 RETRY_CENTER = 0.25
 
 
