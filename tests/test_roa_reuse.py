@@ -233,6 +233,36 @@ def test_contains_on_a_saturated_surrogate_system_in_batches_equals_the_full_loo
             assert np.array_equal(C._contains(ps, V, rho, X), ref), (rho, batch)
 
 
+def test_contains_lifts_each_evaluated_point_once():
+    """``_contains`` hands the lift it computed for ``V`` to ``in_cuts`` (``in_cuts(X, Z)``, the same answer as
+    ``in_cuts(X)``): on a saturation system, whose lift computes the saturated input, every evaluation of the
+    segment points lifts them once (it lifted them twice, once for ``V`` and once for the cuts)."""
+    import dataclasses
+
+    sph = gc.load_vehicle("sphere_ch5")
+    sl = gc.saturated_loop(gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)))
+    ps = sector_system(sl, method="surrogate")
+    V = C.lyapunov_quadratic(ps)
+    lo, hi = ps.box
+    x0 = np.asarray(ps.equilibrium, dtype=float)
+    X = x0 + 0.2 * (lo + (hi - lo) * np.random.default_rng(5).random((200, ps.n)) - x0)
+    assert np.array_equal(ps.in_cuts(X, ps.lift(X)), ps.in_cuts(X))
+    rows = []
+
+    def lift(Y):
+        rows.append(np.asarray(Y).shape[0])
+        return ps.lift(Y)
+
+    counted = dataclasses.replace(ps, lift=lift)
+    rho = float(np.quantile(C._V_of(V, ps, X), 0.5))
+    ok = C._contains(counted, V, rho, X)
+    assert np.array_equal(ok, _contains_reference(ps, V, rho, X)) and 0 < ok.sum() < len(X)
+    # t = 1 for all 200 points, then the other 32 segment points of those still inside, in one batch: each once
+    Y1 = x0 + 1.0 * (X - x0)
+    first = (C._V_of(V, ps, Y1) <= rho) & ps.in_cuts(Y1)
+    assert rows == [200, 32 * int(first.sum())]
+
+
 # ------------------------------------------------------------------------------------------- integrator
 @settings(max_examples=30, deadline=None)
 @given(st.integers(0, 2**16))

@@ -304,11 +304,13 @@ def _contains(ps: PolySystem, V: Poly, rho: float, X: np.ndarray, n_path: int = 
         rest = ts[j:]
         if j > 0 and idx.size * len(rest) <= _PATH_BATCH:       # small: the rest of the segments at once
             Y = (x0 + rest[:, None, None] * (X[idx] - x0)[None]).reshape(-1, X.shape[-1])
-            good = (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
+            Z = ps.lift(Y)
+            good = (V(Z) <= rho) & ps.in_cuts(Y, Z)
             ok[idx] = np.all(good.reshape(len(rest), idx.size), axis=0)
             break
         Y = x0 + t * (X[idx] - x0)
-        ok[idx] = (_V_of(V, ps, Y) <= rho) & ps.in_cuts(Y)
+        Z = ps.lift(Y)
+        ok[idx] = (V(Z) <= rho) & ps.in_cuts(Y, Z)
     return ok
 
 
@@ -326,7 +328,7 @@ class _PathPoints:
         for t in np.linspace(1.0, 0.0, n_path, endpoint=False):
             Y = x0 + t * (Xf - x0)
             self.Z.append(ps.lift(Y))
-            self.cut.append(ps.in_cuts(Y))
+            self.cut.append(ps.in_cuts(Y, self.Z[-1]))
 
     def contains(self, V: Poly, rho: float) -> np.ndarray:
         ok = self.finite.copy()

@@ -160,9 +160,11 @@ class PolySystem:
         d = self.den(Z)
         return np.stack([f(Z) / d for f in self.F], axis=-1)
 
-    def in_cuts(self, X: Any) -> np.ndarray:
+    def in_cuts(self, X: Any, Z: Any = None) -> np.ndarray:
+        """Whether states ``X`` (N, n) satisfy every cut (and hold the held states at their values); ``Z``: their
+        lift ``lift(X)`` when the caller has it already (the lift of a saturated loop costs as much as the rest)."""
         X = np.asarray(X, dtype=float)
-        Z = self.lift(X)
+        Z = self.lift(X) if Z is None else Z
         ok = np.ones(Z.shape[:-1], dtype=bool)
         if self.cuts:       # one powers table for every cut (bitwise each cut's own evaluation)
             dmax = max((max(e) for g in self.cuts for e in g.terms), default=0)
