@@ -214,16 +214,22 @@ def test_contains_with_cuts_and_angles_equals_the_full_loop():
         assert np.array_equal(C._PathPoints(ps, X).contains(V, rho), ref)
 
 
-def test_contains_on_a_saturated_surrogate_system_in_batches_equals_the_full_loop(monkeypatch):
-    """Same on the chapter-6 buoyancy loop's saturation system (surrogate plant; the lift computes the saturated
-    input from ``K x``), with the segment points evaluated in batches of several sizes (``_PATH_BATCH``)."""
+def _buoyancy_sector_points(seed: int, n: int):
+    """The chapter-6 buoyancy loop's saturation system (surrogate plant; its lift computes the saturated input from
+    ``K x``), its quadratic V and ``n`` random states in the fifth of its box about the equilibrium."""
     sph = gc.load_vehicle("sphere_ch5")
     sl = gc.saturated_loop(gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)))
     ps = sector_system(sl, method="surrogate")
-    V = C.lyapunov_quadratic(ps)
     lo, hi = ps.box
     x0 = np.asarray(ps.equilibrium, dtype=float)
-    X = x0 + 0.2 * (lo + (hi - lo) * np.random.default_rng(4).random((300, ps.n)) - x0)
+    return ps, C.lyapunov_quadratic(ps), x0 + 0.2 * (lo + (hi - lo) * np.random.default_rng(seed).random((n, ps.n))
+                                                     - x0)
+
+
+def test_contains_on_a_saturated_surrogate_system_in_batches_equals_the_full_loop(monkeypatch):
+    """Same on the chapter-6 buoyancy loop's saturation system (surrogate plant; the lift computes the saturated
+    input from ``K x``), with the segment points evaluated in batches of several sizes (``_PATH_BATCH``)."""
+    ps, V, X = _buoyancy_sector_points(4, 300)
     vals = C._V_of(V, ps, X)
     for rho in np.quantile(vals, [0.3, 0.7]):
         ref = _contains_reference(ps, V, rho, X)
@@ -239,13 +245,8 @@ def test_contains_lifts_each_evaluated_point_once():
     segment points lifts them once (it lifted them twice, once for ``V`` and once for the cuts)."""
     import dataclasses
 
-    sph = gc.load_vehicle("sphere_ch5")
-    sl = gc.saturated_loop(gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)))
-    ps = sector_system(sl, method="surrogate")
-    V = C.lyapunov_quadratic(ps)
-    lo, hi = ps.box
+    ps, V, X = _buoyancy_sector_points(5, 200)
     x0 = np.asarray(ps.equilibrium, dtype=float)
-    X = x0 + 0.2 * (lo + (hi - lo) * np.random.default_rng(5).random((200, ps.n)) - x0)
     assert np.array_equal(ps.in_cuts(X, ps.lift(X)), ps.in_cuts(X))
     rows = []
 
