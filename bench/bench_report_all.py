@@ -354,7 +354,27 @@ ch6_controllers (whole)        30.1 p   batch integrations of compare_controller
 
 What did land: the retried V step (``glidectl.roa.certify.RETRY_CENTER``), which makes the alternation survive a V
 step whose V has no positive level (the perturbed runs above), and which changes no number of this build (no step
-fails there): a build at 10:52 with it had every ledger number of the previous one (1e-9, timings left out).
+fails there), and ``_contains`` lifting each point once (bitwise the same). Measured 2026-12-04, the README's
+command (no thread variables set), 4185e78 alone at 11:27-11:33, then 4185e78 against 8acf854 side by side at
+11:35-11:49 (``--jobs 2`` each, 4 processes on 2 cores):
+
+=====================  ==========  ==========  ==========
+design                 alone 418.  pair 418.   pair 8ac.
+=====================  ==========  ==========  ==========
+ch2_longitudinal       6.7 s       19.1 s      20.0 s
+ch4_phugoid            2.8 s       8.0 s       10.0 s
+ch5_singular_pert.     7.7 s       20.2 s      20.0 s
+ch6_controllers        18.0 s      49.1 s      51.0 s
+ch7_ctol               334.4 s     751.6 s     758.3 s
+ch8_helix              42.4 s      84.6 s      84.7 s
+slocum_dive_cycle      123.2 s     271.2 s     275.9 s
+roa_certification      340.8 s     809.8 s     813.9 s
+end to end (wall)      345.8 s     818.6 s     822.8 s (ratio 0.995)
+user + system CPU      682.6 s     810.0 s     820.7 s (0.987)
+=====================  ==========  ==========  ==========
+
+Every ledger number of the three builds is the same (288 numbers, 1e-9 relative, timings left out). The warm
+rebuild after the alone build: 2.4 s, 8 of 8 from the cache. The cold build is 1.15 times the 300 s target.
 """
 
 from __future__ import annotations
