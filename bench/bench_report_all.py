@@ -346,9 +346,11 @@ ch6_controllers (whole)        30.1 p   batch integrations of compare_controller
   equations are eliminated): 3.3 s against 6.6 s per V step, but every V step of the user glider, retried or not,
   ended on a point whose level is -1.5e-9 to -4.5e-8 (volume 5.3e-16).
 - **Stiff methods for ch7_ctol's printed gains.** The pitch loop's eigenvalues at the level glide are
-  -125 +- 1522i: the ringing after each replanning decays by only e^-12.5 over the 0.1 s interval, so any method
-  has to follow it at the run's tolerance. Radau (with the exact complex-step Jacobian) took 530.6 s against LSODA's
-  47.7 s (the same max error 3.3045 m to 6 digits), BDF stopped at t = 0.3 s (step size underflow). LSODA stays.
+  -125 +- 1522i: the ringing after each replanning (period 4.1 ms, time constant 8 ms, about 24 periods before it
+  has decayed to e^-12.5 at the end of the 0.1 s interval) fills every interval, so any method has to follow it at
+  the run's tolerance: it is oscillatory, not stiff. Radau (with the exact complex-step Jacobian) took 530.6 s
+  against LSODA's 47.7 s (the same max error 3.3045 m to 6 digits), BDF stopped at t = 0.3 s (step size
+  underflow). LSODA stays.
 - **Vectorized polynomial evaluation** (all terms at once, the sums in the same order: bitwise the same): 7-11
   times slower than the per-term loop from 2000 points up.
 
