@@ -55,8 +55,6 @@ RUNS = [("default", 0.25), ("default", 0.0), ("refinement off", 0.25), ("refinem
 
 def _worker(settings: str, retry: float) -> dict:
     """Child process: the user_sat part with the given Clarabel settings and RETRY_CENTER."""
-    import importlib.util
-
     import matplotlib
 
     matplotlib.use("Agg")
@@ -71,10 +69,9 @@ def _worker(settings: str, retry: float) -> dict:
 
         sdp_solvers.solver_options = sos.solver_options = lmi.solver_options = options
     certify.RETRY_CENTER = retry
-    spec = importlib.util.spec_from_file_location("roa_design", ROOT / "designs" / "roa_certification.py")
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules["roa_design"] = mod
-    spec.loader.exec_module(mod)
+    from glidectl.report import load_design
+
+    mod = load_design("roa_certification", ROOT / "designs").module
     t0 = time.perf_counter()
     _, res, _ = mod._saturated_part(mod.FULL, "user_sat")
     wall = time.perf_counter() - t0

@@ -273,8 +273,9 @@ def test_history_sdp_times_add_up_to_solve_time_when_a_level_program_fails(monke
 @pytest.mark.parametrize("bad", [0.0, -0.0, -1e-9, math.nan])
 def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch, bad):
     """A V step whose level program returns rho <= 0 (an inaccurate V step did: rho = -0.0) or NaN is not used:
-    before, ``V / rho`` was infinite and the next V step started from its multiplier. The alternation stops as for
-    a failed solve, the row counts both SDPs, and the certificate is the last good V's."""
+    before, ``V / rho`` was infinite and the next V step started from its multiplier. When its retry (the deeper
+    multiplier) gives such a level too, the alternation stops as for a failed solve, each row counts its SDPs, and
+    the certificate is the last good V's."""
     from glidectl.roa import certify as C
 
     real, calls = C._level, []
@@ -329,6 +330,29 @@ def test_a_v_step_whose_level_is_not_positive_is_retried_from_a_deeper_multiplie
     plain, _ = run(0.0)
     assert plain.stopped_by == "solver failure" and [h["step"] for h in plain.history].count("V step + level") == 1
     assert not any("retried" in h["step"] for h in plain.history)
+
+
+def test_a_retry_whose_multiplier_fails_stops_the_alternation(monkeypatch):
+    """A failed V step whose retry cannot get its deeper multiplier (that level program fails too) stops the
+    alternation with one row naming both failures; the certificate is the last good V's."""
+    from glidectl.roa import certify as C
+
+    real, calls = C._level, []
+
+    def failing(*a, **k):
+        calls.append(1)
+        if len(calls) in (3, 4):        # the second V step's level, then the retry's multiplier
+            raise C.SolverError(f"level program {len(calls)} failed (test)")
+        return real(*a, **k)
+
+    monkeypatch.setattr(C, "_level", failing)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
+    failed = [h["step"] for h in cert.history if h["step"].startswith("V step failed")]
+    assert failed == ["V step failed: level program 3 failed (test); its retry's multiplier: level program 4 failed "
+                      "(test)"]
+    # no V step after the retry's failed multiplier: no level program after the 4th
+    assert cert.stopped_by == "solver failure" and cert.certified and len(calls) == 4
+    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
 def test_a_first_level_that_is_not_positive_is_a_clear_error(monkeypatch):

@@ -2331,20 +2331,19 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                             raise SolverError(f"the level of the new V is {lv.rho:.3g}, not positive")
                         break
                     except SolverError as exc:
-                        if retried or not RETRY_CENTER > center or out_of_time(f"degree {degV}, before a retry"):
-                            history.append({"degree": degV, "step": f"V step failed: {exc}", "rho": math.nan,
-                                            "volume": math.nan, "sdp_time": step_sdp})
-                            stopped_by = "solver failure"
-                            break
                         # the V step took its multiplier from the level set just inside the current V's limit and
                         # pushed the new V to where no level is certified: steer once more, from a multiplier centred
                         # deeper inside (the same V, the level problem at (1 - RETRY_CENTER) rho*)
-                        try:
-                            lvc = _level(pss, F, V, rho_cap=1e6, solver=solver, center=RETRY_CENTER, extra=ex,
-                                         cache=None, cone=inner)
-                        except SolverError as exc2:
-                            history.append({"degree": degV, "step": f"V step failed: {exc}; its retry's multiplier: "
-                                            f"{exc2}", "rho": math.nan, "volume": math.nan, "sdp_time": step_sdp})
+                        why, lvc = f"V step failed: {exc}", None
+                        if not retried and RETRY_CENTER > center and not out_of_time(f"degree {degV}, before a retry"):
+                            try:
+                                lvc = _level(pss, F, V, rho_cap=1e6, solver=solver, center=RETRY_CENTER, extra=ex,
+                                             cache=None, cone=inner)
+                            except SolverError as exc2:
+                                why += f"; its retry's multiplier: {exc2}"
+                        if lvc is None:
+                            history.append({"degree": degV, "step": why, "rho": math.nan, "volume": math.nan,
+                                            "sdp_time": step_sdp})
                             stopped_by = "solver failure"
                             break
                         t_solve += lvc.solve_time
