@@ -183,7 +183,9 @@ def main() -> None:
     ap.add_argument("--cpu", type=float, help="with --read: the build's CPU (s), to convert shares to seconds")
     ap.add_argument("--tag", default="")
     args = ap.parse_args()
-    designs = sorted(p.stem for p in (ROOT / "designs").glob("*.py") if not p.stem.startswith("_"))
+    from glidectl.report import find_designs
+
+    designs = sorted(find_designs(ROOT / "designs"))
     results = ROOT / "bench" / "results"
     results.mkdir(parents=True, exist_ok=True)
     suffix = f"_{args.tag}" if args.tag else ""

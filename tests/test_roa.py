@@ -355,6 +355,32 @@ def test_a_retry_whose_multiplier_fails_stops_the_alternation(monkeypatch):
     assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
+def test_a_failed_v_step_with_no_time_left_for_its_retry_stops_at_the_time_limit(monkeypatch):
+    """A V step that fails when the time limit has passed is not retried: its row says so, the alternation stops as
+    at any time limit (``stopped_by = "time_limit"``, not a solver failure), and the last good V is certified."""
+    from glidectl import checks
+    from glidectl.roa import certify as C
+
+    real, calls, late = C._level, [], []
+
+    def failing(*a, **k):
+        calls.append(1)
+        if len(calls) == 3:             # the second V step's level fails after the time limit
+            late.append(True)
+            raise C.SolverError("level program failed (test)")
+        return real(*a, **k)
+
+    elapsed = checks.Deadline.elapsed
+    monkeypatch.setattr(checks.Deadline, "elapsed", property(lambda d: 1e9 if late else elapsed.fget(d)))
+    monkeypatch.setattr(C, "_level", failing)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8, time_limit=1e6,
+                          on_budget="stop")
+    failed = [h["step"] for h in cert.history if h["step"].startswith("V step failed")]
+    assert failed == ["V step failed: level program failed (test); not retried: time limit"]
+    assert len(calls) == 3 and cert.stopped_by == "time_limit" and cert.certified
+    assert [h["step"] for h in cert.history].count("V step + level") == 1
+
+
 def test_a_first_level_that_is_not_positive_is_a_clear_error(monkeypatch):
     """The starting V's level <= 0 with SOS multipliers: a SolverError that says so (it said 'use inner=sos',
     which was the option in use)."""

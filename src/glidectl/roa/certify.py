@@ -2047,7 +2047,9 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         :data:`CENTER_BY_LEVEL_MIN_BLOCK` or more on the moment route, the level program itself with ``rho`` capped
         there. A V step that fails (its new V has no positive level, or its SDP fails) is tried once more with the
         multiplier centred at ``(1 - RETRY_CENTER) rho*`` (:data:`RETRY_CENTER`, when larger than ``center``); a
-        second failure stops the alternation at the best V so far (``stopped_by = "solver failure"``).
+        second failure stops the alternation at the best V so far (``stopped_by = "solver failure"``), and so does a
+        first one when the time limit leaves no time for the retry (``stopped_by = "time_limit"``, with
+        ``on_budget="stop"``).
     max_degree : int
         Largest ``degree`` accepted (default :data:`MAX_DEGREE` = 8): SDP time grows steeply with the degree.
     time_limit : float, optional
@@ -2334,17 +2336,20 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
                         # the V step took its multiplier from the level set just inside the current V's limit and
                         # pushed the new V to where no level is certified: steer once more, from a multiplier centred
                         # deeper inside (the same V, the level problem at (1 - RETRY_CENTER) rho*)
-                        why, lvc = f"V step failed: {exc}", None
-                        if not retried and RETRY_CENTER > center and not out_of_time(f"degree {degV}, before a retry"):
-                            try:
-                                lvc = _level(pss, F, V, rho_cap=1e6, solver=solver, center=RETRY_CENTER, extra=ex,
-                                             cache=None, cone=inner)
-                            except SolverError as exc2:
-                                why += f"; its retry's multiplier: {exc2}"
+                        why, lvc, stop = f"V step failed: {exc}", None, "solver failure"
+                        if not retried and RETRY_CENTER > center:
+                            if out_of_time(f"degree {degV}, before a retry"):
+                                why, stop = why + "; not retried: time limit", "time_limit"
+                            else:
+                                try:
+                                    lvc = _level(pss, F, V, rho_cap=1e6, solver=solver, center=RETRY_CENTER,
+                                                 extra=ex, cache=None, cone=inner)
+                                except SolverError as exc2:
+                                    why += f"; its retry's multiplier: {exc2}"
                         if lvc is None:
                             history.append({"degree": degV, "step": why, "rho": math.nan, "volume": math.nan,
                                             "sdp_time": step_sdp})
-                            stopped_by = "solver failure"
+                            stopped_by = stop
                             break
                         t_solve += lvc.solve_time
                         step_sdp += lvc.solve_time
