@@ -370,3 +370,54 @@ def test_the_v_step_is_solved_at_the_steering_tolerances(monkeypatch) -> None:
     steer = [kw for _, kw in seen if kw]
     assert steer and all(kw == sdp.STEERING_TOLERANCES for kw in steer)
     assert any(name == "maximize" and not kw for name, kw in seen)      # the level programs: defaults
+
+
+# ------------------------------------------------------------------- cvxpy's "may be inaccurate" warning
+def _inaccurate_warnings(record: list) -> list[str]:
+    return [str(w.message) for w in record if str(w.message).startswith(sdp.INACCURATE_MESSAGE)]
+
+
+def test_inaccuracy_checked_silences_that_warning_only() -> None:
+    import warnings
+
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        with sdp.inaccuracy_checked():
+            warnings.warn(sdp.INACCURATE_MESSAGE + ". Try another solver, ...", UserWarning, stacklevel=1)
+            warnings.warn("something else", UserWarning, stacklevel=1)
+        warnings.warn(sdp.INACCURATE_MESSAGE + ". Try another solver, ...", UserWarning, stacklevel=1)
+    assert [str(w.message) for w in record] == ["something else", sdp.INACCURATE_MESSAGE + ". Try another solver, ..."]
+
+
+def test_sos_and_lmi_solves_check_an_inaccurate_status_without_passing_cvxpys_warning_on(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every cvxpy solve warns as it does on ``optimal_inaccurate``: the SOS program and the LMI certificate, which
+    check their solutions themselves, pass no such warning on; a bare cvxpy solve does (the patch works)."""
+    import warnings
+
+    from glidectl.roa.sos import LinPoly
+
+    real, calls = cp.Problem.solve, []
+
+    def warning_solve(self: cp.Problem, *a: object, **k: object) -> object:
+        calls.append(1)
+        out = real(self, *a, **k)
+        warnings.warn(sdp.INACCURATE_MESSAGE + ". Try another solver, adjusting the solver settings, ...",
+                      UserWarning, stacklevel=2)
+        return out
+
+    monkeypatch.setattr(cp.Problem, "solve", warning_solve)
+    x = Poly.variables(1)[0]
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        prog = SOSProgram(1)
+        prog.add_sos("p", LinPoly(x**4 + 2.0 * x**2 + 1.0), monomials(1, 2))
+        prog.solve(cp.Minimize(0))
+        loop = gc.SaturatedLoop("scalar", ("x1",), ("u",), lambda X, W: X + W, np.zeros(1), np.array([[-2.0]]),
+                                np.array([-1.0]), np.array([1.0]), (-np.full(1, 2.0), np.full(1, 2.0)))
+        cert = gc.certify_roa_lmi(loop, rounds=2, n_radii=4, refine=2, n_hessian=256, n_verify=1000, n_simulate=8)
+        n_library = len(calls)
+        cp.Problem(cp.Minimize(cp.Variable() ** 2)).solve()
+    assert prog.check()[0].passed and cert.certified
+    assert n_library >= 2 and len(calls) == n_library + 1
+    assert len(_inaccurate_warnings(record)) == 1        # the bare solve's, and only it

@@ -75,7 +75,7 @@ from ..analysis.measure import MIN_SOBOL_HITS
 from ..batch import integrate_batch
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from .blas_threads import pinned_blas
-from .sdp_solvers import DEFAULT_SOLVER, check_solver, solver_argument, solver_options
+from .sdp_solvers import DEFAULT_SOLVER, check_solver, inaccuracy_checked, solver_argument, solver_options
 
 __all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
 
@@ -856,7 +856,8 @@ class _Round:
             prog.uu.value = np.minimum(-sc.lo, sc.hi)[prog.sat] ** 2 / rho**2
         t0 = time.perf_counter()
         try:
-            prog.prob.solve(solver=solver_argument(self.solver), **solver_options(self.solver))
+            with inaccuracy_checked():      # an inaccurate solution is kept only if its LMIs hold (below)
+                prog.prob.solve(solver=solver_argument(self.solver), **solver_options(self.solver))
             status = prog.prob.status
         except cp.SolverError as exc:
             status = f"solver error: {str(exc)[:60]}"

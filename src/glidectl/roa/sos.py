@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -48,7 +47,7 @@ import scipy.sparse as sps
 from ..errors import ArgumentError, BudgetError, SolverError
 from .blas_threads import pinned_blas
 from .polynomial import Exp, Poly
-from .sdp_solvers import DEFAULT_SOLVER, solver_argument, solver_options
+from .sdp_solvers import DEFAULT_SOLVER, inaccuracy_checked, solver_argument, solver_options
 
 __all__ = ["GRAM_CONES", "GramCheck", "LinPoly", "SOSProgram", "Unknown", "dd_gram", "linear_support",
            "parity_generators", "reduce_basis", "sign_classes"]
@@ -566,8 +565,7 @@ class SOSProgram:
         t0 = time.perf_counter()
         self.compile_time = self.solver_time = 0.0
         try:
-            with warnings.catch_warnings():   # "solution may be inaccurate": the status is checked below
-                warnings.simplefilter("ignore", UserWarning)
+            with inaccuracy_checked():   # the status is checked below, the Gram matrices by check()
                 val = prob.solve(solver=solver_argument(solver), **{**solver_options(solver), **kw})
         except MemoryError as exc:
             raise BudgetError(f"SDP solver {solver} ran out of memory on a program with {len(self.unknowns)} "
