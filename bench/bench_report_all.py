@@ -377,6 +377,42 @@ user + system CPU      682.6 s     810.0 s     820.7 s (0.987)
 
 Every ledger number of the three builds is the same (288 numbers, 1e-9 relative, timings left out). The warm
 rebuild after the alone build: 2.4 s, 8 of 8 from the cache. The cold build is 1.15 times the 300 s target.
+
+**Before and after the issue** (2026-12-04 13:50-15:25, one run, each build alone on the idle machine). Before is
+75a826a, the code the issue was filed against, built with the README's command of its time (``glidectl report
+all``: serial, no cache). Its roa_certification stopped after 1671 s in the CTOL part ("x must hold real numbers,
+got an array of dtype complex128", the complex-step Hessian of ``ctol_lyapunov``), so that design was built again
+with 93fca80 (the one-line fix, picked onto 75a826a) at 14:39-15:05. After is 6dda53f with ``--jobs 2`` (the
+README's command now, 13:50-13:57) and with ``--jobs 1`` (serial like the baseline, 15:05-15:16; the tree then
+also held the warning fix of 20c1b18, which changes no number). Seconds per design ("done in"; in the ``--jobs 2``
+build, measured in its worker beside the others, waits for slots included):
+
+==================  ====================  =============================  ==============================
+design              75a826a serial        6dda53f --jobs 1               6dda53f --jobs 2
+==================  ====================  =============================  ==============================
+ch2_longitudinal    8.9 s                 8.6 s                          10.0 s
+ch4_phugoid         3.2 s                 3.4 s                          5.0 s
+ch5_singular_pert.  25.1 s                8.7 s                          8.3 s
+ch6_controllers     431.9 s               18.2 s                         19.6 s
+ch7_ctol            215.4 s               75.5 s                         394.6 s (slot waits included)
+ch8_helix           40.5 s                29.1 s                         55.3 s
+slocum_dive_cycle   (not a design yet)    43.9 s (read the certificate)  147.1 s (computed it)
+roa_certification   1536.2 s (6 cases)    485.6 s (11 parts)             404.1 s (read the certificate)
+end to end (wall)   about 2265 s          676.0 s                        412.5 s (6 min 52 s)
+user + system CPU   2229.9 s (roa alone)  695.2 s                        806.4 s
+peak RSS            2.26 GB               not measured                   0.80 GB
+==================  ====================  =============================  ==============================
+
+The after column does more: one design more (slocum_dive_cycle) and five more roa parts (the saturated loops, among
+them the user glider's two 8-state SOS certificates). A second cold ``--jobs 2`` build (20c1b18, 15:16-15:22) took
+375.8 s, CPU 737.1 s; the warm rebuild after it 2.9 s, 8 of 8 from the cache. The ``--jobs 2`` build spends 16 %
+more CPU than the serial one (806 against 695 s): process starts and two processes sharing the machine's two
+cores. Numbers: the ``--jobs 1`` and ``--jobs 2`` builds agree on all 281 (1e-9 relative, timings left out).
+Against 75a826a, ch2, ch4 and ch5 agree on every number; ch6 and ch8 moved by 1e-7 relative or less (batch
+integrator); ch7's literal-gains run stops at 12.4 s (0.646 m) instead of 30.1 s (0.708 m), the integrator
+sensitivity its ledger note states; roa_certification's certificates moved with issue 17's SOS changes (CTOL
+volume 0.00441 -> 0.00216, the removed residual artifact its ledger note explains; full glider K_M = -50 0.1151 ->
+0.1543, K_M = -100 0.16986 -> 0.16866, torque loop 0.14633 -> 0.14412, reduced glider area 11.544 -> 11.714).
 """
 
 from __future__ import annotations
