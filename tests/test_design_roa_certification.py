@@ -1,7 +1,7 @@
 """The ROA design (designs/roa_certification.py) end to end with its quick settings (low degrees, few samples, one
 full-model case, no CTOL closed loop). The real build uses FULL: about 8 minutes of work in one process on a 2-core
 machine (485.6 s with ``--jobs 1`` on 2026-12-04, the user glider's shared certificate included; the CTOL
-certificate about 46 s of it). The CTOL part's own checks are in tests/test_roa_ctol_speed.py and
+certificate 35.7 s of it). The CTOL part's own checks are in tests/test_roa_ctol_speed.py and
 tests/test_ctol_lyapunov.py."""
 
 from __future__ import annotations
