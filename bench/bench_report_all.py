@@ -408,11 +408,13 @@ them the user glider's two 8-state SOS certificates). A second cold ``--jobs 2``
 375.8 s, CPU 737.1 s; the warm rebuild after it 2.9 s, 8 of 8 from the cache. The ``--jobs 2`` build spends 16 %
 more CPU than the serial one (806 against 695 s): process starts and two processes sharing the machine's two
 cores. Numbers: the ``--jobs 1`` and ``--jobs 2`` builds agree on all 281 (1e-9 relative, timings left out).
-Against 75a826a, ch2, ch4 and ch5 agree on every number; ch6 and ch8 moved by 1e-7 relative or less (batch
-integrator); ch7's literal-gains run stops at 12.4 s (0.646 m) instead of 30.1 s (0.708 m), the integrator
-sensitivity its ledger note states; roa_certification's certificates moved with issue 17's SOS changes (CTOL
-volume 0.00441 -> 0.00216, the removed residual artifact its ledger note explains; full glider K_M = -50 0.1151 ->
-0.1543, K_M = -100 0.16986 -> 0.16866, torque loop 0.14633 -> 0.14412, reduced glider area 11.544 -> 11.714).
+Against 75a826a, ch2, ch4 and ch5 agree on every number; ch8's inverse designs moved by 1e-7 relative or less
+and ch6's simulated differences by up to 5.1e-6 (the batch integrator of the ensembles; ch6's buoyancy final error
+1.9e-11 -> 2.2e-11, rounding level); ch7's printed-gains run by up to 5.1e-6 (peak thrust) and its literal-gains
+run stops at 12.4 s (0.646 m) instead of 30.1 s (0.708 m), the integrator sensitivity its ledger note states;
+roa_certification's certificates moved with issue 17's SOS changes (CTOL volume 0.00441 -> 0.00216, the removed
+residual artifact its ledger note explains; full glider K_M = -50 0.1151 -> 0.1543, K_M = -100 0.16986 -> 0.16866,
+torque loop 0.14633 -> 0.14412, reduced glider area 11.544 -> 11.714).
 """
 
 from __future__ import annotations
