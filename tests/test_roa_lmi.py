@@ -4,7 +4,6 @@ bounded remainder; soundness on the true saturated right-hand sides, agreement w
 from __future__ import annotations
 
 import dataclasses
-import warnings
 
 import numpy as np
 import pytest
@@ -13,8 +12,6 @@ from scipy.linalg import solve_continuous_lyapunov
 import glidectl as gc
 from glidectl.batch import integrate_batch
 from glidectl.roa import Poly, max_level, polynomial_system
-
-warnings.filterwarnings("ignore", message="Solution may be inaccurate")
 
 FAST = dict(rounds=2, n_radii=4, refine=2, n_hessian=256, n_verify=1000, n_simulate=8)
 
