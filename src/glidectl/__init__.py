@@ -21,6 +21,7 @@ from .analysis.closed_loop import (
     compare_controllers,
     lqr_state_feedback,
 )
+from .analysis.flight_fit import FlightFit, fit_flight_model, law_start, predict_flight
 from .analysis.helix_existence import ExistenceScan, existence_scan
 from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from .analysis.helix_sweeps import HelixSweep, helix_sweep, straight_glides
@@ -112,10 +113,12 @@ from .errors import (
     InfeasibleGlideError,
     ModelError,
     OutputError,
+    RecordError,
     SolverError,
     VehicleFileError,
     VehicleMismatchError,
 )
+from .hydro import lift_drag
 from .iosys import to_iosys
 from .models import phugoid_hamiltonian
 from .models.actuated import ActuatedGlider
@@ -132,6 +135,7 @@ from .models.realized_torque import RealizedTorqueLoop
 from .models.reduced import ReducedLongitudinalGlider
 from .models.torque_glider import TorqueControlledGlider
 from .params import Actuator, Vehicle, list_presets, load_vehicle
+from .records import DiveRecord, MaskSettings, read_dive_record
 from .roa import (
     PolySystem,
     RemainderBound,
@@ -159,6 +163,7 @@ from .stability.singular_perturbation import SingularPerturbation, singular_pert
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.ctol import CTOLGlide, ctol_glide
 from .trim.envelope import GlideEnvelope, glide_envelope
+from .trim.flight import SteadyFlight, excess_mass, steady_flight
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
 from .trim.helix_design import HelixDesign, design_helix
@@ -179,6 +184,10 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "TorqueControlledGlider", "ypr_to_quat", "ypr_to_R",
         "DepthGlidePathModel",
         "ActuatedGlider",
+    ),
+    "flight models and dive records": (
+        "DiveRecord", "excess_mass", "fit_flight_model", "FlightFit", "law_start", "lift_drag", "MaskSettings",
+        "predict_flight", "read_dive_record", "steady_flight", "SteadyFlight",
     ),
     "trims": (
         "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
@@ -230,7 +239,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
-        "ModelError", "OutputError", "SolverError", "VehicleFileError", "VehicleMismatchError",
+        "ModelError", "OutputError", "RecordError", "SolverError", "VehicleFileError", "VehicleMismatchError",
     ),
 }
 
@@ -269,6 +278,7 @@ __all__ = [
     "DepthGlidePathModel",
     "DesignError",
     "DiveCycleRun",
+    "DiveRecord",
     "Domain",
     "ElevatorBuoyancyController",
     "ElevatorBuoyancyGlider",
@@ -281,6 +291,7 @@ __all__ = [
     "ExtendedCTOL",
     "FeedbackLinearizingController",
     "FixedMassGlider3D",
+    "FlightFit",
     "GlideEnvelope",
     "GlidePathModel",
     "GlideTracking",
@@ -294,6 +305,7 @@ __all__ = [
     "LQGController",
     "LinearGlideController",
     "LongitudinalGlider",
+    "MaskSettings",
     "MissionComparison",
     "ModelError",
     "Modes",
@@ -312,6 +324,7 @@ __all__ = [
     "RankTest",
     "RealizedTorqueComparison",
     "RealizedTorqueLoop",
+    "RecordError",
     "ReducedLongitudinalGlider",
     "RemainderBound",
     "SOSSize",
@@ -324,6 +337,7 @@ __all__ = [
     "SolverError",
     "StableInversion",
     "StateFeedback",
+    "SteadyFlight",
     "SteadyGlide",
     "SteadyGlideController",
     "TorqueControlledGlider",
@@ -368,8 +382,10 @@ __all__ = [
     "elevator_equilibrium",
     "elevator_example",
     "estimate_sos_size",
+    "excess_mass",
     "existence_scan",
     "feedback_linearization_blowup",
+    "fit_flight_model",
     "glide_envelope",
     "glide_model",
     "helix_rbh_locus",
@@ -381,6 +397,8 @@ __all__ = [
     "installed_sdp_solvers",
     "integrate_batch",
     "jacobians",
+    "law_start",
+    "lift_drag",
     "linearize_glide",
     "list_presets",
     "load_vehicle",
@@ -399,9 +417,11 @@ __all__ = [
     "permissible_gamma",
     "phugoid_hamiltonian",
     "place_glide",
+    "predict_flight",
     "pump_energy",
     "quat_to_R",
     "rbh_locus",
+    "read_dive_record",
     "recast",
     "resolved_crossing",
     "saturated_loop",
@@ -410,6 +430,7 @@ __all__ = [
     "simulate_many",
     "singular_perturbation",
     "stable_inversion",
+    "steady_flight",
     "steady_glide",
     "straight_glides",
     "surrogate_error",

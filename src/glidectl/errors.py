@@ -15,6 +15,7 @@ __all__ = [
     "InfeasibleGlideError",
     "ModelError",
     "OutputError",
+    "RecordError",
     "SolverError",
     "VehicleFileError",
     "VehicleMismatchError",
@@ -35,6 +36,11 @@ class InfeasibleGlideError(GlidectlError, ValueError):
 
 class ModelError(GlidectlError, ValueError):
     """A model was asked for something its vehicle cannot provide (e.g. moving-mass dynamics with mbar = 0)."""
+
+
+class RecordError(GlidectlError, ValueError):
+    """A dive record is unusable: a file that cannot be read, a missing field, non-finite values, time that does not
+    increase, duplicated samples, no dive, values in the wrong unit, too few usable samples for a fit."""
 
 
 class SolverError(GlidectlError, RuntimeError):

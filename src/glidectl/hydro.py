@@ -17,11 +17,13 @@ from typing import Any
 import numpy as np
 
 from . import checks
-from .errors import ArgumentError, ArgumentTypeError
+from .errors import ArgumentError, ArgumentTypeError, ModelError
 from .params import Vehicle
 
-__all__ = ["DAMPING_KEYS", "angle_of_attack", "atan2_cs", "damping_moment", "loads_3d", "loads_at",
-           "longitudinal_loads"]
+__all__ = ["DAMPING_KEYS", "angle_of_attack", "atan2_cs", "damping_moment", "gliderflight_coefficients",
+           "lift_drag", "loads_3d", "loads_at", "longitudinal_loads", "zero_lift_angle"]
+
+_DEG = 180.0 / np.pi
 
 #: Rotational-damping coefficients per body axis ``i = 1, 2, 3`` (roll, pitch, yaw): ``(K_qi, K_Omega1_i,
 #: K_Omega2_i)``, the ``V^2``-scaled linear term of (2.12)-(2.14) (pitch: ``K_q`` = ``K_q2``), the chapter-8 linear
@@ -223,7 +225,8 @@ def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, 
     """Lift, drag and pitching moment (N, N, N m) for squared speed ``V2`` (m^2/s^2), angle of attack ``alpha``
     (rad, not wrapped: models with alpha as a state, chapter 5, use it directly) and pitch rate (rad/s).
 
-    ``L = (K_L0 + K_L alpha) V^2`` (2.11), ``D = (K_D0 + K_D alpha^2) V^2`` (2.9),
+    ``L = (K_L0 + K_L alpha) V^2`` (2.11), ``D = (K_D0 + K_D alpha^2) V^2`` (2.9) for the thesis law, or the lift
+    and drag of the vehicle's ``[hydrodynamics]`` law (:func:`lift_drag`),
     ``M_DL2 = (K_M0 + K_M alpha) V^2 + damping_moment(veh, V^2, Omega2, 2)``, i.e. ``(K_M0 + K_M alpha + K_q Omega2)
     V^2`` (2.13) plus the chapter-8 terms ``K_Omega1_2 Omega2 + K_Omega2_2 Omega2 |Omega2|`` when the file gives them
     (docs/conventions.md, "Damping: one convention"); for chapter-5 vehicles this is (5.24)-(5.25).
@@ -258,10 +261,127 @@ def loads_at(veh: Vehicle, V2: Any, alpha: Any, Omega2: Any) -> tuple[Any, Any, 
     V2, alpha, Omega2 = _numeric("V2", V2), _numeric("alpha", alpha), _numeric("Omega2", Omega2)
     _broadcast("V2, alpha and Omega2", V2, alpha, Omega2)
     p = veh.params
-    L = (p["K_L0"] + p["K_L"] * alpha) * V2
-    D = (p["K_D0"] + p["K_D"] * alpha * alpha) * V2
+    L, D = _lift_drag(veh, V2, alpha, None)
     M = (p["K_M0"] + p["K_M"] * alpha) * V2 + _damping(p, V2, Omega2, 2)
     return L, D, M
+
+
+def gliderflight_coefficients(veh: Vehicle) -> tuple[float, float, float]:
+    """Lift slope, parasitic and induced drag coefficients ``(ah + aw, Cd0, Cd1)`` of the ``"gliderflight"`` law.
+
+    ``aw`` defaults to the swept-wing estimate ``2 pi AR / (2 + sqrt(AR^2 (1 + tan^2 Omega) + 4))`` and ``Cd1`` to
+    ``aw^2 / (pi eOsborne AR) + Cd1_hull`` where the vehicle file gives neither (gliderflight's
+    ``awEstimate`` and ``cd1Estimate``, Merckelbach et al. 2019).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider of the ``"gliderflight"`` law.
+
+    Returns
+    -------
+    (float, float, float)
+        ``ah + aw`` (1/rad), ``Cd0`` (1), ``Cd1`` (1/rad^2).
+
+    Raises
+    ------
+    ModelError
+        If the vehicle is not an underwater glider of the ``"gliderflight"`` law.
+    """
+    _glider(veh)
+    if veh.law != "gliderflight":
+        raise ModelError(f"vehicle '{veh.name}' uses the '{veh.law}' law, not 'gliderflight'")
+    p = veh.params
+    aw = p["aw"] if "aw" in p else (2.0 * np.pi * p["AR"]
+                                    / (2.0 + np.sqrt(p["AR"] ** 2 * (1.0 + np.tan(p["Omega"]) ** 2) + 4.0)))
+    cd1 = p["Cd1"] if "Cd1" in p else aw * aw / (np.pi * p["eOsborne"] * p["AR"]) + p["Cd1_hull"]
+    return float(p["ah"] + aw), float(p["Cd0"]), float(cd1)
+
+
+def _lift_drag(veh: Vehicle, V2: Any, alpha: Any, density: Any) -> tuple[Any, Any]:
+    """Lift and drag (N) of the vehicle's law (unchecked; ``density`` None: the vehicle's)."""
+    p = veh.params
+    law = veh.law
+    if law == "thesis":
+        return (p["K_L0"] + p["K_L"] * alpha) * V2, (p["K_D0"] + p["K_D"] * alpha * alpha) * V2
+    rho = veh.density if density is None else density
+    if law == "seaglider":
+        ql2 = 0.5 * rho * V2 * p["length"] ** 2  # q l^2 (N)
+        a = alpha * _DEG
+        # D = (hd_b q^(-1/4) + hd_c a^2) q l^2, written with q^(3/4) so that it is 0 (not 0 * inf) at rest
+        return p["hd_a"] * a * ql2, p["hd_b"] * (0.5 * rho * V2) ** 0.75 * p["length"] ** 2 + p["hd_c"] * a * a * ql2
+    slope, cd0, cd1 = gliderflight_coefficients(veh)
+    qs = 0.5 * rho * p["S"] * V2
+    return qs * slope * alpha, qs * (cd0 + cd1 * alpha * alpha)
+
+
+def lift_drag(veh: Vehicle, V2: Any, alpha: Any, density: Any = None) -> tuple[Any, Any]:
+    """Lift and drag (N) of the vehicle's hydrodynamic law at squared speed ``V2`` and angle of attack ``alpha``.
+
+    One function per law, chosen by the vehicle file's ``[hydrodynamics] law`` (``veh.law``):
+
+    * ``"thesis"``: ``L = (K_L0 + K_L alpha) V^2`` (2.11), ``D = (K_D0 + K_D alpha^2) V^2`` (2.9);
+    * ``"seaglider"`` (Eriksen et al. 2001, the basestation's model): with ``q = rho V^2 / 2`` and ``a`` the angle
+      of attack in degrees, ``L = hd_a q l^2 a``, ``D = (hd_b q^(-1/4) + hd_c a^2) q l^2``;
+    * ``"gliderflight"`` (Merckelbach et al. 2019): ``L = q S (ah + aw) alpha``, ``D = q S (Cd0 + Cd1 alpha^2)``
+      (:func:`gliderflight_coefficients`).
+
+    Every model's right-hand side reaches it through :func:`loads_at`; it broadcasts and is analytic in a complex
+    step (exact linearization).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+    V2 : array_like
+        Squared speed (m^2/s^2).
+    alpha : array_like
+        Angle of attack (rad).
+    density : array_like, optional
+        Sea-water density (kg/m^3) for the laws written with ``q = rho V^2 / 2``; default ``veh.density``. The
+        thesis law's coefficients already hold the density and ignore it.
+
+    Returns
+    -------
+    L, D : ndarray
+        Lift and drag (N), broadcast over the inputs.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or an array argument is not a number or an array of numbers.
+    ArgumentError
+        If the shapes do not broadcast.
+    ModelError
+        If ``veh`` is not an underwater glider.
+    """
+    _glider(veh)
+    V2, alpha = _numeric("V2", V2), _numeric("alpha", alpha)
+    if density is not None:
+        density = _numeric("density", density)
+    _broadcast("V2, alpha and density", V2, alpha, 0.0 if density is None else density)
+    return _lift_drag(veh, V2, alpha, density)
+
+
+def zero_lift_angle(veh: Vehicle) -> float:
+    """Angle of attack of zero lift (rad): ``-K_L0 / K_L`` for the thesis law, 0 for the others.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider.
+    """
+    _glider(veh)
+    return -veh.params["K_L0"] / veh.params["K_L"] if veh.law == "thesis" else 0.0
 
 
 def _opt(veh: Vehicle, key: str) -> float:

@@ -37,11 +37,13 @@ units); a parameter that must be positive (masses, inertias, ``g``, ``K_L``...) 
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import json
 import math
 import numbers
 import os
+import re
 import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -54,7 +56,8 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 
-__all__ = ["ACTUATOR_SPECS", "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "VALUE_MAX", "Actuator",
+__all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "GLIDERFLIGHT_DEFAULTS", "HYDRO_SPECS", "MAX_FILE_BYTES",
+           "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX", "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator",
            "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
 
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
@@ -155,6 +158,65 @@ PARAMETER_SPECS: Mapping[str, Mapping[str, ParamSpec]] = MappingProxyType(
 )
 
 _HEADER_KEYS = {"name", "kind", "title", "source", "notes"}
+
+#: Largest buoyancy-pump range accepted, as a fraction of the vehicle's mass (:func:`load_vehicle` refuses more).
+PUMP_FRACTION_MAX = 0.2
+
+#: Default sea-water density (kg/m^3) where a vehicle file gives none: the constant gliderflight's steady-state
+#: calibration uses and the value the field quotes for the upper ocean.
+DEFAULT_DENSITY = 1025.0
+
+#: The hull and water keys every law accepts in ``[hydrodynamics]`` (net buoyancy of a compressible hull).
+_HULL: dict[str, ParamSpec] = {
+    "density": ParamSpec("kg/m^3", f"sea-water density, constant (default {DEFAULT_DENSITY:g})", "positive"),
+    "mass": ParamSpec("kg", "vehicle mass in air (hull, ballast, batteries, oil): the weight the buoyancy balances",
+                      "positive"),
+    "volume": ParamSpec("m^3", "hull volume at the surface at the reference temperature, pumped volume 0",
+                        "positive"),
+    "compressibility": ParamSpec("1/Pa", "hull compressibility epsilon: volume (1 - epsilon p) at gauge pressure p",
+                                 "nonnegative"),
+    "thermal_expansion": ParamSpec("1/K", "hull thermal expansion: volume (1 + alpha_T (T - T_ref))", "any"),
+    "reference_temperature": ParamSpec("degC", "temperature at which the hull volume is 'volume'", "any"),
+}
+
+#: Lift and drag laws a vehicle file may choose with ``[hydrodynamics] law = "..."`` and each law's keys (besides
+#: the hull keys): ``"thesis"`` uses ``K_L0, K_L, K_D0, K_D`` of ``[parameters]`` ((2.9), (2.11)); ``"seaglider"`` is
+#: the Seaglider basestation model (Eriksen et al. 2001), angle of attack in degrees; ``"gliderflight"`` is the
+#: steady-state model of Merckelbach et al. (2019), keys named as the ``gliderflight`` package names them.
+_LAWS: dict[str, dict[str, ParamSpec]] = {
+    "thesis": {},
+    "seaglider": {
+        "hd_a": ParamSpec("1/deg", "lift per degree of angle of attack: L = hd_a q l^2 alpha_deg", "positive", True),
+        "hd_b": ParamSpec("Pa^(1/4)", "parasitic drag: D = (hd_b q^(-1/4) + hd_c alpha_deg^2) q l^2", "nonnegative",
+                          True),
+        "hd_c": ParamSpec("1/deg^2", "induced drag per squared degree of angle of attack", "nonnegative", True),
+        "length": ParamSpec("m", "hull length l (reference area l^2)", "positive", True),
+    },
+    "gliderflight": {
+        "Cd0": ParamSpec("1", "parasitic drag coefficient: D = q S (Cd0 + Cd1 alpha^2)", "nonnegative", True),
+        "Cd1": ParamSpec("1/rad^2", "induced drag coefficient (default aw^2 / (pi eOsborne AR) + Cd1_hull)",
+                         "nonnegative"),
+        "ah": ParamSpec("1/rad", "hull lift slope: L = q S (ah + aw) alpha", "nonnegative"),
+        "aw": ParamSpec("1/rad", "wing lift slope (default 2 pi AR / (2 + sqrt(AR^2 (1 + tan^2 Omega) + 4)))",
+                        "nonnegative"),
+        "S": ParamSpec("m^2", "wing reference area", "positive"),
+        "AR": ParamSpec("1", "wing aspect ratio", "positive"),
+        "eOsborne": ParamSpec("1", "Oswald (Osborne) efficiency of the wing", "positive"),
+        "Omega": ParamSpec("rad", "wing sweep angle", "any"),
+        "Cd1_hull": ParamSpec("1/rad^2", "induced drag coefficient of the hull", "nonnegative"),
+    },
+}
+
+#: Defaults of the ``gliderflight`` law for keys a file leaves out: gliderflight's own (``ModelParameters``).
+GLIDERFLIGHT_DEFAULTS: Mapping[str, float] = MappingProxyType(
+    {"AR": 7.0, "Omega": 43.0 * math.pi / 180.0, "S": 0.1, "ah": 3.8, "eOsborne": 0.8, "Cd1_hull": 9.7})
+
+#: Keys of ``[parameters]`` that the lift and drag law replaces: only the ``"thesis"`` law reads them.
+THESIS_LIFT_DRAG_KEYS = ("K_L0", "K_L", "K_D0", "K_D")
+
+#: Specification of the ``[hydrodynamics]`` keys per law: the law's keys plus the hull keys.
+HYDRO_SPECS: Mapping[str, Mapping[str, ParamSpec]] = MappingProxyType(
+    {law: MappingProxyType({**keys, **_HULL}) for law, keys in _LAWS.items()})
 
 
 @dataclass(frozen=True)
@@ -356,6 +418,9 @@ class Vehicle:
         Values that replaced the file's.
     actuators : Mapping[str, Actuator], optional
         The ``[actuators]`` table (range and rate of the pump, moving mass, elevator, rudder).
+    law : str, optional
+        The lift and drag law of the ``[hydrodynamics]`` table: ``"thesis"`` (default), ``"seaglider"`` or
+        ``"gliderflight"`` (:data:`HYDRO_SPECS`); its coefficients and the hull keys are entries of ``params``.
 
     Raises
     ------
@@ -364,7 +429,7 @@ class Vehicle:
     VehicleFileError
         If ``kind`` is unknown, a parameter is unknown for the kind, not a finite real number, outside its sign
         constraint or plausibility limits (:data:`VALUE_MAX`, :data:`POSITIVE_MIN`), a required parameter is
-        missing, or the mass model is inconsistent.
+        missing, the mass model is inconsistent, the law is unknown or a key belongs to another law.
 
     Attributes
     ----------
@@ -381,6 +446,8 @@ class Vehicle:
     actuators : Mapping[str, Actuator]
         Range and rate of each actuator the file lists (``veh.actuators["m0"].max``); a fixed part's setting is
         also its nominal parameter (``veh.r_P3``).
+    law : str
+        The lift and drag law (:func:`glidectl.hydro.lift_drag`).
     """
 
     name: str
@@ -392,9 +459,10 @@ class Vehicle:
     overrides: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
     notes: str = ""
     actuators: Mapping[str, Actuator] = field(default_factory=lambda: MappingProxyType({}))
+    law: str = "thesis"
 
     def __post_init__(self) -> None:
-        for key in ("name", "kind", "title", "path", "notes"):
+        for key in ("name", "kind", "title", "path", "notes", "law"):
             value = object.__getattribute__(self, key)
             if not isinstance(value, str):
                 raise ArgumentTypeError(f"Vehicle {key} must be a str, got {type(value).__name__} {value!r}")
@@ -405,22 +473,26 @@ class Vehicle:
         if self.kind not in PARAMETER_SPECS:
             raise VehicleFileError(f"{self.path or self.name}: unknown vehicle kind '{self.kind}'; expected one of "
                                    f"{sorted(PARAMETER_SPECS)}")
-        spec = PARAMETER_SPECS[self.kind]
         where = self.path or f"vehicle '{self.name}'"
+        spec = _key_specs(self.kind, self.law, where)
         values: dict[str, float] = {}
         for key, value in self.params.items():
             if not isinstance(key, str) or key not in spec:
-                raise VehicleFileError(
-                    f"{where}: unknown parameter {key!r} for a {self.kind} vehicle; known: {', '.join(spec)}")
+                raise VehicleFileError(f"{where}: {_unknown_key(key, self.kind, self.law)}")
             values[key] = _check_value(key, value, spec[key], where)
-        acts = _check_actuators(self.kind, self.actuators, values, where)
         srcs = dict(self.sources)
+        if self.law == "gliderflight":  # gliderflight's own defaults for the wing keys a file leaves out
+            for key, value in GLIDERFLIGHT_DEFAULTS.items():
+                if key not in values:
+                    values[key], srcs[key] = value, "gliderflight default (ModelParameters)"
+        acts = _check_actuators(self.kind, self.actuators, values, where)
         for name, act in acts.items():  # a fixed part's setting is also the nominal parameter
             if act.fixed is not None and name in spec and name not in values:
                 values[name] = act.fixed
                 srcs[name] = f"[actuators] {name} (fixed): {act.source}"
         object.__setattr__(self, "sources", srcs)
-        _check_consistency(self.kind, values, where)
+        _check_consistency(self.kind, values, where, self.law)
+        _check_actuator_scale(acts, values, where)
         object.__setattr__(self, "actuators", MappingProxyType(acts))
         object.__setattr__(self, "params", MappingProxyType(values))
         object.__setattr__(self, "sources", MappingProxyType({str(k): str(v) for k, v in self.sources.items()}))
@@ -430,13 +502,20 @@ class Vehicle:
         # mappingproxy fields do not pickle; rebuild from plain dicts (used by pickle, copy and multiprocessing)
         return (_vehicle_from_plain, (self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                                       self.path, dict(self.overrides), self.notes,
-                                      {k: a.as_plain() for k, a in self.actuators.items()}))
+                                      {k: a.as_plain() for k, a in self.actuators.items()}, self.law))
 
     def __getattr__(self, key: str) -> float:
         params = object.__getattribute__(self, "params")
         if key in params:
             return params[key]
-        spec = PARAMETER_SPECS.get(object.__getattribute__(self, "kind"), {})
+        kind = object.__getattribute__(self, "kind")
+        law = object.__getattribute__(self, "law")
+        if kind == "underwater_glider" and law != "thesis" and key in THESIS_LIFT_DRAG_KEYS:
+            raise ModelError(
+                f"vehicle '{object.__getattribute__(self, 'name')}' uses the '{law}' lift and drag law "
+                f"([hydrodynamics] law = \"{law}\"), which has no '{key}'; this computation needs the thesis law's "
+                f"quadratic drag and linear lift ({', '.join(THESIS_LIFT_DRAG_KEYS)})")
+        spec = {**PARAMETER_SPECS.get(kind, {}), **HYDRO_SPECS.get(law, {})}
         if key in spec:
             raise ModelError(
                 f"vehicle '{object.__getattribute__(self, 'name')}' does not define '{key}' "
@@ -448,8 +527,13 @@ class Vehicle:
     @property
     def units(self) -> Mapping[str, str]:
         """Unit of each parameter (as in the vehicle file)."""
-        spec = PARAMETER_SPECS[self.kind]
+        spec = _key_specs(self.kind, self.law, self.name)
         return MappingProxyType({k: spec[k].unit for k in self.params})
+
+    @property
+    def density(self) -> float:
+        """Sea-water density (kg/m^3): ``[hydrodynamics] density``, or :data:`DEFAULT_DENSITY`."""
+        return float(self.params.get("density", DEFAULT_DENSITY))
 
     @property
     def provenance(self) -> str:
@@ -458,6 +542,8 @@ class Vehicle:
         if self.actuators:  # vehicles without an [actuators] table keep their earlier provenance
             doc["actuators"] = {k: [str(a.min), str(a.max), str(a.rate), str(a.fixed)]
                                 for k, a in sorted(self.actuators.items())}
+        if self.law != "thesis":  # vehicles of the thesis law keep their earlier provenance
+            doc["law"] = self.law
         blob = json.dumps(doc, sort_keys=True)
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
@@ -560,7 +646,53 @@ class Vehicle:
         """
         return _build_vehicle(self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                               self.path, {**self.overrides, **overrides}, self.notes, overrides,
-                              dict(self.actuators))
+                              dict(self.actuators), self.law)
+
+    def with_hydrodynamics(self, law: str | None = None, *, source: str = "with_hydrodynamics",
+                           **coefficients: float) -> Vehicle:
+        """Return a new vehicle with another lift and drag law or new law and hull coefficients.
+
+        Switching law drops the old law's coefficients (for the thesis law, ``K_L0, K_L, K_D0, K_D`` of
+        ``[parameters]``) and keeps the hull keys; the new law's required coefficients must then be given.
+
+        Parameters
+        ----------
+        law : str, optional
+            ``"thesis"``, ``"seaglider"`` or ``"gliderflight"`` (:data:`HYDRO_SPECS`); default the vehicle's.
+        source : str, optional
+            Source recorded for every value given here (a fit names its record).
+        **coefficients : float
+            Law and hull coefficients in the units of :data:`HYDRO_SPECS` (thesis law: ``K_L0`` ... of
+            :data:`PARAMETER_SPECS`).
+
+        Returns
+        -------
+        Vehicle
+
+        Raises
+        ------
+        VehicleFileError
+            An unknown law, a key the law does not know, a value outside its limits, or a required coefficient
+            missing.
+        """
+        new_law = self.law if law is None else law
+        if not isinstance(new_law, str) or new_law not in HYDRO_SPECS:
+            raise VehicleFileError(f"vehicle '{self.name}': {_unknown_law(new_law)}")
+        values, sources = dict(self.params), dict(self.sources)
+        if new_law != self.law:
+            old = THESIS_LIFT_DRAG_KEYS if self.law == "thesis" else tuple(_LAWS[self.law])
+            for key in old:
+                values.pop(key, None)
+                sources.pop(key, None)
+        spec = _key_specs(self.kind, new_law, self.name)
+        for key, value in coefficients.items():
+            if key not in spec:
+                raise VehicleFileError(f"vehicle '{self.name}': {_unknown_key(key, self.kind, new_law)}")
+            values[key] = _check_value(key, value, spec[key], f"vehicle '{self.name}'")
+            sources[key] = source
+        return Vehicle(name=self.name, kind=self.kind, title=self.title, params=values, sources=sources,
+                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=dict(self.actuators),
+                       law=new_law)
 
     def with_actuators(self, **actuators: Mapping[str, Any] | Actuator | None) -> Vehicle:
         """Return a new vehicle with some actuator entries replaced, added or (with ``None``) removed.
@@ -592,7 +724,47 @@ class Vehicle:
                 raise VehicleFileError(f"actuator '{name}' must be an Actuator, a mapping or None, got "
                                        f"{type(entry).__name__}")
         return Vehicle(name=self.name, kind=self.kind, title=self.title, params=self.params, sources=self.sources,
-                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=acts)
+                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=acts, law=self.law)
+
+    def to_toml(self) -> str:
+        """The vehicle as the text of a vehicle file that :func:`load_vehicle` reads back to the same values.
+
+        Returns
+        -------
+        str
+            TOML with ``[vehicle]``, ``[parameters]``, ``[hydrodynamics]`` (for a law other than the thesis's or
+            hull keys) and ``[actuators]``; every value written exactly (``repr`` of the float), with its unit and
+            source.
+        """
+        spec = _key_specs(self.kind, self.law, self.name)
+        hydro = set(HYDRO_SPECS[self.law]) if self.kind == "underwater_glider" else set()
+
+        def entry(key: str, value: float) -> str:
+            return (f"{key} = {{ value = {_toml_float(value)}, unit = {json.dumps(spec[key].unit)}, "
+                    f"source = {json.dumps(self.sources.get(key) or 'not recorded')} }}")
+
+        lines = ["[vehicle]", f"name = {json.dumps(self.name)}", f"kind = {json.dumps(self.kind)}",
+                 f"title = {json.dumps(self.title)}"]
+        if self.notes:
+            lines.append(f"notes = {json.dumps(self.notes)}")
+        fixed = {k for k, a in self.actuators.items() if a.fixed is not None}
+        lines += ["", "[parameters]"]
+        lines += [entry(k, v) for k, v in self.params.items() if k not in hydro and k not in fixed]
+        if self.law != "thesis" or hydro & set(self.params):
+            lines += ["", "[hydrodynamics]", f"law = {json.dumps(self.law)}"]
+            lines += [entry(k, v) for k, v in self.params.items() if k in hydro]
+        if self.actuators:
+            lines += ["", "[actuators]"]
+            for name, a in self.actuators.items():
+                fields = ([f"fixed = {_toml_float(a.fixed)}"] if a.fixed is not None else
+                          [f"min = {_toml_float(a.min)}", f"max = {_toml_float(a.max)}"]
+                          + ([f"rate = {_toml_float(a.rate)}"] if math.isfinite(a.rate) else []))
+                fields += [f"unit = {json.dumps(a.unit or ACTUATOR_SPECS[name].unit)}",
+                           f"source = {json.dumps(a.source or 'not recorded')}"]
+                if a.note:
+                    fields.append(f"note = {json.dumps(a.note)}")
+                lines.append(f"{name} = {{ {', '.join(fields)} }}")
+        return "\n".join(lines) + "\n"
 
     def actuator_bounds(self, name: str, default: tuple[float, float] = (-math.inf, math.inf)) -> tuple[float, float]:
         """Flight range of actuator ``name``, or ``default`` when the file does not list it.
@@ -626,11 +798,20 @@ class Vehicle:
         list of tuple of str
             One ``(key, value, unit, source)`` row per parameter.
         """
-        spec = PARAMETER_SPECS[self.kind]
+        spec = _key_specs(self.kind, self.law, self.name)
         rows = [(k, f"{v:.6g}", spec[k].unit, self.sources.get(k, "")) for k, v in self.params.items()]
+        if self.law != "thesis":
+            rows.insert(0, ("[hydrodynamics] law", self.law, "", "lift and drag law (glidectl.hydro.lift_drag)"))
         for k, a in self.actuators.items():
             rows.append((f"[actuator] {k}", a.describe(), a.unit, a.source))
         return rows
+
+
+def _toml_float(value: float) -> str:
+    """A float as TOML writes it exactly (``inf``, ``-inf``; ``repr`` otherwise)."""
+    if math.isinf(value):
+        return "inf" if value > 0 else "-inf"
+    return repr(float(value))
 
 
 def _presets_dir() -> Any:
@@ -682,12 +863,75 @@ def _check_value(key: str, value: Any, spec: ParamSpec, where: str) -> float:
     return v
 
 
-def _check_consistency(kind: str, values: Mapping[str, float], path: str) -> None:
+def _unknown_law(law: Any) -> str:
+    """The message for a law name that is not one of :data:`HYDRO_SPECS`, with a "did you mean"."""
+    near = difflib.get_close_matches(str(law), list(HYDRO_SPECS), n=1)
+    hint = f" (did you mean '{near[0]}'?)" if near else ""
+    return f"unknown hydrodynamic law {law!r}{hint}; known: {', '.join(HYDRO_SPECS)}"
+
+
+def _key_specs(kind: str, law: str, where: str) -> dict[str, ParamSpec]:
+    """Every key a vehicle of ``kind`` with lift and drag ``law`` may define, with its specification."""
+    if law not in HYDRO_SPECS:
+        raise VehicleFileError(f"{where}: {_unknown_law(law)}")
+    if kind != "underwater_glider":
+        if law != "thesis":
+            raise VehicleFileError(f"{where}: a [hydrodynamics] law is defined for underwater gliders only, not "
+                                   f"{kind}")
+        return dict(PARAMETER_SPECS.get(kind, {}))
+    spec = dict(PARAMETER_SPECS[kind])
+    if law != "thesis":
+        for key in THESIS_LIFT_DRAG_KEYS:
+            del spec[key]
+    return {**spec, **HYDRO_SPECS[law]}
+
+
+def _unknown_key(key: Any, kind: str, law: str) -> str:
+    """The message for a key no table of this vehicle knows: another law's key, or a "did you mean"."""
+    if kind not in PARAMETER_SPECS:
+        return f"unknown vehicle kind '{kind}'; expected one of {sorted(PARAMETER_SPECS)}"
+    owners = [other for other, keys in _LAWS.items() if key in keys]
+    if kind == "underwater_glider" and key in THESIS_LIFT_DRAG_KEYS and law != "thesis":
+        owners = ["thesis"]
+    if owners:
+        return (f"'{key}' belongs to the '{owners[0]}' hydrodynamic law, not to this vehicle's '{law}' law "
+                f"([hydrodynamics] law = \"{law}\"): remove it or choose law = \"{owners[0]}\"")
+    known = list(_key_specs(kind, law, ""))
+    near = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
+    hint = f" (did you mean '{near[0]}'?)" if near else ""
+    return f"unknown parameter {key!r}{hint} for a {kind} vehicle with the '{law}' law; known: {', '.join(known)}"
+
+
+def _check_actuator_scale(acts: Mapping[str, Actuator], values: Mapping[str, float], where: str) -> None:
+    """Refuse a buoyancy-pump range that no glider of this mass can have (a range typed in cm^3 or grams).
+
+    A buoyancy engine moves a few percent of the displaced mass (Slocum: 0.5 %, Seaglider: 1.5 %); a range of more
+    than :data:`PUMP_FRACTION_MAX` of the vehicle's mass is refused with the unit it was probably typed in.
+    """
+    act = acts.get("m0")
+    if act is None:
+        return
+    mass = values.get("m", values.get("mass", values.get("m1")))
+    if mass is None:
+        return
+    reach = max(abs(v) for v in (act.min, act.max, act.fixed or 0.0) if math.isfinite(v)) if any(
+        math.isfinite(v) for v in (act.min, act.max)) else 0.0
+    if reach > PUMP_FRACTION_MAX * mass:
+        likely = "cm^3 (1 cm^3 of sea water is about 0.001 kg)" if reach > 10 * mass else "grams or cm^3"
+        raise VehicleFileError(
+            f"{where}: actuator 'm0' reaches {reach:g} kg, {100 * reach / mass:.0f} % of the vehicle's {mass:g} kg; "
+            f"a buoyancy pump moves a few percent of it: was the range typed in {likely}? Give it in kg "
+            f"(350 cm^3 of sea water = 0.35 kg)")
+
+
+def _check_consistency(kind: str, values: Mapping[str, float], path: str, law: str = "thesis") -> None:
     """Required keys and the mass model (the checks that need the whole parameter set)."""
-    spec = PARAMETER_SPECS[kind]
+    spec = _key_specs(kind, law, path)
     missing = [k for k, s in spec.items() if s.required and k not in values]
     if missing:
-        raise VehicleFileError(f"{path}: missing required parameter(s) {', '.join(missing)} for a {kind} vehicle")
+        which = f"the '{law}' law of " if law != "thesis" else ""
+        raise VehicleFileError(f"{path}: missing required parameter(s) {', '.join(missing)} for {which}a {kind} "
+                               "vehicle")
     if kind == "underwater_glider":
         fixed = "m1" in values or "m3" in values
         added = "m" in values
@@ -782,46 +1026,109 @@ def _check_actuators(kind: str, actuators: Mapping[str, Any], values: Mapping[st
 
 def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
                         path: str, overrides: dict[str, float], notes: str,
-                        actuators: dict[str, dict[str, Any]] | None = None) -> Vehicle:
+                        actuators: dict[str, dict[str, Any]] | None = None, law: str = "thesis") -> Vehicle:
     acts = {k: Actuator(**a) for k, a in (actuators or {}).items()}
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
                    sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
-                   notes=notes, actuators=MappingProxyType(acts))
+                   notes=notes, actuators=MappingProxyType(acts), law=law)
 
 
 def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],
                    path: str, all_overrides: dict[str, float], notes: str,
-                   new_overrides: Mapping[str, float], actuators: dict[str, Actuator] | None = None) -> Vehicle:
-    spec = PARAMETER_SPECS[kind]
+                   new_overrides: Mapping[str, float], actuators: dict[str, Actuator] | None = None,
+                   law: str = "thesis") -> Vehicle:
+    spec = _key_specs(kind, law, path)
     for key, val in new_overrides.items():
         if key in _MOVED_KEYS:
             raise VehicleFileError(f"override '{key}': actuator limits are set with "
                                    f"Vehicle.with_actuators(), e.g. {_MOVED_KEYS[key]}")
         if key not in spec:
-            raise VehicleFileError(
-                f"override '{key}' is not a parameter of a {kind} vehicle ({path}); known: {', '.join(spec)}")
+            raise VehicleFileError(f"override for {path}: {_unknown_key(key, kind, law)}")
         values[key] = _check_value(key, val, spec[key], f"override for {path}")
         sources[key] = "override"
     all_overrides = {k: (values[k] if k in new_overrides else v) for k, v in all_overrides.items()}
-    _check_consistency(kind, values, path)
+    _check_consistency(kind, values, path, law)
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(dict(values)),
                    sources=MappingProxyType(dict(sources)), path=path,
                    overrides=MappingProxyType(dict(all_overrides)), notes=notes,
-                   actuators=MappingProxyType(dict(actuators or {})))
+                   actuators=MappingProxyType(dict(actuators or {})), law=law)
+
+
+def _line_of(text: str, key: str, table: str) -> str:
+    """`` (line N)`` of the first ``key = ...`` inside ``[table]`` of ``text``, or ``""``."""
+    current = ""
+    for n, line in enumerate(text.splitlines(), 1):
+        stripped = line.strip()
+        if stripped.startswith("[") and "]" in stripped:
+            current = stripped[1:stripped.index("]")].strip()
+        elif current == table and re.match(rf'^\s*"?{re.escape(key)}"?\s*=', line):
+            return f" (line {n})"
+    return ""
+
+
+def _parse_entries(table: dict[str, Any], spec: Mapping[str, ParamSpec], where: str, text: str, name: str,
+                   unknown: Any) -> tuple[dict[str, float], dict[str, str]]:
+    """Values and sources of the ``{ value, unit, source }`` entries of ``[name]``, each checked against ``spec``.
+
+    ``unknown(key)`` gives the message for a key ``spec`` does not know; the key's line is appended.
+    """
+    values: dict[str, float] = {}
+    sources: dict[str, str] = {}
+    for key, entry in table.items():
+        if key in _MOVED_KEYS:
+            raise VehicleFileError(f"{where}: parameter '{key}' moved to the [actuators] table: write "
+                                   f"[actuators] {_MOVED_KEYS[key]}")
+        if key not in spec:
+            raise VehicleFileError(f"{where}{_line_of(text, key, name)}: [{name}] {unknown(key)}")
+        if not isinstance(entry, dict) or set(entry) - {"value", "unit", "source", "note"} or not {
+                "value", "unit", "source"} <= set(entry):
+            raise VehicleFileError(
+                f"{where}: parameter '{key}' must be an inline table {{ value = ..., unit = \"...\", "
+                f"source = \"...\" }} (optional 'note'), got {entry!r}")
+        if not all(isinstance(entry[k], str) for k in ("unit", "source", "note") if k in entry):
+            raise VehicleFileError(f"{where}: parameter '{key}': 'unit', 'source' and 'note' must be strings, got "
+                                   f"{entry!r}")
+        unit = entry["unit"]
+        if _norm_unit(unit) != _norm_unit(spec[key].unit):
+            raise VehicleFileError(
+                f"{where}{_line_of(text, key, name)}: parameter '{key}' has unit '{unit}', glidectl expects "
+                f"'{spec[key].unit}' (SI, angles in rad unless the law says otherwise): convert the value")
+        if not str(entry["source"]).strip():
+            raise VehicleFileError(f"{where}: parameter '{key}' needs a non-empty 'source'")
+        values[key] = _check_value(key, entry["value"], spec[key], where)
+        sources[key] = str(entry["source"])
+    return values, sources
+
+
+def _parse_law(doc: dict[str, Any], kind: str, where: str, text: str) -> tuple[str, dict[str, Any]]:
+    """The ``[hydrodynamics]`` table: the law's name (``"thesis"`` without the table) and its entries."""
+    hyd = doc.get("hydrodynamics", {})
+    if not isinstance(hyd, dict):
+        raise VehicleFileError(f"{where}: [hydrodynamics] must be a table")
+    hyd = dict(hyd)
+    law = hyd.pop("law", "thesis")
+    if not isinstance(law, str) or law not in HYDRO_SPECS:
+        raise VehicleFileError(f"{where}{_line_of(text, 'law', 'hydrodynamics')}: [hydrodynamics] {_unknown_law(law)}")
+    if kind != "underwater_glider" and (law != "thesis" or hyd):
+        raise VehicleFileError(f"{where}: a [hydrodynamics] table is defined for underwater gliders only, not {kind}")
+    return law, hyd
 
 
 def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float], dict[str, str],
-                                          dict[str, Actuator]]:
+                                          dict[str, Actuator], str]:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise VehicleFileError(f"{where}: not valid TOML: {exc}") from None
     except RecursionError:
         raise VehicleFileError(f"{where}: not a usable TOML file (nested too deeply)") from None
-    unknown_top = set(doc) - {"vehicle", "parameters", "actuators"}
+    tables = ("vehicle", "parameters", "actuators", "hydrodynamics")
+    unknown_top = set(doc) - set(tables)
     if unknown_top:
-        raise VehicleFileError(f"{where}: unknown top-level table(s) {sorted(unknown_top)}; "
-                               "expected [vehicle], [parameters] and optionally [actuators]")
+        near = [m for t in sorted(unknown_top) for m in difflib.get_close_matches(t, tables, n=1)]
+        hint = f" (did you mean [{near[0]}]?)" if near else ""
+        raise VehicleFileError(f"{where}: unknown top-level table(s) {sorted(unknown_top)}{hint}; "
+                               "expected [vehicle], [parameters] and optionally [actuators], [hydrodynamics]")
     head = doc.get("vehicle")
     if not isinstance(head, dict):
         raise VehicleFileError(f"{where}: missing [vehicle] table")
@@ -837,42 +1144,28 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
     kind = head["kind"]
     if kind not in PARAMETER_SPECS:
         raise VehicleFileError(f"{where}: unknown vehicle kind '{kind}'; expected one of {sorted(PARAMETER_SPECS)}")
-    spec = PARAMETER_SPECS[kind]
     table = doc.get("parameters")
     if not isinstance(table, dict):
         raise VehicleFileError(f"{where}: missing [parameters] table")
-    values: dict[str, float] = {}
-    sources: dict[str, str] = {}
-    for key, entry in table.items():
-        if key in _MOVED_KEYS:
-            raise VehicleFileError(f"{where}: parameter '{key}' moved to the [actuators] table: write "
-                                   f"[actuators] {_MOVED_KEYS[key]}")
-        if key not in spec:
-            raise VehicleFileError(
-                f"{where}: unknown parameter '{key}' for a {kind} vehicle; known: {', '.join(spec)}")
-        if not isinstance(entry, dict) or set(entry) - {"value", "unit", "source", "note"} or not {
-                "value", "unit", "source"} <= set(entry):
-            raise VehicleFileError(
-                f"{where}: parameter '{key}' must be an inline table {{ value = ..., unit = \"...\", "
-                f"source = \"...\" }} (optional 'note'), got {entry!r}")
-        if not all(isinstance(entry[k], str) for k in ("unit", "source", "note") if k in entry):
-            raise VehicleFileError(f"{where}: parameter '{key}': 'unit', 'source' and 'note' must be strings, got "
-                                   f"{entry!r}")
-        unit = entry["unit"]
-        if _norm_unit(unit) != _norm_unit(spec[key].unit):
-            raise VehicleFileError(
-                f"{where}: parameter '{key}' has unit '{unit}', glidectl expects '{spec[key].unit}' "
-                "(SI, angles in rad): convert the value")
-        if not str(entry["source"]).strip():
-            raise VehicleFileError(f"{where}: parameter '{key}' needs a non-empty 'source'")
-        values[key] = _check_value(key, entry["value"], spec[key], where)
-        sources[key] = str(entry["source"])
+    law, hyd = _parse_law(doc, kind, where, text)
+    spec = _key_specs(kind, law, where)
+    hydro_keys = set(HYDRO_SPECS[law]) if kind == "underwater_glider" else set()
+    param_spec = {k: v for k, v in spec.items() if k not in hydro_keys}
+    values, sources = _parse_entries(
+        table, param_spec, where, text, "parameters",
+        lambda key: (f"'{key}' belongs in [hydrodynamics]" if key in hydro_keys
+                     else _unknown_key(key, kind, law)))
+    hyd_values, hyd_sources = _parse_entries(
+        hyd, {k: spec[k] for k in hydro_keys}, where, text, "hydrodynamics",
+        lambda key: (f"'{key}' belongs in [parameters]" if key in param_spec else _unknown_key(key, kind, law)))
+    values.update(hyd_values)
+    sources.update(hyd_sources)
     acts_table = doc.get("actuators", {})
     if not isinstance(acts_table, dict):
         raise VehicleFileError(f"{where}: [actuators] must be a table")
     actuators = {str(k): _actuator_from_entry(str(k), v, where) for k, v in acts_table.items()}
     return (head["name"], kind, str(head.get("title", head["name"])), str(head.get("notes", "")), values, sources,
-            actuators)
+            actuators, law)
 
 
 def _read_file(s: str) -> tuple[str, str]:
@@ -942,5 +1235,6 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
         text, where = res.read_text(encoding="utf-8"), f"preset '{s}'"
     else:
         text, where = _read_file(s)
-    name, kind, title, notes, values, sources, actuators = _parse(text, where)
-    return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides, actuators)
+    name, kind, title, notes, values, sources, actuators, law = _parse(text, where)
+    return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides, actuators,
+                          law)

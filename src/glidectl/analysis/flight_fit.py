@@ -1,0 +1,435 @@
+"""Calibrate a flight model to a glider's own dive record: :func:`fit_flight_model`.
+
+The model is the steady-state glide of :func:`glidectl.steady_flight` at the recorded pitch and the net heaviness
+of :func:`glidectl.excess_mass` (hull volume, compressibility, thermal expansion, pumped volume, density), with the
+vehicle's lift and drag law (:func:`glidectl.hydro.lift_drag`). The coefficients named in ``fit`` minimise the
+squared difference between modelled and measured vertical speed over the masked samples (scipy's
+``least_squares``, trust-region reflective, within each coefficient's sign constraint); the field calibrates
+``volume`` and the parasitic drag (gliderflight's ``Vg`` and ``Cd0``; the Seaglider basestation's ``hd_b``), the
+default here. Standard errors come from the Jacobian at the optimum, ``s^2 (J^T J)^-1``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..errors import ArgumentError, OutputError, RecordError, SolverError
+from ..hydro import gliderflight_coefficients, lift_drag
+from ..params import GLIDERFLIGHT_DEFAULTS, HYDRO_SPECS, THESIS_LIFT_DRAG_KEYS, Vehicle
+from ..records import DEFAULT_MASK, DiveRecord, MaskSettings
+from ..trim.flight import SteadyFlight, excess_mass, hull_buoyancy_keys, steady_flight
+
+__all__ = ["DEFAULT_FIT", "MATCH_SPEED", "SEAGLIDER_LENGTH", "FlightFit", "fit_flight_model", "law_start",
+           "predict_flight"]
+
+#: The coefficients fitted when ``fit`` is not given: hull volume and the law's parasitic drag.
+DEFAULT_FIT = {"thesis": ("volume", "K_D0"), "seaglider": ("volume", "hd_b"), "gliderflight": ("volume", "Cd0")}
+#: Speed (m/s) at which a law's starting coefficients are matched to the vehicle's current law (:func:`law_start`).
+MATCH_SPEED = 0.25
+#: Hull length (m) of the Seaglider law where the vehicle gives none: the Seaglider's (Eriksen et al. 2001).
+SEAGLIDER_LENGTH = 1.8
+#: Typical magnitudes of coefficients whose start value is 0 (the scale of the fit's unknowns).
+_TYPICAL = {"compressibility": 5e-10, "thermal_expansion": 7e-5, "K_L0": 1.0, "Cd1": 10.0, "ah": 1.0, "aw": 1.0,
+            "hd_c": 1e-5}
+_SINGULAR_RCOND = 1e-8
+
+
+def _match_data(veh: Vehicle) -> tuple[float, float, float]:
+    """Lift slope (N s^2/m^2/rad), drag at zero incidence and its alpha^2 factor (N s^2/m^2) of the vehicle's law
+    at :data:`MATCH_SPEED`, per unit V^2."""
+    V2, a = MATCH_SPEED**2, 0.05
+    lift, _ = lift_drag(veh, 1.0, a)
+    _, d0 = lift_drag(veh, V2, 0.0)
+    _, d1 = lift_drag(veh, V2, 2 * a)
+    return float(lift) / a, float(d0) / V2, float(d1 - d0) / (V2 * 4 * a * a)
+
+
+def law_start(veh: Vehicle, law: str) -> Vehicle:
+    """The vehicle with another lift and drag law whose coefficients match its current law at :data:`MATCH_SPEED`.
+
+    The lift slope, the zero-incidence drag and the drag's ``alpha^2`` factor at ``V = MATCH_SPEED`` are carried
+    over; a Seaglider law takes the vehicle's ``length`` or :data:`SEAGLIDER_LENGTH`, a gliderflight law
+    gliderflight's wing defaults (:data:`~glidectl.params.GLIDERFLIGHT_DEFAULTS`) with ``Cd1`` and ``ah`` set by
+    the match. This is where a fit with a named law starts.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+    law : str
+        ``"thesis"``, ``"seaglider"`` or ``"gliderflight"``.
+
+    Returns
+    -------
+    Vehicle
+
+    Raises
+    ------
+    VehicleFileError
+        If ``law`` is unknown.
+    """
+    if law == veh.law:
+        return veh
+    slope, d0, d2 = _match_data(veh)
+    rho = veh.density
+    src = f"matched to the '{veh.law}' law at {MATCH_SPEED} m/s (glidectl.law_start)"
+    if law == "thesis":
+        return veh.with_hydrodynamics("thesis", source=src, K_L0=0.0, K_L=slope, K_D0=d0, K_D=d2)
+    if law == "seaglider":
+        length = veh.params.get("length", SEAGLIDER_LENGTH)
+        deg = 180.0 / np.pi
+        q = 0.5 * rho * MATCH_SPEED**2
+        return veh.with_hydrodynamics("seaglider", source=src, length=length,
+                                      hd_a=slope / (0.5 * rho * length**2 * deg),
+                                      hd_b=d0 * MATCH_SPEED**2 / (q**0.75 * length**2),
+                                      hd_c=d2 / (deg**2 * 0.5 * rho * length**2))
+    gf = {k: veh.params.get(k, v) for k, v in GLIDERFLIGHT_DEFAULTS.items()}
+    half_rho_s = 0.5 * rho * gf["S"]
+    probe = veh.with_hydrodynamics("gliderflight", source=src, Cd0=d0 / half_rho_s, **gf)
+    slope_gf, _, _ = gliderflight_coefficients(probe)  # ah + aw with the default wing
+    aw = slope_gf - gf["ah"]
+    return probe.with_hydrodynamics(source=src, ah=max(slope / half_rho_s - aw, 0.0), Cd1=d2 / half_rho_s)
+
+
+@dataclass(frozen=True)
+class FlightFit:
+    """A flight model calibrated to a dive record (:func:`fit_flight_model`).
+
+    Attributes
+    ----------
+    vehicle : Vehicle
+        The vehicle with the fitted values; their source names the record.
+    start : Vehicle
+        The vehicle the fit started from (the law's starting coefficients).
+    params : dict
+        Fitted value of each coefficient (units of the vehicle file).
+    stderr : dict
+        Standard error of each coefficient, ``sqrt(diag(s^2 (J^T J)^-1))`` with ``s^2`` the residual variance.
+    rms : float
+        Root mean square of the vertical-speed residual over the samples used (m/s).
+    residual : ndarray
+        Modelled minus measured vertical speed at the samples used (m/s).
+    used : ndarray of bool
+        The samples of the record the fit used (the mask).
+    cv_rms : float or None
+        Blocked cross-validated RMS (m/s): each of ``holdout`` contiguous blocks of the used samples predicted by
+        the fit to the others; None without ``holdout``.
+    cv_fold_rms : tuple of float
+        RMS of each held-out block (m/s).
+    correlation : ndarray
+        Correlation matrix of the fitted coefficients.
+    record : DiveRecord
+        The record fitted.
+    context : dict
+        Solver details: ``nfev``, ``status``, ``message``, ``cost``, ``n_used``, ``law``.
+    """
+
+    vehicle: Vehicle = field(repr=False, compare=False)
+    start: Vehicle = field(repr=False, compare=False)
+    params: dict[str, float]
+    stderr: dict[str, float]
+    rms: float
+    residual: np.ndarray = field(repr=False)
+    used: np.ndarray = field(repr=False)
+    cv_rms: float | None
+    cv_fold_rms: tuple[float, ...]
+    correlation: np.ndarray = field(repr=False)
+    record: DiveRecord = field(repr=False, compare=False)
+    context: dict[str, Any] = field(repr=False, compare=False)
+
+    @property
+    def provenance(self) -> str:
+        """The fitted vehicle's parameter hash."""
+        return self.vehicle.provenance
+
+    @property
+    def law(self) -> str:
+        """The lift and drag law fitted."""
+        return self.vehicle.law
+
+    def predict(self, record: DiveRecord | None = None) -> SteadyFlight:
+        """Steady-state flight of the fitted vehicle at every sample of ``record`` (default the fitted record).
+
+        Parameters
+        ----------
+        record : DiveRecord, optional
+
+        Returns
+        -------
+        SteadyFlight
+            ``speed``, ``alpha``, ``vertical_speed``, ``horizontal_speed`` at every sample.
+
+        Raises
+        ------
+        RecordError
+            If ``record`` is not a DiveRecord.
+        """
+        return predict_flight(self.vehicle, self.record if record is None else record)
+
+    def summary(self) -> str:
+        """The fitted coefficients with standard errors, and the RMS values."""
+        rows = [f"{self.law} law fitted to {self.record.source} ({self.context['n_used']} samples)"]
+        rows += [f"  {k} = {v:.6g} +- {self.stderr[k]:.2g}" for k, v in self.params.items()]
+        cv = "" if self.cv_rms is None else f", cross-validated {self.cv_rms:.4f} m/s"
+        rows.append(f"  RMS vertical speed {self.rms:.4f} m/s{cv}")
+        return "\n".join(rows)
+
+    def to_toml(self, path: str | Path) -> Path:
+        """Write the fitted vehicle as a complete vehicle file (:meth:`glidectl.Vehicle.to_toml`).
+
+        Parameters
+        ----------
+        path : str or Path
+
+        Returns
+        -------
+        Path
+
+        Raises
+        ------
+        OutputError
+            If the file cannot be written.
+        """
+        p = Path(path)
+        try:
+            p.write_text(self.vehicle.to_toml(), encoding="utf-8")
+        except OSError as exc:
+            raise OutputError(f"cannot write vehicle file '{p}': {exc.strerror or exc}") from None
+        return p
+
+    def plot(self, axes: Any = None) -> Any:
+        """Measured against modelled vertical speed over the record, and the residual against depth.
+
+        Parameters
+        ----------
+        axes : two Axes, optional
+
+        Returns
+        -------
+        ndarray of Axes
+        """
+        from ..plotting import plot_flight_fit
+
+        return plot_flight_fit(self, axes)
+
+
+def _record(record: Any) -> DiveRecord:
+    if not isinstance(record, DiveRecord):
+        raise RecordError(f"record must be a glidectl DiveRecord (gc.read_dive_record or "
+                          f"gc.DiveRecord.from_arrays), got {type(record).__name__}")
+    return record
+
+
+def predict_flight(veh: Vehicle, record: DiveRecord, used: np.ndarray | None = None) -> SteadyFlight:
+    """Steady-state flight of ``veh`` at the samples ``used`` (default all) of ``record``: the flight model a fit
+    calibrates, at the recorded pitch, depth, pumped volume, density and temperature.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider (any law; its hull needs ``mass`` and ``volume``, :func:`glidectl.excess_mass`).
+    record : DiveRecord
+        The record.
+    used : ndarray of bool, optional
+        The samples to solve (default all).
+
+    Returns
+    -------
+    SteadyFlight
+        Speed, angle of attack, vertical and horizontal speed at each sample solved.
+
+    Raises
+    ------
+    RecordError
+        If ``record`` is not a DiveRecord.
+    ModelError
+        If the hull's mass or volume is unknown.
+    """
+    record = _record(record)
+    sel = slice(None) if used is None else used
+    rho = None if record.density is None else record.density[sel]
+    temp = None if record.temperature is None else record.temperature[sel]
+    m0 = excess_mass(veh, record.depth[sel], record.buoyancy_volume[sel], density=rho, temperature=temp)
+    return steady_flight(veh, record.pitch[sel], m0, density=rho)
+
+
+def _mask(record: DiveRecord, mask: Any) -> np.ndarray:
+    if mask is None or isinstance(mask, MaskSettings):
+        return record.mask(mask or DEFAULT_MASK)
+    m = np.asarray(mask)
+    if m.dtype != bool or m.shape != (len(record),):
+        raise RecordError(f"mask must be a MaskSettings or a boolean array of the record's {len(record)} samples, "
+                          f"got {m.dtype} of shape {m.shape}")
+    return m
+
+
+def _names(start: Vehicle, fit: Any) -> tuple[str, ...]:
+    names = DEFAULT_FIT[start.law] if fit is None else ((fit,) if isinstance(fit, str) else tuple(fit))
+    spec = dict(HYDRO_SPECS[start.law])
+    if start.law == "thesis":
+        spec.update({k: None for k in THESIS_LIFT_DRAG_KEYS})
+    if not names:
+        raise ArgumentError("fit must name at least one coefficient")
+    for n in names:
+        if n not in spec:
+            raise ArgumentError(f"fit: {n!r} is not a coefficient of the '{start.law}' law or the hull; fittable: "
+                                f"{', '.join(spec)}")
+    if len(set(names)) != len(names):
+        raise ArgumentError(f"fit names a coefficient twice: {names}")
+    return names
+
+
+def _coefficient_values(start: Vehicle, names: Sequence[str]) -> np.ndarray:
+    hull = hull_buoyancy_keys(start)
+    return np.array([start.params.get(n, hull.get(n, 0.0)) for n in names], dtype=float)
+
+
+def _bounds(start: Vehicle, names: Sequence[str], scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    from ..params import PARAMETER_SPECS
+
+    spec = {**PARAMETER_SPECS["underwater_glider"], **HYDRO_SPECS[start.law]}
+    lo = np.array([0.0 if spec[n].constraint in ("positive", "nonnegative") else -np.inf for n in names])
+    return np.where(scale > 0, lo / scale, -np.inf), np.full(len(names), np.inf)
+
+
+class _Problem:
+    """The least-squares problem of one fit: the residual of the scaled coefficients ``x`` (value / scale)."""
+
+    def __init__(self, start: Vehicle, record: DiveRecord, names: Sequence[str], used: np.ndarray,
+                 source: str) -> None:
+        self.start, self.names, self.source = start, tuple(names), source
+        self.record, self.used = record, used
+        self.measured = record.vertical_speed[used]
+
+    def vehicle(self, values: np.ndarray) -> Vehicle:
+        return self.start.with_hydrodynamics(source=self.source,
+                                             **{n: float(v) for n, v in zip(self.names, values, strict=True)})
+
+    def residual(self, values: np.ndarray, used: np.ndarray | None = None) -> np.ndarray:
+        sel = self.used if used is None else used
+        flight = predict_flight(self.vehicle(values), self.record, sel)
+        return flight.vertical_speed - self.record.vertical_speed[sel]
+
+
+def _solve(problem: _Problem, x0_values: np.ndarray, scale: np.ndarray, used: np.ndarray) -> Any:
+    lo, hi = _bounds(problem.start, problem.names, scale)
+    x0 = np.clip(x0_values / scale, np.where(np.isfinite(lo), lo + 1e-12, lo), hi)
+    res = least_squares(lambda x: problem.residual(x * scale, used), x0, bounds=(lo, hi), method="trf",
+                        x_scale=1.0, xtol=1e-10, ftol=1e-10, gtol=1e-10, max_nfev=200)
+    if res.status <= 0 or not np.all(np.isfinite(res.x)):
+        raise SolverError(f"the flight-model fit of {', '.join(problem.names)} did not converge "
+                          f"({res.message}); start from values nearer the vehicle's, or fit fewer coefficients")
+    return res
+
+
+def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Standard errors and correlation from the Jacobian; SolverError naming what cannot be told apart."""
+    J = res.jac * scale[None, :] ** 0  # the Jacobian in the scaled unknowns
+    _, sv, vt = np.linalg.svd(J, full_matrices=False)
+    if sv[-1] <= _SINGULAR_RCOND * sv[0]:
+        null = np.abs(vt[-1])
+        involved = [problem.names[i] for i in np.flatnonzero(null > 0.1 * null.max())]
+        raise SolverError(f"the dive record cannot tell apart {', '.join(involved)}: the fit's Jacobian is singular "
+                          f"(condition number {sv[0] / max(sv[-1], 1e-300):.2g}); fix one of them or add samples "
+                          "that vary them differently (other pitch, buoyancy or depth)")
+    dof = max(n - len(problem.names), 1)
+    s2 = 2.0 * res.cost / dof
+    cov_x = np.linalg.inv(J.T @ J) * s2
+    err = np.sqrt(np.diag(cov_x))
+    corr = cov_x / np.outer(err, err)
+    return err * np.abs(scale), corr
+
+
+def _folds(used: np.ndarray, k: int) -> list[np.ndarray]:
+    idx = np.flatnonzero(used)
+    return [np.isin(np.arange(used.size), block) for block in np.array_split(idx, k)]
+
+
+def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, fit: Sequence[str] | str | None = None,
+                     mask: Any = None, holdout: int | None = None) -> FlightFit:
+    """Calibrate the vehicle's flight model to a dive record.
+
+    Fits the coefficients ``fit`` so that the steady-state vertical speed of :func:`glidectl.steady_flight` at the
+    recorded pitch and net heaviness (:func:`glidectl.excess_mass`) matches the measured one (``-d depth/dt``) over
+    the masked samples, in the least-squares sense.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider; its hull needs a ``mass`` and ``volume`` (given, or derived from ``m``).
+    record : DiveRecord
+        The dive record.
+    law : str, optional
+        ``None`` keeps the vehicle's law and values; ``"thesis"``, ``"seaglider"`` or ``"gliderflight"`` starts
+        from that law matched to the vehicle's current law at :data:`MATCH_SPEED` (:func:`law_start`).
+    fit : sequence of str, optional
+        The coefficients to fit (law or hull keys); default :data:`DEFAULT_FIT`: ``volume`` and the law's
+        parasitic drag (``K_D0``, ``hd_b`` or ``Cd0``).
+    mask : MaskSettings or ndarray of bool, optional
+        The samples used: default :meth:`DiveRecord.mask` with :data:`~glidectl.records.DEFAULT_MASK` (surface,
+        inflections and shallow pitch left out).
+    holdout : int, optional
+        Number of contiguous blocks for blocked cross-validation (at least 2): each block is predicted by the fit
+        to the others, and their pooled RMS is ``cv_rms``.
+
+    Returns
+    -------
+    FlightFit
+
+    Raises
+    ------
+    RecordError
+        ``record`` is not a DiveRecord, a bad mask, or fewer usable samples than coefficients (plus one).
+    ArgumentError
+        An unknown coefficient in ``fit``, a bad ``holdout``.
+    SolverError
+        The fit does not converge, or its Jacobian is singular (the message names the coefficients the record
+        cannot tell apart).
+    VehicleFileError
+        An unknown law.
+    """
+    record = _record(record)
+    from .. import checks
+
+    veh = checks.vehicle("veh", veh, kind="underwater_glider")
+    start = veh if law is None else law_start(veh, law)
+    names = _names(start, fit)
+    used = _mask(record, mask)
+    n = int(used.sum())
+    if n <= len(names):
+        raise RecordError(f"the mask leaves {n} usable sample(s) of {len(record)} for {len(names)} coefficient(s); "
+                          "a fit needs more samples than coefficients (widen the mask or fit fewer)")
+    if holdout is not None and (isinstance(holdout, bool) or not isinstance(holdout, int | np.integer)
+                                or not 2 <= holdout <= n // (len(names) + 1)):
+        raise ArgumentError(f"holdout must be a whole number of blocks from 2 to {n // (len(names) + 1)}, "
+                            f"got {holdout!r}")
+    source = f"fit_flight_model to {record.source} (record {record.provenance}, {n} samples)"
+    problem = _Problem(start, record, names, used, source)
+    values0 = _coefficient_values(start, names)
+    scale = np.where(values0 != 0, np.abs(values0), [_TYPICAL.get(nm, 1.0) for nm in names])
+    res = _solve(problem, values0, scale, used)
+    values = res.x * scale
+    stderr, corr = _covariance(problem, res, scale, n)
+    fold_rms: list[float] = []
+    if holdout:
+        sq = 0.0
+        for block in _folds(used, int(holdout)):
+            r = _solve(problem, values, scale, used & ~block)
+            e = problem.residual(r.x * scale, block)
+            fold_rms.append(float(np.sqrt(np.mean(e * e))))
+            sq += float(np.sum(e * e))
+        cv = float(np.sqrt(sq / n))
+    residual = res.fun.copy()
+    return FlightFit(vehicle=problem.vehicle(values), start=start,
+                     params={k: float(v) for k, v in zip(names, values, strict=True)},
+                     stderr={k: float(v) for k, v in zip(names, stderr, strict=True)},
+                     rms=float(np.sqrt(np.mean(residual**2))), residual=residual, used=used,
+                     cv_rms=cv if holdout else None, cv_fold_rms=tuple(fold_rms), correlation=corr, record=record,
+                     context={"nfev": int(res.nfev), "status": int(res.status), "message": str(res.message),
+                              "cost": float(res.cost), "n_used": n, "law": start.law, "mask": used.copy()})

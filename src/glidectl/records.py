@@ -1,0 +1,357 @@
+"""Dive records: a glider's own measurements in SI units, read from Slocum binary files or CSV, checked.
+
+A :class:`DiveRecord` holds time (s), depth (m), pitch (rad) and the pumped buoyancy volume (m^3), with optional
+roll, heading (rad), in-situ density (kg/m^3) and temperature (degC). It is what :func:`glidectl.fit_flight_model`
+calibrates a flight model on. Records are checked when they are made: non-finite values, time that does not
+increase, duplicated samples, a record with no dive, pitch that looks like degrees and a volume that looks like
+cm^3 are refused with a :class:`~glidectl.RecordError` that names the field.
+
+Slocum binary files (``.dbd``, ``.sbd``, ``.mbd``, ...) are read through ``dbdreader`` (the optional extra
+``glidectl[data]``): ``m_pressure`` (bar) becomes depth by the hydrostatic relation with
+:data:`RECORD_DENSITY` and :data:`RECORD_GRAVITY`, ``m_de_oil_vol`` or ``m_ballast_pumped`` (cm^3, whichever the
+file logs) the buoyancy volume.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import RecordError
+
+__all__ = ["DEFAULT_MASK", "RECORD_DENSITY", "RECORD_GRAVITY", "DiveRecord", "MaskSettings", "read_dive_record"]
+
+#: Density (kg/m^3) and gravity (m/s^2) that turn a pressure record into depth, ``depth = p / (rho g)``: the
+#: constants of gliderflight's depth rate (``compute_dhdt``), so that both read the same depth from a file.
+RECORD_DENSITY = 1025.0
+RECORD_GRAVITY = 9.81
+
+#: Smallest depth range (m) a record must span to hold a dive.
+MIN_DIVE_DEPTH = 5.0
+#: Largest pitch magnitude (rad) accepted: more than pi/2 means the pitch was logged in degrees.
+PITCH_MAX = np.pi / 2
+#: Largest pumped volume magnitude (m^3) accepted: 5 litres; more means the volume was logged in cm^3.
+VOLUME_MAX = 5e-3
+
+_OPTIONAL = ("roll", "heading", "density", "temperature")
+
+
+@dataclass(frozen=True)
+class MaskSettings:
+    """Which samples a flight-model fit uses: the default mask of :meth:`DiveRecord.mask`.
+
+    Attributes
+    ----------
+    surface_depth : float
+        Samples shallower than this (m) are left out: surfacing, the first dive metres, wave motion.
+    inflection_margin : float
+        Samples within this height (m) of a dive's deepest point are left out: the pump works and the glider
+        pitches over there, far from a steady glide.
+    min_pitch : float
+        Samples with ``|pitch|`` below this (rad) are left out: near-level flight has no steady glide of the
+        efficient branch and its angle of attack is ill-conditioned.
+    """
+
+    surface_depth: float = 20.0
+    inflection_margin: float = 20.0
+    min_pitch: float = np.radians(10.0)
+
+
+#: The mask a fit uses unless told otherwise.
+DEFAULT_MASK = MaskSettings()
+
+
+def _finite_array(name: str, value: Any, n: int | None) -> np.ndarray:
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise RecordError(f"dive record field '{name}' must be an array of numbers: {exc}") from None
+    if a.ndim != 1:
+        raise RecordError(f"dive record field '{name}' must be one-dimensional, got shape {a.shape}")
+    if n is not None and a.size != n:
+        raise RecordError(f"dive record field '{name}' has {a.size} samples, 'time' has {n}")
+    bad = ~np.isfinite(a)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise RecordError(f"dive record field '{name}' has {int(bad.sum())} non-finite value(s) (NaN or inf), the "
+                          f"first at sample {i}; drop or fill those samples first")
+    a = a.copy()
+    a.setflags(write=False)
+    return a
+
+
+def _check_time(t: np.ndarray) -> None:
+    dt = np.diff(t)
+    if (dt == 0).any():
+        i = int(np.argmax(dt == 0))
+        raise RecordError(f"dive record field 'time' has {int((dt == 0).sum())} duplicated sample(s), the first at "
+                          f"t = {t[i]:g} s (samples {i} and {i + 1}); remove duplicates first")
+    if (dt < 0).any():
+        i = int(np.argmax(dt < 0))
+        raise RecordError(f"dive record field 'time' must increase: t[{i + 1}] = {t[i + 1]:g} s follows "
+                          f"t[{i}] = {t[i]:g} s; sort the record first")
+
+
+def _check_units(depth: np.ndarray, pitch: np.ndarray, volume: np.ndarray) -> None:
+    span = float(depth.max() - depth.min())
+    if span < MIN_DIVE_DEPTH:
+        raise RecordError(f"dive record field 'depth' spans {span:.3g} m: a record with no dive (at least "
+                          f"{MIN_DIVE_DEPTH:g} m are needed)")
+    if np.abs(pitch).max() > PITCH_MAX:
+        raise RecordError(f"dive record field 'pitch' reaches {np.abs(pitch).max():.4g}, more than pi/2: it looks "
+                          "like degrees; give it in rad (np.radians)")
+    if np.abs(volume).max() > VOLUME_MAX:
+        raise RecordError(f"dive record field 'buoyancy_volume' reaches {np.abs(volume).max():.4g} m^3, more than "
+                          f"{VOLUME_MAX * 1e3:g} litres: it looks like cm^3; give it in m^3 (cm^3 * 1e-6)")
+
+
+@dataclass(frozen=True)
+class DiveRecord:
+    """A glider's dive record in SI units (make one with :meth:`from_arrays` or :func:`read_dive_record`).
+
+    Attributes
+    ----------
+    time : ndarray
+        Time (s), strictly increasing.
+    depth : ndarray
+        Depth (m, positive down).
+    pitch : ndarray
+        Pitch angle (rad, nose up positive).
+    buoyancy_volume : ndarray
+        Volume pumped into the external bladder (m^3; negative: the glider is made heavy).
+    roll, heading : ndarray or None
+        Roll and heading (rad), where recorded.
+    density : ndarray or None
+        In-situ density (kg/m^3), where recorded; fits use the vehicle's density otherwise.
+    temperature : ndarray or None
+        Water temperature (degC), where recorded (hull thermal expansion).
+    source : str
+        Where the record came from (a file path or ``"arrays"``).
+    """
+
+    time: np.ndarray
+    depth: np.ndarray
+    pitch: np.ndarray
+    buoyancy_volume: np.ndarray
+    roll: np.ndarray | None = None
+    heading: np.ndarray | None = None
+    density: np.ndarray | None = None
+    temperature: np.ndarray | None = None
+    source: str = field(default="arrays")
+
+    def __post_init__(self) -> None:
+        t = _finite_array("time", self.time, None)
+        if t.size < 3:
+            raise RecordError(f"a dive record needs at least 3 samples, got {t.size}")
+        _check_time(t)
+        object.__setattr__(self, "time", t)
+        for name in ("depth", "pitch", "buoyancy_volume"):
+            object.__setattr__(self, name, _finite_array(name, getattr(self, name), t.size))
+        for name in _OPTIONAL:
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _finite_array(name, getattr(self, name), t.size))
+        if self.density is not None and not (self.density > 0).all():
+            raise RecordError("dive record field 'density' must be positive (kg/m^3)")
+        if not isinstance(self.source, str):
+            raise RecordError(f"dive record 'source' must be a str, got {type(self.source).__name__}")
+        _check_units(self.depth, self.pitch, self.buoyancy_volume)
+
+    @classmethod
+    def from_arrays(cls, time: Any, depth: Any, pitch: Any, buoyancy_volume: Any, *, roll: Any = None,
+                    heading: Any = None, density: Any = None, temperature: Any = None,
+                    source: str = "arrays") -> DiveRecord:
+        """A checked record from arrays in SI units.
+
+        Parameters
+        ----------
+        time : array_like
+            Time (s), strictly increasing.
+        depth : array_like
+            Depth (m).
+        pitch : array_like
+            Pitch (rad).
+        buoyancy_volume : array_like
+            Pumped volume (m^3).
+        roll, heading, density, temperature : array_like, optional
+            Roll, heading (rad), in-situ density (kg/m^3), temperature (degC).
+        source : str, optional
+            Where the data came from (kept as the record's provenance text).
+
+        Returns
+        -------
+        DiveRecord
+
+        Raises
+        ------
+        RecordError
+            Non-finite values, fields of different lengths, time not increasing, duplicated samples, a record
+            with no dive, pitch that looks like degrees, a volume that looks like cm^3 (each names the field).
+        """
+        return cls(time, depth, pitch, buoyancy_volume, roll, heading, density, temperature, source)
+
+    def __len__(self) -> int:
+        return int(self.time.size)
+
+    @property
+    def provenance(self) -> str:
+        """SHA-256 (first 16 hex digits) of the record's arrays: two records with the same data share it."""
+        h = hashlib.sha256()
+        for name in ("time", "depth", "pitch", "buoyancy_volume", *_OPTIONAL):
+            a = getattr(self, name)
+            h.update(name.encode() + (b"-" if a is None else np.ascontiguousarray(a).tobytes()))
+        return h.hexdigest()[:16]
+
+    @property
+    def vertical_speed(self) -> np.ndarray:
+        """Measured vertical speed (m/s, positive up): ``-d(depth)/dt`` by central differences (one-sided at the
+        ends), as gliderflight's ``compute_dhdt``."""
+        return -np.gradient(self.depth) / np.gradient(self.time)
+
+    @property
+    def dive_number(self) -> np.ndarray:
+        """Number of the dive each sample belongs to (0, 1, ...): a dive starts where the glider leaves the
+        surface layer (depth above :data:`MIN_DIVE_DEPTH`) and ends where it comes back."""
+        below = self.depth > MIN_DIVE_DEPTH
+        starts = below & ~np.concatenate(([False], below[:-1]))
+        return np.maximum(np.cumsum(starts) - 1, 0)
+
+    def mask(self, settings: MaskSettings = DEFAULT_MASK) -> np.ndarray:
+        """The samples a flight-model fit uses (True: used).
+
+        Leaves out the surface layer, the samples near each dive's deepest point (pumping and pitching over) and
+        shallow pitch (:class:`MaskSettings`).
+
+        Parameters
+        ----------
+        settings : MaskSettings, optional
+            The depths and pitch limit; default :data:`DEFAULT_MASK`.
+
+        Returns
+        -------
+        ndarray of bool
+
+        Raises
+        ------
+        RecordError
+            If ``settings`` is not a :class:`MaskSettings`.
+        """
+        if not isinstance(settings, MaskSettings):
+            raise RecordError(f"settings must be a MaskSettings, got {type(settings).__name__}")
+        dive = self.dive_number
+        bottom = np.zeros(len(self))
+        for k in np.unique(dive):
+            sel = dive == k
+            bottom[sel] = self.depth[sel].max()
+        return ((self.depth >= settings.surface_depth) & (self.depth <= bottom - settings.inflection_margin)
+                & (np.abs(self.pitch) >= settings.min_pitch))
+
+    def plot(self, axes: Any = None) -> Any:
+        """Depth, pitch and pumped volume against time, with the default fit mask shaded.
+
+        Parameters
+        ----------
+        axes : sequence of three Axes, optional
+            Where to draw; a new figure otherwise.
+
+        Returns
+        -------
+        ndarray of Axes
+        """
+        from .plotting import plot_dive_record
+
+        return plot_dive_record(self, axes)
+
+
+def _require_dbdreader() -> Any:
+    try:
+        import dbdreader
+    except ImportError:
+        raise RecordError("reading Slocum binary files needs the optional package dbdreader: "
+                          "pip install 'glidectl[data]'") from None
+    return dbdreader
+
+
+def _read_slocum(path: Path, cache_dir: str | None) -> DiveRecord:
+    dbdreader = _require_dbdreader()
+    kwargs = {} if cache_dir is None else {"cacheDir": str(cache_dir)}
+    try:
+        dbd = dbdreader.DBD(str(path), **kwargs)
+    except Exception as exc:  # dbdreader raises its own error types for unreadable files and missing cache files
+        raise RecordError(f"cannot read Slocum file '{path}': {exc}") from None
+    try:
+        listed = dbd.parameterNames  # a list (DBD) or a dict of lists by 'eng' and 'sci' (MultiDBD)
+        names = set(listed) if isinstance(listed, list) else {n for v in listed.values() for n in v}
+        volume_name = next((n for n in ("m_de_oil_vol", "m_ballast_pumped")
+                            if n in names and dbd.get(n)[0].size > 2), None)
+        missing = [n for n in ("m_pressure", "m_pitch") if n not in names]
+        if volume_name is None:
+            missing.append("m_de_oil_vol or m_ballast_pumped")
+        if missing:
+            raise RecordError(f"Slocum file '{path}' does not log {', '.join(missing)}")
+        extra = [n for n in ("m_roll", "m_heading") if n in names]
+        arrays = dbd.get_sync("m_pressure", "m_pitch", volume_name, *extra)
+    finally:
+        dbd.close()
+    t, pressure, pitch, volume = arrays[:4]
+    opt = dict(zip(("roll", "heading"), arrays[4:], strict=False))
+    keep = np.isfinite(t) & np.isfinite(pressure) & np.isfinite(pitch) & np.isfinite(volume)
+    for a in opt.values():
+        keep &= np.isfinite(a)
+    t, order = np.unique(t[keep], return_index=True)  # sorted, duplicated time stamps dropped
+    pick = np.flatnonzero(keep)[order]
+    depth = pressure[pick] * 1e5 / (RECORD_DENSITY * RECORD_GRAVITY)
+    return DiveRecord(t, depth, pitch[pick], volume[pick] * 1e-6,
+                      **{k: v[pick] for k, v in opt.items()}, source=str(path))
+
+
+def _read_csv(path: Path) -> DiveRecord:
+    try:
+        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
+    except (OSError, ValueError) as exc:
+        raise RecordError(f"cannot read CSV dive record '{path}': {exc}") from None
+    names = data.dtype.names or ()
+    missing = [n for n in ("time", "depth", "pitch", "buoyancy_volume") if n not in names]
+    if missing:
+        raise RecordError(f"CSV dive record '{path}' has no column(s) {', '.join(missing)}; its header must name "
+                          "time, depth, pitch, buoyancy_volume (SI units) and optionally " + ", ".join(_OPTIONAL))
+    cols = {n: np.atleast_1d(data[n]) for n in names if n in ("time", "depth", "pitch", "buoyancy_volume",
+                                                                 *_OPTIONAL)}
+    return DiveRecord(**cols, source=str(path))
+
+
+def read_dive_record(path: str | Path, cache_dir: str | Path | None = None) -> DiveRecord:
+    """Read a dive record from a Slocum binary file (through ``dbdreader``) or a CSV file in SI units.
+
+    Parameters
+    ----------
+    path : str or Path
+        A Slocum binary file (``.dbd``, ``.sbd``, ``.mbd``, ``.ebd``, ...; compressed ``.dcd`` etc. too) or a
+        ``.csv`` file whose header names ``time, depth, pitch, buoyancy_volume`` (s, m, rad, m^3) and optionally
+        ``roll, heading, density, temperature``.
+    cache_dir : str or Path, optional
+        Where ``dbdreader`` keeps (and writes) the sensor-list cache files (``.cac``) of Slocum files; default
+        ``dbdreader``'s own.
+
+    Returns
+    -------
+    DiveRecord
+        For Slocum files: ``m_pressure`` (bar) to depth with :data:`RECORD_DENSITY`, :data:`RECORD_GRAVITY`;
+        ``m_pitch``, ``m_roll``, ``m_heading`` (rad); ``m_de_oil_vol`` or ``m_ballast_pumped`` (cm^3) to m^3, on
+        the time base of ``m_pressure``; samples with a missing value are dropped.
+
+    Raises
+    ------
+    RecordError
+        A file that does not exist or cannot be read, misses a field, or whose data fail the record's checks;
+        a Slocum file without the optional ``dbdreader`` installed.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise RecordError(f"no dive record file '{p}'")
+    if p.suffix.lower() == ".csv":
+        return _read_csv(p)
+    return _read_slocum(p, None if cache_dir is None else str(cache_dir))

@@ -1,0 +1,274 @@
+"""Steady-state flight at measured pitch and buoyancy: the flight model the field calibrates on dive records.
+
+Given the pitch angle ``theta`` and the net heaviness ``m0`` (kg; positive sinks) at each sample, the steady glide
+balances weight, lift and drag (the force balance of (2.27)-(2.28), as in Merckelbach et al. 2019's steady-state
+model):
+
+    L(V^2, alpha) = m0 g cos(gamma),     D(V^2, alpha) = -m0 g sin(gamma),     gamma = theta - alpha.
+
+Every law of :func:`glidectl.hydro.lift_drag` has lift linear in ``V^2`` (``L = V^2 l(alpha)``), so the lift
+equation gives ``V^2(alpha)`` and the drag equation leaves one scalar root in ``alpha`` per sample. Its root on the
+efficient branch (the one nearest zero lift, of the largest speed) is bracketed on a geometric grid of angles from
+the zero-lift angle and refined by the Illinois method, for all samples at once: no Python loop over samples.
+
+The net heaviness of a glider with a compressible hull and a pumped volume (:func:`excess_mass`) is
+``m0 = mass - rho (volume (1 - epsilon p + alpha_T (T - T_ref)) + dV)`` at gauge pressure ``p = rho g depth``, the
+buoyancy of gliderflight's ``compute_FB_and_Fg`` with the thermal-expansion term of the ``[hydrodynamics]`` table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import checks
+from ..errors import ArgumentError, ModelError
+from ..hydro import lift_drag, zero_lift_angle
+from ..params import Vehicle
+
+__all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "excess_mass", "hull_buoyancy_keys", "steady_flight"]
+
+#: Largest angle of attack searched from the zero-lift angle (rad): 30 degrees, far past any glider's stall.
+SEARCH_ANGLE_MAX = np.pi / 6
+_GRID = np.geomspace(1e-7, 1.0, 24)  # fractions of the search range: first sign change = efficient branch
+_ITERATIONS = 50
+
+
+def hull_buoyancy_keys(veh: Vehicle) -> dict[str, float]:
+    """The hull and water values of :func:`excess_mass` with their defaults.
+
+    ``mass`` defaults to ``m + m0`` (displaced-fluid mass plus the nominal heaviness: the vehicle's mass in air for
+    the ``added`` mass model of chapter 8), ``volume`` to ``m / density`` (the hull that displaces ``m`` at the
+    surface), ``compressibility``, ``thermal_expansion`` to 0 and ``reference_temperature`` to 10 degC.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+
+    Returns
+    -------
+    dict
+        ``mass`` (kg), ``volume`` (m^3), ``compressibility`` (1/Pa), ``thermal_expansion`` (1/K),
+        ``reference_temperature`` (degC), ``density`` (kg/m^3).
+
+    Raises
+    ------
+    ModelError
+        If ``mass`` or ``volume`` is neither given nor derivable (a ``fixed`` mass model without them).
+    """
+    veh = checks.vehicle("veh", veh, kind="underwater_glider")
+    p = veh.params
+    rho = veh.density
+    mass = p.get("mass", p["m"] + p["m0"] if "m" in p and "m0" in p else None)
+    volume = p.get("volume", p["m"] / rho if "m" in p else None)
+    missing = [k for k, v in (("mass", mass), ("volume", volume)) if v is None]
+    if missing:
+        raise ModelError(f"vehicle '{veh.name}' gives no {' and no '.join(missing)} in [hydrodynamics] and has no "
+                         "displaced-fluid mass 'm' to derive them from; add them to its [hydrodynamics] table")
+    return {"mass": float(mass), "volume": float(volume), "compressibility": p.get("compressibility", 0.0),
+            "thermal_expansion": p.get("thermal_expansion", 0.0),
+            "reference_temperature": p.get("reference_temperature", 10.0), "density": rho}
+
+
+def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = None,
+                temperature: Any = None) -> np.ndarray:
+    """Net heaviness ``m0`` (kg, positive sinks) of a compressible hull with a pumped volume.
+
+    ``m0 = mass - rho (volume (1 - compressibility p + thermal_expansion (T - reference_temperature)) + dV)`` with
+    the gauge pressure ``p = rho g depth`` (:func:`hull_buoyancy_keys` for the values and their defaults).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+    depth : array_like
+        Depth (m, positive down).
+    pumped_volume : array_like
+        Volume added to the hull by the buoyancy engine (m^3; negative: oil drawn in, the glider sinks).
+    density : array_like, optional
+        In-situ density (kg/m^3); default the vehicle's.
+    temperature : array_like, optional
+        Water temperature (degC); default the reference temperature (no thermal expansion).
+
+    Returns
+    -------
+    ndarray
+        ``m0`` (kg), broadcast over the inputs.
+
+    Raises
+    ------
+    ModelError
+        If the hull's mass or volume is unknown (:func:`hull_buoyancy_keys`).
+    ArgumentTypeError
+        If an array argument is not numeric.
+    """
+    h = hull_buoyancy_keys(veh)
+    rho = h["density"] if density is None else checks.numeric("density", density)
+    depth = checks.numeric("depth", depth)
+    dv = checks.numeric("pumped_volume", pumped_volume)
+    dT = 0.0 if temperature is None else checks.numeric("temperature", temperature) - h["reference_temperature"]
+    p = rho * veh.g * depth
+    hull = h["volume"] * (1.0 - h["compressibility"] * p + h["thermal_expansion"] * dT)
+    return np.asarray(h["mass"] - rho * (hull + dv), dtype=float)
+
+
+@dataclass(frozen=True)
+class SteadyFlight:
+    """Steady-state glide at each sample (:func:`steady_flight`).
+
+    Attributes
+    ----------
+    theta, m0 : ndarray
+        The pitch (rad) and net heaviness (kg) the flight was solved at.
+    speed : ndarray
+        Speed through the water (m/s); 0 where no steady glide exists.
+    alpha : ndarray
+        Angle of attack (rad); NaN where no steady glide exists.
+    gamma : ndarray
+        Flight-path angle ``theta - alpha`` (rad, positive climbing); NaN where no steady glide exists.
+    vertical_speed, horizontal_speed : ndarray
+        ``speed sin(gamma)`` (m/s, positive up) and ``speed cos(gamma)`` (m/s); 0 where no steady glide exists.
+    feasible : ndarray of bool
+        Where a steady glide exists: heaviness and pitch allow the force balance within
+        :data:`SEARCH_ANGLE_MAX` of zero lift (neutral samples, ``m0 = 0``, are not).
+    vehicle : Vehicle
+        The vehicle (its law and coefficients).
+    """
+
+    theta: np.ndarray
+    m0: np.ndarray
+    speed: np.ndarray
+    alpha: np.ndarray
+    gamma: np.ndarray
+    vertical_speed: np.ndarray
+    horizontal_speed: np.ndarray
+    feasible: np.ndarray
+    vehicle: Vehicle = field(repr=False, compare=False)
+
+    @property
+    def provenance(self) -> str:
+        """The vehicle's parameter hash."""
+        return self.vehicle.provenance
+
+
+def _residual(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, alpha: np.ndarray,
+              rho: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Drag balance ``(D + W sin(theta - alpha)) / |W|`` and ``V^2`` from the lift balance, at ``alpha``."""
+    gamma = theta - alpha
+    lift_unit, _ = lift_drag(veh, 1.0, alpha, rho)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        V2 = weight * np.cos(gamma) / lift_unit
+        _, D = lift_drag(veh, np.maximum(V2, 0.0), alpha, rho)
+        r = (D + weight * np.sin(gamma)) / np.abs(weight)
+    return np.where(V2 > 0, r, np.inf), V2
+
+
+def _bracket(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, rho: Any, a0: float,
+             sign: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The first sign change of the residual on the grid of angles from zero lift: its ends and whether found."""
+    span = sign[:, None] * SEARCH_ANGLE_MAX * _GRID[None, :]
+    alphas = a0 + span
+    rho_b = rho if np.ndim(rho) == 0 else np.asarray(rho)[:, None]
+    r, _ = _residual(veh, theta[:, None], weight[:, None], alphas, rho_b)
+    neg = r <= 0
+    found = neg.any(axis=1) & (sign != 0)
+    k = np.argmax(neg, axis=1)
+    rows = np.arange(theta.size)
+    hi = alphas[rows, k]
+    lo = np.where(k > 0, alphas[rows, np.maximum(k - 1, 0)], a0)
+    return lo, hi, found
+
+
+def _illinois(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, rho: Any, lo: np.ndarray,
+              hi: np.ndarray) -> np.ndarray:
+    """Refine the bracketed roots by the Illinois variant of regula falsi (all samples at once)."""
+    f_lo, _ = _residual(veh, theta, weight, lo, rho)
+    f_hi, _ = _residual(veh, theta, weight, hi, rho)
+    f_lo = np.where(np.isfinite(f_lo), f_lo, 1e300)
+    side = np.zeros(theta.shape, dtype=int)
+    x = hi.copy()
+    for _ in range(_ITERATIONS):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            x = np.where(f_lo >= 1e300, 0.5 * (lo + hi), (lo * f_hi - hi * f_lo) / (f_hi - f_lo))
+        x = np.where(np.isfinite(x) & ((x - lo) * (x - hi) <= 0), x, 0.5 * (lo + hi))
+        fx, _ = _residual(veh, theta, weight, x, rho)
+        fx = np.where(np.isfinite(fx), fx, 1e300)
+        left = fx > 0  # root between x and hi (the residual falls through zero from lo to hi)
+        lo, hi = np.where(left, x, lo), np.where(left, hi, x)
+        f_lo_new, f_hi_new = np.where(left, fx, f_lo), np.where(left, f_hi, fx)
+        # Illinois: halve the retained end's value when the same end is kept twice
+        f_hi_new = np.where(left & (side == 1), 0.5 * f_hi_new, f_hi_new)
+        f_lo_new = np.where(~left & (side == -1), 0.5 * f_lo_new, f_lo_new)
+        side = np.where(left, 1, -1)
+        f_lo, f_hi = f_lo_new, f_hi_new
+        if np.all((np.abs(hi - lo) <= 2e-15 * np.abs(x)) | (fx == 0)):
+            break
+    return x
+
+
+def steady_flight(veh: Vehicle, theta: Any, m0: Any, *, density: Any = None) -> SteadyFlight:
+    """Steady glide at given pitch and net heaviness, at every sample (vectorized).
+
+    Solves ``L = m0 g cos(gamma)``, ``D = -m0 g sin(gamma)``, ``gamma = theta - alpha`` ((2.27)-(2.28) with the
+    vehicle's lift and drag law, :func:`glidectl.hydro.lift_drag`) for ``alpha`` and the speed, taking the root of
+    the efficient branch (nearest zero lift). Relative accuracy of ``alpha`` about 1e-14.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider (any law).
+    theta : array_like
+        Pitch angle (rad, nose up positive).
+    m0 : array_like
+        Net heaviness (kg, positive sinks), e.g. from :func:`excess_mass`.
+    density : array_like, optional
+        In-situ density (kg/m^3) for the laws written with ``q = rho V^2 / 2``; default the vehicle's.
+
+    Returns
+    -------
+    SteadyFlight
+
+    Raises
+    ------
+    ArgumentTypeError
+        If an array argument is not numeric.
+    ArgumentError
+        If an array argument is not finite or the shapes do not broadcast.
+    """
+    veh = checks.vehicle("veh", veh, kind="underwater_glider")
+    theta_in = np.asarray(checks.numeric("theta", theta), dtype=float)
+    m0_in = np.asarray(checks.numeric("m0", m0), dtype=float)
+    arrays = [theta_in, m0_in] + ([] if density is None else [np.asarray(checks.numeric("density", density),
+                                                                         dtype=float)])
+    for name, a in zip(("theta", "m0", "density"), arrays, strict=False):
+        if not np.all(np.isfinite(a)):
+            raise ArgumentError(f"{name} must be finite at every sample ({int(np.sum(~np.isfinite(a)))} are not)")
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError as exc:
+        raise ArgumentError(f"theta, m0 and density must broadcast together: {exc}") from None
+    th = np.broadcast_to(theta_in, shape).ravel()
+    mm = np.broadcast_to(m0_in, shape).ravel()
+    rho = None if density is None else np.broadcast_to(arrays[2], shape).ravel()
+    weight = mm * veh.g
+    sign = np.sign(weight)
+    a0 = zero_lift_angle(veh)
+    lo, hi, found = _bracket(veh, th, weight, rho, a0, sign)
+    alpha = np.full(th.shape, np.nan)
+    speed = np.zeros(th.shape)
+    if found.any():
+        idx = np.flatnonzero(found)
+        rho_f = None if rho is None else rho[idx]
+        a = _illinois(veh, th[idx], weight[idx], rho_f, lo[idx], hi[idx])
+        _, V2 = _residual(veh, th[idx], weight[idx], a, rho_f)
+        alpha[idx], speed[idx] = a, np.sqrt(np.maximum(V2, 0.0))
+    gamma = th - alpha
+    with np.errstate(invalid="ignore"):
+        w = np.where(found, speed * np.sin(gamma), 0.0)
+        u = np.where(found, speed * np.cos(gamma), 0.0)
+    out = [x.reshape(shape) for x in (np.broadcast_to(theta_in, shape).copy(), np.broadcast_to(m0_in, shape).copy(),
+                                      speed, alpha, gamma, w, u, found)]
+    return SteadyFlight(*out, vehicle=veh)
