@@ -1015,3 +1015,80 @@ def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any]
     ax.legend(loc="lower right", fontsize=7)
     ax.grid(True, alpha=0.3)
     return ax.figure
+
+
+# ------------------------------------------------------------------------------------------------ dive records
+def plot_dive_record(record: Any, ax: Any = None) -> Any:
+    """A dive record: depth, pitch and pumped volume against time, the default fit mask's samples marked.
+
+    Parameters
+    ----------
+    record : DiveRecord
+    ax : array of 3 axes, optional
+        Default a new figure.
+
+    Returns
+    -------
+    ndarray of Axes
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` is not 3 axes.
+    """
+    axes = _axes(ax, 3, "DiveRecord.plot", width=7.5, height=6.5, sharex=True)
+    t = (record.time - record.time[0]) / 60.0
+    used = record.mask()
+    axes[0].plot(t, record.depth, "C0", lw=1, label="depth")
+    axes[0].plot(t[used], record.depth[used], ".", color="C2", ms=2, label="used by a fit (default mask)")
+    axes[0].invert_yaxis()
+    axes[0].set_ylabel("depth [m]")
+    axes[0].legend(loc="best", fontsize=7)
+    axes[1].plot(t, np.degrees(record.pitch), "C1", lw=1)
+    axes[1].set_ylabel(r"pitch $\theta$ [deg]")
+    axes[2].plot(t, record.buoyancy_volume * 1e6, "C3", lw=1)
+    axes[2].set_ylabel("pumped volume [cm$^3$]")
+    axes[2].set_xlabel("time since start [min]")
+    axes[0].set_title(f"dive record {textwrap.shorten(str(record.source).split('/')[-1], 60)}: {len(record)} "
+                      f"samples, {int(used.sum())} used")
+    return axes
+
+
+def plot_flight_fit(fit: Any, ax: Any = None) -> Any:
+    """A flight-model fit: measured and modelled vertical speed against time, and the residual against depth.
+
+    Parameters
+    ----------
+    fit : FlightFit
+    ax : array of 2 axes, optional
+        Default a new figure.
+
+    Returns
+    -------
+    ndarray of Axes
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` is not 2 axes.
+    """
+    axes = _axes(ax, 2, "FlightFit.plot", width=7.5, height=6.0)
+    rec, used = fit.record, fit.used
+    t = (rec.time - rec.time[0]) / 60.0
+    model = fit.predict()
+    a = axes[0]
+    a.plot(t, rec.vertical_speed, "C7", lw=0.8, label="measured $-dz/dt$")
+    a.plot(t, model.vertical_speed, "C0", lw=1.2, label=f"modelled ({fit.law} law)")
+    a.plot(t[~used], rec.vertical_speed[~used], "x", color="C3", ms=3, label="left out by the mask")
+    a.set_xlabel("time since start [min]")
+    a.set_ylabel("vertical speed [m/s]")
+    a.legend(loc="best", fontsize=7)
+    cv = "" if fit.cv_rms is None else f", cross-validated {fit.cv_rms:.4f} m/s"
+    a.set_title(f"{fit.law} law: RMS {fit.rms:.4f} m/s{cv}")
+    b = axes[1]
+    b.plot(fit.residual, rec.depth[used], ".", ms=2, color="C0")
+    b.axvline(0.0, color="k", lw=0.8)
+    b.invert_yaxis()
+    b.set_xlabel("modelled - measured vertical speed [m/s]")
+    b.set_ylabel("depth [m]")
+    return axes

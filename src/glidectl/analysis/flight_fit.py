@@ -20,7 +20,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..errors import ArgumentError, OutputError, RecordError, SolverError
-from ..hydro import gliderflight_coefficients, lift_drag
+from ..hydro import lift_drag
 from ..params import GLIDERFLIGHT_DEFAULTS, HYDRO_SPECS, THESIS_LIFT_DRAG_KEYS, Vehicle
 from ..records import DEFAULT_MASK, DiveRecord, MaskSettings
 from ..trim.flight import SteadyFlight, excess_mass, hull_buoyancy_keys, steady_flight
@@ -55,8 +55,9 @@ def law_start(veh: Vehicle, law: str) -> Vehicle:
 
     The lift slope, the zero-incidence drag and the drag's ``alpha^2`` factor at ``V = MATCH_SPEED`` are carried
     over; a Seaglider law takes the vehicle's ``length`` or :data:`SEAGLIDER_LENGTH`, a gliderflight law
-    gliderflight's wing defaults (:data:`~glidectl.params.GLIDERFLIGHT_DEFAULTS`) with ``Cd1`` and ``ah`` set by
-    the match. This is where a fit with a named law starts.
+    gliderflight's wing defaults (:data:`~glidectl.params.GLIDERFLIGHT_DEFAULTS`) with ``Cd0``, ``Cd1`` and the
+    wing lift slope ``aw`` set by the match (and ``ah`` lowered where the matched slope is below it). This is
+    where a fit with a named law starts.
 
     Parameters
     ----------
@@ -91,10 +92,10 @@ def law_start(veh: Vehicle, law: str) -> Vehicle:
                                       hd_c=d2 / (deg**2 * 0.5 * rho * length**2))
     gf = {k: veh.params.get(k, v) for k, v in GLIDERFLIGHT_DEFAULTS.items()}
     half_rho_s = 0.5 * rho * gf["S"]
-    probe = veh.with_hydrodynamics("gliderflight", source=src, Cd0=d0 / half_rho_s, **gf)
-    slope_gf, _, _ = gliderflight_coefficients(probe)  # ah + aw with the default wing
-    aw = slope_gf - gf["ah"]
-    return probe.with_hydrodynamics(source=src, ah=max(slope / half_rho_s - aw, 0.0), Cd1=d2 / half_rho_s)
+    total = slope / half_rho_s  # ah + aw; the hull keeps gliderflight's ah where the total allows it
+    gf["ah"] = min(gf["ah"], total)
+    return veh.with_hydrodynamics("gliderflight", source=src, Cd0=d0 / half_rho_s, Cd1=d2 / half_rho_s,
+                                  aw=total - gf["ah"], **gf)
 
 
 @dataclass(frozen=True)

@@ -252,7 +252,8 @@ def glide_envelope(veh: Vehicle, speeds: Any, gammas: Any, *, r_p3: float | None
         raise InfeasibleGlideError(f"r_p3 = {r3:g} m is outside the range of actuator 'r_P3' of vehicle "
                                    f"'{veh.name}' ({act3.describe()}); leave r_p3 at its default or choose one "
                                    "in range")
-    gamma_bounds = permissible_gamma(veh)  # InfeasibleGlideError when K_D = 0
+    # InfeasibleGlideError when K_D = 0; the seaglider law's set widens with speed: the widest (fastest) is drawn
+    gamma_bounds = permissible_gamma(veh, float(V.max()) if veh.law == "seaglider" else None)
     tr = glide_trim_arrays(veh, V[:, None], G[None, :], r_p3=r3)
     if np.any(tr.status == UNDERFLOW):
         i = int(np.argmax(np.any(tr.status == UNDERFLOW, axis=1)))

@@ -18,6 +18,7 @@ buoyancy of gliderflight's ``compute_FB_and_Fg`` with the thermal-expansion term
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -28,7 +29,8 @@ from ..errors import ArgumentError, ModelError
 from ..hydro import lift_drag, zero_lift_angle
 from ..params import Vehicle
 
-__all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "excess_mass", "hull_buoyancy_keys", "steady_flight"]
+__all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", "hull_buoyancy_keys",
+           "steady_flight"]
 
 #: Largest angle of attack searched from the zero-lift angle (rad): 30 degrees, far past any glider's stall.
 SEARCH_ANGLE_MAX = np.pi / 6
@@ -154,49 +156,68 @@ class SteadyFlight:
         return self.vehicle.provenance
 
 
-def _residual(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, alpha: np.ndarray,
-              rho: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Drag balance ``(D + W sin(theta - alpha)) / |W|`` and ``V^2`` from the lift balance, at ``alpha``."""
-    gamma = theta - alpha
-    lift_unit, _ = lift_drag(veh, 1.0, alpha, rho)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        V2 = weight * np.cos(gamma) / lift_unit
-        _, D = lift_drag(veh, np.maximum(V2, 0.0), alpha, rho)
-        r = (D + weight * np.sin(gamma)) / np.abs(weight)
-    return np.where(V2 > 0, r, np.inf), V2
+def _rows(a: Any, rows: np.ndarray, ndim: int) -> Any:
+    """Per-sample values ``a[rows]`` shaped to broadcast against an ``ndim``-dimensional array of angles."""
+    if a is None or np.ndim(a) == 0:
+        return a
+    out = np.asarray(a)[rows]
+    return out[:, None] if ndim == 2 else out
 
 
-def _bracket(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, rho: Any, a0: float,
-             sign: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The first sign change of the residual on the grid of angles from zero lift: its ends and whether found."""
-    span = sign[:, None] * SEARCH_ANGLE_MAX * _GRID[None, :]
-    alphas = a0 + span
-    rho_b = rho if np.ndim(rho) == 0 else np.asarray(rho)[:, None]
-    r, _ = _residual(veh, theta[:, None], weight[:, None], alphas, rho_b)
+def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0: float,
+                   sign: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The root of a force-balance residual on the efficient branch, for many samples at once.
+
+    ``residual(alpha, rows)`` evaluates the residual of samples ``rows`` (an index array) at angles of attack
+    ``alpha`` of shape ``(len(rows),)`` or ``(len(rows), k)``; it is positive just off the zero-lift angle ``a0`` on
+    the side ``sign`` (the lift's sign; 0: no root) and falls through zero at the root. The first sign change on a
+    geometric grid of angles up to :data:`SEARCH_ANGLE_MAX` from ``a0`` brackets the root of the largest speed,
+    which the Illinois variant of regula falsi refines to a few ulps. No Python loop over samples.
+
+    Parameters
+    ----------
+    residual : callable
+        ``residual(alpha, rows) -> ndarray`` as above (non-finite values count as positive).
+    a0 : float
+        Zero-lift angle of attack (rad).
+    sign : ndarray
+        Sign of the lift at each sample (+1, -1, or 0 for no root).
+
+    Returns
+    -------
+    alpha : ndarray
+        The root (rad), NaN where none was bracketed.
+    found : ndarray of bool
+        Where a root was bracketed.
+    """
+    sign = np.asarray(sign, dtype=float)
+    rows = np.arange(sign.size)
+    alphas = a0 + sign[:, None] * SEARCH_ANGLE_MAX * _GRID[None, :]
+    r = np.nan_to_num(residual(alphas, rows), nan=np.inf)
     neg = r <= 0
     found = neg.any(axis=1) & (sign != 0)
     k = np.argmax(neg, axis=1)
-    rows = np.arange(theta.size)
     hi = alphas[rows, k]
     lo = np.where(k > 0, alphas[rows, np.maximum(k - 1, 0)], a0)
-    return lo, hi, found
+    alpha = np.full(sign.shape, np.nan)
+    idx = np.flatnonzero(found)
+    if idx.size:
+        alpha[idx] = _illinois(lambda a: np.nan_to_num(residual(a, idx), nan=np.inf, posinf=1e300), lo[idx],
+                               hi[idx])
+    return alpha, found
 
 
-def _illinois(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, rho: Any, lo: np.ndarray,
-              hi: np.ndarray) -> np.ndarray:
-    """Refine the bracketed roots by the Illinois variant of regula falsi (all samples at once)."""
-    f_lo, _ = _residual(veh, theta, weight, lo, rho)
-    f_hi, _ = _residual(veh, theta, weight, hi, rho)
-    f_lo = np.where(np.isfinite(f_lo), f_lo, 1e300)
-    side = np.zeros(theta.shape, dtype=int)
+def _illinois(f: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Refine bracketed roots (``f(lo) > 0 >= f(hi)``) by the Illinois variant of regula falsi."""
+    f_lo, f_hi = np.minimum(f(lo), 1e300), f(hi)
+    side = np.zeros(lo.shape, dtype=int)
     x = hi.copy()
     for _ in range(_ITERATIONS):
         with np.errstate(divide="ignore", invalid="ignore"):
             x = np.where(f_lo >= 1e300, 0.5 * (lo + hi), (lo * f_hi - hi * f_lo) / (f_hi - f_lo))
         x = np.where(np.isfinite(x) & ((x - lo) * (x - hi) <= 0), x, 0.5 * (lo + hi))
-        fx, _ = _residual(veh, theta, weight, x, rho)
-        fx = np.where(np.isfinite(fx), fx, 1e300)
-        left = fx > 0  # root between x and hi (the residual falls through zero from lo to hi)
+        fx = np.minimum(f(x), 1e300)
+        left = fx > 0  # the root lies between x and hi
         lo, hi = np.where(left, x, lo), np.where(left, hi, x)
         f_lo_new, f_hi_new = np.where(left, fx, f_lo), np.where(left, f_hi, fx)
         # Illinois: halve the retained end's value when the same end is kept twice
@@ -207,6 +228,13 @@ def _illinois(veh: Vehicle, theta: np.ndarray, weight: np.ndarray, rho: Any, lo:
         if np.all((np.abs(hi - lo) <= 2e-15 * np.abs(x)) | (fx == 0)):
             break
     return x
+
+
+def _speed_squared(veh: Vehicle, theta: Any, weight: Any, alpha: np.ndarray, rho: Any) -> np.ndarray:
+    """``V^2`` from the lift balance ``V^2 l(alpha) = W cos(theta - alpha)`` (lift is linear in ``V^2``)."""
+    lift_unit, _ = lift_drag(veh, 1.0, alpha, rho)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return weight * np.cos(theta - alpha) / lift_unit
 
 
 def steady_flight(veh: Vehicle, theta: Any, m0: Any, *, density: Any = None) -> SteadyFlight:
@@ -254,17 +282,19 @@ def steady_flight(veh: Vehicle, theta: Any, m0: Any, *, density: Any = None) -> 
     mm = np.broadcast_to(m0_in, shape).ravel()
     rho = None if density is None else np.broadcast_to(arrays[2], shape).ravel()
     weight = mm * veh.g
-    sign = np.sign(weight)
-    a0 = zero_lift_angle(veh)
-    lo, hi, found = _bracket(veh, th, weight, rho, a0, sign)
-    alpha = np.full(th.shape, np.nan)
+
+    def residual(alpha: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        # drag balance (D + W sin(theta - alpha)) / |W| at the speed of the lift balance
+        t, w, r = (_rows(a, rows, alpha.ndim) for a in (th, weight, rho))
+        V2 = _speed_squared(veh, t, w, alpha, r)
+        _, D = lift_drag(veh, np.maximum(V2, 0.0), alpha, r)
+        with np.errstate(invalid="ignore"):
+            return np.where(V2 > 0, (D + w * np.sin(t - alpha)) / np.abs(w), np.inf)
+
+    alpha, found = efficient_root(residual, zero_lift_angle(veh), np.sign(weight))
     speed = np.zeros(th.shape)
-    if found.any():
-        idx = np.flatnonzero(found)
-        rho_f = None if rho is None else rho[idx]
-        a = _illinois(veh, th[idx], weight[idx], rho_f, lo[idx], hi[idx])
-        _, V2 = _residual(veh, th[idx], weight[idx], a, rho_f)
-        alpha[idx], speed[idx] = a, np.sqrt(np.maximum(V2, 0.0))
+    speed[found] = np.sqrt(np.maximum(_speed_squared(veh, th[found], weight[found], alpha[found],
+                                                     None if rho is None else rho[found]), 0.0))
     gamma = th - alpha
     with np.errstate(invalid="ignore"):
         w = np.where(found, speed * np.sin(gamma), 0.0)

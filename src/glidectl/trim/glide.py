@@ -39,9 +39,11 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, SolverError
+from ..hydro import lift_drag, zero_lift_angle
 from ..models.glider3d import R_P_MAX
 from ..models.longitudinal import LongitudinalGlider
 from ..params import Vehicle
+from .flight import SEARCH_ANGLE_MAX, efficient_root
 
 __all__ = ["RESIDUAL_TOL", "SPEED_MAX", "SteadyGlide", "alpha_for_gamma", "permissible_gamma", "steady_glide"]
 
@@ -59,8 +61,28 @@ def _check_glider(veh: Any) -> Vehicle:
     return veh
 
 
-def _shallowest(veh: Vehicle) -> tuple[float, float, float, float]:
+def _shallowest_law(veh: Vehicle, speed: float | None) -> tuple[float, float, float, float]:
+    """alpha and |tan gamma| of the shallowest glides of a law other than the thesis's: the smallest drag-to-lift
+    ratio, found numerically (its lift and drag are odd and even in alpha, so the up glide mirrors the down one)."""
+    from scipy.optimize import minimize_scalar
+
+    if veh.law == "seaglider" and speed is None:
+        raise ArgumentError(f"vehicle '{veh.name}' uses the seaglider law, whose glide ratio depends on the speed "
+                            "(drag hd_b q^(-1/4)): pass speed= (m/s)")
+    V2 = 1.0 if speed is None else float(speed) ** 2
+
+    def ratio(a: float) -> float:
+        L, D = lift_drag(veh, V2, a)
+        return float(D / L)
+
+    res = minimize_scalar(ratio, bounds=(1e-9, SEARCH_ANGLE_MAX), method="bounded", options={"xatol": 1e-13})
+    return float(res.x), float(res.fun), -float(res.x), float(res.fun)
+
+
+def _shallowest(veh: Vehicle, speed: float | None = None) -> tuple[float, float, float, float]:
     """alpha and |tan gamma| of the shallowest downward and upward glides."""
+    if veh.law != "thesis":
+        return _shallowest_law(veh, speed)
     KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
     if KD == 0:
         raise InfeasibleGlideError(
@@ -72,13 +94,19 @@ def _shallowest(veh: Vehicle) -> tuple[float, float, float, float]:
     return a_down, 2 * KD * a_down / KL, a_up, -2 * KD * a_up / KL
 
 
-def permissible_gamma(veh: Vehicle) -> tuple[float, float]:
+def permissible_gamma(veh: Vehicle, speed: float | None = None) -> tuple[float, float]:
     """Bounds of the permissible flight-path-angle set (2.26), reconstructed (see module docstring).
+
+    For the thesis law the bounds are closed-form; for the other lift and drag laws
+    (:func:`glidectl.hydro.lift_drag`) they come from the smallest drag-to-lift ratio, found numerically.
 
     Parameters
     ----------
     veh : Vehicle
-        Underwater glider with ``K_D0, K_D, K_L0, K_L``.
+        Underwater glider (thesis law: ``K_D0, K_D, K_L0, K_L``).
+    speed : float, optional
+        Glide speed (m/s): needed for the seaglider law, whose glide ratio improves with speed; the thesis and
+        gliderflight laws' ratios do not depend on it.
 
     Returns
     -------
@@ -94,9 +122,13 @@ def permissible_gamma(veh: Vehicle) -> tuple[float, float]:
         If ``veh`` is not an underwater glider.
     InfeasibleGlideError
         If ``K_D = 0`` (the glide ratio has no minimum, so the permissible set is not defined).
+    ArgumentError
+        For the seaglider law without ``speed``, or a speed that is not positive and finite.
     """
     _check_glider(veh)
-    _, t_down, _, t_up = _shallowest(veh)
+    if speed is not None:
+        speed = checks.real("speed", speed, lo=0.0, lo_open=True, hi=SPEED_MAX, unit="m/s")
+    _, t_down, _, t_up = _shallowest(veh, speed)
     return -math.atan(t_down), math.atan(t_up)
 
 
@@ -203,14 +235,16 @@ class SteadyGlide:
         return {**out, "vehicle": self.vehicle.name, "provenance": self.provenance}
 
 
-def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
+def alpha_for_gamma(veh: Vehicle, gamma: float, speed: float | None = None) -> float:
     """Angle of attack (rad) of the steady glide at flight-path angle ``gamma`` (rad): the force balance (2.26).
 
     In a steady glide the lift and drag balance the net weight, so ``tan(gamma) = -K_D(alpha) / K_L(alpha)`` with
     ``K_D = K_D0 + K_D alpha^2`` and ``K_L = K_L0 + K_L alpha`` (kg/m). With ``t = |tan(gamma)|`` and ``s`` the sign
     of the lift (``s = 1`` gliding down, ``gamma < 0``; ``s = -1`` gliding up) this is the quadratic
     ``K_D alpha^2 - s t K_L alpha + (K_D0 - s t K_L0) = 0``; of its roots with lift of sign ``s`` the one of
-    smallest ``|alpha|`` is returned (solved in the cancellation-free form). The speed does not enter.
+    smallest ``|alpha|`` is returned (solved in the cancellation-free form). The speed does not enter. For the
+    other lift and drag laws the balance ``D cos(gamma) + L sin(gamma) = 0`` is solved numerically for the root
+    nearest zero lift (:func:`glidectl.trim.flight.efficient_root`); the seaglider law needs the speed.
 
     Parameters
     ----------
@@ -218,6 +252,8 @@ def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
         Underwater glider; uses ``K_D0``, ``K_D``, ``K_L0``, ``K_L`` (kg/m, kg/m/rad^2, kg/m, kg/m/rad).
     gamma : float
         Flight-path angle (rad), ``0 < |gamma| < pi/2``; negative gliding down.
+    speed : float, optional
+        Glide speed (m/s); needed for the seaglider law only.
 
     Returns
     -------
@@ -241,7 +277,10 @@ def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
     if not abs(gamma) < math.pi / 2:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg: a steady glide needs "
                                    "|gamma| < 90 deg")
-    alpha, why = _alpha_array(veh, np.array([gamma]))
+    if speed is None and veh.law == "seaglider":
+        raise ArgumentError(f"vehicle '{veh.name}' uses the seaglider law, whose glide angle of attack depends on "
+                            "the speed: pass speed= (m/s)")
+    alpha, why = _alpha_array(veh, np.array([gamma]), None if speed is None else np.array([float(speed)]))
     if why[0] == _NO_ROOT:
         raise InfeasibleGlideError(f"no steady glide at gamma = {math.degrees(gamma):.4f} deg for vehicle "
                                    f"'{veh.name}': outside the permissible set (2.26)")
@@ -255,14 +294,34 @@ def alpha_for_gamma(veh: Vehicle, gamma: float) -> float:
 _NO_ROOT, _WRONG_SIGN = 1, 2
 
 
-def _alpha_array(veh: Vehicle, gamma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _alpha_law(veh: Vehicle, gamma: np.ndarray, speed: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_alpha_array` for a law other than the thesis's: the root of ``D cos(gamma) + L sin(gamma)`` nearest
+    zero lift, at speed ``speed`` (m/s; 1 where the law's ratio does not depend on it)."""
+    gam, V = np.broadcast_arrays(gamma, 1.0 if speed is None else np.asarray(speed, dtype=float))
+    g, V2 = gam.ravel(), (V * V).ravel()
+
+    def residual(alpha: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        gr, vr = (g[rows], V2[rows]) if alpha.ndim == 1 else (g[rows, None], V2[rows, None])
+        L, D = lift_drag(veh, vr, alpha)
+        return (D * np.cos(gr) + L * np.sin(gr)) / np.maximum(np.abs(D), 1e-300)
+
+    inside = (np.abs(g) < math.pi / 2) & (g != 0)
+    alpha, found = efficient_root(residual, zero_lift_angle(veh), np.where(inside, -np.sign(g), 0.0))
+    why = np.where(found, 0, _NO_ROOT).astype(np.int8)
+    return alpha.reshape(gam.shape), why.reshape(gam.shape)
+
+
+def _alpha_array(veh: Vehicle, gamma: np.ndarray, speed: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Vectorized core of :func:`alpha_for_gamma`: ``alpha`` (NaN where none) and a reason code per point.
 
     Same quadratic and root choice as documented there, elementwise over ``gamma`` (rad, any shape, finite). The
     reason is 0 (found), ``_NO_ROOT`` (no real root, ``|gamma| >= pi/2`` or ``K_D = 0`` at ``gamma = 0``) or
-    ``_WRONG_SIGN`` (no root with lift of the sign the glide needs).
+    ``_WRONG_SIGN`` (no root with lift of the sign the glide needs). Laws other than the thesis's:
+    :func:`_alpha_law` at ``speed`` (m/s).
     """
     gamma = np.asarray(gamma, dtype=float)
+    if veh.law != "thesis":
+        return _alpha_law(veh, gamma, speed)
     KD0, KD, KL0, KL = veh.K_D0, veh.K_D, veh.K_L0, veh.K_L
     with np.errstate(all="ignore"):
         t = np.abs(np.tan(gamma))
@@ -354,7 +413,7 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
         r_p3 = checks.real("r_p3 (vertical moving-mass position)", r_p3, lo=-R_P_MAX, hi=R_P_MAX, unit="m")
     if r_bh is not None:
         r_bh = checks.real("r_bh (bottom-heaviness)", r_bh, lo=-R_P_MAX, hi=R_P_MAX, unit="m")
-    lo, hi = permissible_gamma(veh)
+    lo, hi = permissible_gamma(veh, V if veh.law == "seaglider" else None)
     set_text = (f"permissible flight-path angles for '{veh.name}' (2.26): gamma < {math.degrees(lo):.4f} deg "
                 f"(down) or gamma > {math.degrees(hi):.4f} deg (up), |gamma| < 90 deg")
     tr = glide_trim_arrays(veh, np.array([V]), np.array([gamma]), r_p3=r_p3, r_bh=r_bh)
@@ -452,13 +511,19 @@ def glide_trim_arrays(veh: Vehicle, speed: np.ndarray, gamma: np.ndarray, *, r_p
     exactly one of ``r_p3`` / ``r_bh`` (m, scalars or arrays broadcasting with the grid). No argument checks here.
     """
     V, gam = np.broadcast_arrays(np.asarray(speed, dtype=float), np.asarray(gamma, dtype=float))
-    lo, hi = permissible_gamma(veh)
-    alpha, _ = _alpha_array(veh, gam)
-    inside = (np.abs(gam) < math.pi / 2) & ((gam < lo) | (gam > hi))
+    alpha, _ = _alpha_array(veh, gam, V)
+    if veh.law == "thesis":
+        lo, hi = permissible_gamma(veh)
+        inside = (np.abs(gam) < math.pi / 2) & ((gam < lo) | (gam > hi))
+    else:  # the root search decides: no root, no glide
+        inside = np.abs(gam) < math.pi / 2
     status = np.where(inside & np.isfinite(alpha), OK, NO_GLIDE).astype(np.int8)
     g, mbar = veh.g, veh.mbar
     with np.errstate(all="ignore"):
-        m0 = (veh.K_L0 + veh.K_L * alpha) * V * V / (g * np.cos(gam))
+        if veh.law == "thesis":
+            m0 = (veh.K_L0 + veh.K_L * alpha) * V * V / (g * np.cos(gam))
+        else:
+            m0 = lift_drag(veh, V * V, alpha)[0] / (g * np.cos(gam))
         status[(status == OK) & ~(np.abs(m0) >= sys.float_info.min)] = UNDERFLOW
         theta = gam + alpha
         v1, v3 = V * np.cos(alpha), V * np.sin(alpha)
@@ -488,7 +553,10 @@ def glide_trim_arrays(veh: Vehicle, speed: np.ndarray, gamma: np.ndarray, *, r_p
         xe = np.stack([zero, zero, theta[ok], zero, v1k, v3k, rp1k, rp3k, mbar * v1k, mbar * v3k, m0k], axis=-1)
         f = LongitudinalGlider(veh).rhs(xe, np.zeros((Vk.size, 3)))
         residual[ok] = np.max(np.abs(f[:, 2:]), axis=1)
-        L, D = (veh.K_L0 + veh.K_L * a) * Vk * Vk, (veh.K_D0 + veh.K_D * a * a) * Vk * Vk
+        if veh.law == "thesis":
+            L, D = (veh.K_L0 + veh.K_L * a) * Vk * Vk, (veh.K_D0 + veh.K_D * a * a) * Vk * Vk
+        else:
+            L, D = lift_drag(veh, Vk * Vk, a)
         force = np.maximum(np.maximum(np.abs(m0k) * g, np.abs(L)), np.abs(D))  # largest term of (2.18)-(2.19)
         cor = np.abs((m3k - m1k) * v1k * v3k)
         torque = np.maximum(np.maximum(cor, np.abs(mom - (m3k - m1k) * v1k * v3k)), mbar * g * np.hypot(rp1k, rp3k))

@@ -31,7 +31,7 @@ from scipy.optimize import brentq, root
 from .. import checks
 from ..analysis.jacobian import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, SolverError
-from ..hydro import loads_3d
+from ..hydro import lift_drag, loads_3d
 from ..models.glider3d import R_P_MAX, FixedMassGlider3D, ypr_to_quat
 from ..params import Vehicle
 
@@ -453,15 +453,25 @@ def _newton(model: FixedMassGlider3D, y0: np.ndarray) -> tuple[np.ndarray, float
     return y, res, bool(rel < RESIDUAL_TOL), rel
 
 
+_GUESS_V2 = 0.0625  # (0.25 m/s)^2: where laws other than the thesis's are read for the straight-glide guesses
+
+
 def _straight_guesses(veh: Vehicle, r_p: np.ndarray, m0: float) -> list[np.ndarray]:
     """Straight longitudinal glides for ``(r_P1, 0, r_P3)``: roots in alpha of the pitch-moment balance, with V and
     gamma from the force balance (lift and drag balance the net weight m0 g)."""
-    KL0, KL, KD0, KD = veh.K_L0, veh.K_L, veh.K_D0, veh.K_D
     g, mbar = veh.g, veh.mbar
     m1, m3 = veh.mass(1, m0), veh.mass(3, m0)
 
+    def coefficients(a: float) -> tuple[float, float]:
+        # lift and drag per V^2 (kg/m): the thesis law's K_L(a), K_D(a); other laws at 0.25 m/s (a guess only:
+        # the seaglider law's drag coefficient varies with speed, and the trim solve is exact)
+        if veh.law == "thesis":
+            return veh.K_L0 + veh.K_L * a, veh.K_D0 + veh.K_D * a * a
+        L, D = lift_drag(veh, _GUESS_V2, a)
+        return float(L) / _GUESS_V2, float(D) / _GUESS_V2
+
     def glide(a: float) -> tuple[float, float, float] | None:
-        CL, CD = KL0 + KL * a, KD0 + KD * a * a
+        CL, CD = coefficients(a)
         if m0 * CL <= 0:
             return None
         gam = math.atan2(-CD / m0, CL / m0)
