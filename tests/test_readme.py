@@ -40,3 +40,25 @@ def test_readme_uses_only_the_public_api():
     used = set(re.findall(r"\bgc\.(\w+)", code))
     assert used <= set(gc.__all__), sorted(used - set(gc.__all__))
     assert "../shared" not in text and "/work/" not in text
+
+
+def test_readme_flight_example_runs(tmp_path, monkeypatch, capsys):
+    """The README's flight-model example reads the shipped record, fits, predicts and writes a vehicle file that
+    loads back to the fitted values."""
+    import matplotlib
+
+    import glidectl as gc
+
+    matplotlib.use("Agg")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HOME", str(tmp_path))  # dbdreader's default cache folder for the record's .cac file
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    block = next(b for b in blocks if "fit_flight_model" in b)
+    ns: dict = {"gc": gc, "np": np}
+    exec(compile(block, str(README), "exec"), ns)
+    fit = ns["fit"]
+    assert fit.law == "gliderflight" and fit.rms < 0.07 and fit.cv_rms is not None
+    assert "Cd0" in capsys.readouterr().out
+    back = gc.load_vehicle(tmp_path / "my_glider.toml")
+    assert back.law == "gliderflight" and back.params["Cd0"] == fit.params["Cd0"]
+    assert back.params["volume"] == fit.params["volume"] and back.provenance == fit.vehicle.provenance

@@ -135,7 +135,7 @@ from .models.realized_torque import RealizedTorqueLoop
 from .models.reduced import ReducedLongitudinalGlider
 from .models.torque_glider import TorqueControlledGlider
 from .params import Actuator, Vehicle, list_presets, load_vehicle
-from .records import DiveRecord, MaskSettings, read_dive_record
+from .records import DiveRecord, MaskSettings, example_record_path, read_dive_record
 from .roa import (
     PolySystem,
     RemainderBound,
@@ -186,8 +186,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "ActuatedGlider",
     ),
     "flight models and dive records": (
-        "DiveRecord", "excess_mass", "fit_flight_model", "FlightFit", "law_start", "lift_drag", "MaskSettings",
-        "predict_flight", "read_dive_record", "steady_flight", "SteadyFlight",
+        "DiveRecord", "example_record_path", "excess_mass", "fit_flight_model", "FlightFit", "law_start",
+        "lift_drag", "MaskSettings", "predict_flight", "read_dive_record", "steady_flight", "SteadyFlight",
     ),
     "trims": (
         "buoyancy_equilibrium", "BuoyancyEquilibrium", "classify_motion", "ctol_glide", "CTOLGlide",
@@ -382,6 +382,7 @@ __all__ = [
     "elevator_equilibrium",
     "elevator_example",
     "estimate_sos_size",
+    "example_record_path",
     "excess_mass",
     "existence_scan",
     "feedback_linearization_blowup",

@@ -23,7 +23,8 @@ import numpy as np
 
 from .errors import RecordError
 
-__all__ = ["DEFAULT_MASK", "RECORD_DENSITY", "RECORD_GRAVITY", "DiveRecord", "MaskSettings", "read_dive_record"]
+__all__ = ["DEFAULT_MASK", "RECORD_DENSITY", "RECORD_GRAVITY", "DiveRecord", "MaskSettings", "example_record_path",
+           "read_dive_record"]
 
 #: Density (kg/m^3) and gravity (m/s^2) that turn a pressure record into depth, ``depth = p / (rho g)``: the
 #: constants of gliderflight's depth rate (``compute_dhdt``), so that both read the same depth from a file.
@@ -306,6 +307,33 @@ def _read_slocum(path: Path, cache_dir: str | None) -> DiveRecord:
     depth = pressure[pick] * 1e5 / (RECORD_DENSITY * RECORD_GRAVITY)
     return DiveRecord(t, depth, pitch[pick], volume[pick] * 1e-6,
                       **{k: v[pick] for k, v in opt.items()}, source=str(path))
+
+
+def example_record_path(name: str = "ammonite-2008-028-01-000.mbd") -> Path:
+    """Path of a real Slocum record shipped in the ``dbdreader`` wheel (the optional extra ``glidectl[data]``).
+
+    The default is a 107-minute dive of the deep Slocum glider 'ammonite' to 608 m (2008), with ``m_pressure``,
+    ``m_pitch``, ``m_de_oil_vol``, ``m_roll`` and ``m_heading``: the record glidectl's flight-fit design and tests
+    calibrate on.
+
+    Parameters
+    ----------
+    name : str, optional
+        File name in ``dbdreader``'s ``data`` folder.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    RecordError
+        Without ``dbdreader``, or when its wheel has no such file.
+    """
+    p = Path(_require_dbdreader().__file__).parent / "data" / name
+    if not p.is_file():
+        raise RecordError(f"dbdreader ships no record named {name!r} (looked in {p.parent})")
+    return p
 
 
 def _read_csv(path: Path) -> DiveRecord:
