@@ -27,8 +27,6 @@ from typing import Any
 import numpy as np
 
 import glidectl as gc
-from glidectl.analysis.flight_fit import MATCH_SPEED
-from glidectl.records import RECORD_DENSITY, RECORD_GRAVITY
 from glidectl.report import Report, run_script
 
 TITLE = "A flight model calibrated to a real Slocum dive record: three laws, gliderflight beside, fitted glider"
@@ -78,11 +76,11 @@ def gliderflight_start(veh: gc.Vehicle, s: Settings) -> gc.Vehicle:
 def gliderflight_calibration(record: gc.DiveRecord, used: np.ndarray, start: gc.Vehicle) -> dict[str, Any]:
     """gliderflight's ``SteadyStateCalibrate`` of ``Vg`` and ``Cd0`` on the samples ``used`` of ``record``.
 
-    It gets the record's own arrays (pressure in bar from the record's depth with the same density and gravity,
-    oil volume in cm^3), constant density, the start's mass, compressibility, ``ah``, ``Cd1`` and ``S``, and its
-    mask set to leave out what ``used`` leaves out, so both fits see the same samples. Returns the fitted values,
-    the RMS of its model's vertical speed against the measured one over ``used`` and the calibration's wall time;
-    ``{"error": ...}`` when gliderflight is not installed.
+    It gets the record's own arrays (pressure in bar, oil volume in cm^3, the measured vertical speed as its
+    ``dhdt``), constant density, the start's mass, compressibility, ``ah``, ``Cd1`` and ``S``, and its mask set to
+    leave out what ``used`` leaves out, so both fits see the same samples and the same target. Returns the fitted
+    values, the RMS of its model's vertical speed against the measured one over ``used`` and the calibration's wall
+    time; ``{"error": ...}`` when gliderflight is not installed.
     """
     try:
         import gliderflight
@@ -90,11 +88,11 @@ def gliderflight_calibration(record: gc.DiveRecord, used: np.ndarray, start: gc.
         return {"error": "gliderflight is not installed (pip install 'glidectl[data]')"}
     p = start.params
     rho = start.density
-    pressure = record.depth * RECORD_DENSITY * RECORD_GRAVITY / 1e5  # bar
-    gm = gliderflight.SteadyStateCalibrate(rho0=RECORD_DENSITY)
+    gm = gliderflight.SteadyStateCalibrate(rho0=rho)
     gm.define(ah=p["ah"], Cd1=p["Cd1"], S=p["S"], epsilon=p["compressibility"])
-    gm.set_input_data(time=record.time, pressure=pressure, pitch=record.pitch,
-                      buoyancy_change=record.buoyancy_volume * 1e6, density=np.full(len(record), rho))
+    gm.set_input_data(time=record.time, pressure=record.pressure / 1e5, pitch=record.pitch,
+                      buoyancy_change=record.buoyancy_volume * 1e6, density=np.full(len(record), rho),
+                      dhdt=record.vertical_speed)
     gm.set_mask(~used)  # gliderflight's mask is True where a sample is left out
     gm.define(mg=p["mass"], Vg=p["volume"], Cd0=p["Cd0"])
     t0 = time.perf_counter()
@@ -250,7 +248,7 @@ def report(res: FitResults) -> Report:
              "heaviness mass - rho (volume (1 - epsilon p) + pumped volume) (gc.excess_mass, gc.steady_flight); "
              "scipy's least_squares fits the hull volume and the parasitic drag (K_D0, hd_b, Cd0) to the measured "
              "vertical speed. The thesis and Seaglider laws start from slocum_shallow's thesis coefficients "
-             f"matched at {MATCH_SPEED} m/s (gc.law_start); the gliderflight law starts from "
+             f"({res.fits['seaglider'].start.sources['hd_a']}); the gliderflight law starts from "
              "gliderflight's own documented values, as its SteadyStateCalibrate does. gliderflight interpolates the "
              "angle of attack from a 100-point table and minimises with Nelder-Mead (stopping at an absolute "
              "tolerance of 1e-4 on the mean square); glidectl solves each sample's balance to rounding. "

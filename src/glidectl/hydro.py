@@ -20,8 +20,8 @@ from . import checks
 from .errors import ArgumentError, ArgumentTypeError, ModelError
 from .params import Vehicle
 
-__all__ = ["DAMPING_KEYS", "angle_of_attack", "atan2_cs", "damping_moment", "gliderflight_coefficients",
-           "lift_drag", "loads_3d", "loads_at", "longitudinal_loads", "zero_lift_angle"]
+__all__ = ["DAMPING_KEYS", "angle_of_attack", "atan2_cs", "best_glide_angle", "damping_moment",
+           "gliderflight_coefficients", "lift_drag", "loads_3d", "loads_at", "longitudinal_loads", "zero_lift_angle"]
 
 _DEG = 180.0 / np.pi
 
@@ -361,6 +361,44 @@ def lift_drag(veh: Vehicle, V2: Any, alpha: Any, density: Any = None) -> tuple[A
         density = _numeric("density", density)
     _broadcast("V2, alpha and density", V2, alpha, 0.0 if density is None else density)
     return _lift_drag(veh, V2, alpha, density)
+
+
+def best_glide_angle(veh: Vehicle, V2: Any = 1.0) -> Any:
+    """Angle of attack (rad) of the smallest drag-to-lift ratio of a downward glide: the shallowest steady glide
+    (the bound of the permissible set (2.26)).
+
+    Thesis law: ``-K_L0/K_L + sqrt((K_L0/K_L)^2 + K_D0/K_D)``; seaglider law: ``sqrt(hd_b q^(-1/4) / hd_c)``
+    degrees at ``q = rho V^2 / 2``; gliderflight law: ``sqrt(Cd0 / Cd1)``. ``inf`` where the drag has no
+    ``alpha^2`` term (no minimum).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Underwater glider.
+    V2 : array_like, optional
+        Squared speed (m^2/s^2); only the seaglider law's ratio depends on it.
+
+    Returns
+    -------
+    ndarray or float
+        The angle (rad), shaped like ``V2`` for the seaglider law.
+
+    Raises
+    ------
+    ModelError
+        If ``veh`` is not an underwater glider.
+    """
+    _glider(veh)
+    p = veh.params
+    with np.errstate(divide="ignore"):
+        if veh.law == "thesis":
+            r = p["K_L0"] / p["K_L"]
+            return -r + np.sqrt(r * r + p["K_D0"] / p["K_D"]) if p["K_D"] > 0 else np.inf
+        if veh.law == "seaglider":
+            q = 0.5 * veh.density * np.asarray(V2, dtype=float)
+            return np.sqrt(p["hd_b"] * q ** -0.25 / p["hd_c"]) / _DEG if p["hd_c"] > 0 else np.inf
+        _, cd0, cd1 = gliderflight_coefficients(veh)
+        return float(np.sqrt(cd0 / cd1)) if cd1 > 0 else np.inf
 
 
 def zero_lift_angle(veh: Vehicle) -> float:

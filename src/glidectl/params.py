@@ -56,9 +56,9 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 
-__all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "GLIDERFLIGHT_DEFAULTS", "HYDRO_SPECS", "MAX_FILE_BYTES",
-           "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX", "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator",
-           "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
+__all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HYDRO_SPECS",
+           "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX", "THESIS_LIFT_DRAG_KEYS",
+           "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
 
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
 MAX_FILE_BYTES = 1 << 20
@@ -162,6 +162,9 @@ _HEADER_KEYS = {"name", "kind", "title", "source", "notes"}
 #: Largest buoyancy-pump range accepted, as a fraction of the vehicle's mass (:func:`load_vehicle` refuses more):
 #: no pump moves more water than the vehicle weighs (real ones move 0.5-2 %).
 PUMP_FRACTION_MAX = 1.0
+
+#: Densities (kg/m^3) a density profile may hold: sea water from fresh and warm to cold and deep.
+DENSITY_RANGE = (990.0, 1080.0)
 
 #: Default sea-water density (kg/m^3) where a vehicle file gives none: the constant gliderflight's steady-state
 #: calibration uses and the value the field quotes for the upper ocean.
@@ -422,6 +425,9 @@ class Vehicle:
     law : str, optional
         The lift and drag law of the ``[hydrodynamics]`` table: ``"thesis"`` (default), ``"seaglider"`` or
         ``"gliderflight"`` (:data:`HYDRO_SPECS`); its coefficients and the hull keys are entries of ``params``.
+    density_profile : (depths, densities), optional
+        Sea-water density against depth (m, kg/m^3), the ``[hydrodynamics.density_profile]`` table: depths
+        strictly increasing from at least 0, densities of sea water (:data:`DENSITY_RANGE`). Empty: constant.
 
     Raises
     ------
@@ -449,6 +455,8 @@ class Vehicle:
         also its nominal parameter (``veh.r_P3``).
     law : str
         The lift and drag law (:func:`glidectl.hydro.lift_drag`).
+    density_profile : tuple
+        ``(depths, densities)`` as tuples of floats, or ``()`` (:meth:`water_density`).
     """
 
     name: str
@@ -461,6 +469,7 @@ class Vehicle:
     notes: str = ""
     actuators: Mapping[str, Actuator] = field(default_factory=lambda: MappingProxyType({}))
     law: str = "thesis"
+    density_profile: tuple[Any, ...] = ()
 
     def __post_init__(self) -> None:
         for key in ("name", "kind", "title", "path", "notes", "law"):
@@ -494,6 +503,7 @@ class Vehicle:
         object.__setattr__(self, "sources", srcs)
         _check_consistency(self.kind, values, where, self.law)
         _check_actuator_scale(acts, values, where)
+        object.__setattr__(self, "density_profile", _check_profile(self.density_profile, self.kind, where))
         object.__setattr__(self, "actuators", MappingProxyType(acts))
         object.__setattr__(self, "params", MappingProxyType(values))
         object.__setattr__(self, "sources", MappingProxyType({str(k): str(v) for k, v in self.sources.items()}))
@@ -503,7 +513,8 @@ class Vehicle:
         # mappingproxy fields do not pickle; rebuild from plain dicts (used by pickle, copy and multiprocessing)
         return (_vehicle_from_plain, (self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                                       self.path, dict(self.overrides), self.notes,
-                                      {k: a.as_plain() for k, a in self.actuators.items()}, self.law))
+                                      {k: a.as_plain() for k, a in self.actuators.items()}, self.law,
+                                      self.density_profile))
 
     def __getattr__(self, key: str) -> float:
         params = object.__getattribute__(self, "params")
@@ -533,8 +544,38 @@ class Vehicle:
 
     @property
     def density(self) -> float:
-        """Sea-water density (kg/m^3): ``[hydrodynamics] density``, or :data:`DEFAULT_DENSITY`."""
-        return float(self.params.get("density", DEFAULT_DENSITY))
+        """Sea-water density (kg/m^3) of the models without depth: ``[hydrodynamics] density``, else the density
+        profile's value at the surface, else :data:`DEFAULT_DENSITY`."""
+        if "density" in self.params or not self.density_profile:
+            return float(self.params.get("density", DEFAULT_DENSITY))
+        return float(np.interp(0.0, *self.density_profile))
+
+    def water_density(self, depth: Any) -> Any:
+        """Sea-water density (kg/m^3) at ``depth`` (m): the density profile, linear between its points and constant
+        beyond its ends, or the constant :attr:`density`.
+
+        Parameters
+        ----------
+        depth : array_like
+            Depth (m, positive down).
+
+        Returns
+        -------
+        ndarray
+            Density shaped like ``depth``.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``depth`` is not an array of real numbers.
+        """
+        try:
+            d = np.asarray(depth, dtype=float)
+        except (TypeError, ValueError):
+            raise ArgumentTypeError(f"depth must be real numbers (m), got {type(depth).__name__}") from None
+        if not self.density_profile:
+            return np.full(d.shape, self.density)
+        return np.interp(d, *self.density_profile)
 
     @property
     def provenance(self) -> str:
@@ -545,6 +586,8 @@ class Vehicle:
                                 for k, a in sorted(self.actuators.items())}
         if self.law != "thesis":  # vehicles of the thesis law keep their earlier provenance
             doc["law"] = self.law
+        if self.density_profile:
+            doc["density_profile"] = [list(map(repr, c)) for c in self.density_profile]
         blob = json.dumps(doc, sort_keys=True)
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
@@ -647,7 +690,7 @@ class Vehicle:
         """
         return _build_vehicle(self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                               self.path, {**self.overrides, **overrides}, self.notes, overrides,
-                              dict(self.actuators), self.law)
+                              dict(self.actuators), self.law, self.density_profile)
 
     def with_hydrodynamics(self, law: str | None = None, *, source: str = "with_hydrodynamics",
                            **coefficients: float) -> Vehicle:
@@ -693,7 +736,7 @@ class Vehicle:
             sources[key] = source
         return Vehicle(name=self.name, kind=self.kind, title=self.title, params=values, sources=sources,
                        path=self.path, overrides=self.overrides, notes=self.notes, actuators=dict(self.actuators),
-                       law=new_law)
+                       law=new_law, density_profile=self.density_profile)
 
     def with_actuators(self, **actuators: Mapping[str, Any] | Actuator | None) -> Vehicle:
         """Return a new vehicle with some actuator entries replaced, added or (with ``None``) removed.
@@ -725,7 +768,8 @@ class Vehicle:
                 raise VehicleFileError(f"actuator '{name}' must be an Actuator, a mapping or None, got "
                                        f"{type(entry).__name__}")
         return Vehicle(name=self.name, kind=self.kind, title=self.title, params=self.params, sources=self.sources,
-                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=acts, law=self.law)
+                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=acts, law=self.law,
+                       density_profile=self.density_profile)
 
     def to_toml(self) -> str:
         """The vehicle as the text of a vehicle file that :func:`load_vehicle` reads back to the same values.
@@ -751,9 +795,16 @@ class Vehicle:
         fixed = {k for k, a in self.actuators.items() if a.fixed is not None}
         lines += ["", "[parameters]"]
         lines += [entry(k, v) for k, v in self.params.items() if k not in hydro and k not in fixed]
-        if self.law != "thesis" or hydro & set(self.params):
+        if self.law != "thesis" or hydro & set(self.params) or self.density_profile:
             lines += ["", "[hydrodynamics]", f"law = {json.dumps(self.law)}"]
             lines += [entry(k, v) for k, v in self.params.items() if k in hydro]
+        if self.density_profile:
+            lines += ["", "[hydrodynamics.density_profile]"]
+            src = json.dumps(self.sources.get("density_profile") or "not recorded")
+            for key, unit, values in (("depth", "m", self.density_profile[0]),
+                                      ("density", "kg/m^3", self.density_profile[1])):
+                lines.append(f"{key} = {{ values = [{', '.join(map(_toml_float, values))}], unit = \"{unit}\", "
+                             f"source = {src} }}")
         if self.actuators:
             lines += ["", "[actuators]"]
             for name, a in self.actuators.items():
@@ -803,6 +854,10 @@ class Vehicle:
         rows = [(k, f"{v:.6g}", spec[k].unit, self.sources.get(k, "")) for k, v in self.params.items()]
         if self.law != "thesis":
             rows.insert(0, ("[hydrodynamics] law", self.law, "", "lift and drag law (glidectl.hydro.lift_drag)"))
+        if self.density_profile:
+            d, rho = self.density_profile
+            rows.append(("[hydrodynamics] density_profile", f"{len(d)} points, {d[0]:g}-{d[-1]:g} m, "
+                         f"{min(rho):.6g}-{max(rho):.6g} kg/m^3", "m, kg/m^3", self.sources.get("density_profile", "")))
         for k, a in self.actuators.items():
             rows.append((f"[actuator] {k}", a.describe(), a.unit, a.source))
         return rows
@@ -901,6 +956,33 @@ def _unknown_key(key: Any, kind: str, law: str) -> str:
     near = difflib.get_close_matches(str(key), known, n=1, cutoff=0.6)
     hint = f" (did you mean '{near[0]}'?)" if near else ""
     return f"unknown parameter {key!r}{hint} for a {kind} vehicle with the '{law}' law; known: {', '.join(known)}"
+
+
+def _check_profile(profile: Any, kind: str, where: str) -> tuple[Any, ...]:
+    """A density profile ``(depths, densities)`` as two tuples of floats, checked; ``()`` for none."""
+    if profile is None or (isinstance(profile, tuple | list) and len(profile) == 0):
+        return ()
+    if kind != "underwater_glider":
+        raise VehicleFileError(f"{where}: a density profile is defined for underwater gliders only, not {kind}")
+    try:
+        depths, dens = (np.asarray(c, dtype=float) for c in profile)
+    except (TypeError, ValueError):
+        raise VehicleFileError(f"{where}: density_profile must be (depths, densities), two lists of numbers, got "
+                               f"{profile!r}") from None
+    if depths.ndim != 1 or depths.shape != dens.shape or depths.size < 2:
+        raise VehicleFileError(f"{where}: density_profile needs depth and density lists of the same length (at least "
+                               f"2 points), got {depths.size} and {dens.size}")
+    if not (np.all(np.isfinite(depths)) and np.all(np.isfinite(dens))):
+        raise VehicleFileError(f"{where}: density_profile values must be finite")
+    if depths[0] < 0 or np.any(np.diff(depths) <= 0):
+        raise VehicleFileError(f"{where}: density_profile depths must increase strictly from 0 m or deeper, got "
+                               f"{depths.tolist()}")
+    lo, hi = DENSITY_RANGE
+    if np.any(dens < lo) or np.any(dens > hi):
+        hint = " (sigma-t? give rho = 1000 + sigma-t)" if np.all(np.abs(dens) < 100) else ""
+        raise VehicleFileError(f"{where}: density_profile densities must be sea water, {lo:g}-{hi:g} kg/m^3, got "
+                               f"{dens.min():g}-{dens.max():g}{hint}")
+    return (tuple(depths.tolist()), tuple(dens.tolist()))
 
 
 def _check_actuator_scale(acts: Mapping[str, Actuator], values: Mapping[str, float], where: str) -> None:
@@ -1027,17 +1109,18 @@ def _check_actuators(kind: str, actuators: Mapping[str, Any], values: Mapping[st
 
 def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
                         path: str, overrides: dict[str, float], notes: str,
-                        actuators: dict[str, dict[str, Any]] | None = None, law: str = "thesis") -> Vehicle:
+                        actuators: dict[str, dict[str, Any]] | None = None, law: str = "thesis",
+                        density_profile: tuple[Any, ...] = ()) -> Vehicle:
     acts = {k: Actuator(**a) for k, a in (actuators or {}).items()}
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
                    sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
-                   notes=notes, actuators=MappingProxyType(acts), law=law)
+                   notes=notes, actuators=MappingProxyType(acts), law=law, density_profile=density_profile)
 
 
 def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],
                    path: str, all_overrides: dict[str, float], notes: str,
                    new_overrides: Mapping[str, float], actuators: dict[str, Actuator] | None = None,
-                   law: str = "thesis") -> Vehicle:
+                   law: str = "thesis", density_profile: tuple[Any, ...] = ()) -> Vehicle:
     spec = _key_specs(kind, law, path)
     for key, val in new_overrides.items():
         if key in _MOVED_KEYS:
@@ -1052,7 +1135,7 @@ def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], s
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(dict(values)),
                    sources=MappingProxyType(dict(sources)), path=path,
                    overrides=MappingProxyType(dict(all_overrides)), notes=notes,
-                   actuators=MappingProxyType(dict(actuators or {})), law=law)
+                   actuators=MappingProxyType(dict(actuators or {})), law=law, density_profile=density_profile)
 
 
 def _line_of(text: str, key: str, table: str) -> str:
@@ -1101,22 +1184,47 @@ def _parse_entries(table: dict[str, Any], spec: Mapping[str, ParamSpec], where: 
     return values, sources
 
 
-def _parse_law(doc: dict[str, Any], kind: str, where: str, text: str) -> tuple[str, dict[str, Any]]:
-    """The ``[hydrodynamics]`` table: the law's name (``"thesis"`` without the table) and its entries."""
+def _parse_profile(table: Any, where: str) -> tuple[tuple[Any, ...], str]:
+    """``[hydrodynamics.density_profile]``: ``depth`` and ``density`` entries ``{ values = [...], unit, source }``."""
+    if not isinstance(table, dict) or set(table) != {"depth", "density"}:
+        raise VehicleFileError(f"{where}: [hydrodynamics.density_profile] needs exactly the entries 'depth' and "
+                               "'density', each { values = [...], unit = \"...\", source = \"...\" }")
+    out, sources = [], []
+    for key, unit in (("depth", "m"), ("density", "kg/m^3")):
+        entry = table[key]
+        if not isinstance(entry, dict) or set(entry) - {"values", "unit", "source", "note"} or not {
+                "values", "unit", "source"} <= set(entry) or not isinstance(entry["values"], list):
+            raise VehicleFileError(f"{where}: density_profile '{key}' must be {{ values = [...], unit = \"{unit}\", "
+                                   f"source = \"...\" }}, got {entry!r}")
+        if not isinstance(entry["unit"], str) or _norm_unit(entry["unit"]) != _norm_unit(unit):
+            raise VehicleFileError(f"{where}: density_profile '{key}' has unit {entry['unit']!r}, glidectl expects "
+                                   f"'{unit}'")
+        if not all(_is_real(v) for v in entry["values"]):
+            raise VehicleFileError(f"{where}: density_profile '{key}' values must be real numbers")
+        out.append(entry["values"])
+        sources.append(str(entry["source"]))
+    return tuple(out), "; ".join(sources)
+
+
+def _parse_law(doc: dict[str, Any], kind: str, where: str,
+               text: str) -> tuple[str, dict[str, Any], tuple[Any, ...], str]:
+    """The ``[hydrodynamics]`` table: the law's name (``"thesis"`` without the table), its entries, the density
+    profile (``()`` without one) and the profile's source."""
     hyd = doc.get("hydrodynamics", {})
     if not isinstance(hyd, dict):
         raise VehicleFileError(f"{where}: [hydrodynamics] must be a table")
     hyd = dict(hyd)
+    profile, source = _parse_profile(hyd.pop("density_profile"), where) if "density_profile" in hyd else ((), "")
     law = hyd.pop("law", "thesis")
     if not isinstance(law, str) or law not in HYDRO_SPECS:
         raise VehicleFileError(f"{where}{_line_of(text, 'law', 'hydrodynamics')}: [hydrodynamics] {_unknown_law(law)}")
-    if kind != "underwater_glider" and (law != "thesis" or hyd):
+    if kind != "underwater_glider" and (law != "thesis" or hyd or profile):
         raise VehicleFileError(f"{where}: a [hydrodynamics] table is defined for underwater gliders only, not {kind}")
-    return law, hyd
+    return law, hyd, profile, source
 
 
 def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float], dict[str, str],
-                                          dict[str, Actuator], str]:
+                                          dict[str, Actuator], str, tuple[Any, ...]]:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -1148,7 +1256,7 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
     table = doc.get("parameters")
     if not isinstance(table, dict):
         raise VehicleFileError(f"{where}: missing [parameters] table")
-    law, hyd = _parse_law(doc, kind, where, text)
+    law, hyd, profile, profile_source = _parse_law(doc, kind, where, text)
     spec = _key_specs(kind, law, where)
     hydro_keys = set(HYDRO_SPECS[law]) if kind == "underwater_glider" else set()
     param_spec = {k: v for k, v in spec.items() if k not in hydro_keys}
@@ -1161,12 +1269,14 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
         lambda key: (f"'{key}' belongs in [parameters]" if key in param_spec else _unknown_key(key, kind, law)))
     values.update(hyd_values)
     sources.update(hyd_sources)
+    if profile_source:
+        sources["density_profile"] = profile_source
     acts_table = doc.get("actuators", {})
     if not isinstance(acts_table, dict):
         raise VehicleFileError(f"{where}: [actuators] must be a table")
     actuators = {str(k): _actuator_from_entry(str(k), v, where) for k, v in acts_table.items()}
     return (head["name"], kind, str(head.get("title", head["name"])), str(head.get("notes", "")), values, sources,
-            actuators, law)
+            actuators, law, profile)
 
 
 def _read_file(s: str) -> tuple[str, str]:
@@ -1236,6 +1346,6 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
         text, where = res.read_text(encoding="utf-8"), f"preset '{s}'"
     else:
         text, where = _read_file(s)
-    name, kind, title, notes, values, sources, actuators, law = _parse(text, where)
+    name, kind, title, notes, values, sources, actuators, law, profile = _parse(text, where)
     return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides, actuators,
-                          law)
+                          law, profile)

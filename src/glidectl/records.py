@@ -39,6 +39,8 @@ PITCH_MAX = np.pi / 2
 VOLUME_MAX = 5e-3
 
 _OPTIONAL = ("roll", "heading", "density", "temperature")
+#: Optional record fields and the Slocum sensors they are read from (the first one a file logs).
+_SLOCUM_OPTIONAL = (("roll", "m_roll"), ("heading", "m_heading"), ("temperature", "m_water_temp"))
 
 
 @dataclass(frozen=True)
@@ -207,6 +209,12 @@ class DiveRecord:
         return h.hexdigest()[:16]
 
     @property
+    def pressure(self) -> np.ndarray:
+        """Gauge pressure (Pa) of the recorded depth, ``depth rho g`` with :data:`RECORD_DENSITY` and
+        :data:`RECORD_GRAVITY`: a Slocum file's ``m_pressure`` again (in Pa, not bar)."""
+        return self.depth * (RECORD_DENSITY * RECORD_GRAVITY)
+
+    @property
     def vertical_speed(self) -> np.ndarray:
         """Measured vertical speed (m/s, positive up): ``-d(depth)/dt`` by central differences (one-sided at the
         ends), as gliderflight's ``compute_dhdt``."""
@@ -293,20 +301,18 @@ def _read_slocum(path: Path, cache_dir: str | None) -> DiveRecord:
             missing.append("m_de_oil_vol or m_ballast_pumped")
         if missing:
             raise RecordError(f"Slocum file '{path}' does not log {', '.join(missing)}")
-        extra = [n for n in ("m_roll", "m_heading") if n in names]
-        arrays = dbd.get_sync("m_pressure", "m_pitch", volume_name, *extra)
+        extra = {field: n for field, n in _SLOCUM_OPTIONAL if n in names and dbd.get(n)[0].size > 2}
+        arrays = dbd.get_sync("m_pressure", "m_pitch", volume_name, *extra.values())
     finally:
         dbd.close()
     t, pressure, pitch, volume = arrays[:4]
-    opt = dict(zip(("roll", "heading"), arrays[4:], strict=False))
     keep = np.isfinite(t) & np.isfinite(pressure) & np.isfinite(pitch) & np.isfinite(volume)
-    for a in opt.values():
-        keep &= np.isfinite(a)
     t, order = np.unique(t[keep], return_index=True)  # sorted, duplicated time stamps dropped
     pick = np.flatnonzero(keep)[order]
     depth = pressure[pick] * 1e5 / (RECORD_DENSITY * RECORD_GRAVITY)
-    return DiveRecord(t, depth, pitch[pick], volume[pick] * 1e-6,
-                      **{k: v[pick] for k, v in opt.items()}, source=str(path))
+    # optional fields (interpolated onto the pressure's time base) only where they cover every sample kept
+    opt = {k: a[pick] for k, a in zip(extra, arrays[4:], strict=True) if np.all(np.isfinite(a[pick]))}
+    return DiveRecord(t, depth, pitch[pick], volume[pick] * 1e-6, **opt, source=str(path))
 
 
 def example_record_path(name: str = "ammonite-2008-028-01-000.mbd") -> Path:
@@ -368,8 +374,10 @@ def read_dive_record(path: str | Path, cache_dir: str | Path | None = None) -> D
     -------
     DiveRecord
         For Slocum files: ``m_pressure`` (bar) to depth with :data:`RECORD_DENSITY`, :data:`RECORD_GRAVITY`;
-        ``m_pitch``, ``m_roll``, ``m_heading`` (rad); ``m_de_oil_vol`` or ``m_ballast_pumped`` (cm^3) to m^3, on
-        the time base of ``m_pressure``; samples with a missing value are dropped.
+        ``m_pitch``, ``m_roll``, ``m_heading`` (rad); ``m_de_oil_vol`` or ``m_ballast_pumped`` (cm^3) to m^3;
+        ``m_water_temp`` (degC) as the temperature; all on the time base of ``m_pressure`` (dbdreader's
+        ``get_sync``, linear interpolation). Samples without pressure, pitch or volume are dropped; an optional
+        field that does not cover every remaining sample is left out.
 
     Raises
     ------

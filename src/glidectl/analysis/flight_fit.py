@@ -37,7 +37,9 @@ SEAGLIDER_LENGTH = 1.8
 #: Typical magnitudes of coefficients whose start value is 0 (the scale of the fit's unknowns).
 _TYPICAL = {"compressibility": 5e-10, "thermal_expansion": 7e-5, "K_L0": 1.0, "Cd1": 10.0, "ah": 1.0, "aw": 1.0,
             "hd_c": 1e-5}
-_SINGULAR_RCOND = 1e-8
+#: Smallest ratio of the Jacobian's singular values accepted (central differences: errors near 1e-10).
+_SINGULAR_RCOND = 1e-7
+_CENTRAL_STEP = np.finfo(float).eps ** (1 / 3)
 
 
 def _match_data(veh: Vehicle) -> tuple[float, float, float]:
@@ -254,7 +256,10 @@ def predict_flight(veh: Vehicle, record: DiveRecord, used: np.ndarray | None = N
     """
     record = _record(record)
     sel = slice(None) if used is None else used
-    rho = None if record.density is None else record.density[sel]
+    if record.density is not None:
+        rho = record.density[sel]
+    else:  # the vehicle's density profile at the recorded depths, or its constant density (None)
+        rho = veh.water_density(record.depth[sel]) if veh.density_profile else None
     temp = None if record.temperature is None else record.temperature[sel]
     m0 = excess_mass(veh, record.depth[sel], record.buoyancy_volume[sel], density=rho, temperature=temp)
     return steady_flight(veh, record.pitch[sel], m0, density=rho)
@@ -329,9 +334,22 @@ def _solve(problem: _Problem, x0_values: np.ndarray, scale: np.ndarray, used: np
     return res
 
 
+def _central_jacobian(problem: _Problem, x: np.ndarray, scale: np.ndarray, used: np.ndarray) -> np.ndarray:
+    """The residual's Jacobian in the scaled unknowns by central differences (step ``eps^(1/3)`` relative): errors
+    near 1e-10, so that coefficients the record cannot tell apart show as a singular Jacobian."""
+    J = np.empty((int(used.sum()), x.size))
+    for k in range(x.size):
+        h = _CENTRAL_STEP * max(abs(x[k]), 1.0)
+        up, down = x.copy(), x.copy()
+        up[k] += h
+        down[k] -= h
+        J[:, k] = (problem.residual(up * scale, used) - problem.residual(down * scale, used)) / (2 * h)
+    return J
+
+
 def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Standard errors and correlation from the Jacobian; SolverError naming what cannot be told apart."""
-    J = res.jac * scale[None, :] ** 0  # the Jacobian in the scaled unknowns
+    J = _central_jacobian(problem, res.x, scale, problem.used)
     _, sv, vt = np.linalg.svd(J, full_matrices=False)
     if sv[-1] <= _SINGULAR_RCOND * sv[0]:
         null = np.abs(vt[-1])

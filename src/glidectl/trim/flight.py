@@ -12,7 +12,8 @@ efficient branch (the one nearest zero lift, of the largest speed) is bracketed 
 the zero-lift angle and refined by the Illinois method, for all samples at once: no Python loop over samples.
 
 The net heaviness of a glider with a compressible hull and a pumped volume (:func:`excess_mass`) is
-``m0 = mass - rho (volume (1 - epsilon p + alpha_T (T - T_ref)) + dV)`` at gauge pressure ``p = rho g depth``, the
+``m0 = mass - rho (volume (1 - epsilon p + alpha_T (T - T_ref)) + dV)`` at gauge pressure ``p = rho g depth`` (the
+in-situ density: the profile's integral differs from it by far less than the compressibility's own uncertainty), the
 buoyancy of gliderflight's ``compute_FB_and_Fg`` with the thermal-expansion term of the ``[hydrodynamics]`` table.
 """
 
@@ -26,7 +27,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ModelError
-from ..hydro import lift_drag, zero_lift_angle
+from ..hydro import best_glide_angle, lift_drag, zero_lift_angle
 from ..params import Vehicle
 
 __all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", "hull_buoyancy_keys",
@@ -36,6 +37,7 @@ __all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", 
 SEARCH_ANGLE_MAX = np.pi / 6
 _GRID = np.geomspace(1e-7, 1.0, 24)  # fractions of the search range: first sign change = efficient branch
 _ITERATIONS = 50
+MATCH_V2 = 0.0625  # (0.25 m/s)^2: where the Seaglider law's best glide angle is taken for the search grid
 
 
 def hull_buoyancy_keys(veh: Vehicle) -> dict[str, float]:
@@ -91,7 +93,8 @@ def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = 
     pumped_volume : array_like
         Volume added to the hull by the buoyancy engine (m^3; negative: oil drawn in, the glider sinks).
     density : array_like, optional
-        In-situ density (kg/m^3); default the vehicle's.
+        In-situ density (kg/m^3); default the vehicle's at ``depth`` (:meth:`glidectl.Vehicle.water_density`: its
+        density profile, or its constant density).
     temperature : array_like, optional
         Water temperature (degC); default the reference temperature (no thermal expansion).
 
@@ -108,8 +111,8 @@ def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = 
         If an array argument is not numeric.
     """
     h = hull_buoyancy_keys(veh)
-    rho = h["density"] if density is None else checks.numeric("density", density)
     depth = checks.numeric("depth", depth)
+    rho = veh.water_density(depth) if density is None else checks.numeric("density", density)
     dv = checks.numeric("pumped_volume", pumped_volume)
     dT = 0.0 if temperature is None else checks.numeric("temperature", temperature) - h["reference_temperature"]
     p = rho * veh.g * depth
@@ -165,14 +168,15 @@ def _rows(a: Any, rows: np.ndarray, ndim: int) -> Any:
 
 
 def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0: float,
-                   sign: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+                   sign: np.ndarray, span: Any = SEARCH_ANGLE_MAX,
+                   include: Any = None) -> tuple[np.ndarray, np.ndarray]:
     """The root of a force-balance residual on the efficient branch, for many samples at once.
 
     ``residual(alpha, rows)`` evaluates the residual of samples ``rows`` (an index array) at angles of attack
     ``alpha`` of shape ``(len(rows),)`` or ``(len(rows), k)``; it is positive just off the zero-lift angle ``a0`` on
     the side ``sign`` (the lift's sign; 0: no root) and falls through zero at the root. The first sign change on a
-    geometric grid of angles up to :data:`SEARCH_ANGLE_MAX` from ``a0`` brackets the root of the largest speed,
-    which the Illinois variant of regula falsi refines to a few ulps. No Python loop over samples.
+    geometric grid of angles up to ``span`` from ``a0`` (its last point exactly there) brackets the root of the
+    largest speed, which the Illinois variant of regula falsi refines to a few ulps. No Python loop over samples.
 
     Parameters
     ----------
@@ -182,6 +186,12 @@ def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0:
         Zero-lift angle of attack (rad).
     sign : ndarray
         Sign of the lift at each sample (+1, -1, or 0 for no root).
+    span : float or ndarray, optional
+        How far from ``a0`` to search (rad), per sample or for all: :data:`SEARCH_ANGLE_MAX` by default; the angle
+        of the best glide ratio where the residual is a drag-to-lift ratio (the first root lies before it).
+    include : float or ndarray, optional
+        An angle offset from ``a0`` (rad, per sample or for all) added to the grid: the best glide ratio's, where a
+        narrow dip of the residual below zero is deepest.
 
     Returns
     -------
@@ -192,7 +202,12 @@ def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0:
     """
     sign = np.asarray(sign, dtype=float)
     rows = np.arange(sign.size)
-    alphas = a0 + sign[:, None] * SEARCH_ANGLE_MAX * _GRID[None, :]
+    extent = np.broadcast_to(np.minimum(np.asarray(span, dtype=float), SEARCH_ANGLE_MAX), sign.shape)
+    offsets = extent[:, None] * _GRID[None, :]
+    if include is not None:
+        extra = np.broadcast_to(np.minimum(np.asarray(include, dtype=float), extent), sign.shape)
+        offsets = np.sort(np.concatenate([offsets, extra[:, None]], axis=1), axis=1)
+    alphas = a0 + sign[:, None] * offsets
     r = np.nan_to_num(residual(alphas, rows), nan=np.inf)
     neg = r <= 0
     found = neg.any(axis=1) & (sign != 0)
@@ -291,7 +306,9 @@ def steady_flight(veh: Vehicle, theta: Any, m0: Any, *, density: Any = None) -> 
         with np.errstate(invalid="ignore"):
             return np.where(V2 > 0, (D + w * np.sin(t - alpha)) / np.abs(w), np.inf)
 
-    alpha, found = efficient_root(residual, zero_lift_angle(veh), np.sign(weight))
+    a0 = zero_lift_angle(veh)
+    best = best_glide_angle(veh, MATCH_V2) - a0  # nearly the dip's deepest point (exactly, but for the Seaglider law)
+    alpha, found = efficient_root(residual, a0, np.sign(weight), include=best)
     speed = np.zeros(th.shape)
     speed[found] = np.sqrt(np.maximum(_speed_squared(veh, th[found], weight[found], alpha[found],
                                                      None if rho is None else rho[found]), 0.0))

@@ -39,11 +39,11 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, SolverError
-from ..hydro import lift_drag, zero_lift_angle
+from ..hydro import best_glide_angle, lift_drag, zero_lift_angle
 from ..models.glider3d import R_P_MAX
 from ..models.longitudinal import LongitudinalGlider
 from ..params import Vehicle
-from .flight import SEARCH_ANGLE_MAX, efficient_root
+from .flight import efficient_root
 
 __all__ = ["RESIDUAL_TOL", "SPEED_MAX", "SteadyGlide", "alpha_for_gamma", "permissible_gamma", "steady_glide"]
 
@@ -64,19 +64,16 @@ def _check_glider(veh: Any) -> Vehicle:
 def _shallowest_law(veh: Vehicle, speed: float | None) -> tuple[float, float, float, float]:
     """alpha and |tan gamma| of the shallowest glides of a law other than the thesis's: the smallest drag-to-lift
     ratio, found numerically (its lift and drag are odd and even in alpha, so the up glide mirrors the down one)."""
-    from scipy.optimize import minimize_scalar
-
     if veh.law == "seaglider" and speed is None:
         raise ArgumentError(f"vehicle '{veh.name}' uses the seaglider law, whose glide ratio depends on the speed "
                             "(drag hd_b q^(-1/4)): pass speed= (m/s)")
     V2 = 1.0 if speed is None else float(speed) ** 2
-
-    def ratio(a: float) -> float:
-        L, D = lift_drag(veh, V2, a)
-        return float(D / L)
-
-    res = minimize_scalar(ratio, bounds=(1e-9, SEARCH_ANGLE_MAX), method="bounded", options={"xatol": 1e-13})
-    return float(res.x), float(res.fun), -float(res.x), float(res.fun)
+    a = float(best_glide_angle(veh, V2))
+    if not math.isfinite(a):
+        raise InfeasibleGlideError(f"vehicle '{veh.name}': the '{veh.law}' law's drag has no alpha^2 term, so the "
+                                   "glide ratio has no minimum and the permissible set (2.26) is not defined")
+    L, D = lift_drag(veh, V2, a)
+    return a, float(D / L), -a, float(D / L)
 
 
 def _shallowest(veh: Vehicle, speed: float | None = None) -> tuple[float, float, float, float]:
@@ -295,18 +292,22 @@ _NO_ROOT, _WRONG_SIGN = 1, 2
 
 
 def _alpha_law(veh: Vehicle, gamma: np.ndarray, speed: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_alpha_array` for a law other than the thesis's: the root of ``D cos(gamma) + L sin(gamma)`` nearest
-    zero lift, at speed ``speed`` (m/s; 1 where the law's ratio does not depend on it)."""
+    """:func:`_alpha_array` for a law other than the thesis's: the root of ``D/L + tan(gamma)`` (lift of the sign
+    the glide needs) nearest zero lift, searched up to the best glide ratio's angle (:func:`best_glide_angle`), at
+    speed ``speed`` (m/s; 1 where the law's ratio does not depend on it): no glide where the ratio there is above
+    ``|tan(gamma)|``."""
     gam, V = np.broadcast_arrays(gamma, 1.0 if speed is None else np.asarray(speed, dtype=float))
     g, V2 = gam.ravel(), (V * V).ravel()
 
     def residual(alpha: np.ndarray, rows: np.ndarray) -> np.ndarray:
         gr, vr = (g[rows], V2[rows]) if alpha.ndim == 1 else (g[rows, None], V2[rows, None])
         L, D = lift_drag(veh, vr, alpha)
-        return (D * np.cos(gr) + L * np.sin(gr)) / np.maximum(np.abs(D), 1e-300)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return D / np.abs(L) - np.abs(np.tan(gr))
 
     inside = (np.abs(g) < math.pi / 2) & (g != 0)
-    alpha, found = efficient_root(residual, zero_lift_angle(veh), np.where(inside, -np.sign(g), 0.0))
+    alpha, found = efficient_root(residual, zero_lift_angle(veh), np.where(inside, -np.sign(g), 0.0),
+                                  best_glide_angle(veh, V2))
     why = np.where(found, 0, _NO_ROOT).astype(np.int8)
     return alpha.reshape(gam.shape), why.reshape(gam.shape)
 
