@@ -433,3 +433,22 @@ def test_fit_mass_and_volume_cannot_be_told_apart(ammonite):
         gc.fit_flight_model(veh, ammonite, fit=["mass", "volume"])
     msg = str(info.value)
     assert "mass" in msg and "volume" in msg
+
+
+def test_holdout_groups_whole_dives(ammonite):
+    """A record of three identical dives held out in two groups: whole dives per group, so each group is predicted
+    by a fit to identical dives and its RMS is the in-sample RMS (contiguous halves would split the middle dive and
+    fit on one and a half dives, which moves the coefficients)."""
+    n, span = len(ammonite), ammonite.time[-1] - ammonite.time[0] + 60.0
+    rec = gc.DiveRecord.from_arrays(
+        np.concatenate([ammonite.time + k * span for k in range(3)]), np.tile(ammonite.depth, 3),
+        np.tile(ammonite.pitch, 3), np.tile(ammonite.buoyancy_volume, 3))
+    used = rec.mask()
+    # each copy: its dive, and a dive started at its end (a few shallow samples, none used)
+    assert np.array_equal(np.unique(rec.dive_number), np.arange(6))
+    assert np.array_equal(np.unique(rec.dive_number[used]), [0, 2, 4])
+    assert np.all(rec.dive_number[:n][used[:n]] == 0)
+    fit = gc.fit_flight_model(_hull_vehicle(), rec, law="gliderflight", holdout=2)
+    assert len(fit.cv_fold_rms) == 2
+    for fold in fit.cv_fold_rms:
+        assert fold == pytest.approx(fit.rms, rel=1e-6)

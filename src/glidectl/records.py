@@ -15,6 +15,7 @@ file logs) the buoyancy volume.
 from __future__ import annotations
 
 import hashlib
+import itertools
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -31,8 +32,10 @@ __all__ = ["DEFAULT_MASK", "RECORD_DENSITY", "RECORD_GRAVITY", "DiveRecord", "Ma
 RECORD_DENSITY = 1025.0
 RECORD_GRAVITY = 9.81
 
-#: Smallest depth range (m) a record must span to hold a dive.
+#: Smallest depth range (m) a record must span to hold a dive, and the depth a dive starts at.
 MIN_DIVE_DEPTH = 5.0
+#: Depth (m) shallower than which the glider is at the surface (between dives).
+SURFACE_DEPTH = 2.0
 #: Largest pitch magnitude (rad) accepted: more than pi/2 means the pitch was logged in degrees.
 PITCH_MAX = np.pi / 2
 #: Largest pumped volume magnitude (m^3) accepted: 5 litres; more means the volume was logged in cm^3.
@@ -222,11 +225,20 @@ class DiveRecord:
 
     @property
     def dive_number(self) -> np.ndarray:
-        """Number of the dive each sample belongs to (0, 1, ...): a dive starts where the glider leaves the
-        surface layer (depth above :data:`MIN_DIVE_DEPTH`) and ends where it comes back."""
-        below = self.depth > MIN_DIVE_DEPTH
-        starts = below & ~np.concatenate(([False], below[:-1]))
-        return np.maximum(np.cumsum(starts) - 1, 0)
+        """Number of the dive each sample belongs to (0, 1, ...): a dive starts where the glider passes
+        :data:`MIN_DIVE_DEPTH` going down after it was at the surface (shallower than :data:`SURFACE_DEPTH`), so
+        waves about the threshold do not start new dives; samples before the first dive belong to dive 0."""
+        deep = self.depth > MIN_DIVE_DEPTH
+        starts = np.flatnonzero(np.diff(deep.astype(np.int8)) > 0) + 1  # passes of MIN_DIVE_DEPTH going down
+        surface = np.flatnonzero(self.depth < SURFACE_DEPTH)
+        number = np.zeros(len(self), dtype=int)
+        count = 0
+        for prev, i in itertools.pairwise(starts):  # a few per dive: the crossings, not the samples
+            k = np.searchsorted(surface, prev, side="right")
+            if k < surface.size and surface[k] < i:  # surfaced since the previous pass: a new dive
+                count += 1
+                number[i:] = count
+        return number
 
     def mask(self, settings: MaskSettings = DEFAULT_MASK) -> np.ndarray:
         """The samples a flight-model fit uses (True: used).

@@ -121,8 +121,8 @@ class FlightFit:
     used : ndarray of bool
         The samples of the record the fit used (the mask).
     cv_rms : float or None
-        Blocked cross-validated RMS (m/s): each of ``holdout`` contiguous blocks of the used samples predicted by
-        the fit to the others; None without ``holdout``.
+        Cross-validated RMS (m/s): each of ``holdout`` blocks of the used samples (whole dives where the record has
+        that many, else contiguous blocks in time) predicted by the fit to the others; None without ``holdout``.
     cv_fold_rms : tuple of float
         RMS of each held-out block (m/s).
     correlation : ndarray
@@ -365,7 +365,12 @@ def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple
     return err * np.abs(scale), corr
 
 
-def _folds(used: np.ndarray, k: int) -> list[np.ndarray]:
+def _folds(used: np.ndarray, dives: np.ndarray, k: int) -> list[np.ndarray]:
+    """``k`` held-out blocks of the used samples: whole dives where the record has at least ``k`` dives with used
+    samples, else contiguous blocks in time."""
+    numbers = np.unique(dives[used])
+    if numbers.size >= k:
+        return [used & np.isin(dives, group) for group in np.array_split(numbers, k)]
     idx = np.flatnonzero(used)
     return [np.isin(np.arange(used.size), block) for block in np.array_split(idx, k)]
 
@@ -394,8 +399,9 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
         The samples used: default :meth:`DiveRecord.mask` with :data:`~glidectl.records.DEFAULT_MASK` (surface,
         inflections and shallow pitch left out).
     holdout : int, optional
-        Number of contiguous blocks for blocked cross-validation (at least 2): each block is predicted by the fit
-        to the others, and their pooled RMS is ``cv_rms``.
+        Number of held-out blocks for cross-validation (at least 2): groups of whole dives where the record has at
+        least that many dives, else contiguous blocks in time; each block is predicted by the fit to the others,
+        and their pooled RMS is ``cv_rms``.
 
     Returns
     -------
@@ -438,7 +444,7 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
     fold_rms: list[float] = []
     if holdout:
         sq = 0.0
-        for block in _folds(used, int(holdout)):
+        for block in _folds(used, record.dive_number, int(holdout)):
             r = _solve(problem, values, scale, used & ~block)
             e = problem.residual(r.x * scale, block)
             fold_rms.append(float(np.sqrt(np.mean(e * e))))
