@@ -53,6 +53,8 @@ class Settings:
     cycles: int = 3
     speed: float = 0.35  # m/s
     gamma_deg: float = 25.0
+    #: speeds (m/s) at which the thesis law matched to the fitted Seaglider law at 0.25 m/s is compared with it
+    mismatch_speeds: tuple[float, ...] = (0.10, 0.25, 0.45)
 
 
 FULL = Settings()
@@ -120,6 +122,7 @@ class FitResults:
     envelope: gc.GlideEnvelope
     dive: gc.DiveCycleRun | None
     dive_message: str
+    mismatch: tuple[tuple[float, float, float, float], ...]  # (speed, pitch, m0, thesis-law speed) per speed
 
 
 def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> FitResults:
@@ -149,7 +152,19 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
         msg = dive.summary().splitlines()[0]
     except gc.GlidectlError as exc:
         dive, msg = None, f"{type(exc).__name__}: {exc}"
-    return FitResults(s, record, veh, uncal, fits, seconds, reference, best, env, dive, msg)
+    return FitResults(s, record, veh, uncal, fits, seconds, reference, best, env, dive, msg, _mismatch(fits, s))
+
+
+def _mismatch(fits: dict[str, gc.FlightFit], s: Settings) -> tuple[tuple[float, float, float, float], ...]:
+    """The fitted Seaglider law's glides at -gamma_deg and each speed, and the speed the thesis law matched to it at
+    0.25 m/s (gc.law_start) flies at the same pitch and heaviness: what a quadratic drag law misses."""
+    sg = fits["seaglider"].vehicle.with_actuators(m0=None, r_P1=None)
+    thesis = gc.law_start(sg, "thesis")
+    rows = []
+    for V in s.mismatch_speeds:
+        g = gc.steady_glide(sg, V, -math.radians(s.gamma_deg), r_p3=sg.r_P3)
+        rows.append((V, g.theta, g.m0, float(gc.steady_flight(thesis, g.theta, g.m0).speed)))
+    return tuple(rows)
 
 
 def _polar_axes(res: FitResults) -> Any:
@@ -195,6 +210,10 @@ def _numbers(rep: Report, res: FitResults) -> None:
                        note=f"standard error {f.stderr[k]:.3g}")
         rep.number(f"{law}_fit_seconds", res.fit_seconds[law], "s", "time.perf_counter",
                    note="fit and cross-validation, this build")
+    for V, _, _, v_thesis in res.mismatch:
+        rep.number(f"thesis_law_speed_error_at_{V:.2f}", v_thesis / V - 1, "-", "gc.steady_flight",
+                   note="thesis law matched to the fitted Seaglider law at 0.25 m/s, flown at the Seaglider glide's "
+                        "pitch and heaviness: relative speed error")
     if "error" in ref:
         rep.number("reference_gliderflight_rms", ref["error"], "-", "gliderflight")
         return
@@ -227,6 +246,11 @@ def report(res: FitResults) -> Report:
     rep.table(f"Fits to {s.record} ({res.fits['thesis'].context['n_used']} samples of {len(res.record)}; "
               f"uncalibrated RMS {res.uncalibrated_rms:.4f} m/s)",
               ["law", "fitted coefficients +- standard error", "RMS [m/s]", "CV RMS [m/s]", "time [s]"], rows)
+    rep.table(f"What a quadratic drag law misses: the fitted Seaglider law's glides at -{s.gamma_deg:g} deg, and the "
+              "thesis law matched to it at 0.25 m/s flown at the same pitch and heaviness",
+              ["Seaglider speed [m/s]", "pitch [deg]", "m0 [kg]", "thesis-law speed [m/s]", "error"],
+              [[f"{V:.2f}", f"{math.degrees(th):.2f}", f"{m0:.4f}", f"{vt:.3f}", f"{100 * (vt / V - 1):+.1f} %"]
+               for V, th, m0, vt in res.mismatch])
     rep.figure("dive_record", res.record.plot()[0].figure,
                "The record: depth, pitch and pumped oil volume; green samples are those the fits use (surface, "
                "20 m about the inflection and pitch under 10 deg left out).")

@@ -55,3 +55,12 @@ def test_gliderflight_calibration_sees_the_mask(design):
     half = used & (np.arange(len(rec)) < len(rec) // 2)  # the descent only
     part = m.gliderflight_calibration(rec, half, start)
     assert full["Cd0"] != part["Cd0"] and part["rms"] != full["rms"]
+
+
+def test_quadratic_law_mismatch(quick_build):
+    """The thesis law matched to the fitted Seaglider law at 0.25 m/s flies the same glide there, too fast below
+    (the Seaglider drag coefficient grows as q^(-1/4) when slow) and too slow above."""
+    numbers = quick_build.numbers
+    assert abs(numbers["thesis_law_speed_error_at_0.25"]["value"]) < 1e-9
+    assert numbers["thesis_law_speed_error_at_0.10"]["value"] > 0.05
+    assert numbers["thesis_law_speed_error_at_0.45"]["value"] < -0.05
