@@ -452,3 +452,26 @@ def test_holdout_groups_whole_dives(ammonite):
     assert len(fit.cv_fold_rms) == 2
     for fold in fit.cv_fold_rms:
         assert fold == pytest.approx(fit.rms, rel=1e-6)
+
+
+def test_record_and_fit_draw_themselves_with_units(ammonite, fits):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    axes = ammonite.plot()
+    assert len(axes) == 3
+    assert [a.get_ylabel() for a in axes] == ["depth [m]", r"pitch $\theta$ [deg]", "pumped volume [cm$^3$]"]
+    assert axes[0].get_ylim()[0] > axes[0].get_ylim()[1]  # depth grows downwards
+    fit = fits["gliderflight"]
+    fa = fit.plot()
+    assert len(fa) == 2 and fa[0].get_ylabel() == "vertical speed [m/s]" and fa[1].get_ylabel() == "depth [m]"
+    assert f"{fit.rms:.4f}" in fa[0].get_title()
+    # the residual panel shows exactly the fit's residuals
+    x = fa[1].lines[0].get_xdata()
+    np.testing.assert_array_equal(x, fit.residual)
+    _, two = plt.subplots(2)
+    with pytest.raises(gc.GlidectlError, match="3 axes"):
+        ammonite.plot(ax=two)
+    plt.close("all")

@@ -270,12 +270,12 @@ class DiveRecord:
         return ((self.depth >= settings.surface_depth) & (self.depth <= bottom - settings.inflection_margin)
                 & (np.abs(self.pitch) >= settings.min_pitch))
 
-    def plot(self, axes: Any = None) -> Any:
-        """Depth, pitch and pumped volume against time, with the default fit mask shaded.
+    def plot(self, ax: Any = None) -> Any:
+        """Depth, pitch and pumped volume against time, the samples of the default fit mask marked.
 
         Parameters
         ----------
-        axes : sequence of three Axes, optional
+        ax : three Axes, optional
             Where to draw; a new figure otherwise.
 
         Returns
@@ -284,7 +284,7 @@ class DiveRecord:
         """
         from .plotting import plot_dive_record
 
-        return plot_dive_record(self, axes)
+        return plot_dive_record(self, ax)
 
 
 def _require_dbdreader() -> Any:

@@ -19,9 +19,10 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares
 
+from .. import checks
 from ..errors import ArgumentError, OutputError, RecordError, SolverError
 from ..hydro import lift_drag
-from ..params import GLIDERFLIGHT_DEFAULTS, HYDRO_SPECS, THESIS_LIFT_DRAG_KEYS, Vehicle
+from ..params import GLIDERFLIGHT_DEFAULTS, HYDRO_SPECS, PARAMETER_SPECS, THESIS_LIFT_DRAG_KEYS, Vehicle
 from ..records import DEFAULT_MASK, DiveRecord, MaskSettings
 from ..trim.flight import SteadyFlight, excess_mass, hull_buoyancy_keys, steady_flight
 
@@ -206,12 +207,13 @@ class FlightFit:
             raise OutputError(f"cannot write vehicle file '{p}': {exc.strerror or exc}") from None
         return p
 
-    def plot(self, axes: Any = None) -> Any:
+    def plot(self, ax: Any = None) -> Any:
         """Measured against modelled vertical speed over the record, and the residual against depth.
 
         Parameters
         ----------
-        axes : two Axes, optional
+        ax : two Axes, optional
+            Where to draw; a new figure otherwise.
 
         Returns
         -------
@@ -219,7 +221,7 @@ class FlightFit:
         """
         from ..plotting import plot_flight_fit
 
-        return plot_flight_fit(self, axes)
+        return plot_flight_fit(self, ax)
 
 
 def _record(record: Any) -> DiveRecord:
@@ -297,8 +299,6 @@ def _coefficient_values(start: Vehicle, names: Sequence[str]) -> np.ndarray:
 
 
 def _bounds(start: Vehicle, names: Sequence[str], scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    from ..params import PARAMETER_SPECS
-
     spec = {**PARAMETER_SPECS["underwater_glider"], **HYDRO_SPECS[start.law]}
     lo = np.array([0.0 if spec[n].constraint in ("positive", "nonnegative") else -np.inf for n in names])
     return np.where(scale > 0, lo / scale, -np.inf), np.full(len(names), np.inf)
@@ -420,8 +420,6 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
         An unknown law.
     """
     record = _record(record)
-    from .. import checks
-
     veh = checks.vehicle("veh", veh, kind="underwater_glider")
     start = veh if law is None else law_start(veh, law)
     names = _names(start, fit)
@@ -457,4 +455,4 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
                      rms=float(np.sqrt(np.mean(residual**2))), residual=residual, used=used,
                      cv_rms=cv if holdout else None, cv_fold_rms=tuple(fold_rms), correlation=corr, record=record,
                      context={"nfev": int(res.nfev), "status": int(res.status), "message": str(res.message),
-                              "cost": float(res.cost), "n_used": n, "law": start.law, "mask": used.copy()})
+                              "cost": float(res.cost), "n_used": n, "law": start.law})

@@ -37,7 +37,7 @@ __all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", 
 SEARCH_ANGLE_MAX = np.pi / 6
 _GRID = np.geomspace(1e-7, 1.0, 24)  # fractions of the search range: first sign change = efficient branch
 _ITERATIONS = 50
-MATCH_V2 = 0.0625  # (0.25 m/s)^2: where the Seaglider law's best glide angle is taken for the search grid
+_GRID_V2 = 0.0625  # (0.25 m/s)^2: where the Seaglider law's best glide angle is taken for the search grid
 
 
 def hull_buoyancy_keys(veh: Vehicle) -> dict[str, float]:
@@ -307,7 +307,7 @@ def steady_flight(veh: Vehicle, theta: Any, m0: Any, *, density: Any = None) -> 
             return np.where(V2 > 0, (D + w * np.sin(t - alpha)) / np.abs(w), np.inf)
 
     a0 = zero_lift_angle(veh)
-    best = best_glide_angle(veh, MATCH_V2) - a0  # nearly the dip's deepest point (exactly, but for the Seaglider law)
+    best = best_glide_angle(veh, _GRID_V2) - a0  # nearly the dip's deepest point (exactly, but for the Seaglider law)
     alpha, found = efficient_root(residual, a0, np.sign(weight), include=best)
     speed = np.zeros(th.shape)
     speed[found] = np.sqrt(np.maximum(_speed_squared(veh, th[found], weight[found], alpha[found],
