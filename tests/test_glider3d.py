@@ -239,6 +239,20 @@ def test_plane_restriction_equals_longitudinal_model(case):
 
 
 @FAST
+@given(longitudinal_cases(), st.sampled_from(["seaglider", "gliderflight"]))
+def test_plane_restriction_equals_longitudinal_model_on_other_laws(case, law):
+    """The same restriction with the Seaglider and gliderflight lift and drag laws (gc.law_start): both models read
+    lift and drag through the one hydro.lift_drag, so the plane stays invariant and the two models agree."""
+    xl, ul = case
+    x3, u3 = _embed(xl, ul)
+    veh = gc.law_start(SLOCUM_KQ, law)
+    d3 = Glider3D(veh).rhs(x3, u3)
+    dl = LongitudinalGlider(veh).rhs(xl, ul)
+    _assert_close(_project(x3, d3), dl)
+    np.testing.assert_allclose(d3[OUT_OF_PLANE], 0.0, atol=1e-14)
+
+
+@FAST
 @given(longitudinal_cases())
 def test_plane_restriction_fails_with_literal_25(case):
     """With the literal (J Omega + r_P^ P_P) x Omega of (2.5), Omega2' misses -Omega2 (r_P1 P_P1 + r_P3 P_P3)/J2 of
