@@ -31,7 +31,7 @@ from glidectl.report import Report, run_script
 
 TITLE = "A flight model calibrated to a real Slocum dive record: three laws, gliderflight beside, fitted glider"
 #: build times on a 2-core machine (s): order a first cold `glidectl report all` longest first
-EXPECTED_SECONDS = {"quick": 15.0, "full": 40.0}
+EXPECTED_SECONDS = {"quick": 6.0, "full": 8.0}
 LAWS = ("thesis", "seaglider", "gliderflight")
 
 
