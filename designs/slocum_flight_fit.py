@@ -204,7 +204,7 @@ def _numbers(rep: Report, res: FitResults) -> None:
         rep.number(f"{law}_rms", f.rms, "m/s", "gc.fit_flight_model",
                    note=f"in-sample, {f.context['n_used']} samples; fitted {', '.join(f.params)}")
         rep.number(f"{law}_cv_rms", f.cv_rms, "m/s", "gc.fit_flight_model",
-                   note=f"blocked cross-validation, {len(f.cv_fold_rms)} contiguous blocks")
+                   note=f"cross-validation, {len(f.cv_fold_rms)} held-out {f.context['holdout_blocks']}")
         for k, v in f.params.items():
             rep.number(f"{law}_{k}", v, f.vehicle.units.get(k, ""), "gc.fit_flight_model",
                        note=f"standard error {f.stderr[k]:.3g}")

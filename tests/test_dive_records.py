@@ -323,6 +323,7 @@ def test_fit_to_toml_round_trip(fits, tmp_path, law):
 
 def test_fit_holdout(ammonite, fits):
     fit = gc.fit_flight_model(_hull_vehicle(), ammonite, holdout=3)
+    assert fit.context["holdout_blocks"] == "time blocks"  # one dive with used samples: blocks in time
     assert fit.params == fits[None].params
     assert len(fit.cv_fold_rms) == 3
     assert all(math.isfinite(v) and v > 0 for v in fit.cv_fold_rms)
@@ -449,7 +450,7 @@ def test_holdout_groups_whole_dives(ammonite):
     assert np.array_equal(np.unique(rec.dive_number[used]), [0, 2, 4])
     assert np.all(rec.dive_number[:n][used[:n]] == 0)
     fit = gc.fit_flight_model(_hull_vehicle(), rec, law="gliderflight", holdout=2)
-    assert len(fit.cv_fold_rms) == 2
+    assert len(fit.cv_fold_rms) == 2 and fit.context["holdout_blocks"] == "dives"
     for fold in fit.cv_fold_rms:
         assert fold == pytest.approx(fit.rms, rel=1e-6)
 

@@ -131,7 +131,8 @@ class FlightFit:
     record : DiveRecord
         The record fitted.
     context : dict
-        Solver details: ``nfev``, ``status``, ``message``, ``cost``, ``n_used``, ``law``.
+        Solver details: ``nfev``, ``status``, ``message``, ``cost``, ``n_used``, ``law``, ``holdout_blocks``
+        (``"dives"``, ``"time blocks"``, or ``""`` without cross-validation).
     """
 
     vehicle: Vehicle = field(repr=False, compare=False)
@@ -365,14 +366,14 @@ def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple
     return err * np.abs(scale), corr
 
 
-def _folds(used: np.ndarray, dives: np.ndarray, k: int) -> list[np.ndarray]:
-    """``k`` held-out blocks of the used samples: whole dives where the record has at least ``k`` dives with used
-    samples, else contiguous blocks in time."""
+def _folds(used: np.ndarray, dives: np.ndarray, k: int) -> tuple[list[np.ndarray], str]:
+    """``k`` held-out blocks of the used samples and what they are: whole dives (``"dives"``) where the record has
+    at least ``k`` dives with used samples, else contiguous blocks in time (``"time blocks"``)."""
     numbers = np.unique(dives[used])
     if numbers.size >= k:
-        return [used & np.isin(dives, group) for group in np.array_split(numbers, k)]
+        return [used & np.isin(dives, group) for group in np.array_split(numbers, k)], "dives"
     idx = np.flatnonzero(used)
-    return [np.isin(np.arange(used.size), block) for block in np.array_split(idx, k)]
+    return [np.isin(np.arange(used.size), block) for block in np.array_split(idx, k)], "time blocks"
 
 
 def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, fit: Sequence[str] | str | None = None,
@@ -440,9 +441,11 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
     values = res.x * scale
     stderr, corr = _covariance(problem, res, scale, n)
     fold_rms: list[float] = []
+    blocks = ""
     if holdout:
         sq = 0.0
-        for block in _folds(used, record.dive_number, int(holdout)):
+        folds, blocks = _folds(used, record.dive_number, int(holdout))
+        for block in folds:
             r = _solve(problem, values, scale, used & ~block)
             e = problem.residual(r.x * scale, block)
             fold_rms.append(float(np.sqrt(np.mean(e * e))))
@@ -455,4 +458,4 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
                      rms=float(np.sqrt(np.mean(residual**2))), residual=residual, used=used,
                      cv_rms=cv if holdout else None, cv_fold_rms=tuple(fold_rms), correlation=corr, record=record,
                      context={"nfev": int(res.nfev), "status": int(res.status), "message": str(res.message),
-                              "cost": float(res.cost), "n_used": n, "law": start.law})
+                              "cost": float(res.cost), "n_used": n, "law": start.law, "holdout_blocks": blocks})
