@@ -128,3 +128,41 @@ def test_reduced_analyses_refuse_other_laws_naming_them():
     sph = gc.law_start(gc.load_vehicle("sphere_ch5"), "seaglider")
     with pytest.raises(gc.ModelError, match="seaglider"):
         gc.singular_perturbation(sph)
+
+
+def _dense_first_root(veh: gc.Vehicle, theta: np.ndarray, m0: float) -> np.ndarray:
+    """The efficient root of the steady-flight balance by brute force: the first angle from zero lift, on a dense
+    grid (1e-12 .. 30 deg, 60,000 points), where the drag balance at the speed of the lift balance turns <= 0."""
+    A = np.concatenate([np.geomspace(1e-12, 1e-3, 10_000), np.linspace(1e-3, np.pi / 6, 50_000)])
+    W = m0 * veh.g
+    s = np.sign(W)
+    lift_unit, _ = gc.lift_drag(veh, 1.0, s * A)
+    out = np.full(theta.shape, np.nan)
+    for i, th in enumerate(theta):
+        V2 = W * np.cos(th - s * A) / lift_unit
+        _, D = gc.lift_drag(veh, np.maximum(V2, 0.0), s * A)
+        r = np.where(V2 > 0, (D + W * np.sin(th - s * A)) / abs(W), np.inf)
+        neg = np.flatnonzero(r <= 0)
+        if neg.size:
+            out[i] = s * A[neg[0]]
+    return out
+
+
+@pytest.mark.parametrize("case", ["steep_drag", "gliderflight_big_Cd1", "seaglider"])
+def test_steady_flight_finds_the_efficient_root_of_a_dense_scan(case):
+    """Near the edge of the feasible pitches the drag balance dips below zero between the search grid's points,
+    or only far out on the stall branch: steady_flight must find the first root all the same, and call a pitch
+    infeasible exactly where the dense scan finds none."""
+    slo = gc.load_vehicle("slocum_ch8")
+    veh = {"steep_drag": slo.with_overrides(K_D=400.0),
+           "gliderflight_big_Cd1": slo.with_hydrodynamics("gliderflight", Cd0=0.02, Cd1=40.0, ah=0.5, aw=0.5),
+           "seaglider": slo.with_hydrodynamics("seaglider", hd_a=0.003836, hd_b=0.010078, hd_c=9.8e-6,
+                                               length=1.8)}[case]
+    theta = np.radians(np.linspace(-70.0, 70.0, 561))
+    for m0 in (0.2, -0.2):
+        fl = gc.steady_flight(veh, theta, m0)
+        dense = _dense_first_root(veh, theta, m0)
+        assert np.array_equal(fl.feasible, np.isfinite(dense))
+        ok = fl.feasible
+        # the dense grid's spacing (1e-5 rad) bounds the agreement
+        assert np.max(np.abs(fl.alpha[ok] - dense[ok])) < 2e-5

@@ -20,8 +20,8 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .. import checks
-from ..errors import ArgumentError, OutputError, RecordError, SolverError
-from ..hydro import lift_drag
+from ..errors import ArgumentError, OutputError, RecordError, SolverError, VehicleFileError
+from ..hydro import gliderflight_coefficients, lift_drag
 from ..params import GLIDERFLIGHT_DEFAULTS, HYDRO_SPECS, PARAMETER_SPECS, THESIS_LIFT_DRAG_KEYS, Vehicle
 from ..records import DEFAULT_MASK, DiveRecord, MaskSettings
 from ..trim.flight import SteadyFlight, excess_mass, hull_buoyancy_keys, steady_flight
@@ -48,9 +48,9 @@ def _match_data(veh: Vehicle) -> tuple[float, float, float]:
     at :data:`MATCH_SPEED`, per unit V^2."""
     V2, a = MATCH_SPEED**2, 0.05
     lift, _ = lift_drag(veh, 1.0, a)
-    _, d0 = lift_drag(veh, V2, 0.0)
+    lift0, d0 = lift_drag(veh, V2, 0.0)
     _, d1 = lift_drag(veh, V2, 2 * a)
-    return float(lift) / a, float(d0) / V2, float(d1 - d0) / (V2 * 4 * a * a)
+    return float(lift - lift0 / V2) / a, float(d0) / V2, float(d1 - d0) / (V2 * 4 * a * a)
 
 
 def law_start(veh: Vehicle, law: str) -> Vehicle:
@@ -78,6 +78,8 @@ def law_start(veh: Vehicle, law: str) -> Vehicle:
     VehicleFileError
         If ``law`` is unknown.
     """
+    if not isinstance(law, str) or law not in HYDRO_SPECS:
+        raise VehicleFileError(f"law_start: unknown hydrodynamic law {law!r}; known: {', '.join(HYDRO_SPECS)}")
     if law == veh.law:
         return veh
     slope, d0, d2 = _match_data(veh)
@@ -93,6 +95,7 @@ def law_start(veh: Vehicle, law: str) -> Vehicle:
                                       hd_a=slope / (0.5 * rho * length**2 * deg),
                                       hd_b=d0 * MATCH_SPEED**2 / (q**0.75 * length**2),
                                       hd_c=d2 / (deg**2 * 0.5 * rho * length**2))
+    # law == "gliderflight"
     gf = {k: veh.params.get(k, v) for k, v in GLIDERFLIGHT_DEFAULTS.items()}
     half_rho_s = 0.5 * rho * gf["S"]
     total = slope / half_rho_s  # ah + aw; the hull keeps gliderflight's ah where the total allows it
@@ -295,8 +298,12 @@ def _names(start: Vehicle, fit: Any) -> tuple[str, ...]:
 
 
 def _coefficient_values(start: Vehicle, names: Sequence[str]) -> np.ndarray:
-    hull = hull_buoyancy_keys(start)
-    return np.array([start.params.get(n, hull.get(n, 0.0)) for n in names], dtype=float)
+    """Start values: the vehicle's, the hull defaults, or gliderflight's derived ``aw`` and ``Cd1``."""
+    values = dict(hull_buoyancy_keys(start))
+    if start.law == "gliderflight":
+        slope, _, cd1 = gliderflight_coefficients(start)
+        values.update(aw=slope - start.params["ah"], Cd1=cd1)
+    return np.array([start.params.get(n, values.get(n, 0.0)) for n in names], dtype=float)
 
 
 def _bounds(start: Vehicle, names: Sequence[str], scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -335,22 +342,30 @@ def _solve(problem: _Problem, x0_values: np.ndarray, scale: np.ndarray, used: np
     return res
 
 
-def _central_jacobian(problem: _Problem, x: np.ndarray, scale: np.ndarray, used: np.ndarray) -> np.ndarray:
+def _central_jacobian(problem: _Problem, x: np.ndarray, scale: np.ndarray, used: np.ndarray,
+                      lower: np.ndarray) -> np.ndarray:
     """The residual's Jacobian in the scaled unknowns by central differences (step ``eps^(1/3)`` relative): errors
-    near 1e-10, so that coefficients the record cannot tell apart show as a singular Jacobian."""
+    near 1e-10, so that coefficients the record cannot tell apart show as a singular Jacobian. A coefficient within
+    a step of its lower bound gets the second-order one-sided difference instead (no step leaves the bounds)."""
     J = np.empty((int(used.sum()), x.size))
+    f0 = None
     for k in range(x.size):
         h = _CENTRAL_STEP * max(abs(x[k]), 1.0)
-        up, down = x.copy(), x.copy()
-        up[k] += h
-        down[k] -= h
-        J[:, k] = (problem.residual(up * scale, used) - problem.residual(down * scale, used)) / (2 * h)
+        step = np.zeros(x.size)
+        step[k] = h
+        if x[k] - h >= lower[k]:
+            up, down = problem.residual((x + step) * scale, used), problem.residual((x - step) * scale, used)
+            J[:, k] = (up - down) / (2 * h)
+        else:
+            f0 = problem.residual(x * scale, used) if f0 is None else f0
+            J[:, k] = (-3 * f0 + 4 * problem.residual((x + step) * scale, used)
+                       - problem.residual((x + 2 * step) * scale, used)) / (2 * h)
     return J
 
 
 def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Standard errors and correlation from the Jacobian; SolverError naming what cannot be told apart."""
-    J = _central_jacobian(problem, res.x, scale, problem.used)
+    J = _central_jacobian(problem, res.x, scale, problem.used, _bounds(problem.start, problem.names, scale)[0])
     _, sv, vt = np.linalg.svd(J, full_matrices=False)
     if sv[-1] <= _SINGULAR_RCOND * sv[0]:
         null = np.abs(vt[-1])
@@ -364,6 +379,20 @@ def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple
     err = np.sqrt(np.diag(cov_x))
     corr = cov_x / np.outer(err, err)
     return err * np.abs(scale), corr
+
+
+def _check_glides(problem: _Problem, values: np.ndarray) -> None:
+    """SolverError when some used samples have no steady glide at the fitted values: their modelled vertical speed
+    is 0, a jump in the objective, so the optimum and its standard errors mean nothing."""
+    flight = predict_flight(problem.vehicle(values), problem.record, problem.used)
+    bad = ~flight.feasible
+    if bad.any():
+        t = problem.record.time[problem.used][bad]
+        raise SolverError(
+            f"at the fitted {', '.join(f'{k} = {v:.6g}' for k, v in zip(problem.names, values, strict=True))}, "
+            f"{int(bad.sum())} of the {bad.size} samples used have no steady glide (pitch too shallow, or of the "
+            f"other sign, for their buoyancy; the first at t = {t[0] - problem.record.time[0]:.0f} s into the "
+            "record): the fit's objective jumps there. Leave them out with mask=, or fit other coefficients")
 
 
 def _folds(used: np.ndarray, dives: np.ndarray, k: int) -> tuple[list[np.ndarray], str]:
@@ -415,8 +444,8 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
     ArgumentError
         An unknown coefficient in ``fit``, a bad ``holdout``.
     SolverError
-        The fit does not converge, or its Jacobian is singular (the message names the coefficients the record
-        cannot tell apart).
+        The fit does not converge, its Jacobian is singular (the message names the coefficients the record
+        cannot tell apart), or some used samples have no steady glide at the fitted values.
     VehicleFileError
         An unknown law.
     """
@@ -439,6 +468,7 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
     scale = np.where(values0 != 0, np.abs(values0), [_TYPICAL.get(nm, 1.0) for nm in names])
     res = _solve(problem, values0, scale, used)
     values = res.x * scale
+    _check_glides(problem, values)
     stderr, corr = _covariance(problem, res, scale, n)
     fold_rms: list[float] = []
     blocks = ""

@@ -27,7 +27,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ModelError
-from ..hydro import best_glide_angle, lift_drag, zero_lift_angle
+from ..hydro import lift_drag, zero_lift_angle
 from ..params import Vehicle
 
 __all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", "hull_buoyancy_keys",
@@ -37,7 +37,7 @@ __all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", 
 SEARCH_ANGLE_MAX = np.pi / 6
 _GRID = np.geomspace(1e-7, 1.0, 24)  # fractions of the search range: first sign change = efficient branch
 _ITERATIONS = 50
-_GRID_V2 = 0.0625  # (0.25 m/s)^2: where the Seaglider law's best glide angle is taken for the search grid
+_GOLDEN_ITERATIONS = 40
 
 
 def hull_buoyancy_keys(veh: Vehicle) -> dict[str, float]:
@@ -168,15 +168,16 @@ def _rows(a: Any, rows: np.ndarray, ndim: int) -> Any:
 
 
 def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0: float,
-                   sign: np.ndarray, span: Any = SEARCH_ANGLE_MAX,
-                   include: Any = None) -> tuple[np.ndarray, np.ndarray]:
+                   sign: np.ndarray, span: Any = SEARCH_ANGLE_MAX) -> tuple[np.ndarray, np.ndarray]:
     """The root of a force-balance residual on the efficient branch, for many samples at once.
 
     ``residual(alpha, rows)`` evaluates the residual of samples ``rows`` (an index array) at angles of attack
     ``alpha`` of shape ``(len(rows),)`` or ``(len(rows), k)``; it is positive just off the zero-lift angle ``a0`` on
     the side ``sign`` (the lift's sign; 0: no root) and falls through zero at the root. The first sign change on a
     geometric grid of angles up to ``span`` from ``a0`` (its last point exactly there) brackets the root of the
-    largest speed, which the Illinois variant of regula falsi refines to a few ulps. No Python loop over samples.
+    largest speed; a root hidden in a dip between two grid points before it (near the edge of the feasible set) is
+    found by a golden-section search at each local minimum of the gridded residual. The Illinois variant of regula
+    falsi refines the bracket to a few ulps. No Python loop over samples.
 
     Parameters
     ----------
@@ -189,9 +190,6 @@ def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0:
     span : float or ndarray, optional
         How far from ``a0`` to search (rad), per sample or for all: :data:`SEARCH_ANGLE_MAX` by default; the angle
         of the best glide ratio where the residual is a drag-to-lift ratio (the first root lies before it).
-    include : float or ndarray, optional
-        An angle offset from ``a0`` (rad, per sample or for all) added to the grid: the best glide ratio's, where a
-        narrow dip of the residual below zero is deepest.
 
     Returns
     -------
@@ -203,23 +201,57 @@ def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0:
     sign = np.asarray(sign, dtype=float)
     rows = np.arange(sign.size)
     extent = np.broadcast_to(np.minimum(np.asarray(span, dtype=float), SEARCH_ANGLE_MAX), sign.shape)
-    offsets = extent[:, None] * _GRID[None, :]
-    if include is not None:
-        extra = np.broadcast_to(np.minimum(np.asarray(include, dtype=float), extent), sign.shape)
-        offsets = np.sort(np.concatenate([offsets, extra[:, None]], axis=1), axis=1)
-    alphas = a0 + sign[:, None] * offsets
+    alphas = a0 + (sign * extent)[:, None] * _GRID[None, :]
     r = np.nan_to_num(residual(alphas, rows), nan=np.inf)
     neg = r <= 0
     found = neg.any(axis=1) & (sign != 0)
-    k = np.argmax(neg, axis=1)
-    hi = alphas[rows, k]
+    k = np.where(found, np.argmax(neg, axis=1), alphas.shape[1])
+    hi = alphas[rows, np.minimum(k, alphas.shape[1] - 1)]
     lo = np.where(k > 0, alphas[rows, np.maximum(k - 1, 0)], a0)
+    dip = _dips(residual, alphas, r, k, sign)
+    if dip is not None:  # a root in a dip between grid points, before the first negative grid value
+        drows, dlo, dhi = dip
+        lo[drows], hi[drows], found[drows] = dlo, dhi, True
     alpha = np.full(sign.shape, np.nan)
     idx = np.flatnonzero(found)
     if idx.size:
         alpha[idx] = _illinois(lambda a: np.nan_to_num(residual(a, idx), nan=np.inf, posinf=1e300), lo[idx],
                                hi[idx])
     return alpha, found
+
+
+def _dips(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], alphas: np.ndarray, r: np.ndarray, k: np.ndarray,
+          sign: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Roots hidden between grid points: at each interior local minimum of the gridded residual before a row's
+    first non-positive value, the minimum over the two neighbouring cells (golden section); where it is <= 0, the
+    bracket from the cell's left end to it (rows, lo, hi), the first such dip of each row. None when there is none.
+    """
+    K = alphas.shape[1]
+    j = np.arange(1, K - 1)
+    local = (r[:, 1:-1] <= r[:, :-2]) & (r[:, 1:-1] <= r[:, 2:]) & np.isfinite(r[:, 1:-1])
+    local &= (j[None, :] < k[:, None]) & (sign != 0)[:, None]
+    prow, pj = np.nonzero(local)
+    if prow.size == 0:
+        return None
+    pj = pj + 1
+    a, b = alphas[prow, pj - 1], alphas[prow, pj + 1]
+    invphi = (np.sqrt(5.0) - 1.0) / 2.0
+    c, d = b - invphi * (b - a), a + invphi * (b - a)
+    fc, fd = residual(c, prow), residual(d, prow)
+    for _ in range(_GOLDEN_ITERATIONS):
+        left = np.nan_to_num(fc, nan=np.inf) < np.nan_to_num(fd, nan=np.inf)  # the minimum lies in [a, d]
+        b, a = np.where(left, d, b), np.where(left, a, c)
+        c, d = b - invphi * (b - a), a + invphi * (b - a)
+        fc, fd = residual(c, prow), residual(d, prow)
+    m = 0.5 * (a + b)
+    fm = np.nan_to_num(residual(m, prow), nan=np.inf)
+    ok = fm <= 0
+    if not ok.any():
+        return None
+    prow, pj, m = prow[ok], pj[ok], m[ok]
+    first = np.unique(prow, return_index=True)[1]  # the first (smallest-angle) dip of each row
+    rows = prow[first]
+    return rows, alphas[rows, pj[first] - 1], m[first]
 
 
 def _illinois(f: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -306,9 +338,7 @@ def steady_flight(veh: Vehicle, theta: Any, m0: Any, *, density: Any = None) -> 
         with np.errstate(invalid="ignore"):
             return np.where(V2 > 0, (D + w * np.sin(t - alpha)) / np.abs(w), np.inf)
 
-    a0 = zero_lift_angle(veh)
-    best = best_glide_angle(veh, _GRID_V2) - a0  # nearly the dip's deepest point (exactly, but for the Seaglider law)
-    alpha, found = efficient_root(residual, a0, np.sign(weight), include=best)
+    alpha, found = efficient_root(residual, zero_lift_angle(veh), np.sign(weight))
     speed = np.zeros(th.shape)
     speed[found] = np.sqrt(np.maximum(_speed_squared(veh, th[found], weight[found], alpha[found],
                                                      None if rho is None else rho[found]), 0.0))
