@@ -85,10 +85,15 @@ def test_default_mask(ammonite):
     assert np.all(rec.depth[m] >= 20.0)
     assert np.all(rec.depth[m] <= bottom[m] - 20.0)
     assert np.all(np.abs(rec.pitch[m]) >= math.radians(10.0))
-    # and it keeps every sample that passes all three
+    # and it keeps every sample that passes all three, but for the samples of the last climb within 20 m of its
+    # last inflection (the glider pitches over at 1.9 m at the surface: 20 m around it reach 21.9 m)
     keep = (rec.depth >= 20.0) & (rec.depth <= np.nan_to_num(bottom, nan=-np.inf) - 20.0) & (
         np.abs(rec.pitch) >= math.radians(10.0))
-    assert np.array_equal(m, keep)
+    bottom_turn, last = rec.inflections()[-2:]
+    i = np.arange(len(rec))
+    climb_top = (i > bottom_turn) & (i < last) & (rec.depth < rec.depth[last] + 20.0)
+    assert np.array_equal(m, keep & ~climb_top)
+    assert 0 < (keep & ~m).sum() <= 3
     # other settings: a wider surface layer leaves out more
     wide = rec.mask(gc.MaskSettings(surface_depth=100.0))
     assert np.all(rec.depth[wide] >= 100.0) and wide.sum() < m.sum() and np.all(m[wide])
@@ -476,3 +481,85 @@ def test_record_and_fit_draw_themselves_with_units(ammonite, fits):
     with pytest.raises(gc.GlidectlError, match="3 axes"):
         ammonite.plot(ax=two)
     plt.close("all")
+
+
+def test_law_start_and_fit_refuse_an_unknown_law(ammonite):
+    veh = _hull_vehicle()
+    for bad in ("Seaglider", "foo"):
+        with pytest.raises(gc.VehicleFileError, match="unknown hydrodynamic law"):
+            gc.law_start(veh, bad)
+        with pytest.raises(gc.VehicleFileError, match="unknown hydrodynamic law"):
+            gc.fit_flight_model(veh, ammonite, law=bad)
+
+
+def test_fit_refuses_an_optimum_where_samples_have_no_glide(ammonite):
+    """Fitting K_D with the volume drives some used samples past their steady glide (modelled vertical speed 0, a
+    jump in the objective): refused, naming the count, not returned with meaningless standard errors."""
+    with pytest.raises(gc.SolverError, match=r"samples used have no steady glide"):
+        gc.fit_flight_model(_hull_vehicle(), ammonite, fit=("volume", "K_D"))
+
+
+def test_fit_at_an_active_bound_keeps_its_steps_inside(ammonite):
+    """A coefficient that ends on its lower bound (compressibility 0, when the record's hull looks stiffer than the
+    start) gets one-sided differences: no step below the bound, finite standard errors."""
+    rec = gc.DiveRecord.from_arrays(ammonite.time, ammonite.depth, ammonite.pitch,
+                                    ammonite.buoyancy_volume + 0.0684 * 2e-9 * ammonite.pressure)
+    fit = gc.fit_flight_model(_hull_vehicle(), rec, fit=("volume", "K_D0", "compressibility"))
+    assert fit.params["compressibility"] >= 0.0
+    assert all(math.isfinite(v) and v > 0 for v in fit.stderr.values())
+
+
+def test_fit_starts_derived_gliderflight_coefficients_at_their_values(ammonite):
+    """gliderflight's Cd1 and aw are derived from the wing (aw^2 / (pi e AR) + Cd1_hull, the swept-wing estimate)
+    when a file leaves them out; a fit of them starts at those values, not at 0."""
+    from glidectl.analysis.flight_fit import _coefficient_values
+
+    veh = _hull_vehicle(volume=0.0684).with_hydrodynamics("gliderflight", Cd0=0.094, ah=3.8, S=0.1)
+    assert "Cd1" not in veh.params and "aw" not in veh.params
+    slope, _, cd1 = gc.hydro.gliderflight_coefficients(veh)
+    assert _coefficient_values(veh, ("Cd1", "aw")).tolist() == [cd1, slope - 3.8]
+    fit = gc.fit_flight_model(veh, ammonite, fit=("volume", "Cd1"))
+    assert 0.2 * cd1 < fit.params["Cd1"] < 5 * cd1 and fit.rms < 0.07
+
+
+
+def _profile_record(depths: list[float], times: list[float]) -> gc.DiveRecord:
+    """A record of straight legs between the given depths (m) at the given times (s), pitch +-23 deg and pump
+    +-200 cm^3 by the sign of the motion."""
+    t = np.arange(0.0, times[-1] + 1.0, 4.0)
+    d = np.interp(t, times, depths)
+    down = np.gradient(d) > 0
+    return gc.DiveRecord.from_arrays(t, d, np.where(down, -0.4, 0.4), np.where(down, -2e-4, 2e-4))
+
+
+def test_mask_leaves_out_every_inflection_of_a_yo():
+    """A dive with a yo (0 -> 100 -> 30 -> 60 -> 0 m): 20 m about each turning point are left out on both sides of
+    it, the top of the yo at 30 m included, not only the dive's deepest point."""
+    rec = _profile_record([0.5, 100.0, 30.0, 60.0, 0.5], [0.0, 1000.0, 1800.0, 2400.0, 4000.0])
+    turns = rec.inflections()
+    np.testing.assert_allclose(rec.depth[turns], [100.0, 30.0, 60.0], atol=0.5)
+    m = rec.mask()
+    leg = np.searchsorted(turns, np.arange(len(rec)), side="right")
+    assert np.all(rec.depth[m & (leg == 1)] > 50.0 - 0.5)  # the climb from 100 to 30 m: 20 m off both ends
+    assert np.all(rec.depth[m & (leg == 1)] < 80.0 + 0.5)
+    assert not np.any(m & (leg == 2))  # the 30 -> 60 m leg is within 20 m of one of its ends everywhere
+    assert np.all(rec.depth[m & (leg == 3)] < 40.0 + 0.5)
+
+
+def test_dive_number_of_a_record_that_starts_under_water():
+    """Starting at 50 m (a dive under way), surfacing, then a full dive: two dives, the second after the surfacing."""
+    rec = _profile_record([50.0, 0.5, 100.0, 0.5], [0.0, 500.0, 2000.0, 4000.0])
+    n = rec.dive_number
+    assert np.array_equal(np.unique(n), [0, 1])
+    first = np.argmax(n == 1)
+    assert rec.depth[first] > 5.0 and rec.depth[:first].min() < 2.0 and rec.time[first] < 1000.0
+
+
+def test_csv_with_a_byte_order_mark(ammonite, tmp_path):
+    """A CSV saved by a spreadsheet starts with a UTF-8 byte-order mark: its first column is still 'time'."""
+    path = tmp_path / "excel.csv"
+    rows = np.column_stack([ammonite.time, ammonite.depth, ammonite.pitch, ammonite.buoyancy_volume])
+    text = "time,depth,pitch,buoyancy_volume\n" + "\n".join(",".join(repr(float(v)) for v in r) for r in rows)
+    path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    rec = gc.read_dive_record(path)
+    assert np.array_equal(rec.time, ammonite.time) and np.array_equal(rec.depth, ammonite.depth)

@@ -260,10 +260,11 @@ def test_gliderflight_law_equals_gliderflight(ammonite):
     sf = gc.steady_flight(veh, pitch, m0)
     assert sf.feasible.all()
     alpha_gf, U_gf = _gliderflight_exact(gm, depth, pitch, vb)
-    # gliderflight's glide angle is pitch + alpha: its alpha is minus glidectl's
-    np.testing.assert_allclose(sf.alpha, -alpha_gf, rtol=1e-6, atol=0)
-    np.testing.assert_allclose(sf.speed, U_gf, rtol=1e-6, atol=0)
-    np.testing.assert_allclose(sf.vertical_speed, U_gf * np.sin(pitch + alpha_gf), rtol=1e-6, atol=0)
+    # gliderflight's glide angle is pitch + alpha: its alpha is minus glidectl's. The issue asks 1e-6; both solve
+    # the same balance to rounding (measured 5e-14), so the bound is 1e-10
+    np.testing.assert_allclose(sf.alpha, -alpha_gf, rtol=1e-10, atol=0)
+    np.testing.assert_allclose(sf.speed, U_gf, rtol=1e-10, atol=0)
+    np.testing.assert_allclose(sf.vertical_speed, U_gf * np.sin(pitch + alpha_gf), rtol=1e-10, atol=0)
 
 
 def test_gliderflight_law_near_gliderflight_solve(ammonite):
@@ -428,3 +429,40 @@ def test_thesis_keys_of_another_law_raise_model_error(seaglider, key):
             getattr(veh, key)
         msg = str(info.value)
         assert f"'{law}'" in msg and f"'{key}'" in msg
+
+
+def test_to_toml_keeps_profile_sources_and_any_text_through_round_trips(tmp_path):
+    """A density profile's two sources stay two (they do not double on each round trip), and sources with quotes,
+    backslashes, newlines, characters beyond the Basic Multilingual Plane and DEL are written as valid TOML."""
+    base = gc.load_vehicle("slocum_shallow").to_toml() + (
+        '\n[hydrodynamics]\nlaw = "thesis"\n\n[hydrodynamics.density_profile]\n'
+        'depth = { values = [0, 100, 600], unit = "m", source = "CTD cast A" }\n'
+        'density = { values = [1024.0, 1026.5, 1027.5], unit = "kg/m^3", source = "CTD cast B" }\n')
+    path = tmp_path / "v0.toml"
+    path.write_text(base, encoding="utf-8")
+    veh = gc.load_vehicle(path).with_hydrodynamics(mass=52.0, source='a "quoted" \\ path\nline two \U0001f41f \x7f')
+    assert veh.sources["density_profile.depth"] == "CTD cast A"
+    assert veh.sources["density_profile.density"] == "CTD cast B"
+    for k in range(3):
+        path = tmp_path / f"v{k + 1}.toml"
+        path.write_text(veh.to_toml(), encoding="utf-8")
+        back = gc.load_vehicle(path)
+        assert dict(back.sources) == dict(veh.sources) and back.provenance == veh.provenance
+        assert back.density_profile == veh.density_profile
+        veh = back
+
+
+@pytest.mark.parametrize(("extra", "match"), [
+    ({"density": 1.025}, "g/cm"),
+    ({"mass": 70.0, "volume": 68.4}, "litres"),
+    ({"mass": 70.0, "volume": 0.0684, "density": 2000.0}, "not sea water"),
+])
+def test_hull_values_in_another_unit_are_refused(extra, match):
+    with pytest.raises(gc.VehicleFileError, match=match):
+        gc.load_vehicle("slocum_shallow").with_hydrodynamics(**extra)
+
+
+def test_switching_law_drops_the_old_laws_overrides():
+    veh = gc.load_vehicle("slocum_shallow", K_D0=3.0)
+    sg = gc.law_start(veh, "seaglider")
+    assert "K_D0" not in sg.overrides and "K_D0" not in sg.params

@@ -56,7 +56,8 @@ import numpy as np
 
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 
-__all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HYDRO_SPECS",
+__all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HULL_MASS_RATIO",
+           "HYDRO_SPECS",
            "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX", "THESIS_LIFT_DRAG_KEYS",
            "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
 
@@ -162,6 +163,9 @@ _HEADER_KEYS = {"name", "kind", "title", "source", "notes"}
 #: Largest buoyancy-pump range accepted, as a fraction of the vehicle's mass (:func:`load_vehicle` refuses more):
 #: no pump moves more water than the vehicle weighs (real ones move 0.5-2 %).
 PUMP_FRACTION_MAX = 1.0
+
+#: Range of ``density * volume / mass`` accepted: a glider's hull displaces within a few percent of its mass.
+HULL_MASS_RATIO = (0.8, 1.25)
 
 #: Densities (kg/m^3) a density profile may hold: sea water from fresh and warm to cold and deep.
 DENSITY_RANGE = (990.0, 1080.0)
@@ -722,12 +726,13 @@ class Vehicle:
         new_law = self.law if law is None else law
         if not isinstance(new_law, str) or new_law not in HYDRO_SPECS:
             raise VehicleFileError(f"vehicle '{self.name}': {_unknown_law(new_law)}")
-        values, sources = dict(self.params), dict(self.sources)
+        values, sources, overrides = dict(self.params), dict(self.sources), dict(self.overrides)
         if new_law != self.law:
             old = THESIS_LIFT_DRAG_KEYS if self.law == "thesis" else tuple(_LAWS[self.law])
             for key in old:
                 values.pop(key, None)
                 sources.pop(key, None)
+                overrides.pop(key, None)
         spec = _key_specs(self.kind, new_law, self.name)
         for key, value in coefficients.items():
             if key not in spec:
@@ -735,7 +740,7 @@ class Vehicle:
             values[key] = _check_value(key, value, spec[key], f"vehicle '{self.name}'")
             sources[key] = source
         return Vehicle(name=self.name, kind=self.kind, title=self.title, params=values, sources=sources,
-                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=dict(self.actuators),
+                       path=self.path, overrides=overrides, notes=self.notes, actuators=dict(self.actuators),
                        law=new_law, density_profile=self.density_profile)
 
     def with_actuators(self, **actuators: Mapping[str, Any] | Actuator | None) -> Vehicle:
@@ -785,24 +790,24 @@ class Vehicle:
         hydro = set(HYDRO_SPECS[self.law]) if self.kind == "underwater_glider" else set()
 
         def entry(key: str, value: float) -> str:
-            return (f"{key} = {{ value = {_toml_float(value)}, unit = {json.dumps(spec[key].unit)}, "
-                    f"source = {json.dumps(self.sources.get(key) or 'not recorded')} }}")
+            return (f"{key} = {{ value = {_toml_float(value)}, unit = {_toml_str(spec[key].unit)}, "
+                    f"source = {_toml_str(self.sources.get(key) or 'not recorded')} }}")
 
-        lines = ["[vehicle]", f"name = {json.dumps(self.name)}", f"kind = {json.dumps(self.kind)}",
-                 f"title = {json.dumps(self.title)}"]
+        lines = ["[vehicle]", f"name = {_toml_str(self.name)}", f"kind = {_toml_str(self.kind)}",
+                 f"title = {_toml_str(self.title)}"]
         if self.notes:
-            lines.append(f"notes = {json.dumps(self.notes)}")
+            lines.append(f"notes = {_toml_str(self.notes)}")
         fixed = {k for k, a in self.actuators.items() if a.fixed is not None}
         lines += ["", "[parameters]"]
         lines += [entry(k, v) for k, v in self.params.items() if k not in hydro and k not in fixed]
         if self.law != "thesis" or hydro & set(self.params) or self.density_profile:
-            lines += ["", "[hydrodynamics]", f"law = {json.dumps(self.law)}"]
+            lines += ["", "[hydrodynamics]", f"law = {_toml_str(self.law)}"]
             lines += [entry(k, v) for k, v in self.params.items() if k in hydro]
         if self.density_profile:
             lines += ["", "[hydrodynamics.density_profile]"]
-            src = json.dumps(self.sources.get("density_profile") or "not recorded")
             for key, unit, values in (("depth", "m", self.density_profile[0]),
                                       ("density", "kg/m^3", self.density_profile[1])):
+                src = _toml_str(self.sources.get(f"density_profile.{key}") or "not recorded")
                 lines.append(f"{key} = {{ values = [{', '.join(map(_toml_float, values))}], unit = \"{unit}\", "
                              f"source = {src} }}")
         if self.actuators:
@@ -811,10 +816,10 @@ class Vehicle:
                 fields = ([f"fixed = {_toml_float(a.fixed)}"] if a.fixed is not None else
                           [f"min = {_toml_float(a.min)}", f"max = {_toml_float(a.max)}"]
                           + ([f"rate = {_toml_float(a.rate)}"] if math.isfinite(a.rate) else []))
-                fields += [f"unit = {json.dumps(a.unit or ACTUATOR_SPECS[name].unit)}",
-                           f"source = {json.dumps(a.source or 'not recorded')}"]
+                fields += [f"unit = {_toml_str(a.unit or ACTUATOR_SPECS[name].unit)}",
+                           f"source = {_toml_str(a.source or 'not recorded')}"]
                 if a.note:
-                    fields.append(f"note = {json.dumps(a.note)}")
+                    fields.append(f"note = {_toml_str(a.note)}")
                 lines.append(f"{name} = {{ {', '.join(fields)} }}")
         return "\n".join(lines) + "\n"
 
@@ -857,10 +862,18 @@ class Vehicle:
         if self.density_profile:
             d, rho = self.density_profile
             rows.append(("[hydrodynamics] density_profile", f"{len(d)} points, {d[0]:g}-{d[-1]:g} m, "
-                         f"{min(rho):.6g}-{max(rho):.6g} kg/m^3", "m, kg/m^3", self.sources.get("density_profile", "")))
+                         f"{min(rho):.6g}-{max(rho):.6g} kg/m^3", "m, kg/m^3",
+                         "; ".join(self.sources.get(f"density_profile.{k}", "") for k in ("depth", "density"))))
         for k, a in self.actuators.items():
             rows.append((f"[actuator] {k}", a.describe(), a.unit, a.source))
         return rows
+
+
+def _toml_str(text: str) -> str:
+    """``text`` as a TOML basic string: real code points (JSON's surrogate-pair escapes are not TOML), with the
+    quote, the backslash and the control characters TOML forbids escaped."""
+    body = json.dumps(str(text), ensure_ascii=False)
+    return body.replace("\x7f", "\\u007f")
 
 
 def _toml_float(value: float) -> str:
@@ -1007,6 +1020,26 @@ def _check_actuator_scale(acts: Mapping[str, Actuator], values: Mapping[str, flo
             "typed in cm^3 or grams? Give it in kg (350 cm^3 of sea water is about 0.35 kg)")
 
 
+def _check_hull(values: Mapping[str, float], path: str) -> None:
+    """The hull and water keys against each other: a sea-water density, and a hull whose displaced water weighs
+    about what the vehicle does (within :data:`HULL_MASS_RATIO`), so that a volume or density in another unit is
+    caught at loading."""
+    lo, hi = DENSITY_RANGE
+    rho = values.get("density")
+    if rho is not None and not lo <= rho <= hi:
+        hint = " (g/cm^3? give kg/m^3: 1.025 g/cm^3 = 1025 kg/m^3)" if rho < 2 else ""
+        raise VehicleFileError(f"{path}: [hydrodynamics] density = {rho:g} kg/m^3 is not sea water ({lo:g}-{hi:g} "
+                               f"kg/m^3){hint}")
+    mass, volume = values.get("mass", values.get("m")), values.get("volume")
+    if mass is not None and volume is not None:
+        ratio = (rho or DEFAULT_DENSITY) * volume / mass
+        if not HULL_MASS_RATIO[0] <= ratio <= HULL_MASS_RATIO[1]:
+            raise VehicleFileError(
+                f"{path}: [hydrodynamics] volume = {volume:g} m^3 displaces {ratio:.3g} times the vehicle's mass "
+                f"{mass:g} kg: a glider is within a few percent of neutral. Is the volume in litres or cm^3 (give "
+                "m^3: 68 L = 0.068 m^3)?")
+
+
 def _check_consistency(kind: str, values: Mapping[str, float], path: str, law: str = "thesis") -> None:
     """Required keys and the mass model (the checks that need the whole parameter set)."""
     spec = _key_specs(kind, law, path)
@@ -1015,6 +1048,7 @@ def _check_consistency(kind: str, values: Mapping[str, float], path: str, law: s
         which = f"the '{law}' law of " if law != "thesis" else ""
         raise VehicleFileError(f"{path}: missing required parameter(s) {', '.join(missing)} for {which}a {kind} "
                                "vehicle")
+    _check_hull(values, path)
     if kind == "underwater_glider":
         fixed = "m1" in values or "m3" in values
         added = "m" in values
@@ -1184,7 +1218,7 @@ def _parse_entries(table: dict[str, Any], spec: Mapping[str, ParamSpec], where: 
     return values, sources
 
 
-def _parse_profile(table: Any, where: str) -> tuple[tuple[Any, ...], str]:
+def _parse_profile(table: Any, where: str) -> tuple[tuple[Any, ...], tuple[str, ...]]:
     """``[hydrodynamics.density_profile]``: ``depth`` and ``density`` entries ``{ values = [...], unit, source }``."""
     if not isinstance(table, dict) or set(table) != {"depth", "density"}:
         raise VehicleFileError(f"{where}: [hydrodynamics.density_profile] needs exactly the entries 'depth' and "
@@ -1203,18 +1237,18 @@ def _parse_profile(table: Any, where: str) -> tuple[tuple[Any, ...], str]:
             raise VehicleFileError(f"{where}: density_profile '{key}' values must be real numbers")
         out.append(entry["values"])
         sources.append(str(entry["source"]))
-    return tuple(out), "; ".join(sources)
+    return tuple(out), tuple(sources)
 
 
 def _parse_law(doc: dict[str, Any], kind: str, where: str,
-               text: str) -> tuple[str, dict[str, Any], tuple[Any, ...], str]:
+               text: str) -> tuple[str, dict[str, Any], tuple[Any, ...], tuple[str, ...]]:
     """The ``[hydrodynamics]`` table: the law's name (``"thesis"`` without the table), its entries, the density
-    profile (``()`` without one) and the profile's source."""
+    profile (``()`` without one) and the sources of its depths and densities."""
     hyd = doc.get("hydrodynamics", {})
     if not isinstance(hyd, dict):
         raise VehicleFileError(f"{where}: [hydrodynamics] must be a table")
     hyd = dict(hyd)
-    profile, source = _parse_profile(hyd.pop("density_profile"), where) if "density_profile" in hyd else ((), "")
+    profile, source = _parse_profile(hyd.pop("density_profile"), where) if "density_profile" in hyd else ((), ())
     law = hyd.pop("law", "thesis")
     if not isinstance(law, str) or law not in HYDRO_SPECS:
         raise VehicleFileError(f"{where}{_line_of(text, 'law', 'hydrodynamics')}: [hydrodynamics] {_unknown_law(law)}")
@@ -1269,8 +1303,8 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
         lambda key: (f"'{key}' belongs in [parameters]" if key in param_spec else _unknown_key(key, kind, law)))
     values.update(hyd_values)
     sources.update(hyd_sources)
-    if profile_source:
-        sources["density_profile"] = profile_source
+    for key, src in zip(("depth", "density"), profile_source, strict=False):
+        sources[f"density_profile.{key}"] = src
     acts_table = doc.get("actuators", {})
     if not isinstance(acts_table, dict):
         raise VehicleFileError(f"{where}: [actuators] must be a table")

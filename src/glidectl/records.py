@@ -55,8 +55,9 @@ class MaskSettings:
     surface_depth : float
         Samples shallower than this (m) are left out: surfacing, the first dive metres, wave motion.
     inflection_margin : float
-        Samples within this height (m) of a dive's deepest point are left out: the pump works and the glider
-        pitches over there, far from a steady glide.
+        Samples within this height (m) of the depth of an inflection (where the pitch changes sign: the bottom of a
+        dive, the top of a yo) are left out: the pump works and the glider pitches over there, far from a steady
+        glide.
     min_pitch : float
         Samples with ``|pitch|`` below this (rad) are left out: near-level flight has no steady glide of the
         efficient branch and its angle of attack is ill-conditioned.
@@ -227,10 +228,13 @@ class DiveRecord:
     def dive_number(self) -> np.ndarray:
         """Number of the dive each sample belongs to (0, 1, ...): a dive starts where the glider passes
         :data:`MIN_DIVE_DEPTH` going down after it was at the surface (shallower than :data:`SURFACE_DEPTH`), so
-        waves about the threshold do not start new dives; samples before the first dive belong to dive 0."""
+        waves about the threshold do not start new dives; samples before the first dive belong to dive 0, and a
+        record that starts under water counts the dive under way as dive 0."""
         deep = self.depth > MIN_DIVE_DEPTH
         starts = np.flatnonzero(np.diff(deep.astype(np.int8)) > 0) + 1  # passes of MIN_DIVE_DEPTH going down
         surface = np.flatnonzero(self.depth < SURFACE_DEPTH)
+        if self.depth[0] >= SURFACE_DEPTH and (starts.size == 0 or starts[0] != 0):
+            starts = np.concatenate(([0], starts))  # a record that starts under water: its first dive is under way
         number = np.zeros(len(self), dtype=int)
         count = 0
         for prev, i in itertools.pairwise(starts):  # a few per dive: the crossings, not the samples
@@ -243,8 +247,8 @@ class DiveRecord:
     def mask(self, settings: MaskSettings = DEFAULT_MASK) -> np.ndarray:
         """The samples a flight-model fit uses (True: used).
 
-        Leaves out the surface layer, the samples near each dive's deepest point (pumping and pitching over) and
-        shallow pitch (:class:`MaskSettings`).
+        Leaves out the surface layer, the samples within a height of the inflections before and after them
+        (:meth:`inflections`: pumping and pitching over) and shallow pitch (:class:`MaskSettings`).
 
         Parameters
         ----------
@@ -262,13 +266,40 @@ class DiveRecord:
         """
         if not isinstance(settings, MaskSettings):
             raise RecordError(f"settings must be a MaskSettings, got {type(settings).__name__}")
-        dive = self.dive_number
-        bottom = np.zeros(len(self))
-        for k in np.unique(dive):
-            sel = dive == k
-            bottom[sel] = self.depth[sel].max()
-        return ((self.depth >= settings.surface_depth) & (self.depth <= bottom - settings.inflection_margin)
-                & (np.abs(self.pitch) >= settings.min_pitch))
+        turns = self.inflections(settings.min_pitch)
+        near = np.zeros(len(self), dtype=bool)
+        if turns.size:
+            d = self.depth[turns]
+            k = np.searchsorted(turns, np.arange(len(self)), side="right")  # inflections at or before each sample
+            before = np.where(k > 0, d[np.maximum(k - 1, 0)], np.nan)
+            after = np.where(k < turns.size, d[np.minimum(k, turns.size - 1)], np.nan)
+            with np.errstate(invalid="ignore"):
+                near = ((np.abs(self.depth - before) < settings.inflection_margin)
+                        | (np.abs(self.depth - after) < settings.inflection_margin))
+        return (self.depth >= settings.surface_depth) & ~near & (np.abs(self.pitch) >= settings.min_pitch)
+
+    def inflections(self, min_pitch: float = DEFAULT_MASK.min_pitch) -> np.ndarray:
+        """Indices of the samples where the glider pitches over: the sign of the pitch changes (nose down to nose
+        up at the bottom of a dive or yo, nose up to nose down at its top), near-level samples (``|pitch| <
+        min_pitch``) taking the sign before them.
+
+        Parameters
+        ----------
+        min_pitch : float, optional
+            Pitch magnitude (rad) below which a sample does not change the sign.
+
+        Returns
+        -------
+        ndarray of int
+            The first sample of each new sign.
+        """
+        sign = np.where(np.abs(self.pitch) >= min_pitch, np.sign(self.pitch), 0.0)
+        held = np.flatnonzero(sign)
+        if held.size == 0:
+            return np.zeros(0, dtype=int)
+        last = np.maximum.accumulate(np.where(sign != 0, np.arange(len(self)), held[0]))
+        sign = sign[last]  # near-level samples keep the sign before them (the first sign before any)
+        return np.flatnonzero(np.diff(sign) != 0) + 1
 
     def plot(self, ax: Any = None) -> Any:
         """Depth, pitch and pumped volume against time, the samples of the default fit mask marked.
@@ -356,7 +387,7 @@ def example_record_path(name: str = "ammonite-2008-028-01-000.mbd") -> Path:
 
 def _read_csv(path: Path) -> DiveRecord:
     try:
-        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
+        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8-sig")  # Excel's BOM too
     except (OSError, ValueError) as exc:
         raise RecordError(f"cannot read CSV dive record '{path}': {exc}") from None
     names = data.dtype.names or ()

@@ -4,7 +4,8 @@ The model is the steady-state glide of :func:`glidectl.steady_flight` at the rec
 of :func:`glidectl.excess_mass` (hull volume, compressibility, thermal expansion, pumped volume, density), with the
 vehicle's lift and drag law (:func:`glidectl.hydro.lift_drag`). The coefficients named in ``fit`` minimise the
 squared difference between modelled and measured vertical speed over the masked samples (scipy's
-``least_squares``, trust-region reflective, within each coefficient's sign constraint); the field calibrates
+``least_squares``, trust-region reflective, within each coefficient's sign constraint, from the start values with
+the hull volume taken from a scan of its plausible range); the field calibrates
 ``volume`` and the parasitic drag (gliderflight's ``Vg`` and ``Cd0``; the Seaglider basestation's ``hd_b``), the
 default here. Standard errors come from the Jacobian at the optimum, ``s^2 (J^T J)^-1``.
 """
@@ -22,7 +23,14 @@ from scipy.optimize import least_squares
 from .. import checks
 from ..errors import ArgumentError, OutputError, RecordError, SolverError, VehicleFileError
 from ..hydro import gliderflight_coefficients, lift_drag
-from ..params import GLIDERFLIGHT_DEFAULTS, HYDRO_SPECS, PARAMETER_SPECS, THESIS_LIFT_DRAG_KEYS, Vehicle
+from ..params import (
+    GLIDERFLIGHT_DEFAULTS,
+    HULL_MASS_RATIO,
+    HYDRO_SPECS,
+    PARAMETER_SPECS,
+    THESIS_LIFT_DRAG_KEYS,
+    Vehicle,
+)
 from ..records import DEFAULT_MASK, DiveRecord, MaskSettings
 from ..trim.flight import SteadyFlight, excess_mass, hull_buoyancy_keys, steady_flight
 
@@ -40,6 +48,7 @@ _TYPICAL = {"compressibility": 5e-10, "thermal_expansion": 7e-5, "K_L0": 1.0, "C
             "hd_c": 1e-5}
 #: Smallest ratio of the Jacobian's singular values accepted (central differences: errors near 1e-10).
 _SINGULAR_RCOND = 1e-7
+_VOLUME_SCAN = 62  # volumes scanned for the fit's start: 60 inside the plausible range, 0.75 % of mass apart
 _CENTRAL_STEP = np.finfo(float).eps ** (1 / 3)
 
 
@@ -267,7 +276,8 @@ def predict_flight(veh: Vehicle, record: DiveRecord, used: np.ndarray | None = N
     else:  # the vehicle's density profile at the recorded depths, or its constant density (None)
         rho = veh.water_density(record.depth[sel]) if veh.density_profile else None
     temp = None if record.temperature is None else record.temperature[sel]
-    m0 = excess_mass(veh, record.depth[sel], record.buoyancy_volume[sel], density=rho, temperature=temp)
+    m0 = excess_mass(veh, record.depth[sel], record.buoyancy_volume[sel], density=rho, temperature=temp,
+                     pressure=record.pressure[sel])
     return steady_flight(veh, record.pitch[sel], m0, density=rho)
 
 
@@ -307,9 +317,20 @@ def _coefficient_values(start: Vehicle, names: Sequence[str]) -> np.ndarray:
 
 
 def _bounds(start: Vehicle, names: Sequence[str], scale: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of the scaled unknowns: each coefficient's sign constraint, and for the hull's ``volume`` and
+    ``mass`` the plausible ratio of displaced water to mass (:data:`~glidectl.params.HULL_MASS_RATIO`)."""
     spec = {**PARAMETER_SPECS["underwater_glider"], **HYDRO_SPECS[start.law]}
     lo = np.array([0.0 if spec[n].constraint in ("positive", "nonnegative") else -np.inf for n in names])
-    return np.where(scale > 0, lo / scale, -np.inf), np.full(len(names), np.inf)
+    hi = np.full(len(names), np.inf)
+    hull = hull_buoyancy_keys(start)
+    r_lo, r_hi = HULL_MASS_RATIO
+    rho = hull["density"]
+    for i, n in enumerate(names):
+        if n == "volume":
+            lo[i], hi[i] = r_lo * hull["mass"] / rho, r_hi * hull["mass"] / rho
+        elif n == "mass":
+            lo[i], hi[i] = rho * hull["volume"] / r_hi, rho * hull["volume"] / r_lo
+    return lo / scale, hi / scale
 
 
 class _Problem:
@@ -333,7 +354,8 @@ class _Problem:
 
 def _solve(problem: _Problem, x0_values: np.ndarray, scale: np.ndarray, used: np.ndarray) -> Any:
     lo, hi = _bounds(problem.start, problem.names, scale)
-    x0 = np.clip(x0_values / scale, np.where(np.isfinite(lo), lo + 1e-12, lo), hi)
+    inside = (np.where(np.isfinite(lo), lo + 1e-12, lo), np.where(np.isfinite(hi), hi - 1e-12, hi))
+    x0 = np.clip(x0_values / scale, *inside)
     res = least_squares(lambda x: problem.residual(x * scale, used), x0, bounds=(lo, hi), method="trf",
                         x_scale=1.0, xtol=1e-10, ftol=1e-10, gtol=1e-10, max_nfev=200)
     if res.status <= 0 or not np.all(np.isfinite(res.x)):
@@ -343,29 +365,30 @@ def _solve(problem: _Problem, x0_values: np.ndarray, scale: np.ndarray, used: np
 
 
 def _central_jacobian(problem: _Problem, x: np.ndarray, scale: np.ndarray, used: np.ndarray,
-                      lower: np.ndarray) -> np.ndarray:
+                      bounds: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
     """The residual's Jacobian in the scaled unknowns by central differences (step ``eps^(1/3)`` relative): errors
     near 1e-10, so that coefficients the record cannot tell apart show as a singular Jacobian. A coefficient within
-    a step of its lower bound gets the second-order one-sided difference instead (no step leaves the bounds)."""
+    a step of a bound gets the second-order one-sided difference away from it (no step leaves the bounds)."""
+    lower, upper = bounds
     J = np.empty((int(used.sum()), x.size))
-    f0 = None
+    f0 = problem.residual(x * scale, used)
     for k in range(x.size):
         h = _CENTRAL_STEP * max(abs(x[k]), 1.0)
         step = np.zeros(x.size)
         step[k] = h
-        if x[k] - h >= lower[k]:
+        if x[k] - h >= lower[k] and x[k] + h <= upper[k]:
             up, down = problem.residual((x + step) * scale, used), problem.residual((x - step) * scale, used)
             J[:, k] = (up - down) / (2 * h)
         else:
-            f0 = problem.residual(x * scale, used) if f0 is None else f0
-            J[:, k] = (-3 * f0 + 4 * problem.residual((x + step) * scale, used)
-                       - problem.residual((x + 2 * step) * scale, used)) / (2 * h)
+            d = 1.0 if x[k] - h < lower[k] else -1.0  # step away from the bound
+            J[:, k] = d * (-3 * f0 + 4 * problem.residual((x + d * step) * scale, used)
+                           - problem.residual((x + 2 * d * step) * scale, used)) / (2 * h)
     return J
 
 
 def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Standard errors and correlation from the Jacobian; SolverError naming what cannot be told apart."""
-    J = _central_jacobian(problem, res.x, scale, problem.used, _bounds(problem.start, problem.names, scale)[0])
+    J = _central_jacobian(problem, res.x, scale, problem.used, _bounds(problem.start, problem.names, scale))
     _, sv, vt = np.linalg.svd(J, full_matrices=False)
     if sv[-1] <= _SINGULAR_RCOND * sv[0]:
         null = np.abs(vt[-1])
@@ -379,6 +402,25 @@ def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple
     err = np.sqrt(np.diag(cov_x))
     corr = cov_x / np.outer(err, err)
     return err * np.abs(scale), corr
+
+
+def _volume_start(problem: _Problem, values: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """Start values with the hull volume, when it is fitted, taken from a scan of its plausible range (the one of
+    least squares, the other coefficients at their starts). The volume sets which samples have a steady glide at
+    all: a start far from neutral leaves many without one, where the objective is flat, and the local solver can
+    stall there."""
+    if "volume" not in problem.names:
+        return values
+    i = problem.names.index("volume")
+    lo, hi = (b[i] * scale[i] for b in _bounds(problem.start, problem.names, scale))
+    best, out = np.inf, values.copy()
+    for v in np.linspace(lo, hi, _VOLUME_SCAN)[1:-1]:
+        trial = values.copy()
+        trial[i] = v
+        r = problem.residual(trial)
+        if r @ r < best:
+            best, out = float(r @ r), trial
+    return out
 
 
 def _check_glides(problem: _Problem, values: np.ndarray) -> None:
@@ -466,6 +508,7 @@ def fit_flight_model(veh: Vehicle, record: DiveRecord, law: str | None = None, f
     problem = _Problem(start, record, names, used, source)
     values0 = _coefficient_values(start, names)
     scale = np.where(values0 != 0, np.abs(values0), [_TYPICAL.get(nm, 1.0) for nm in names])
+    values0 = _volume_start(problem, values0, scale)
     res = _solve(problem, values0, scale, used)
     values = res.x * scale
     _check_glides(problem, values)

@@ -12,9 +12,10 @@ efficient branch (the one nearest zero lift, of the largest speed) is bracketed 
 the zero-lift angle and refined by the Illinois method, for all samples at once: no Python loop over samples.
 
 The net heaviness of a glider with a compressible hull and a pumped volume (:func:`excess_mass`) is
-``m0 = mass - rho (volume (1 - epsilon p + alpha_T (T - T_ref)) + dV)`` at gauge pressure ``p = rho g depth`` (the
-in-situ density: the profile's integral differs from it by far less than the compressibility's own uncertainty), the
-buoyancy of gliderflight's ``compute_FB_and_Fg`` with the thermal-expansion term of the ``[hydrodynamics]`` table.
+``m0 = mass - rho (volume (1 - epsilon p + alpha_T (T - T_ref)) + dV)`` at the gauge pressure ``p`` (a record's
+own; else ``rho g depth`` with the in-situ density, whose difference from the profile's integral is far below the
+compressibility's own uncertainty), the buoyancy of gliderflight's ``compute_FB_and_Fg`` with the thermal-expansion
+term of the ``[hydrodynamics]`` table.
 """
 
 from __future__ import annotations
@@ -78,11 +79,12 @@ def hull_buoyancy_keys(veh: Vehicle) -> dict[str, float]:
 
 
 def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = None,
-                temperature: Any = None) -> np.ndarray:
+                temperature: Any = None, pressure: Any = None) -> np.ndarray:
     """Net heaviness ``m0`` (kg, positive sinks) of a compressible hull with a pumped volume.
 
     ``m0 = mass - rho (volume (1 - compressibility p + thermal_expansion (T - reference_temperature)) + dV)`` with
-    the gauge pressure ``p = rho g depth`` (:func:`hull_buoyancy_keys` for the values and their defaults).
+    the gauge pressure ``p`` (given, or ``rho g depth``; :func:`hull_buoyancy_keys` for the values and their
+    defaults).
 
     Parameters
     ----------
@@ -97,6 +99,9 @@ def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = 
         density profile, or its constant density).
     temperature : array_like, optional
         Water temperature (degC); default the reference temperature (no thermal expansion).
+    pressure : array_like, optional
+        Gauge pressure (Pa) compressing the hull, e.g. a record's own (:attr:`glidectl.DiveRecord.pressure`);
+        default ``rho g depth``.
 
     Returns
     -------
@@ -115,7 +120,7 @@ def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = 
     rho = veh.water_density(depth) if density is None else checks.numeric("density", density)
     dv = checks.numeric("pumped_volume", pumped_volume)
     dT = 0.0 if temperature is None else checks.numeric("temperature", temperature) - h["reference_temperature"]
-    p = rho * veh.g * depth
+    p = rho * veh.g * depth if pressure is None else checks.numeric("pressure", pressure)
     hull = h["volume"] * (1.0 - h["compressibility"] * p + h["thermal_expansion"] * dT)
     return np.asarray(h["mass"] - rho * (hull + dv), dtype=float)
 
@@ -215,8 +220,8 @@ def efficient_root(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], a0:
     alpha = np.full(sign.shape, np.nan)
     idx = np.flatnonzero(found)
     if idx.size:
-        alpha[idx] = _illinois(lambda a: np.nan_to_num(residual(a, idx), nan=np.inf, posinf=1e300), lo[idx],
-                               hi[idx])
+        alpha[idx] = _illinois(lambda a, sel: np.nan_to_num(residual(a, idx[sel]), nan=np.inf, posinf=1e300),
+                               lo[idx].copy(), hi[idx].copy())
     return alpha, found
 
 
@@ -254,25 +259,30 @@ def _dips(residual: Callable[[np.ndarray, np.ndarray], np.ndarray], alphas: np.n
     return rows, alphas[rows, pj[first] - 1], m[first]
 
 
-def _illinois(f: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Refine bracketed roots (``f(lo) > 0 >= f(hi)``) by the Illinois variant of regula falsi."""
-    f_lo, f_hi = np.minimum(f(lo), 1e300), f(hi)
+def _illinois(f: Callable[[np.ndarray, np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Refine bracketed roots (``f(lo) > 0 >= f(hi)``) by the Illinois variant of regula falsi; ``f(alpha, sel)``
+    evaluates the samples ``sel`` (indices into ``lo``). A sample stops iterating once its bracket is a few ulps wide
+    (or its residual is 0), so its root does not depend on the other samples solved with it."""
+    every = np.arange(lo.size)
+    f_lo, f_hi = np.minimum(f(lo, every), 1e300), f(hi, every)
     side = np.zeros(lo.shape, dtype=int)
     x = hi.copy()
+    act = every
     for _ in range(_ITERATIONS):
+        a, b, fa, fb, sd = lo[act], hi[act], f_lo[act], f_hi[act], side[act]
         with np.errstate(divide="ignore", invalid="ignore"):
-            x = np.where(f_lo >= 1e300, 0.5 * (lo + hi), (lo * f_hi - hi * f_lo) / (f_hi - f_lo))
-        x = np.where(np.isfinite(x) & ((x - lo) * (x - hi) <= 0), x, 0.5 * (lo + hi))
-        fx = np.minimum(f(x), 1e300)
+            xa = np.where(fa >= 1e300, 0.5 * (a + b), (a * fb - b * fa) / (fb - fa))
+        xa = np.where(np.isfinite(xa) & ((xa - a) * (xa - b) <= 0), xa, 0.5 * (a + b))
+        fx = np.minimum(f(xa, act), 1e300)
         left = fx > 0  # the root lies between x and hi
-        lo, hi = np.where(left, x, lo), np.where(left, hi, x)
-        f_lo_new, f_hi_new = np.where(left, fx, f_lo), np.where(left, f_hi, fx)
+        a, b = np.where(left, xa, a), np.where(left, b, xa)
+        fa, fb = np.where(left, fx, fa), np.where(left, fb, fx)
         # Illinois: halve the retained end's value when the same end is kept twice
-        f_hi_new = np.where(left & (side == 1), 0.5 * f_hi_new, f_hi_new)
-        f_lo_new = np.where(~left & (side == -1), 0.5 * f_lo_new, f_lo_new)
-        side = np.where(left, 1, -1)
-        f_lo, f_hi = f_lo_new, f_hi_new
-        if np.all((np.abs(hi - lo) <= 2e-15 * np.abs(x)) | (fx == 0)):
+        fb = np.where(left & (sd == 1), 0.5 * fb, fb)
+        fa = np.where(~left & (sd == -1), 0.5 * fa, fa)
+        lo[act], hi[act], f_lo[act], f_hi[act], side[act], x[act] = a, b, fa, fb, np.where(left, 1, -1), xa
+        act = act[~((np.abs(b - a) <= 2e-15 * np.abs(xa)) | (fx == 0))]
+        if act.size == 0:
             break
     return x
 
