@@ -5,7 +5,7 @@ of :func:`glidectl.excess_mass` (hull volume, compressibility, thermal expansion
 vehicle's lift and drag law (:func:`glidectl.hydro.lift_drag`). The coefficients named in ``fit`` minimise the
 squared difference between modelled and measured vertical speed over the masked samples (scipy's
 ``least_squares``, trust-region reflective, within each coefficient's sign constraint, from the start values with
-the hull volume taken from a scan of its plausible range); the field calibrates
+the hull volume near neutral buoyancy); the field calibrates
 ``volume`` and the parasitic drag (gliderflight's ``Vg`` and ``Cd0``; the Seaglider basestation's ``hd_b``), the
 default here. Standard errors come from the Jacobian at the optimum, ``s^2 (J^T J)^-1``.
 """
@@ -48,7 +48,7 @@ _TYPICAL = {"compressibility": 5e-10, "thermal_expansion": 7e-5, "K_L0": 1.0, "C
             "hd_c": 1e-5}
 #: Smallest ratio of the Jacobian's singular values accepted (central differences: errors near 1e-10).
 _SINGULAR_RCOND = 1e-7
-_VOLUME_SCAN = 62  # volumes scanned for the fit's start: 60 inside the plausible range, 0.75 % of mass apart
+_VOLUME_SCAN = 9  # volumes scanned for the fit's start, within the pump's reach of the neutral estimate
 _CENTRAL_STEP = np.finfo(float).eps ** (1 / 3)
 
 
@@ -405,16 +405,27 @@ def _covariance(problem: _Problem, res: Any, scale: np.ndarray, n: int) -> tuple
 
 
 def _volume_start(problem: _Problem, values: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """Start values with the hull volume, when it is fitted, taken from a scan of its plausible range (the one of
-    least squares, the other coefficients at their starts). The volume sets which samples have a steady glide at
-    all: a start far from neutral leaves many without one, where the objective is flat, and the local solver can
-    stall there."""
+    """Start values with the hull volume, when it is fitted, near neutral buoyancy. The volume sets which samples
+    have a steady glide at all: a start a kilogram or two from neutral leaves many without one, where the objective
+    is flat, and the local solver can stall there. The estimate makes the median heaviness of the dives and of the
+    climbs equal and opposite (a symmetric sawtooth); a scan of :data:`_VOLUME_SCAN` volumes within the pump's reach
+    about it keeps the one of least squares."""
     if "volume" not in problem.names:
         return values
     i = problem.names.index("volume")
     lo, hi = (b[i] * scale[i] for b in _bounds(problem.start, problem.names, scale))
+    rec, used = problem.record, problem.used
+    dives, climbs = used & (rec.pitch < 0), used & (rec.pitch > 0)
+    centre = values[i]
+    if dives.any() and climbs.any():
+        hull = {**hull_buoyancy_keys(problem.start), **dict(zip(problem.names, values, strict=True))}
+        rho, eps = hull["density"], hull["compressibility"]
+        dv = np.median(rec.buoyancy_volume[dives]) + np.median(rec.buoyancy_volume[climbs])
+        p = np.median(rec.pressure[dives]) + np.median(rec.pressure[climbs])
+        centre = (2 * hull["mass"] / rho - dv) / (2 - eps * p)
+    reach = max(float(np.max(np.abs(rec.buoyancy_volume[used]))), 1e-6)
     best, out = np.inf, values.copy()
-    for v in np.linspace(lo, hi, _VOLUME_SCAN)[1:-1]:
+    for v in np.clip(centre + reach * np.linspace(-1.0, 1.0, _VOLUME_SCAN), lo * (1 + 1e-9), hi * (1 - 1e-9)):
         trial = values.copy()
         trial[i] = v
         r = problem.residual(trial)
