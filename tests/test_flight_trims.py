@@ -192,3 +192,17 @@ def test_excess_mass_takes_the_recorded_pressure():
     given = gc.excess_mass(veh, depth, 0.0, pressure=p)
     np.testing.assert_allclose(given, 70.0 - 1027.0 * 0.0684 * (1 - 5e-10 * p), rtol=0, atol=1e-12)
     assert not np.array_equal(given[1:], default[1:])
+
+
+@pytest.mark.parametrize("law", ["thesis", "seaglider", "gliderflight"])
+def test_steady_flight_inverts_steady_glide(slocum, law):
+    """Two solvers of one balance: steady_glide takes speed and flight-path angle (closed form for the thesis law,
+    the root search otherwise) and gives pitch and heaviness; steady_flight at that pitch and heaviness must give the
+    speed and angle of attack back."""
+    veh = gc.law_start(slocum, law)
+    for V, gamma_deg in ((0.15, -35.0), (0.35, -25.0), (0.5, 30.0)):
+        g = gc.steady_glide(veh, V, math.radians(gamma_deg), r_p3=0.05)
+        fl = gc.steady_flight(veh, g.theta, g.m0)
+        assert bool(fl.feasible)
+        assert float(fl.speed) == pytest.approx(V, rel=1e-12)
+        assert float(fl.alpha) == pytest.approx(g.alpha, rel=1e-10, abs=1e-14)

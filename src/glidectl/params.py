@@ -57,9 +57,9 @@ import numpy as np
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 
 __all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HULL_MASS_RATIO",
-           "HYDRO_SPECS",
-           "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX", "THESIS_LIFT_DRAG_KEYS",
-           "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets", "load_vehicle"]
+           "HYDRO_SPECS", "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX",
+           "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets",
+           "load_vehicle"]
 
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
 MAX_FILE_BYTES = 1 << 20
@@ -1011,8 +1011,7 @@ def _check_actuator_scale(acts: Mapping[str, Actuator], values: Mapping[str, flo
     mass = values.get("m", values.get("mass", values.get("m1")))
     if mass is None:
         return
-    reach = max(abs(v) for v in (act.min, act.max, act.fixed or 0.0) if math.isfinite(v)) if any(
-        math.isfinite(v) for v in (act.min, act.max)) else 0.0
+    reach = max((abs(v) for v in (act.min, act.max, act.fixed) if v is not None and math.isfinite(v)), default=0.0)
     if reach > PUMP_FRACTION_MAX * mass:
         raise VehicleFileError(
             f"{where}: actuator 'm0' reaches {reach:g} kg, {100 * reach / mass:.0f} % of the vehicle's {mass:g} kg: "

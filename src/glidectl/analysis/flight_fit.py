@@ -340,7 +340,6 @@ class _Problem:
                  source: str) -> None:
         self.start, self.names, self.source = start, tuple(names), source
         self.record, self.used = record, used
-        self.measured = record.vertical_speed[used]
 
     def vehicle(self, values: np.ndarray) -> Vehicle:
         return self.start.with_hydrodynamics(source=self.source,
