@@ -142,5 +142,5 @@ def test_actuator_contains_and_clip_agree(lo, width, rate, v):
 
 
 def test_every_spec_key_is_documented():
-    assert set(ACTUATOR_SPECS) == {"m0", "r_P1", "r_P2", "r_P3", "elevator", "rudder"}
+    assert set(ACTUATOR_SPECS) == {"m0", "r_P1", "r_P2", "r_P3", "roll", "elevator", "rudder"}
     assert all(s.unit in ("kg", "m", "rad") for s in ACTUATOR_SPECS.values())

@@ -104,6 +104,7 @@ from .controllers.torque import (
     design_torque_control,
     torque_gain_family,
 )
+from .environment import Current
 from .errors import (
     ArgumentError,
     ArgumentTypeError,
@@ -120,8 +121,10 @@ from .errors import (
 )
 from .hydro import lift_drag
 from .iosys import to_iosys
+from .missions import DiveMetrics, DivePlan, GliderBehaviours, LegMetrics, Mission, MissionRun, fly_mission
 from .models import phugoid_hamiltonian
 from .models.actuated import ActuatedGlider
+from .models.actuated3d import ActuatedGlider3D
 from .models.buoyancy_glider import BuoyancyGlider
 from .models.closed_loop import ClosedLoop
 from .models.ctol import CTOLAircraft, CTOLReduced, ExtendedCTOL
@@ -183,7 +186,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "PhugoidModel", "quat_to_R", "R_to_ypr", "RealizedTorqueLoop", "ReducedLongitudinalGlider", "SlowModel",
         "TorqueControlledGlider", "ypr_to_quat", "ypr_to_R",
         "DepthGlidePathModel",
-        "ActuatedGlider",
+        "ActuatedGlider", "ActuatedGlider3D",
     ),
     "flight models and dive records": (
         "DiveRecord", "example_record_path", "excess_mass", "fit_flight_model", "FlightFit", "law_start",
@@ -237,6 +240,10 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "ActuatedSimulation", "compare_missions", "CycleMetrics", "dive_cycle", "DiveCycleRun", "MissionComparison",
         "pump_energy", "simulate_actuated",
     ),
+    "missions": (
+        "Current", "DiveMetrics", "DivePlan", "fly_mission", "GliderBehaviours", "LegMetrics", "Mission",
+        "MissionRun",
+    ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
         "ModelError", "OutputError", "RecordError", "SolverError", "VehicleFileError", "VehicleMismatchError",
@@ -247,6 +254,7 @@ __all__ = [
     "C_STEADY",
     "AccelerationControlledGlider",
     "ActuatedGlider",
+    "ActuatedGlider3D",
     "ActuatedSimulation",
     "Actuator",
     "ApproximateLinearizationController",
@@ -273,11 +281,14 @@ __all__ = [
     "CompositeCertificate",
     "CompositeVerification",
     "ControllerRecord",
+    "Current",
     "CycleMetrics",
     "DecoupledAccelerationFeedback",
     "DepthGlidePathModel",
     "DesignError",
     "DiveCycleRun",
+    "DiveMetrics",
+    "DivePlan",
     "DiveRecord",
     "Domain",
     "ElevatorBuoyancyController",
@@ -297,16 +308,20 @@ __all__ = [
     "GlideTracking",
     "GlidectlError",
     "Glider3D",
+    "GliderBehaviours",
     "Helix",
     "HelixDesign",
     "HelixRbhLocus",
     "HelixSweep",
     "InfeasibleGlideError",
     "LQGController",
+    "LegMetrics",
     "LinearGlideController",
     "LongitudinalGlider",
     "MaskSettings",
+    "Mission",
     "MissionComparison",
+    "MissionRun",
     "ModelError",
     "Modes",
     "NondimensionalModel",
@@ -387,6 +402,7 @@ __all__ = [
     "existence_scan",
     "feedback_linearization_blowup",
     "fit_flight_model",
+    "fly_mission",
     "glide_envelope",
     "glide_model",
     "helix_rbh_locus",

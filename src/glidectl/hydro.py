@@ -427,7 +427,7 @@ def _opt(veh: Vehicle, key: str) -> float:
     return float(veh.params.get(key, 0.0))
 
 
-def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]:
+def loads_3d(veh: Vehicle, v: Any, Omega: Any, rudder: Any = 0.0) -> tuple[Any, Any, Any, Any, Any]:
     """Hydrodynamic force and moment in body coordinates, (2.9)-(2.14), rotated from the wind frame.
 
     Parameters
@@ -440,14 +440,18 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]
         Body velocity (m/s).
     Omega : array_like, shape (..., 3)
         Body angular velocity (rad/s).
+    rudder : float or array_like, shape (...)
+        Rudder angle ``delta_r`` (rad, > 0 turns the nose to starboard); it adds ``K_SF_rudder delta_r V^2`` to the
+        side force and ``K_MY_rudder delta_r V^2`` to the yaw moment (coefficients absent count as 0). Default 0.
 
     Returns
     -------
     F : (..., 3) body-frame force (N): ``C_bw (-D, -SF, -L)`` with ``C_bw = [e_V, e_2, e_3]``,
         ``e_V = v/V = (ca cb, sb, sa cb)``, ``e_2 = (-ca sb, cb, -sa sb)``, ``e_3 = (-sa, 0, ca)``. The side force
-        ``SF = K_beta beta V^2`` opposes sideslip (docs/conventions.md); with ``beta = 0`` this is (2.18)-(2.19)'s
-        ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
-    T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, K_MY beta V^2)`` plus damping
+        ``SF = (K_beta beta + K_SF_rudder delta_r) V^2`` opposes sideslip (docs/conventions.md); with ``beta = 0``
+        and no rudder this is (2.18)-(2.19)'s ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
+    T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, (K_MY beta + K_MY_rudder
+        delta_r) V^2)`` plus damping
         ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis, from
         :func:`damping_moment` (the pitch row is :func:`loads_at`'s ``M_DL2``, the same as the 2-D models').
     alpha, beta, V : angle of attack ``atan2(v3, v1)``, sideslip ``asin(v2/V)`` (rad) and speed (m/s); at rest
@@ -481,10 +485,14 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any) -> tuple[Any, Any, Any, Any, Any]
     ca, sa, cb, sb = np.cos(alpha), np.sin(alpha), np.cos(beta), np.sin(beta)
     L, D, M2 = loads_at(veh, V2, alpha, Om[..., 1])  # pitch moment including pitch damping
     SF = _opt(veh, "K_beta") * beta * V2
+    yaw = _opt(veh, "K_MY") * beta * V2
+    if not (np.isscalar(rudder) and rudder == 0.0):  # the rudder acts like a sideslip of its own
+        SF = SF + _opt(veh, "K_SF_rudder") * rudder * V2
+        yaw = yaw + _opt(veh, "K_MY_rudder") * rudder * V2
     F = np.stack([-D * ca * cb + SF * ca * sb + L * sa,
                   -D * sb - SF * cb,
                   -D * sa * cb + SF * sa * sb - L * ca], axis=-1)
     T = np.stack([_opt(veh, "K_MR") * beta * V2 + _damping(p, V2, Om[..., 0], 1),
                   M2,
-                  _opt(veh, "K_MY") * beta * V2 + _damping(p, V2, Om[..., 2], 3)], axis=-1)
+                  yaw + _damping(p, V2, Om[..., 2], 3)], axis=-1)
     return F, T, alpha, beta, V

@@ -129,8 +129,14 @@ _UG: dict[str, ParamSpec] = {
     "K_Omega2_1": ParamSpec("kg*m^2*s^2/rad^2", "chapter 8 quadratic roll damping", "any"),
     "K_Omega2_2": ParamSpec("kg*m^2*s^2/rad^2", "chapter 8 quadratic pitch damping", "any"),
     "K_Omega2_3": ParamSpec("kg*m^2*s^2/rad^2", "chapter 8 quadratic yaw damping", "any"),
+    # --- rudder: side force and yaw moment per rudder angle (rudder angle in the [actuators] table)
+    "K_SF_rudder": ParamSpec("kg/m/rad", "side force per rudder angle: SF = (K_beta beta + K_SF_rudder delta_r) V^2",
+                             "any"),
+    "K_MY_rudder": ParamSpec("kg/rad", "yaw moment per rudder angle: (K_MY beta + K_MY_rudder delta_r) V^2 "
+                             "(> 0: a positive rudder angle turns the nose to starboard)", "any"),
     # --- elevator (§6.3); actuator limits are in the [actuators] table (ACTUATOR_SPECS)
     "delta": ParamSpec("kg/m/rad", "elevator moment-to-force coupling factor (§6.3)", "nonnegative"),
+    "depth_rating": ParamSpec("m", "rated depth of the hull: missions deeper than this are refused", "positive"),
     "pump_efficiency": ParamSpec("1", "buoyancy pump efficiency (hydraulic work / electrical energy), 0 < e <= 1",
                                  "positive"),
     # --- nominal operating point (optional; studies may use it as a default)
@@ -250,7 +256,10 @@ ACTUATOR_SPECS: Mapping[str, ActuatorSpec] = MappingProxyType({
     "r_P2": ActuatorSpec("m", "moving-mass position along body-2 (lateral, roll)"),
     "r_P3": ActuatorSpec("m", "moving-mass position along body-3 (vertical offset)"),
     "elevator": ActuatorSpec("rad", "elevator: control angle of attack u2 of §6.3"),
-    "rudder": ActuatorSpec("rad", "rudder angle"),
+    "roll": ActuatorSpec("rad", "battery roll by rotation about body-1: the moving mass sits at r_P2 = rho sin(phi_b), "
+                         "r_P3 = rho cos(phi_b), rho = the r_P3 setting"),
+    "rudder": ActuatorSpec("rad", "rudder angle delta_r (> 0 turns the nose to starboard; coefficients K_SF_rudder, "
+                           "K_MY_rudder)"),
 })
 
 #: Keys that earlier vehicle files used for actuator limits, and where they went.
@@ -1137,7 +1146,35 @@ def _check_actuators(kind: str, actuators: Mapping[str, Any], values: Mapping[st
                     f"{where}: nominal parameter '{name}' = {v:g} {act.unit} is outside the actuator range "
                     f"[{act.min:g}, {act.max:g}] {act.unit} of [actuators] {name}")
         out[name] = act
+    _check_roll_and_rudder(out, values, where)
     return out
+
+
+def _check_roll_and_rudder(acts: Mapping[str, Actuator], values: Mapping[str, float], where: str) -> None:
+    """A ``roll`` actuator rotates the battery about body-1 (``r_P2 = rho sin phi``, ``r_P3 = rho cos phi``): it
+    needs a battery offset ``rho = r_P3`` that does not translate and no lateral translation besides; a ``rudder``
+    needs the side-force and yaw-moment coefficients that make it act."""
+    if "roll" in acts:
+        for axis in ("r_P2", "r_P3"):
+            a = acts.get(axis)
+            if a is not None and a.fixed is None:
+                raise VehicleFileError(
+                    f"{where}: [actuators] roll rotates the battery about body-1 (r_P2 = rho sin(phi), r_P3 = rho "
+                    f"cos(phi)), so {axis} cannot also translate; make {axis} fixed (r_P3 fixed is the offset rho)")
+        r2 = acts["r_P2"].fixed if "r_P2" in acts else values.get("r_P2", 0.0)
+        if r2 != 0.0:
+            raise VehicleFileError(f"{where}: [actuators] roll puts the battery at r_P2 = rho sin(phi); a fixed "
+                                   f"lateral offset r_P2 = {r2:g} m besides is not modelled; set r_P2 to 0")
+        rho = acts["r_P3"].fixed if "r_P3" in acts else values.get("r_P3")
+        if rho is None or not rho > 0:
+            raise VehicleFileError(f"{where}: [actuators] roll needs the battery offset below the body-1 axis, "
+                                   f"rho = r_P3 > 0 (m), as a fixed [actuators] r_P3 or a parameter; got {rho!r}")
+    if "rudder" in acts and acts["rudder"].fixed is None:
+        missing = [k for k in ("K_SF_rudder", "K_MY_rudder") if k not in values]
+        if missing:
+            raise VehicleFileError(f"{where}: [actuators] rudder needs the rudder coefficients {missing} in "
+                                   "[parameters] (side force K_SF_rudder, kg/m/rad, and yaw moment K_MY_rudder, "
+                                   "kg/rad, per rudder angle)")
 
 
 def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],

@@ -1092,3 +1092,118 @@ def plot_flight_fit(fit: Any, ax: Any = None) -> Any:
     b.set_xlabel("modelled - measured vertical speed [m/s]")
     b.set_ylabel("depth [m]")
     return axes
+
+
+def _current_arrows(ax: Any, run: Any, bounds: tuple[float, float, float, float]) -> None:
+    """Arrows of the surface current on a coarse grid of the map (a quiver key gives the scale)."""
+    e0, e1, n0, n1 = bounds
+    E, N = np.meshgrid(np.linspace(e0, e1, 6), np.linspace(n0, n1, 6))
+    pos = np.stack([E, N, np.zeros_like(E)], -1)
+    c = run.current.at(0.0, pos)
+    if not np.any(np.hypot(c[..., 0], c[..., 1]) > 0):
+        return
+    q = ax.quiver(E / 1000.0, N / 1000.0, c[..., 0], c[..., 1], color="0.6", width=0.003, zorder=0)
+    ax.quiverkey(q, 0.97, 0.03, 0.1, "0.1 m/s surface current", labelpos="W", coordinates="axes",
+                 fontproperties={"size": 7})
+
+
+def plot_mission_run(run: Any, ax: Any = None) -> Any:
+    """A flown mission: map view (track, dead reckoning, surfacings, waypoints with their arrival circles, current
+    arrows), depth against time and the actuators against time.
+
+    Parameters
+    ----------
+    run : MissionRun
+    ax : array of 3 axes, optional
+        Default a new figure.
+
+    Returns
+    -------
+    ndarray of Axes
+        Map, depth, actuators.
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` is not 3 axes.
+    """
+    if ax is None:
+        fig, _ = new_figure(width=11.0, height=7.0)
+        fig.clf()
+        grid = fig.add_gridspec(2, 2, width_ratios=(1.0, 1.3))
+        axes = np.array([fig.add_subplot(grid[:, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, 1])])
+        axes[2].sharex(axes[1])
+    else:
+        axes = _axes(ax, 3, "MissionRun.plot")
+    pos, t_h = run.position / 1000.0, run.t / 3600.0
+    m = axes[0]
+    m.plot(pos[:, 0], pos[:, 1], "C0", lw=1, label="track")
+    dr = run.dead_reckoned / 1000.0
+    under = run.phase != 0
+    m.plot(np.where(under, dr[:, 0], np.nan), np.where(under, dr[:, 1], np.nan), "C1", lw=0.8, ls="--",
+           label="dead reckoning")
+    fixes = np.array([d.fix for d in run.dives]) / 1000.0
+    if fixes.size:
+        m.plot(fixes[:, 0], fixes[:, 1], "k.", ms=4, label="GPS fixes")
+    wp = np.asarray(run.mission.waypoints) / 1000.0
+    m.plot(wp[:, 0], wp[:, 1], "s", color="C3", ms=7, mfc="none", label="waypoints")
+    r = run.mission.arrival_radius / 1000.0
+    for k, (e, n) in enumerate(wp):
+        m.add_patch(matplotlib.patches.Circle((e, n), r, fill=False, color="C3", lw=0.6, ls=":"))
+        m.annotate(str(k), (e, n), textcoords="offset points", xytext=(5, 5), fontsize=8, color="C3")
+    m.plot(*(np.asarray(run.mission.start) / 1000.0), "^", color="C2", ms=7, label="launch")
+    m.set_aspect("equal", adjustable="datalim")
+    lo = np.minimum(pos[:, :2].min(0), wp.min(0)) * 1000.0
+    hi = np.maximum(pos[:, :2].max(0), wp.max(0)) * 1000.0
+    pad = 0.1 * max(float(np.max(hi - lo)), 1.0)
+    _current_arrows(m, run, (lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad))
+    m.set_xlabel("east [km]")
+    m.set_ylabel("north [km]")
+    m.legend(loc="best", fontsize=7)
+    m.set_title(textwrap.shorten(f"{run.vehicle.name}, {run.controller}: {sum(g.arrived for g in run.legs)}/"
+                                 f"{len(run.legs)} waypoints, {run.energy_per_km:.0f} J/km", 70), fontsize=9)
+    axes[1].plot(t_h, pos[:, 2] * 1000.0, "C0", lw=0.8)
+    axes[1].axhline(run.mission.depths[1], color="0.5", lw=0.6, ls=":")
+    axes[1].invert_yaxis()
+    axes[1].set_ylabel("depth [m]")
+    axes[1].set_title(f"{len(run.dives)} dives, {run.duration / 3600:.1f} h", fontsize=9)
+    a = axes[2]
+    a.plot(t_h, run.actuator("m0") * 1000.0, "C3", lw=0.8, label="pump $m_0$ [g]")
+    a.plot(t_h, run.actuator("r_P1") * 1000.0, "C2", lw=0.8, label="battery $r_{P1}$ [mm]")
+    for name, color in (("roll", "C4"), ("rudder", "C5")):
+        if run.plant.rate_limit[run.plant.actuator_names.index(name)] > 0:
+            a.plot(t_h, np.degrees(run.actuator(name)), color, lw=0.8, label=f"{name} [deg]")
+    a.set_xlabel("mission time [h]")
+    a.set_ylabel("actuator setting")
+    a.legend(loc="best", fontsize=7, ncol=2)
+    return axes
+
+
+def plot_mission_3d(run: Any, ax: Any = None) -> Any:
+    """The track of a flown mission in 3-D (east, north, depth increasing downwards) with the waypoints at the
+    surface.
+
+    Parameters
+    ----------
+    run : MissionRun
+    ax : Axes3D, optional
+        Default a new figure.
+
+    Returns
+    -------
+    Axes3D
+    """
+    if ax is None:
+        fig, _ = new_figure(width=7.5, height=6.0)
+        fig.clf()
+        ax = fig.add_subplot(projection="3d")
+    pos = run.position
+    ax.plot(pos[:, 0] / 1000.0, pos[:, 1] / 1000.0, -pos[:, 2], "C0", lw=0.6)
+    wp = np.asarray(run.mission.waypoints) / 1000.0
+    ax.scatter(wp[:, 0], wp[:, 1], np.zeros(len(wp)), marker="s", color="C3", label="waypoints")
+    ax.set_xlabel("east [km]")
+    ax.set_ylabel("north [km]")
+    ax.set_zlabel("height [m] (0 = surface)")
+    ax.set_title(f"{run.vehicle.name}: {len(run.dives)} dives", fontsize=9)
+    ax.legend(loc="best", fontsize=7)
+    return ax

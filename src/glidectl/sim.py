@@ -88,6 +88,9 @@ class Simulation:
     stopped_by : str
         What ended the run: ``"t_final"``, ``"stop"`` (the stop condition), or the budget that was hit
         (``"max_steps"``, ``"max_nfev"``, ``"time_limit"``).
+    x_end : ndarray, shape (n,), or None
+        The state where the run ended (at ``stopped_at``, or at ``t_final``), whether or not an output time falls
+        there.
     """
 
     t: np.ndarray
@@ -104,6 +107,7 @@ class Simulation:
     provenance: str = ""
     n_steps: int = 0
     stopped_by: str = "t_final"
+    x_end: np.ndarray | None = None
 
     def state(self, name: str) -> np.ndarray:
         """Time history of one named state or input.
@@ -332,8 +336,11 @@ def _check_model(model: Any) -> tuple[tuple[str, ...], tuple[str, ...]]:
 
 
 def _model_rhs(model: Any, x: np.ndarray, u: Any, t: float) -> Any:
-    """``model.rhs(x, u)``, with the library's own arithmetic failures turned into :class:`SolverError`."""
+    """``model.rhs(x, u)`` (``model.rhs(x, u, t=t)`` for a model whose ``time_varying`` is true, e.g. a glider in a
+    current that changes in time), with the library's own arithmetic failures turned into :class:`SolverError`."""
     try:
+        if getattr(model, "time_varying", False):
+            return model.rhs(x, u, t=t)
         return model.rhs(x, u)
     except (ZeroDivisionError, OverflowError, FloatingPointError, np.linalg.LinAlgError) as exc:
         raise SolverError(f"the right-hand side of {type(model).__name__} failed at t = {t:.6g}: "
@@ -508,7 +515,7 @@ def simulate(model: Model, x0: Any, t_final: float, controller: Callable[[float,
     U = np.array([ctrl(ti, xi) for ti, xi in zip(t, X, strict=True)]).reshape(len(t), m)
     vname = getattr(getattr(model, "vehicle", None), "name", "?")
     return Simulation(t, X, U, names, inputs, method, rtol, atol, budget.nfev, f"{type(model).__name__}({vname})",
-                      stopped_at, _model_provenance(model), budget.steps, stopped_by)
+                      stopped_at, _model_provenance(model), budget.steps, stopped_by, np.array(x, dtype=float))
 
 
 @dataclass(frozen=True)

@@ -54,7 +54,7 @@ from ..params import Vehicle
 from ._validate import require_glider, trailing_array
 from .longitudinal import ACCEL_STATES, AccelerationControlledGlider
 
-__all__ = ["ACTUATED_AXES", "ACTUATED_INPUTS", "ACTUATED_UNITS", "ActuatedGlider"]
+__all__ = ["ACTUATED_AXES", "ACTUATED_INPUTS", "ACTUATED_UNITS", "ActuatedGlider", "check_actuator_state"]
 
 #: The actuators of the longitudinal model, in input order.
 ACTUATED_AXES = ("r_P1", "r_P3", "m0")
@@ -64,6 +64,39 @@ ACTUATED_INPUTS = ("r_P1_rate", "r_P3_rate", "m0_rate")
 ACTUATED_UNITS = {"r_P1": "m", "r_P3": "m", "m0": "kg", "r_P1_rate": "m/s", "r_P3_rate": "m/s", "m0_rate": "kg/s"}
 
 _POS = np.array([6, 8, 10])  # columns of r_P1, r_P3, m0 in ACCEL_STATES
+
+
+def check_actuator_state(plant: Any, x: np.ndarray, what: str, servo_columns: dict[int, int],
+                         units: dict[str, str]) -> None:
+    """Refuse a state of an actuated model whose actuators are outside their ranges, or whose servo rates (the
+    columns ``servo_columns[i]`` of ``x`` for actuator ``i``) leave the servo's invariant set: faster than the rate
+    limit, or too fast to stop inside the range (``|rate| <= 2 k (end - p)``).
+
+    ``plant`` has ``positions(x)``, ``lower``, ``upper``, ``rate_limit``, ``gain``, ``actuator_names``,
+    ``input_names`` and ``vehicle``; ``units`` maps actuator and input names to units.
+
+    Raises
+    ------
+    InfeasibleGlideError
+        With the actuator, its value and its range or rate limit.
+    """
+    p = plant.positions(x)
+    for i, name in enumerate(plant.actuator_names):
+        lo, hi = plant.lower[i], plant.upper[i]
+        slack = 1e-9 * max(1.0, abs(lo), abs(hi)) if math.isfinite(hi - lo) else 0.0
+        if not lo - slack <= p[i] <= hi + slack:
+            raise InfeasibleGlideError(
+                f"{what} has {name} = {p[i]:.6g} {units[name]}, outside the range [{lo:g}, {hi:g}] of vehicle "
+                f"'{plant.vehicle.name}' ([actuators] {name}); choose a state the actuators can reach")
+    for i, j in servo_columns.items():
+        v, R = x[j], plant.rate_limit[i]
+        k2 = 2.0 * plant.gain[i]
+        top, bot = k2 * (plant.upper[i] - p[i]), k2 * (plant.lower[i] - p[i])
+        if abs(v) > R * (1 + 1e-9) + 1e-15 or v > top + 1e-12 or v < bot - 1e-12:
+            unit = units[plant.input_names[i]]
+            raise InfeasibleGlideError(
+                f"{what} moves {plant.actuator_names[i]} at {v:.6g} {unit}: beyond its rate limit {R:g} {unit} or "
+                "too fast to stop inside its range; start from a state with the actuator at rest")
 
 
 @dataclass(frozen=True)
@@ -226,20 +259,5 @@ class ActuatedGlider:
             If an actuator is outside its range or moves faster than its rate limit allows there.
         """
         x = checks.array(what, x, shape=(11,))
-        p = self.positions(x)
-        for i, name in enumerate(self.actuator_names):
-            lo, hi = self.lower[i], self.upper[i]
-            slack = 1e-9 * max(1.0, abs(lo), abs(hi)) if math.isfinite(hi - lo) else 0.0
-            if not lo - slack <= p[i] <= hi + slack:
-                raise InfeasibleGlideError(
-                    f"{what} has {name} = {p[i]:.6g} {ACTUATED_UNITS[name]}, outside the range [{lo:g}, {hi:g}] of "
-                    f"vehicle '{self.vehicle.name}' ([actuators] {name}); choose a state the actuators can reach")
-        for i, j in ((0, 7), (1, 9)):
-            v, R = x[j], self.rate_limit[i]
-            k2 = 2.0 * self.gain[i]
-            top, bot = k2 * (self.upper[i] - p[i]), k2 * (self.lower[i] - p[i])
-            if abs(v) > R * (1 + 1e-9) + 1e-15 or v > top + 1e-12 or v < bot - 1e-12:
-                raise InfeasibleGlideError(
-                    f"{what} moves the mass along {self.actuator_names[i]} at {v:.6g} m/s: beyond its rate limit "
-                    f"{R:g} m/s or too fast to stop inside its range; start from a state with the mass at rest")
+        check_actuator_state(self, x, what, {0: 7, 1: 9}, ACTUATED_UNITS)
         return x

@@ -24,6 +24,7 @@ Omega)``, agrees with (2.20) and (8.23)-(8.25) (tests check both).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -43,8 +44,13 @@ __all__ = [
     "FixedMassGlider3D",
     "Glider3D",
     "R_to_ypr",
+    "body_masses",
+    "cross",
     "hat",
     "quat_to_R",
+    "quaternion_rate",
+    "require_glider3d",
+    "rotation",
     "ypr_to_R",
     "ypr_to_quat",
 ]
@@ -110,17 +116,24 @@ def quat_to_R(q: Any) -> np.ndarray:
     q = _finite("q", q, 4)
     if not np.all(np.abs(np.real(np.sum(q * q, axis=-1))) > 1e-300):
         raise ArgumentError("quaternion q must be nonzero (a zero quaternion has no rotation matrix)")
-    return _rot(q)
+    return rotation(q)
 
 
-def _rot(q: Any) -> np.ndarray:
+def rotation(q: Any) -> np.ndarray:
     """:func:`quat_to_R` without the argument checks (right-hand sides: the integrator watches finiteness)."""
-    q = q / np.sqrt(np.sum(q * q, axis=-1, keepdims=True))
     w, a, b, c = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    return np.stack([
-        np.stack([1 - 2 * (b * b + c * c), 2 * (a * b - w * c), 2 * (a * c + w * b)], -1),
-        np.stack([2 * (a * b + w * c), 1 - 2 * (a * a + c * c), 2 * (b * c - w * a)], -1),
-        np.stack([2 * (a * c - w * b), 2 * (b * c + w * a), 1 - 2 * (a * a + b * b)], -1)], -2)
+    k = 2.0 / (w * w + a * a + b * b + c * c)   # normalizes q
+    out = np.empty((*q.shape[:-1], 3, 3), dtype=np.result_type(q, 1.0))
+    out[..., 0, 0] = 1 - k * (b * b + c * c)
+    out[..., 0, 1] = k * (a * b - w * c)
+    out[..., 0, 2] = k * (a * c + w * b)
+    out[..., 1, 0] = k * (a * b + w * c)
+    out[..., 1, 1] = 1 - k * (a * a + c * c)
+    out[..., 1, 2] = k * (b * c - w * a)
+    out[..., 2, 0] = k * (a * c - w * b)
+    out[..., 2, 1] = k * (b * c + w * a)
+    out[..., 2, 2] = 1 - k * (a * a + b * b)
+    return out
 
 
 def _angles(*angles: Any) -> tuple[np.ndarray, ...]:
@@ -230,16 +243,23 @@ def R_to_ypr(R: Any) -> np.ndarray:
                      np.arctan2(R[..., 2, 1], R[..., 2, 2])], -1)
 
 
-def _qdot(q: Any, Om: Any) -> Any:
+def quaternion_rate(q: Any, Om: Any) -> Any:
+    """``q' = q (x) (0, Omega) / 2`` plus the Baumgarte term ``(1 - |q|^2) q`` (1/s) that keeps ``|q| = 1`` against
+    integration drift; ``q`` of shape ``(..., 4)`` (scalar first), ``Om`` the body angular velocity (rad/s, shape
+    ``(..., 3)``). No argument checks (right-hand sides)."""
     w, a, b, c = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
     p, r, s = Om[..., 0], Om[..., 1], Om[..., 2]
-    n2 = w * w + a * a + b * b + c * c
-    k = _BAUMGARTE * (1 - n2)
-    return np.stack([0.5 * (-a * p - b * r - c * s) + k * w, 0.5 * (w * p + b * s - c * r) + k * a,
-                     0.5 * (w * r + c * p - a * s) + k * b, 0.5 * (w * s + a * r - b * p) + k * c], -1)
+    k = _BAUMGARTE * (1 - (w * w + a * a + b * b + c * c))
+    out = np.empty(np.broadcast_shapes(q.shape, (*Om.shape[:-1], 4)), dtype=np.result_type(q, Om))
+    out[..., 0] = 0.5 * (-a * p - b * r - c * s) + k * w
+    out[..., 1] = 0.5 * (w * p + b * s - c * r) + k * a
+    out[..., 2] = 0.5 * (w * r + c * p - a * s) + k * b
+    out[..., 3] = 0.5 * (w * s + a * r - b * p) + k * c
+    return out
 
 
-def _cross(a: Any, b: Any) -> Any:
+def cross(a: Any, b: Any) -> Any:
+    """Cross product ``a x b`` over the last axis (length 3), batched and complex-safe; no argument checks."""
     # the components written into one output array (no np.stack): the same products, less overhead
     c0 = a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1]
     out = np.empty((*np.shape(c0), 3), dtype=np.result_type(c0))
@@ -249,7 +269,17 @@ def _cross(a: Any, b: Any) -> Any:
     return out
 
 
-def _check_3d(veh: Vehicle) -> None:
+def require_glider3d(veh: Vehicle) -> None:
+    """Refuse a vehicle that is not an underwater glider with the 3D parameters of (2.1)-(2.14).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
+    ModelError
+        If it is not an underwater glider or lacks ``J1, J3, K_beta, K_MR, K_MY`` (and ``m2`` for the fixed mass
+        model); the message names the missing parameters.
+    """
     require_glider(veh)
     missing = [k for k in _REQUIRED_3D if k not in veh.params]
     if veh.mass_model == "fixed" and "m2" not in veh.params:
@@ -259,7 +289,9 @@ def _check_3d(veh: Vehicle) -> None:
                          f"(2.1)-(2.14); add them to {veh.path} or pass them as overrides")
 
 
-def _masses(veh: Vehicle, m0: Any) -> Any:
+def body_masses(veh: Vehicle, m0: Any) -> Any:
+    """Body masses ``(m_1, m_2, m_3)`` (kg, shape ``(..., 3)``) at net buoyancy ``m0`` (kg, any shape), by the
+    vehicle's mass model (docs/conventions.md)."""
     return np.stack([np.broadcast_to(np.asarray(veh.mass(i, m0)), np.shape(m0)) for i in (1, 2, 3)], -1)
 
 
@@ -291,7 +323,7 @@ class Glider3D:
     input_names: tuple[str, ...] = FORCE3D_INPUTS
 
     def __post_init__(self) -> None:
-        _check_3d(self.vehicle)
+        require_glider3d(self.vehicle)
         if self.vehicle.mbar <= 0:
             raise ModelError(f"vehicle '{self.vehicle.name}' has mbar = 0: the force form needs a moving mass; use "
                              "FixedMassGlider3D")
@@ -315,19 +347,19 @@ class Glider3D:
         q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
         rP, PP, m0 = x[..., 13:16], x[..., 16:19], x[..., 19]
         ub, u4 = u[..., 0:3], u[..., 3]
-        R = _rot(q)
+        R = rotation(q)
         zeta = R[..., 2, :]  # R^T k = third row of R
-        Mv = _masses(veh, m0) * v
+        Mv = body_masses(veh, m0) * v
         F, T, _, _, _ = loads_3d(veh, v, Om)
         J = np.array([veh.J1, veh.J2, veh.J3])
-        Fbar = _cross(Mv + PP, Om) + (m0 * g)[..., None] * zeta + F - ub
+        Fbar = cross(Mv + PP, Om) + (m0 * g)[..., None] * zeta + F - ub
         # (2.5) read as J Om x Om + r_P x (P_P x Om): the literal (J Om + r_P x P_P) x Om differs by
         # P_P x (Om x r_P), disagrees with (2.20) in the plane and with (8.25); see the module notes
-        Tbar = (_cross(J * Om, Om) + _cross(rP, _cross(PP, Om)) + _cross(Mv, v) + mbar * g * _cross(rP, zeta) + T
-                - _cross(rP, ub))
+        Tbar = (cross(J * Om, Om) + cross(rP, cross(PP, Om)) + cross(Mv, v) + mbar * g * cross(rP, zeta) + T
+                - cross(rP, ub))
         bdot = np.einsum("...ij,...j->...i", R, v)
-        return np.concatenate([bdot, _qdot(q, Om), Fbar / _masses(veh, m0), Tbar / J,
-                               PP / mbar - v - _cross(Om, rP), ub, u4[..., None]], -1)
+        return np.concatenate([bdot, quaternion_rate(q, Om), Fbar / body_masses(veh, m0), Tbar / J,
+                               PP / mbar - v - cross(Om, rP), ub, u4[..., None]], -1)
 
 
 @dataclass(frozen=True)
@@ -347,6 +379,9 @@ class FixedMassGlider3D:
     m0 : float
         Constant net buoyancy (kg, positive heavy); for the ``added`` mass model the solid mass
         ``m_s = m + m0 - mbar`` must stay positive.
+    rudder : float
+        Constant rudder angle ``delta_r`` (rad, ``|delta_r| <= pi/2``; default 0): side force and yaw moment of
+        :func:`~glidectl.hydro.loads_3d`.
     state_names : tuple of str
         Names of the 13 states ``(x, y, z, q0..q3, v1..v3, Omega1..Omega3)`` (m, nondimensional, m/s, rad/s);
         default :data:`FIXED_STATES`.
@@ -368,13 +403,14 @@ class FixedMassGlider3D:
     vehicle: Vehicle
     r_p: tuple[float, float, float]
     m0: float
+    rudder: float = 0.0
     state_names: tuple[str, ...] = FIXED_STATES
     input_names: tuple[str, ...] = ()
     _Minv: np.ndarray = field(init=False, repr=False, compare=False)
     _consts: tuple[np.ndarray, np.ndarray, np.ndarray] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        _check_3d(self.vehicle)
+        require_glider3d(self.vehicle)
         veh = self.vehicle
         r = checks.array("r_p (moving-mass position, m)", self.r_p, shape=(3,))
         m0 = checks.real("m0 (net buoyancy)", self.m0, unit="kg")
@@ -383,6 +419,8 @@ class FixedMassGlider3D:
                                 f"of buoyancy; at most R_P_MAX = {R_P_MAX:g} m is plausible")
         object.__setattr__(self, "r_p", (float(r[0]), float(r[1]), float(r[2])))
         object.__setattr__(self, "m0", m0)
+        object.__setattr__(self, "rudder", checks.real("rudder (angle)", self.rudder, lo=-math.pi / 2,
+                                                       hi=math.pi / 2, unit="rad"))
         mbar = veh.mbar
         if veh.mass_model == "added" and not veh.m + m0 - mbar > 0:
             raise ModelError(f"m0 = {m0:g} kg makes the solid mass m + m0 - mbar = {veh.m + m0 - mbar:g} kg of "
@@ -423,12 +461,12 @@ class FixedMassGlider3D:
         veh = self.vehicle
         g, mbar = veh.g, veh.mbar
         M, J, rP = self._consts
-        F, T, _, _, _ = loads_3d(veh, v, Om)
-        w = v + _cross(Om, np.broadcast_to(rP, np.shape(v)))
+        F, T, _, _, _ = loads_3d(veh, v, Om, self.rudder)
+        w = v + cross(Om, np.broadcast_to(rP, np.shape(v)))
         rPb = np.broadcast_to(rP, np.shape(v))
-        Fp = _cross(M * v + mbar * w, Om) + self.m0 * g * zeta + F
-        Tp = (_cross(J * Om + mbar * _cross(rPb, w), Om) - _cross(v, M * v)
-              - mbar * _cross(v, _cross(Om, rPb)) + mbar * g * _cross(rPb, zeta) + T)
+        Fp = cross(M * v + mbar * w, Om) + self.m0 * g * zeta + F
+        Tp = (cross(J * Om + mbar * cross(rPb, w), Om) - cross(v, M * v)
+              - mbar * cross(v, cross(Om, rPb)) + mbar * g * cross(rPb, zeta) + T)
         return Fp, Tp
 
     def accelerations(self, v: Any, Om: Any, zeta: Any) -> tuple[Any, Any]:
@@ -447,6 +485,6 @@ class FixedMassGlider3D:
         """
         x = trailing_array("x", x, 13, self.state_names)
         q, v, Om = x[..., 3:7], x[..., 7:10], x[..., 10:13]
-        R = _rot(q)
+        R = rotation(q)
         vd, Od = self.accelerations(v, Om, R[..., 2, :])
-        return np.concatenate([np.einsum("...ij,...j->...i", R, v), _qdot(q, Om), vd, Od], -1)
+        return np.concatenate([np.einsum("...ij,...j->...i", R, v), quaternion_rate(q, Om), vd, Od], -1)

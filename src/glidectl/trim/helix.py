@@ -542,7 +542,7 @@ def helix_eigenvalues(model: FixedMassGlider3D, y: np.ndarray) -> np.ndarray:
 
 
 def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess: Any = None,
-               continuation_steps: int = 12, n_random: int = 40, seed: int = 0) -> Helix:
+               continuation_steps: int = 12, n_random: int = 40, seed: int = 0, rudder: float = 0.0) -> Helix:
     """Steady helix (or straight glide) of ``veh`` with the moving mass at ``r_p`` (m) and buoyancy ``m0`` (kg).
 
     Solves ``(v', Omega') = 0`` of (8.23)-(8.25) with ``Omega = psidot zeta`` (8.31) for
@@ -569,6 +569,10 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
         Random restarts as the last resort, 0 to :data:`MAX_RANDOM_STARTS` (1000).
     seed : int
         Seed (>= 0) of the random restarts.
+    rudder : float
+        Rudder angle ``delta_r`` (rad, ``|delta_r| <= pi/2``, default 0), held fixed; checked against the range of
+        the vehicle's ``[actuators] rudder`` when it lists one. The continuation in ``r_P2`` runs at this rudder
+        angle.
 
     Returns
     -------
@@ -615,7 +619,11 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
     if m0 == 0:
         raise InfeasibleGlideError("m0 = 0: a neutrally buoyant glider has no steady glide (no net weight to balance "
                                    "drag); use m0 != 0")
-    for name, value, unit in (("r_P1", r[0], "m"), ("r_P2", r[1], "m"), ("r_P3", r[2], "m"), ("m0", m0, "kg")):
+    rudder = checks.real("rudder (angle)", rudder, lo=-math.pi / 2, hi=math.pi / 2, unit="rad")
+    for name, value, unit in (("r_P1", r[0], "m"), ("r_P2", r[1], "m"), ("r_P3", r[2], "m"), ("m0", m0, "kg"),
+                              ("rudder", rudder, "rad")):
+        if name in ("r_P2", "r_P3") and "roll" in veh.actuators:
+            continue  # a rolled battery sits off its translation settings: the roll actuator's range governs it
         act = veh.actuators.get(name)
         if act is not None and not act.contains(float(value)):
             raise InfeasibleGlideError(
@@ -627,7 +635,7 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
                          f"{veh.m + m0 - veh.mbar:g} kg <= 0 (m = {veh.m:g} kg, mbar = {veh.mbar:g} kg): no such "
                          "vehicle; the ballast cannot be that light")
     try:
-        model = FixedMassGlider3D(veh, (float(r[0]), float(r[1]), float(r[2])), m0)
+        model = FixedMassGlider3D(veh, (float(r[0]), float(r[1]), float(r[2])), m0, rudder)
     except np.linalg.LinAlgError as exc:
         raise ModelError(f"the generalized mass matrix of (8.23) is singular for r_p = {tuple(map(float, r))} m, "
                          f"m0 = {m0:g} kg on vehicle '{veh.name}'") from exc
@@ -649,7 +657,7 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
             ok = True
             for k in range(1, continuation_steps + 1):
                 rk = (r[0], r[1] * k / continuation_steps, r[2])
-                yk, res, ok = helix_newton(FixedMassGlider3D(veh, rk, m0), yk)
+                yk, res, ok = helix_newton(FixedMassGlider3D(veh, rk, m0, rudder), yk)
                 if not ok:
                     break
             if ok:
