@@ -208,3 +208,23 @@ def test_states_are_named_and_attitude_is_consistent():
     x[3:7] = q
     theta, psi = gc.missions.pitch_heading(x)
     assert theta == pytest.approx(-0.3, abs=1e-14) and psi == pytest.approx(0.7, abs=1e-14)
+
+
+def test_a_compressible_hull_in_a_stratified_sea_changes_buoyancy_with_depth():
+    veh = SLOCUM.with_hydrodynamics(compressibility=3e-10)
+    veh = gc.Vehicle(**{**{f: getattr(veh, f) for f in ("name", "kind", "title", "params", "sources", "path",
+                                                           "overrides", "notes", "actuators", "law")},
+                        "density_profile": ((0.0, 100.0), (1022.0, 1027.0))})
+    plant = ActuatedGlider3D(veh)
+    z = 80.0
+    dm = float(gc.excess_mass(veh, z, 0.0) - gc.excess_mass(veh, 0.0, 0.0))
+    assert plant.buoyancy_change(z) == pytest.approx(dm, rel=1e-9)
+    assert abs(dm) > 1e-3                         # a real effect: grams at 80 m
+    rng = np.random.default_rng(5)
+    x = _state(rng, plant)
+    x[2] = z
+    at_depth = plant.rhs(x, np.zeros(4))
+    x_surface = x.copy()
+    x_surface[2], x_surface[17] = 0.0, x[17] + dm
+    np.testing.assert_allclose(at_depth[7:13], plant.rhs(x_surface, np.zeros(4))[7:13], rtol=1e-12, atol=1e-15)
+    assert ActuatedGlider3D(SLOCUM).buoyancy_change(z) == 0.0

@@ -119,7 +119,7 @@ from .errors import (
     VehicleFileError,
     VehicleMismatchError,
 )
-from .hydro import lift_drag
+from .hydro import excess_mass, lift_drag
 from .iosys import to_iosys
 from .missions import DiveMetrics, DivePlan, GliderBehaviours, LegMetrics, Mission, MissionRun, fly_mission
 from .models import phugoid_hamiltonian
@@ -166,7 +166,7 @@ from .stability.singular_perturbation import SingularPerturbation, singular_pert
 from .stability.unequal_mass import UnequalMassCheck, allowable_delta_m_ratio, unequal_mass_check
 from .trim.ctol import CTOLGlide, ctol_glide
 from .trim.envelope import GlideEnvelope, glide_envelope
-from .trim.flight import SteadyFlight, excess_mass, steady_flight
+from .trim.flight import SteadyFlight, steady_flight
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
 from .trim.helix_design import HelixDesign, design_helix

@@ -22,7 +22,7 @@ from scipy.optimize import least_squares
 
 from .. import checks
 from ..errors import ArgumentError, OutputError, RecordError, SolverError, VehicleFileError
-from ..hydro import gliderflight_coefficients, lift_drag
+from ..hydro import excess_mass, gliderflight_coefficients, hull_buoyancy_keys, lift_drag
 from ..params import (
     GLIDERFLIGHT_DEFAULTS,
     HULL_MASS_RATIO,
@@ -32,7 +32,7 @@ from ..params import (
     Vehicle,
 )
 from ..records import DEFAULT_MASK, DiveRecord, MaskSettings
-from ..trim.flight import SteadyFlight, excess_mass, hull_buoyancy_keys, steady_flight
+from ..trim.flight import SteadyFlight, steady_flight
 
 __all__ = ["DEFAULT_FIT", "MATCH_SPEED", "SEAGLIDER_LENGTH", "FlightFit", "fit_flight_model", "law_start",
            "predict_flight"]

@@ -42,6 +42,13 @@ battery translation and roll are velocity servos of time constant ``servo_time``
 their positions never leave the range and their rates never exceed the limit. An actuator the file lists as
 ``fixed`` (or does not list: ``roll`` and ``rudder`` are then fixed at 0) has rate limit 0.
 
+Buoyancy at depth
+-----------------
+``m0`` is the net buoyancy at the surface (what the pump sets); at depth ``z`` the vehicle carries
+``m0 + dm(z)`` with ``dm(z) = excess_mass(veh, z, 0) - excess_mass(veh, 0, 0)``
+(:func:`~glidectl.excess_mass`: the hull's compressibility and the vehicle file's density profile). For a file
+without compressibility or density profile ``dm = 0`` and the model is the thesis's.
+
 Currents
 --------
 ``x' = R v + c(t, x)``: the water moves with the current ``c`` (:class:`~glidectl.environment.Current`) and the
@@ -61,13 +68,14 @@ import numpy as np
 from .. import checks
 from ..environment import as_current
 from ..errors import ModelError
-from ..hydro import loads_3d
+from ..hydro import excess_mass, loads_3d
 from ..params import Vehicle
 from ._validate import require_glider, trailing_array
 from .actuated import check_actuator_state
 from .glider3d import body_masses, cross, quaternion_rate, require_glider3d, rotation
 
-__all__ = ["ACTUATED3D_AXES", "ACTUATED3D_INPUTS", "ACTUATED3D_STATES", "ACTUATED3D_UNITS", "ActuatedGlider3D"]
+__all__ = ["ACTUATED3D_AXES", "ACTUATED3D_INPUTS", "ACTUATED3D_STATES", "ACTUATED3D_UNITS", "BUOYANCY_TABLE_DEPTHS",
+           "ActuatedGlider3D"]
 
 #: State names of :class:`ActuatedGlider3D`.
 ACTUATED3D_STATES = ("x", "y", "z", "q0", "q1", "q2", "q3", "v1", "v2", "v3", "Omega1", "Omega2", "Omega3",
@@ -147,6 +155,7 @@ class ActuatedGlider3D:
     rho: float = field(init=False, repr=False, compare=False)
     r_P2: float = field(init=False, repr=False, compare=False)
     _consts: tuple[Any, ...] = field(init=False, repr=False, compare=False)
+    _buoyancy_table: tuple[np.ndarray, np.ndarray] | None = field(init=False, repr=False, compare=False)
 
     state_names = ACTUATED3D_STATES
     input_names = ACTUATED3D_INPUTS
@@ -188,6 +197,7 @@ class ActuatedGlider3D:
         object.__setattr__(self, "upper", np.array(hi))
         object.__setattr__(self, "rate_limit", np.array(rate))
         object.__setattr__(self, "gain", np.array([0.25 / tau, 0.25 / tau, kp, kr]))
+        object.__setattr__(self, "_buoyancy_table", _depth_buoyancy(veh))
         base = body_masses(veh, np.array(0.0))
         object.__setattr__(self, "_consts", (np.array([veh.J1, veh.J2, veh.J3]), veh.g, veh.mbar, base,
                                              body_masses(veh, np.array(1.0)) - base))
@@ -226,6 +236,13 @@ class ActuatedGlider3D:
         ``(..., 4)``): ``k_i (clip(c_i) - p_i)``, ``c_i`` clipped to the range."""
         c = trailing_array("setpoints", setpoints, 4, self.actuator_names)
         return self.gain * (np.clip(c, self.lower, self.upper) - self.positions(x))
+
+    def buoyancy_change(self, depth: Any) -> Any:
+        """``dm(z)`` (kg): the net buoyancy at ``depth`` (m) minus the surface's at the same pump setting (module
+        docstring); 0 for a hull that neither compresses nor meets a density profile."""
+        if self._buoyancy_table is None:
+            return np.zeros(np.shape(depth))
+        return np.interp(depth, *self._buoyancy_table)
 
     def rhs(self, x: Any, u: Any, t: float = 0.0) -> Any:
         """Time derivative of the state (module docstring).
@@ -281,6 +298,8 @@ class ActuatedGlider3D:
         rho = self.rho
         v, Om = x[..., 7:10], x[..., 10:13]
         phi, phid, m0 = x[..., 15], x[..., 16], x[..., 17]
+        if self._buoyancy_table is not None:
+            m0 = m0 + np.interp(np.real(x[..., 2]), *self._buoyancy_table)
         c, s_ = np.cos(phi), np.sin(phi)
         dtype = np.result_type(x, w1, wr)
         rP, rPd, rPdd = (np.empty((*x.shape[:-1], 3), dtype=dtype) for _ in range(3))
@@ -316,6 +335,26 @@ class ActuatedGlider3D:
         x = checks.array(what, x, shape=(19,))
         check_actuator_state(self, x, what, {0: 14, 1: 16}, ACTUATED3D_UNITS)
         return x
+
+
+#: Depths (m) at which :class:`ActuatedGlider3D` tabulates the buoyancy change with depth (linear in between; the
+#: density profile's own depths are added so that its breakpoints are exact).
+BUOYANCY_TABLE_DEPTHS = np.linspace(0.0, 6000.0, 601)
+
+
+def _depth_buoyancy(veh: Vehicle) -> tuple[np.ndarray, np.ndarray] | None:
+    """Depths and buoyancy change ``dm(z)`` (kg) of a compressible hull or a stratified sea, None when both are
+    absent (or the hull's mass and volume are unknown: a ``fixed`` mass model without them)."""
+    if not (veh.params.get("compressibility", 0.0) or veh.params.get("thermal_expansion", 0.0)
+            or veh.density_profile):
+        return None
+    depths = np.unique(np.r_[BUOYANCY_TABLE_DEPTHS, np.asarray(veh.density_profile[0]) if veh.density_profile
+                             else []])
+    try:
+        dm = excess_mass(veh, depths, 0.0) - excess_mass(veh, 0.0, 0.0)
+    except ModelError:
+        return None
+    return depths, np.asarray(dm, dtype=float)
 
 
 def _generalized_mass(M: Any, J: np.ndarray, mbar: float, rP: Any) -> Any:

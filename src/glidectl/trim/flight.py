@@ -27,102 +27,17 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..errors import ArgumentError, ModelError
+from ..errors import ArgumentError
 from ..hydro import lift_drag, zero_lift_angle
 from ..params import Vehicle
 
-__all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "excess_mass", "hull_buoyancy_keys",
-           "steady_flight"]
+__all__ = ["SEARCH_ANGLE_MAX", "SteadyFlight", "efficient_root", "steady_flight"]
 
 #: Largest angle of attack searched from the zero-lift angle (rad): 30 degrees, far past any glider's stall.
 SEARCH_ANGLE_MAX = np.pi / 6
 _GRID = np.geomspace(1e-7, 1.0, 24)  # fractions of the search range: first sign change = efficient branch
 _ITERATIONS = 50
 _GOLDEN_ITERATIONS = 40
-
-
-def hull_buoyancy_keys(veh: Vehicle) -> dict[str, float]:
-    """The hull and water values of :func:`excess_mass` with their defaults.
-
-    ``mass`` defaults to ``m + m0`` (displaced-fluid mass plus the nominal heaviness: the vehicle's mass in air for
-    the ``added`` mass model of chapter 8), ``volume`` to ``m / density`` (the hull that displaces ``m`` at the
-    surface), ``compressibility``, ``thermal_expansion`` to 0 and ``reference_temperature`` to 10 degC.
-
-    Parameters
-    ----------
-    veh : Vehicle
-        Underwater glider.
-
-    Returns
-    -------
-    dict
-        ``mass`` (kg), ``volume`` (m^3), ``compressibility`` (1/Pa), ``thermal_expansion`` (1/K),
-        ``reference_temperature`` (degC), ``density`` (kg/m^3).
-
-    Raises
-    ------
-    ModelError
-        If ``mass`` or ``volume`` is neither given nor derivable (a ``fixed`` mass model without them).
-    """
-    veh = checks.vehicle("veh", veh, kind="underwater_glider")
-    p = veh.params
-    rho = veh.density
-    mass = p.get("mass", p["m"] + p["m0"] if "m" in p and "m0" in p else None)
-    volume = p.get("volume", p["m"] / rho if "m" in p else None)
-    missing = [k for k, v in (("mass", mass), ("volume", volume)) if v is None]
-    if missing:
-        raise ModelError(f"vehicle '{veh.name}' gives no {' and no '.join(missing)} in [hydrodynamics] and has no "
-                         "displaced-fluid mass 'm' to derive them from; add them to its [hydrodynamics] table")
-    return {"mass": float(mass), "volume": float(volume), "compressibility": p.get("compressibility", 0.0),
-            "thermal_expansion": p.get("thermal_expansion", 0.0),
-            "reference_temperature": p.get("reference_temperature", 10.0), "density": rho}
-
-
-def excess_mass(veh: Vehicle, depth: Any, pumped_volume: Any, *, density: Any = None,
-                temperature: Any = None, pressure: Any = None) -> np.ndarray:
-    """Net heaviness ``m0`` (kg, positive sinks) of a compressible hull with a pumped volume.
-
-    ``m0 = mass - rho (volume (1 - compressibility p + thermal_expansion (T - reference_temperature)) + dV)`` with
-    the gauge pressure ``p`` (given, or ``rho g depth``; :func:`hull_buoyancy_keys` for the values and their
-    defaults).
-
-    Parameters
-    ----------
-    veh : Vehicle
-        Underwater glider.
-    depth : array_like
-        Depth (m, positive down).
-    pumped_volume : array_like
-        Volume added to the hull by the buoyancy engine (m^3; negative: oil drawn in, the glider sinks).
-    density : array_like, optional
-        In-situ density (kg/m^3); default the vehicle's at ``depth`` (:meth:`glidectl.Vehicle.water_density`: its
-        density profile, or its constant density).
-    temperature : array_like, optional
-        Water temperature (degC); default the reference temperature (no thermal expansion).
-    pressure : array_like, optional
-        Gauge pressure (Pa) compressing the hull, e.g. a record's own (:attr:`glidectl.DiveRecord.pressure`);
-        default ``rho g depth``.
-
-    Returns
-    -------
-    ndarray
-        ``m0`` (kg), broadcast over the inputs.
-
-    Raises
-    ------
-    ModelError
-        If the hull's mass or volume is unknown (:func:`hull_buoyancy_keys`).
-    ArgumentTypeError
-        If an array argument is not numeric.
-    """
-    h = hull_buoyancy_keys(veh)
-    depth = checks.numeric("depth", depth)
-    rho = veh.water_density(depth) if density is None else checks.numeric("density", density)
-    dv = checks.numeric("pumped_volume", pumped_volume)
-    dT = 0.0 if temperature is None else checks.numeric("temperature", temperature) - h["reference_temperature"]
-    p = rho * veh.g * depth if pressure is None else checks.numeric("pressure", pressure)
-    hull = h["volume"] * (1.0 - h["compressibility"] * p + h["thermal_expansion"] * dT)
-    return np.asarray(h["mass"] - rho * (hull + dv), dtype=float)
 
 
 @dataclass(frozen=True)
