@@ -158,3 +158,36 @@ def test_bad_flights_are_refused():
         gc.fly_mission(SLOCUM, SHORT, controller=object())
     with pytest.raises(InfeasibleGlideError, match="outside the range"):
         gc.fly_mission(SLOCUM, gc.Mission(waypoints=[(1000.0, 0.0)], depths=(5.0, 40.0), gamma=0.6, speed=0.6))
+
+
+def _circle_radius(xy: np.ndarray) -> float:
+    """Least-squares circle through horizontal positions (m)."""
+    A = np.c_[2 * xy, np.ones(len(xy))]
+    sol, *_ = np.linalg.lstsq(A, (xy ** 2).sum(1), rcond=None)
+    return math.sqrt(sol[2] + sol[0] ** 2 + sol[1] ** 2)
+
+
+def test_design_turn_meets_the_radius_and_refuses_what_no_setting_reaches():
+    d = gc.design_turn(SLOCUM, 150.0)
+    assert d.steer == "rudder" and d.direction == 1
+    for p in (1, -1):
+        assert d.helices[p].radius == pytest.approx(150.0, rel=1e-8)
+        assert d.helices[p].stable and d.helices[p].psidot > 0
+        assert abs(d.settings[p]) <= 0.45
+    with pytest.raises(InfeasibleGlideError, match="tightest stable turn"):
+        gc.design_turn(SLOCUM, 50.0)
+    with pytest.raises(ModelError, match="heading actuator"):
+        gc.design_turn(SLOCUM.with_actuators(rudder=None), 150.0)
+
+
+@pytest.mark.parametrize(("veh", "radius"), [(ROLLER, 200.0), (SLOCUM, 150.0)], ids=["roll", "rudder"])
+def test_the_mission_flies_a_designed_turn(veh, radius):
+    """A spiral: the behaviours hold the designed setting; the dive's steady part turns on the designed radius."""
+    d = gc.design_turn(veh, radius, gamma=math.radians(25.0), speed=0.35)
+    m = gc.Mission(waypoints=[(1e5, 0.0)], depths=(5.0, 150.0))
+    run = gc.fly_mission(veh, m, controller=gc.GliderBehaviours(turn=d, pitch_deadband=0.0), duration=900.0)
+    z = run.position[:, 2]
+    steady = (run.phase == 1) & (z > 60.0) & (z < 140.0)
+    assert _circle_radius(run.position[steady, :2]) == pytest.approx(radius, rel=0.02)
+    with pytest.raises(ArgumentError, match="designed for another glide"):
+        gc.fly_mission(veh, gc.Mission(waypoints=[(1e5, 0.0)], speed=0.3), controller=gc.GliderBehaviours(turn=d))

@@ -170,6 +170,7 @@ from .trim.flight import SteadyFlight, steady_flight
 from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
 from .trim.helix_design import HelixDesign, design_helix
+from .trim.turn import TurnDesign, design_turn
 
 __version__ = "0.1.0"
 
@@ -197,6 +198,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "design_helix", "elevator_equilibrium", "ElevatorEquilibrium", "Helix", "helix_trim", "HelixDesign",
         "permissible_gamma", "steady_glide", "SteadyGlide",
         "glide_envelope", "GlideEnvelope",
+        "design_turn", "TurnDesign",
     ),
     "linear analysis": (
         "BreakPoint", "controllability", "existence_scan", "ExistenceScan", "glide_model", "helix_rbh_locus",
@@ -359,6 +361,7 @@ __all__ = [
     "TorqueDesign",
     "TorqueGainFamily",
     "TrackingRun",
+    "TurnDesign",
     "UnequalMassCheck",
     "Vehicle",
     "VehicleFileError",
@@ -392,6 +395,7 @@ __all__ = [
     "default_actuate",
     "design_helix",
     "design_torque_control",
+    "design_turn",
     "dive_cycle",
     "elevator_closed_loop_eigenvalues",
     "elevator_equilibrium",

@@ -33,11 +33,11 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..errors import InfeasibleGlideError, ModelError
+from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError
 from ..models.actuated3d import ActuatedGlider3D
 from ..params import Vehicle
 from ..trim.glide import SteadyGlide, steady_glide
-from ..trim.helix import helix_trim
+from ..trim.turn import TurnDesign, steering_axis, turn_helix
 
 __all__ = ["STEER_PROBE", "DivePlan", "GliderBehaviours", "dead_zone", "pitch_heading", "wrap_angle"]
 
@@ -54,22 +54,6 @@ def dead_zone(e: Any, width: float) -> Any:
 def wrap_angle(a: Any) -> Any:
     """Angle (rad) wrapped to ``[-pi, pi)``."""
     return (a + math.pi) % (2 * math.pi) - math.pi
-
-
-def _steer_axis(plant: ActuatedGlider3D, steer: str) -> str:
-    veh = plant.vehicle
-    moving = {a for a in ("roll", "rudder") if plant.rate_limit[plant.actuator_names.index(a)] > 0}
-    if steer == "auto":
-        if not moving:
-            raise ModelError(
-                f"vehicle '{veh.name}' cannot steer: a mission needs a heading actuator, [actuators] roll (battery "
-                "roll by rotation, rad) or rudder (rad, with K_SF_rudder and K_MY_rudder); add one to the vehicle "
-                "file or with veh.with_actuators(roll={'min': -0.5, 'max': 0.5, 'rate': 0.1})")
-        return "roll" if "roll" in moving else "rudder"
-    if steer not in moving:
-        raise ModelError(f"vehicle '{veh.name}' has no moving [actuators] {steer}: steer={steer!r} needs it (the file "
-                         f"moves {sorted(moving) or 'no heading actuator'})")
-    return steer
 
 
 @dataclass(frozen=True)
@@ -116,8 +100,7 @@ class DivePlan:
     def __post_init__(self) -> None:
         plant = self.plant
         veh = plant.vehicle
-        checks.choice("steer", self.steer, ("auto", "roll", "rudder"))
-        object.__setattr__(self, "steer", _steer_axis(plant, self.steer))
+        object.__setattr__(self, "steer", steering_axis(veh, self.steer))
         glides = {}
         for phase, gam in ((1, -self.gamma), (-1, self.gamma)):
             g = steady_glide(veh, self.speed, gam, r_p3=plant.rho)
@@ -125,7 +108,7 @@ class DivePlan:
             glides[phase] = g
         object.__setattr__(self, "down", glides[1])
         object.__setattr__(self, "up", glides[-1])
-        object.__setattr__(self, "turn_gain", {p: _turn_gain(veh, plant, glides[p], self.steer) for p in (1, -1)})
+        object.__setattr__(self, "turn_gain", {p: _turn_gain(veh, glides[p], self.steer) for p in (1, -1)})
 
     def glide(self, phase: int) -> SteadyGlide:
         """The down (``phase = +1``) or up (``-1``) glide."""
@@ -148,15 +131,10 @@ def _check_in_range(plant: ActuatedGlider3D, g: SteadyGlide, what: str) -> None:
                 "actuators reach)")
 
 
-def _turn_gain(veh: Vehicle, plant: ActuatedGlider3D, g: SteadyGlide, steer: str) -> float:
+def _turn_gain(veh: Vehicle, g: SteadyGlide, steer: str) -> float:
     """Steady turn rate per unit steering setting (1/s per rad) at glide ``g``, from a helix at a small setting."""
     u = STEER_PROBE[steer]
-    r2 = plant.r_P2
-    if steer == "roll":
-        r_p = (g.r_p1, r2 + plant.rho * math.sin(u), plant.rho * math.cos(u))
-        h = helix_trim(veh, r_p, g.m0)
-    else:
-        h = helix_trim(veh, (g.r_p1, r2, plant.rho), g.m0, rudder=u)
+    h = turn_helix(veh, g, steer, u)
     gain = h.psidot / u
     if not abs(gain) > 1e-9:
         raise ModelError(f"steering by {steer} does not turn vehicle '{veh.name}' (turn rate {h.psidot:.3g} rad/s at "
@@ -179,6 +157,10 @@ class GliderBehaviours:
         Time constant (s) of the pitch correction, > 0 (default 20 s).
     heading_time : float
         Time constant (s) of the heading correction, > 0 (default 60 s).
+    turn : TurnDesign, optional
+        Hold a designed turn (:func:`~glidectl.design_turn`) instead of steering for the waypoint: the heading
+        actuator stays at the turn's setting for the dive or the climb (a spiral), and the battery holds the
+        helix's pitch (a banked glider pitches differently from the straight glide at the same battery position).
 
     Raises
     ------
@@ -190,13 +172,35 @@ class GliderBehaviours:
     heading_deadband: float = math.radians(2.0)
     pitch_time: float = 20.0
     heading_time: float = 60.0
+    turn: TurnDesign | None = None
     name = "behaviours"
 
     def __post_init__(self) -> None:
+        if self.turn is not None and not isinstance(self.turn, TurnDesign):
+            raise ArgumentTypeError(f"turn must be a TurnDesign (glidectl.design_turn), got {type(self.turn).__name__}")
         for key in ("pitch_deadband", "heading_deadband"):
             object.__setattr__(self, key, checks.real(key, getattr(self, key), lo=0.0, hi=math.pi / 2, unit="rad"))
         for key in ("pitch_time", "heading_time"):
             object.__setattr__(self, key, checks.positive(key, getattr(self, key), unit="s"))
+
+    def check_plan(self, plan: DivePlan) -> None:
+        """Refuse a plan whose glides or heading actuator differ from those of the turn this law holds.
+
+        Raises
+        ------
+        ArgumentError
+            If the turn was designed for another glide, steering actuator or vehicle.
+        """
+        t = self.turn
+        if t is None:
+            return
+        if t.steer != plan.steer or t.vehicle.provenance != plan.plant.vehicle.provenance or any(
+                abs(t.glides[p].gamma - plan.glide(p).gamma) > 1e-12 or abs(t.glides[p].speed - plan.glide(p).speed)
+                > 1e-12 for p in (1, -1)):
+            raise ArgumentError("the turn was designed for another glide, vehicle or heading actuator than the "
+                                f"mission's ({t.steer} at speed {t.glides[1].speed:g} m/s, gamma "
+                                f"{math.degrees(-t.glides[1].gamma):.4g} deg); design it with the mission's gamma, "
+                                "speed and steer")
 
     def rates(self, plant: ActuatedGlider3D, plan: DivePlan, x: Any, phase: int, heading_ref: Any) -> np.ndarray:
         """Requested actuator rates ``(r_P1_rate, roll_rate, m0_rate, rudder_rate)`` at plant states ``x`` (shape
@@ -204,9 +208,13 @@ class GliderBehaviours:
         x = np.asarray(x)
         g = plan.glide(phase)
         theta, psi = pitch_heading(x)
-        battery = plant.rho / self.pitch_time * dead_zone(theta - g.theta, self.pitch_deadband)
-        steer = dead_zone(wrap_angle(heading_ref - psi), self.heading_deadband) / (
-            self.heading_time * plan.turn_gain[phase])
+        theta_ref = g.theta if self.turn is None else self.turn.helices[phase].theta   # a turn pitches differently
+        battery = plant.rho / self.pitch_time * dead_zone(theta - theta_ref, self.pitch_deadband)
+        if self.turn is not None:
+            steer = self.turn.settings[phase]
+        else:
+            steer = dead_zone(wrap_angle(heading_ref - psi), self.heading_deadband) / (
+                self.heading_time * plan.turn_gain[phase])
         setpoints = np.zeros((*x.shape[:-1], 4))
         setpoints[..., 2] = g.m0
         setpoints[..., 1 if plan.steer == "roll" else 3] = steer

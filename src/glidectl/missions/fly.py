@@ -606,6 +606,8 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
     law, name = _law(controller)
     plant = ActuatedGlider3D(veh, current)
     plan = DivePlan(plant, mission.gamma, mission.speed, steer)
+    if callable(getattr(law, "check_plan", None)):
+        law.check_plan(plan)
     f = _Flight(plant, plan, law, mission, np.random.default_rng(seed), gps, period, rtol, t_end)
     start = np.asarray(mission.start, dtype=float)
     heading = float(current_corrected_heading(start, f.target(), f.c_est, plan.horizontal_speed(1)))
