@@ -191,3 +191,19 @@ def test_the_mission_flies_a_designed_turn(veh, radius):
     assert _circle_radius(run.position[steady, :2]) == pytest.approx(radius, rel=0.02)
     with pytest.raises(ArgumentError, match="designed for another glide"):
         gc.fly_mission(veh, gc.Mission(waypoints=[(1e5, 0.0)], speed=0.3), controller=gc.GliderBehaviours(turn=d))
+
+
+def test_lqr_dive_controller_flies_the_mission_within_the_limits():
+    run = gc.fly_mission(SLOCUM, SHORT, controller="lqr", current=(0.0, 0.05))
+    assert run.controller == "lqr" and run.legs[0].arrived
+    plant = run.plant
+    for i, name in enumerate(plant.actuator_names):
+        v = run.actuator(name)
+        assert np.all(v >= plant.lower[i] - 1e-9) and np.all(v <= plant.upper[i] + 1e-9), name
+    # between inflections the LQR holds the designed glide: pitch within a degree over the dives' middle thirds
+    plan = gc.DivePlan(plant, SHORT.gamma, SHORT.speed)
+    z = run.position[:, 2]
+    mid = (run.phase == 1) & (z > 15.0) & (z < 30.0)
+    assert np.max(np.abs(np.degrees(run.pitch[mid] - plan.down.theta))) < 1.0
+    with pytest.raises(ArgumentError, match="prepare"):
+        gc.DiveLQR().rates(plant, plan, run.states[0, :19], 1, 0.0)

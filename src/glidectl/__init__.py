@@ -121,7 +121,7 @@ from .errors import (
 )
 from .hydro import excess_mass, lift_drag
 from .iosys import to_iosys
-from .missions import DiveMetrics, DivePlan, GliderBehaviours, LegMetrics, Mission, MissionRun, fly_mission
+from .missions import DiveLQR, DiveMetrics, DivePlan, GliderBehaviours, LegMetrics, Mission, MissionRun, fly_mission
 from .models import phugoid_hamiltonian
 from .models.actuated import ActuatedGlider
 from .models.actuated3d import ActuatedGlider3D
@@ -243,7 +243,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "pump_energy", "simulate_actuated",
     ),
     "missions": (
-        "Current", "DiveMetrics", "DivePlan", "fly_mission", "GliderBehaviours", "LegMetrics", "Mission",
+        "Current", "DiveLQR", "DiveMetrics", "DivePlan", "fly_mission", "GliderBehaviours", "LegMetrics", "Mission",
         "MissionRun",
     ),
     "errors": (
@@ -289,6 +289,7 @@ __all__ = [
     "DepthGlidePathModel",
     "DesignError",
     "DiveCycleRun",
+    "DiveLQR",
     "DiveMetrics",
     "DivePlan",
     "DiveRecord",

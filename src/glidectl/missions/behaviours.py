@@ -33,13 +33,15 @@ from typing import Any
 import numpy as np
 
 from .. import checks
+from ..controllers.output_feedback import lqg_glide
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError
 from ..models.actuated3d import ActuatedGlider3D
 from ..params import Vehicle
 from ..trim.glide import SteadyGlide, steady_glide
 from ..trim.turn import TurnDesign, steering_axis, turn_helix
 
-__all__ = ["STEER_PROBE", "DivePlan", "GliderBehaviours", "dead_zone", "pitch_heading", "wrap_angle"]
+__all__ = ["LQR_DESIGN_SENSORS", "LQR_STATES", "STEER_PROBE", "DiveLQR", "DivePlan", "GliderBehaviours", "dead_zone",
+           "pitch_heading", "wrap_angle"]
 
 #: Settings (rad) of the steering actuators at which :class:`DivePlan` measures the turn-rate sensitivity: small
 #: enough to stay linear, large enough to stand out of the trim's residual.
@@ -183,8 +185,8 @@ class GliderBehaviours:
         for key in ("pitch_time", "heading_time"):
             object.__setattr__(self, key, checks.positive(key, getattr(self, key), unit="s"))
 
-    def check_plan(self, plan: DivePlan) -> None:
-        """Refuse a plan whose glides or heading actuator differ from those of the turn this law holds.
+    def prepare(self, plan: DivePlan) -> GliderBehaviours:
+        """The law to fly ``plan`` with: itself, once the plan is checked against the turn it may hold.
 
         Raises
         ------
@@ -193,7 +195,7 @@ class GliderBehaviours:
         """
         t = self.turn
         if t is None:
-            return
+            return self
         if t.steer != plan.steer or t.vehicle.provenance != plan.plant.vehicle.provenance or any(
                 abs(t.glides[p].gamma - plan.glide(p).gamma) > 1e-12 or abs(t.glides[p].speed - plan.glide(p).speed)
                 > 1e-12 for p in (1, -1)):
@@ -201,26 +203,116 @@ class GliderBehaviours:
                                 f"mission's ({t.steer} at speed {t.glides[1].speed:g} m/s, gamma "
                                 f"{math.degrees(-t.glides[1].gamma):.4g} deg); design it with the mission's gamma, "
                                 "speed and steer")
+        return self
 
     def rates(self, plant: ActuatedGlider3D, plan: DivePlan, x: Any, phase: int, heading_ref: Any) -> np.ndarray:
         """Requested actuator rates ``(r_P1_rate, roll_rate, m0_rate, rudder_rate)`` at plant states ``x`` (shape
         ``(..., 19)``) in a dive (``phase = +1``) or climb (``-1``) toward heading ``heading_ref`` (rad)."""
         x = np.asarray(x)
         g = plan.glide(phase)
-        theta, psi = pitch_heading(x)
+        theta, _ = pitch_heading(x)
         theta_ref = g.theta if self.turn is None else self.turn.helices[phase].theta   # a turn pitches differently
         battery = plant.rho / self.pitch_time * dead_zone(theta - theta_ref, self.pitch_deadband)
-        if self.turn is not None:
-            steer = self.turn.settings[phase]
-        else:
-            steer = dead_zone(wrap_angle(heading_ref - psi), self.heading_deadband) / (
-                self.heading_time * plan.turn_gain[phase])
+        steer = self.steering(plan, x, phase, heading_ref)
         setpoints = np.zeros((*x.shape[:-1], 4))
         setpoints[..., 2] = g.m0
         setpoints[..., 1 if plan.steer == "roll" else 3] = steer
         rates = plant.setpoint_rates(x, setpoints)
         rates[..., 0] = battery
         return rates
+
+    def steering(self, plan: DivePlan, x: Any, phase: int, heading_ref: Any) -> Any:
+        """Steering setpoint (rad) of the heading actuator: the dead-zone heading law, or the held turn."""
+        if self.turn is not None:
+            return np.full(np.shape(x)[:-1], self.turn.settings[phase])
+        _, psi = pitch_heading(np.asarray(x))
+        return dead_zone(wrap_angle(heading_ref - psi), self.heading_deadband) / (
+            self.heading_time * plan.turn_gain[phase])
+
+
+#: Sensors and noise (m, rad, rad/s) of the longitudinal LQG design whose regulator :class:`DiveLQR` flies (the
+#: regulator does not depend on them).
+LQR_DESIGN_SENSORS = {"z": 0.05, "theta": math.radians(0.5), "Omega2": math.radians(0.2)}
+
+
+@dataclass(frozen=True)
+class DiveLQR:
+    """LQR dive controller: the regulator of the longitudinal LQG design of each phase's glide
+    (:func:`~glidectl.lqg_glide`, acceleration inputs on the actuators the file moves, Bryson weights, the
+    glide-path deviation ``z'`` not regulated: a dive holds the glide, not a path), flown as state feedback on the
+    3-D state (pitch from the attitude, pitch rate, body velocities, battery position and rate, pump), with the
+    behaviours' heading law on the steering actuator.
+
+    It uses the body velocities, which a glider does not measure: it is the full-information bound the behaviours
+    are compared with, not an onboard law.
+
+    Parameters
+    ----------
+    heading : GliderBehaviours
+        Source of the heading law (deadband, time constant, or a held turn).
+    max_deviation : mapping of str to float, optional
+        Bryson's-rule overrides of the design (:data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION`).
+    """
+
+    heading: GliderBehaviours = field(default_factory=GliderBehaviours)
+    max_deviation: Any = None
+    gains: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict, repr=False)
+    name = "lqr"
+
+    def prepare(self, plan: DivePlan) -> DiveLQR:
+        """The controller with the gains of ``plan``'s two glides.
+
+        Raises
+        ------
+        ArgumentError, SolverError, ModelError
+            If a design fails (an unknown ``max_deviation`` name, no stabilizing solution, a design that needs
+            inputs or states the mission controller does not have).
+        """
+        self.heading.prepare(plan)
+        veh = plan.plant.vehicle
+        gains = {}
+        for phase in (1, -1):
+            g = plan.glide(phase)
+            c = lqg_glide(veh, g, tuple(LQR_DESIGN_SENSORS), LQR_DESIGN_SENSORS, inputs="acceleration",
+                          max_deviation=self.max_deviation)
+            gains[phase] = _map_gain(c.K, tuple(c.plant.state_labels), tuple(c.plant.input_labels), g)
+        return DiveLQR(self.heading, self.max_deviation, gains)
+
+    def rates(self, plant: ActuatedGlider3D, plan: DivePlan, x: Any, phase: int, heading_ref: Any) -> np.ndarray:
+        """Requested actuator rates (as :meth:`GliderBehaviours.rates`) from the LQR of the phase's glide."""
+        if not self.gains:
+            raise ArgumentError("DiveLQR flies a plan it was prepared for: call prepare(plan) first (fly_mission "
+                                "does)")
+        K, x_e = self.gains[phase]
+        x = np.asarray(x)
+        theta, _ = pitch_heading(x)
+        y = np.stack([theta, x[..., 11], x[..., 7], x[..., 9], x[..., 13], x[..., 14], x[..., 17]], -1)
+        w = -(y - x_e) @ K.T                       # (w1, w4): battery acceleration, pump rate
+        setpoints = np.zeros((*x.shape[:-1], 4))
+        setpoints[..., 1 if plan.steer == "roll" else 3] = self.heading.steering(plan, x, phase, heading_ref)
+        rates = plant.setpoint_rates(x, setpoints)
+        rates[..., 0] = x[..., 14] + plant.servo_time * w[..., 0]
+        rates[..., 2] = w[..., 1]
+        return rates
+
+
+#: The longitudinal states :class:`DiveLQR` feeds back, in the order of its gains.
+LQR_STATES = ("theta", "Omega2", "v1", "v3", "r_P1", "rdot_P1", "m0")
+
+
+def _map_gain(K: np.ndarray, states: tuple[str, ...], inputs: tuple[str, ...], g: SteadyGlide) -> tuple:
+    """The gain of ``(w1, w4)`` on :data:`LQR_STATES` and the glide's values of those states; every other state of
+    the design must have no gain (``z'``, a fixed actuator's states) and every other input a zero row."""
+    rows = [inputs.index(w) for w in ("w1", "w4")]
+    cols = [states.index(n) for n in LQR_STATES]
+    others = [j for j in range(len(states)) if j not in cols]
+    unused = [i for i, w in enumerate(inputs) if w not in ("w1", "w4")]
+    if np.any(K[np.ix_(rows, others)] != 0.0) or np.any(K[unused] != 0.0):
+        raise ModelError(f"the LQR design of vehicle '{g.vehicle.name}' feeds back states or drives inputs the "
+                         f"mission controller does not have (states {[states[j] for j in others]}, inputs "
+                         f"{list(inputs)}); DiveLQR flies the battery along the hull and the pump (w1, w4) only")
+    x_e = np.array([g.theta, 0.0, g.v1, g.v3, g.r_p1, 0.0, g.m0])
+    return K[np.ix_(rows, cols)].copy(), x_e
 
 
 def pitch_heading(x: np.ndarray) -> tuple[Any, Any]:

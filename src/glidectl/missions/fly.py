@@ -42,14 +42,14 @@ from ..models.actuated3d import ActuatedGlider3D
 from ..models.glider3d import ypr_to_quat
 from ..params import Vehicle
 from ..sim import simulate
-from .behaviours import DivePlan, GliderBehaviours, pitch_heading
+from .behaviours import DiveLQR, DivePlan, GliderBehaviours, pitch_heading
 from .loop import MISSION_STATES, MissionLoop, current_corrected_heading
 from .mission import MAX_MISSION_DEPTH, Mission
 
 __all__ = ["CONTROLLER_SETS", "DiveMetrics", "LegMetrics", "MissionRun", "fly_mission"]
 
 #: Named controller sets of :func:`fly_mission`.
-CONTROLLER_SETS = ("behaviours",)
+CONTROLLER_SETS = ("behaviours", "lqr")
 _UNREACHABLE_FRACTION = 0.05   # speed made good toward the waypoint below this fraction of U: unreachable
 _PHASE_MARGIN = 4.0            # phase time limit: this many times the designed phase time, plus ten minutes
 
@@ -317,7 +317,7 @@ class MissionRun:
 def _law(controller: Any) -> tuple[Any, str]:
     if isinstance(controller, str):
         checks.choice("controller", controller, CONTROLLER_SETS)
-        return GliderBehaviours(), controller
+        return (GliderBehaviours() if controller == "behaviours" else DiveLQR()), controller
     if not callable(getattr(controller, "rates", None)):
         raise ArgumentTypeError(f"controller must be one of {CONTROLLER_SETS} or an object with rates(plant, plan, x, "
                                 f"phase, heading_ref) (e.g. glidectl.GliderBehaviours(...)); got "
@@ -553,8 +553,10 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
     mission : Mission
         Waypoints, depths, glide and surfacing settings.
     controller : str or object
-        ``"behaviours"`` (:class:`~glidectl.missions.behaviours.GliderBehaviours` with its defaults), or an object
-        with ``rates(plant, plan, x, phase, heading_ref)`` such as a configured ``GliderBehaviours``.
+        ``"behaviours"`` (:class:`~glidectl.missions.behaviours.GliderBehaviours` with its defaults), ``"lqr"``
+        (:class:`~glidectl.missions.behaviours.DiveLQR`), or an object with ``rates(plant, plan, x, phase,
+        heading_ref)`` (and optionally ``prepare(plan)`` returning the law to fly) such as a configured
+        ``GliderBehaviours``.
     current : Current, (east, north), callable or None
         The water's velocity (m/s), unknown to the glider (:func:`~glidectl.environment.as_current`).
     seed : int
@@ -606,8 +608,8 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
     law, name = _law(controller)
     plant = ActuatedGlider3D(veh, current)
     plan = DivePlan(plant, mission.gamma, mission.speed, steer)
-    if callable(getattr(law, "check_plan", None)):
-        law.check_plan(plan)
+    if callable(getattr(law, "prepare", None)):
+        law = law.prepare(plan)
     f = _Flight(plant, plan, law, mission, np.random.default_rng(seed), gps, period, rtol, t_end)
     start = np.asarray(mission.start, dtype=float)
     heading = float(current_corrected_heading(start, f.target(), f.c_est, plan.horizontal_speed(1)))
