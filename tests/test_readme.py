@@ -62,3 +62,21 @@ def test_readme_flight_example_runs(tmp_path, monkeypatch, capsys):
     back = gc.load_vehicle(tmp_path / "my_glider.toml")
     assert back.law == "gliderflight" and back.params["Cd0"] == fit.params["Cd0"]
     assert back.params["volume"] == fit.params["volume"] and back.provenance == fit.vehicle.provenance
+
+
+def test_readme_mission_example_runs(capsys):
+    """The README's mission example flies the box, prints its table and draws; the designed turn is flown."""
+    import matplotlib
+
+    import glidectl as gc
+
+    matplotlib.use("Agg")
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    block = next(b for b in blocks if "fly_mission" in b)
+    ns: dict = {"gc": gc, "np": np}
+    exec(compile(block, str(README), "exec"), ns)
+    run, turn = ns["run"], ns["turn"]
+    assert all(leg.arrived for leg in run.legs) and len(run.legs) == 4
+    assert "arrived" in capsys.readouterr().out
+    assert abs(turn.helices[1].radius - 150.0) < 1e-6 and turn.steer == "rudder"
+    assert ns["spiral"].ended_by.startswith("duration")
