@@ -549,7 +549,8 @@ USER_ROA_ARGS = {"degree": 2, "time_limit": None}
 
 def _user_glider_loop() -> tuple[gc.Vehicle, Any, Any]:
     """The LQR dive-cycle loop of the user glider (designs/slocum_dive_cycle.py, issue 16): slocum_shallow, the
-    0.35 m/s, -25 deg leg, gc.lqr_glide with acceleration inputs (w1, w3, w4; r_P3 fixed by the vehicle file).
+    0.35 m/s, -25 deg leg, gc.lqr_glide with acceleration inputs (w1, w4: the vehicle file fixes r_P3, and the
+    design model drops its states and w3).
     Returns the vehicle, the controller and the loop."""
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, USER_SPEED, USER_GAMMA, r_p3=veh.actuators["r_P3"].fixed)

@@ -173,7 +173,7 @@ def report(res: SlocumResults) -> Report:
         rep.number(f"lqr_path_{leg}_max_real_pole", float(np.max(np.real(
             c.closed_loop_poles[np.abs(c.closed_loop_poles) > 1e-9]))), "1/s", "our design",
                    note="gc.lqr_glide with the file's default inputs (w1, w4), which also regulates the "
-                        "glide-path deviation z' (the locked r_P3 states add poles at 0, left out here).")
+                        "glide-path deviation z' (on the model without the fixed r_P3 states: no poles at 0).")
     rows = []
     for r in res.comparison.rows:
         name = r["controller"]
@@ -268,19 +268,19 @@ def report(res: SlocumResults) -> Report:
     certified = res.roa_message.startswith("certified")
     rep.text("Region of attraction of the LQR loop",
              "gc.certify_roa takes this closed loop (gc.closed_loop of the down leg's gc.lqr_glide: the glide-path "
-             "model, 10 states) with its default box, the validity box of its states (gc.validity_box, the table "
-             "above; gc.saturated_loop uses the same box): the pump and battery ranges and the battery rate of the "
-             "[actuators] table, r_P3 within 1 mm of its fixed value, and the documented half-widths of z', theta, "
-             "Omega2, v1 and v3 about the glide, each shrunk by 0.1 %. The vehicle file fixes r_P3, so r_P3 and "
-             "rdot_P3 never move under this law: certify_roa holds them at their values (cert.held) and certifies "
-             "on the other 8 states, through a polynomial surrogate of the loop with a remainder bound. "
+             "model without the fixed r_P3 and its rate, 8 states: the vehicle file fixes r_P3, and the design model "
+             "drops a fixed actuator's states) with its default box, the validity box of its states "
+             "(gc.validity_box, the table above; gc.saturated_loop uses the same box): the pump and battery ranges "
+             "and the battery rate of the [actuators] table and the documented half-widths of z', theta, Omega2, v1 "
+             "and v3 about the glide, each shrunk by 0.1 %, and certifies through a polynomial surrogate of the loop "
+             "with a remainder bound. "
              + ("With degree 2 and no time limit" if res.settings.roa_time_limit is None else
                 f"With degree 2 and a budget of {res.settings.roa_time_limit:g} s") + " it answered: "
              f"{res.roa_message[:500]}"
              + ("\n\nThe SOS route does not finish on this loop in this budget: without one (the FULL settings) it "
                 "certifies it (about 80 s on one core, measured 2026-12-03). The LMI path certifies this "
-                "loop too, unsaturated and saturated at the pump rate, with the same default box and the same held "
-                "states: see the roa_certification design, section 'Saturated loops' "
+                "loop too, unsaturated and saturated at the pump rate, with the same default box: see the "
+                "roa_certification design, section 'Saturated loops' "
                 "(gc.certify_roa_lmi(gc.saturated_loop(loop)))."
                 if not certified else
                 f"\n\nThe certified set has volume {res.roa_volume:.4g} in the free states' own units. The "

@@ -398,3 +398,81 @@ def test_jacobians_refuse_functions_that_are_not_complex_safe():
     A, B = gc.jacobians(lambda x, u: x * x + u, [1.0, 2.0], [0.0, 0.0])
     np.testing.assert_array_equal(A, np.diag([2.0, 4.0]))
     np.testing.assert_array_equal(B, np.eye(2))
+
+
+# ------------------------------------------------------------------------------------------ modes and failing modes in
+# state terms
+def _ss(A, names, C=None, outputs=None):
+    A = np.asarray(A, dtype=float)
+    C = np.eye(A.shape[0]) if C is None else np.atleast_2d(C)
+    return control.ss(A, np.zeros((A.shape[0], 1)), C, 0, states=list(names),
+                      outputs=list(outputs or [f"y{i}" for i in range(C.shape[0])]))
+
+
+def test_observability_names_a_known_unobservable_mode_in_state_terms():
+    # x_c decouples from the output a (a' = -a + b, b' = -2 b, c' = -3 c): the mode at -3 is c alone
+    A = np.diag([-1.0, -2.0, -3.0])
+    A[0, 1] = 1.0
+    r = observability(_ss(A, "abc"), ["a"])
+    assert not r.full and len(r.mode_states) == 1
+    m = r.mode_states[0]
+    assert m.eigenvalue == pytest.approx(-3.0) and m.states == ("c",) and m.dimension == 1
+    assert "-3+0i (c 100%)" in str(r)
+    # an unobservable mode spread over two states: eigenvector (0, 1, 1) at -2, output y = a + b - c
+    V = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 1.0, 1.0]])
+    A = V @ np.diag([-1.0, -2.0, -3.0]) @ np.linalg.inv(V)
+    r = observability(_ss(A, "abc", C=[1.0, 1.0, -1.0], outputs=["y"]), "y")
+    (m,) = r.mode_states
+    assert m.eigenvalue == pytest.approx(-2.0) and set(m.states) == {"b", "c"}
+    np.testing.assert_allclose(m.shares, [0.5, 0.5], atol=1e-9)
+    # restricting the states to those the output sees makes the test pass
+    assert observability(_ss(A, "abc", C=[1.0, 1.0, -1.0], outputs=["y"]), "y", states=["a"]).full
+    # the dual: with a single input into a, the controllability failure is named alike
+    B = np.array([[1.0], [0.0], [0.0]])
+    cr = controllability(control.ss(np.diag([-1.0, -2.0]), B[:2], np.eye(2), 0, states=["a", "b"]))
+    assert [ms.states for ms in cr.mode_states] == [("b",)]
+    assert observability(lin(-45.0, "force"), ["z_prime", "theta", "m0", "r_P1", "r_P3"]).mode_states == ()
+
+
+def test_mode_participation_is_unit_free_and_labels_say_which_states():
+    sys = lin(-45.0, "acceleration")
+    m = modes(sys)
+    np.testing.assert_allclose(m.participation.sum(axis=0), 1.0, rtol=1e-12)
+    # express z_prime in km and theta in mrad: the participation (and the labels) do not change
+    T = np.diag([1e-3, 1e3, 1, 1, 1, 1, 1, 1, 1, 1])
+    scaled = control.ss(T @ sys.A @ np.linalg.inv(T), T @ sys.B, np.eye(10), 0, states=sys.state_labels)
+    ms = modes(scaled)
+    np.testing.assert_allclose(ms.participation, m.participation, atol=1e-8)
+    assert ms.labels == m.labels and ms.dominant_states == m.dominant_states
+    assert len(set(m.labels)) == len(m.labels)
+    # ROGUE's pitch oscillation (-0.81 +- 4.37i /s) is a pitch-rate and pitch mode; the six integrators at 0 (z',
+    # the two mass axes and the pump) share their eigenvalue, and the label lists all six states
+    osc = [k for k in range(10) if m.eigenvalues[k].imag != 0]
+    assert [m.labels[k][-9:] for k in osc] == ["(pair +i)", "(pair -i)"]
+    assert all(m.dominant_states[k] == "Omega2" and "theta" in m.labels[k] for k in osc)
+    zero = [lab for lab in m.labels if lab.endswith("of 6 at 0+0i)")]
+    assert len(zero) == 6 and all(q in zero[0] for q in ("z_prime", "r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0"))
+
+
+def test_identical_state_content_gets_distinct_labels():
+    # two distinct modes made of the same two states in the same proportions carry their eigenvalue
+    V = np.array([[1.0, 1.0, 0.0], [0.3, -0.3, 0.0], [0.0, 0.0, 1.0]])
+    m = modes(_ss(V @ np.diag([-1.0, -2.0, -3.0]) @ np.linalg.inv(V), "abc"))
+    assert m.labels[0] != m.labels[1] and "[-1+0i/s]" in m.labels[0] and "[-2+0i/s]" in m.labels[1]
+    # a complex pair is marked as the pair's two members; a repeated (defective) eigenvalue as k of m
+    m = modes(_ss([[-0.1, 2.0, 0.0], [-2.0, -0.1, 0.0], [0.0, 0.0, -1.0]], ["th", "om", "q"]))
+    assert m.labels[:2] == ("th 50% + om 50% (pair +i)", "th 50% + om 50% (pair -i)")
+    m = modes(_ss([[0.0, 1.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, -1.0]], ["p", "v", "q"]))
+    assert m.labels[:2] == ("p 50% + v 50% (1 of 2 at 0+0i)", "p 50% + v 50% (2 of 2 at 0+0i)")
+    assert len(set(m.labels)) == 3
+
+
+@pytest.mark.parametrize("inputs", ["force", "acceleration"])
+@pytest.mark.parametrize("reduce_fixed", [True, False])
+def test_labels_of_slocum_shallow_longitudinal_modes_are_distinct(inputs, reduce_fixed):
+    veh = load_vehicle("slocum_shallow")
+    g = steady_glide(veh, 0.35, math.radians(-25.0), r_p3=0.05)
+    m = modes(linearize_glide(veh, g, inputs, reduce_fixed=reduce_fixed))
+    assert len(set(m.labels)) == len(m.labels) == len(m.eigenvalues)
+    text = str(m)
+    assert all(lab in text for lab in m.labels)

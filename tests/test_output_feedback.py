@@ -124,7 +124,10 @@ def test_default_actuate_leaves_out_a_fixed_actuator_and_keeps_preset_gains():
     assert gc.default_actuate(fixed, "acceleration") == ("w1", "w4")
     g = gc.steady_glide(fixed, 0.3, math.radians(-45), r_p3=0.05)
     c = gc.lqr_glide(fixed, g, inputs="acceleration")
-    assert c.actuate == ("w1", "w4") and np.all(c.K[1] == 0.0)
+    # the fixed r_P3 leaves the design model with its states and its input w3
+    assert c.actuate == ("w1", "w4") and c.plant.input_labels == ["w1", "w4"] and c.K.shape == (2, 8)
+    full = gc.lqr_glide(fixed, g, inputs="acceleration", reduce_fixed=False)
+    assert full.actuate == ("w1", "w4") and np.all(full.K[1] == 0.0)
     assert np.max(np.abs(gc.lqr_glide(ROGUE, GLIDE, inputs="acceleration").K[1])) > 0
 
 

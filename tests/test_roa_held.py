@@ -118,7 +118,7 @@ def test_held_states_do_not_hide_unstable_free_dynamics(monkeypatch):
 def _slocum_loop():
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, 0.35, math.radians(-25.0), r_p3=veh.actuators["r_P3"].fixed)
-    return gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
+    return gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration", reduce_fixed=False))
 
 
 def test_slocum_lqr_loop_holds_the_states_saturated_loop_holds(monkeypatch):

@@ -195,7 +195,7 @@ def test_elevator_and_lqr_loops_are_extracted_with_their_saturations():
     assert sl.input_names == ("u1",) and sl.u_hi[0] == 0.05                    # the elevator is not fed back
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, 0.35, np.radians(-25.0), r_p3=0.05)
-    ctrl = gc.lqr_glide(veh, glide, inputs="acceleration", actuate=("w1", "w4"))
+    ctrl = gc.lqr_glide(veh, glide, inputs="acceleration", actuate=("w1", "w4"), reduce_fixed=False)
     loop = gc.closed_loop(ctrl)
     sl = gc.saturated_loop(loop)
     assert sl.input_names == ("w1", "w4")

@@ -17,10 +17,10 @@ from glidectl.roa.surrogate import surrogate_system
 SHRINK = 1 - 1e-3
 
 
-def _slocum_lqr_loop():
+def _slocum_lqr_loop(reduce_fixed: bool = True):
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, 0.35, math.radians(-25.0), r_p3=veh.actuators["r_P3"].fixed)
-    return gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
+    return gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration", reduce_fixed=reduce_fixed))
 
 
 def _buoyancy_loop():
@@ -44,7 +44,8 @@ def test_certify_roa_and_saturated_loop_default_to_the_same_box(make):
 
 
 def test_validity_box_values_of_the_slocum_loop():
-    loop = _slocum_lqr_loop()
+    assert "r_P3" not in _slocum_lqr_loop().state_names       # the design model drops the fixed actuator
+    loop = _slocum_lqr_loop(reduce_fixed=False)
     acts = loop.vehicle.actuators
     xe = loop.equilibrium
     lo, hi = gc.validity_box(loop)

@@ -28,9 +28,13 @@ from .analysis.helix_sweeps import HelixSweep, helix_sweep, straight_glides
 from .analysis.jacobian import hessian, jacobians
 from .analysis.linear import (
     DepthGlidePathModel,
+    FixedActuatorModel,
     Modes,
+    ModeStates,
     RankTest,
     controllability,
+    design_model,
+    fixed_actuators,
     glide_model,
     linearize_glide,
     modes,
@@ -70,10 +74,12 @@ from .controllers.dive_cycle import (
     DiveCycleRun,
     MissionComparison,
     PitchPID,
+    SampledGlideLQG,
     ScheduledGlideLQG,
     ScheduledGlideLQR,
     compare_missions,
     dive_cycle,
+    lqg_filter_noise,
     pump_energy,
     tune_pitch_pid,
 )
@@ -95,7 +101,7 @@ from .controllers.linear import (
     place_glide,
 )
 from .controllers.moving_mass import RealizedTorqueComparison, compare_realized_torque
-from .controllers.output_feedback import LQGController, lqg_glide
+from .controllers.output_feedback import LQGController, SampledLQG, lqg_glide
 from .controllers.saturation import saturated_loop
 from .controllers.torque import (
     TorqueDesign,
@@ -205,6 +211,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "helix_sweep", "HelixRbhLocus", "HelixSweep", "hessian", "jacobians", "linearize_glide", "mbar_locus",
         "Modes", "modes", "observability", "parameter_locus", "ParameterLocus", "RankTest", "rbh_locus",
         "resolved_crossing", "straight_glides", "uncontrolled_eigs",
+        "design_model", "fixed_actuators", "FixedActuatorModel", "ModeStates",
     ),
     "controllers": (
         "approximate_linearization_eigenvalues", "ApproximateLinearizationController", "BlowUp",
@@ -221,6 +228,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "default_actuate", "lqg_glide", "LQGController",
         "PitchPID", "ScheduledGlideLQR", "tune_pitch_pid",
         "ScheduledGlideLQG",
+        "lqg_filter_noise", "SampledGlideLQG", "SampledLQG",
     ),
     "stability and certificates": (
         "allowable_delta_m_ratio", "box_measure", "box_points", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck",
@@ -304,6 +312,7 @@ __all__ = [
     "ExistenceScan",
     "ExtendedCTOL",
     "FeedbackLinearizingController",
+    "FixedActuatorModel",
     "FixedMassGlider3D",
     "FlightFit",
     "GlideEnvelope",
@@ -325,6 +334,7 @@ __all__ = [
     "Mission",
     "MissionComparison",
     "MissionRun",
+    "ModeStates",
     "ModelError",
     "Modes",
     "NondimensionalModel",
@@ -346,6 +356,8 @@ __all__ = [
     "ReducedLongitudinalGlider",
     "RemainderBound",
     "SOSSize",
+    "SampledGlideLQG",
+    "SampledLQG",
     "SaturatedLoop",
     "ScheduledGlideLQG",
     "ScheduledGlideLQR",
@@ -395,6 +407,7 @@ __all__ = [
     "decoupled_gain_matrix",
     "default_actuate",
     "design_helix",
+    "design_model",
     "design_torque_control",
     "design_turn",
     "dive_cycle",
@@ -407,6 +420,7 @@ __all__ = [
     "existence_scan",
     "feedback_linearization_blowup",
     "fit_flight_model",
+    "fixed_actuators",
     "fly_mission",
     "glide_envelope",
     "glide_model",
@@ -424,6 +438,7 @@ __all__ = [
     "linearize_glide",
     "list_presets",
     "load_vehicle",
+    "lqg_filter_noise",
     "lqg_glide",
     "lqr_glide",
     "lqr_state_feedback",

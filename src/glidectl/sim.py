@@ -193,6 +193,10 @@ MAX_NFEV_PER_STEP = 20
 
 _ON_BUDGET = ("raise", "stop")
 
+#: One-step (Runge-Kutta) methods: a run restarted at every sensor sample carries their step size over the sample
+#: (:func:`simulate_actuated`); multistep methods (LSODA, BDF) and Radau restart with their own first step.
+_ONE_STEP = ("RK45", "RK23", "DOP853")
+
 
 class _BudgetHit(Exception):
     """Raised inside the right-hand side to leave the integrator when a budget is exhausted (never escapes)."""
@@ -248,16 +252,20 @@ class _Segment:
     interpolants: list[Any]        # dense output per step (when asked for)
     t_steps: list[float]           # step boundaries
     reason: str | None             # "stop" (event), a budget name, or None (reached the end)
+    last_step: float | None = None  # size of the last full step taken (s)
 
 
 def _integrate(fun: Callable[[float, np.ndarray], Any], a: float, b: float, y: np.ndarray, *, method: str,
                rtol: float, atol: Any, budget: _Budget, dense: bool,
-               event: Callable[[float, np.ndarray], float] | None = None, what: str = "simulation") -> _Segment:
+               event: Callable[[float, np.ndarray], float] | None = None, what: str = "simulation",
+               first_step: float | None = None) -> _Segment:
     """Step a scipy ``OdeSolver`` from ``a`` to ``b`` (as :func:`~scipy.integrate.solve_ivp` does), checking the
-    budgets after every step and a terminal, decreasing ``event`` (``> 0`` at ``a``)."""
+    budgets after every step and a terminal, decreasing ``event`` (``> 0`` at ``a``); ``first_step`` (s), if given,
+    is the solver's first step (its own estimate otherwise). The last step size taken is ``seg.last_step``."""
     seg = _Segment(a, y, [], [a], None)
+    opts: dict[str, Any] = {} if first_step is None else {"first_step": min(first_step, b - a)}
     try:
-        solver = _METHODS[method](fun, a, y, b, rtol=rtol, atol=atol)
+        solver = _METHODS[method](fun, a, y, b, rtol=rtol, atol=atol, **opts)
     except _BudgetHit as hit:
         seg.reason = hit.reason
         return seg
@@ -292,6 +300,8 @@ def _integrate(fun: Callable[[float, np.ndarray], Any], a: float, b: float, y: n
                 return seg
             g = g_new
         seg.t, seg.y = float(t_new), y_new.copy()
+        if solver.status != "finished":  # the step that ends on b is cut short by b
+            seg.last_step = float(t_new - t_old)
         if dense:
             seg.interpolants.append(interp)
             seg.t_steps.append(seg.t)
@@ -764,7 +774,8 @@ class ActuatedSimulation(Simulation):
     seed : int or None
         Seed of the noise generator (drawn and recorded when the caller gave none; None without noise).
     sensor_period : float
-        Sample-and-hold period of the noise (s); 0 without noise.
+        Sample-and-hold period of the noise and sample period of a sampled-data controller (s); 0 without noise
+        and without such a controller.
     command : str
         How the controller output was read (:data:`COMMAND_KINDS`).
     controller_states : tuple of str
@@ -857,14 +868,22 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
     The actuator limits are enforced inside the model's right-hand side (never by clipping results). The controller
     is evaluated inside the right-hand side on the measured outputs ``y = x[sensors] + n``; the noise ``n`` is
     Gaussian, drawn from a seeded generator once per ``sensor_period`` and held over it (sample-and-hold; the
-    integrator restarts at each sample). Without noise there are no samples and the controller acts continuously.
+    integrator restarts at each sample). Without noise and without a sampled-data controller there are no samples
+    and the controller acts continuously.
 
     Controllers
     -----------
     * static: ``controller(t, y) -> command``;
     * dynamic (e.g. a PID's integrator, an estimator): an object with ``controller_states`` (tuple of names),
       ``initial_state(t, y) -> xc0``, ``derivative(t, xc, y) -> xc'`` and ``controller(t, y, xc) -> command``;
-      its states are integrated with the plant's.
+      its states are integrated with the plant's;
+    * sampled-data (a digital controller: e.g. a discrete-time Kalman filter and a zero-order hold): a dynamic
+      controller that also has ``sample(t, xc, y) -> xc``. It is sampled every ``sensor_period`` from ``t0`` on
+      (with or without noise): at each sample time ``t_k`` its state jumps to ``sample(t_k, xc, y_k)``, ``y_k`` the
+      measurement of that sample (the first sample is at ``t0``, right after ``initial_state``); between samples it
+      follows ``derivative`` (zero for a state that is only held). A command computed at the sample and kept in
+      the controller's state is a zero-order hold: the integrator then sees a smooth right-hand side between
+      samples.
 
     The command is read as ``command`` says (:data:`COMMAND_KINDS`); ``"auto"``: a mapping ``{"m0": c, ...}`` is
     setpoints (axes it omits keep their position), a controller with ``inputs == "acceleration"`` (an
@@ -889,12 +908,13 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
     seed : int, optional
         Seed of the noise (same seed, same noise); default a fresh one, recorded in the result.
     sensor_period : float
-        Sample-and-hold period of the noise (s), > 0.
+        Sample-and-hold period of the noise and sample period of a sampled-data controller (s), > 0.
     t0 : float
         Start time (s) (the controller sees absolute times).
     t_eval : array_like, optional
         Output times in ``[t0, t0 + t_final]`` (s); default 2001 evenly spaced.
-    method, rtol, atol : integrator settings, as :func:`simulate` (tolerances in state units)
+    method, rtol, atol : integrator settings, as :func:`simulate` (tolerances in state units); a one-step method
+        (``"RK23"``, ``"RK45"``, ``"DOP853"``) restarted at a sample starts with the step it had reached
     stop : callable, optional
         ``(t, x, y) -> float`` on the true state ``x`` and the measurement ``y``; the run ends where it falls through
         zero (``stopped_by = "stop"``). Must be positive at the start.
@@ -947,14 +967,6 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
         sigma[sens.index(k)] = nz[k]
     noisy = bool(np.any(sigma > 0))
     T = checks.positive("sensor_period", sensor_period, unit="s")
-    if noisy:
-        if seed is None:
-            seed = int(np.random.SeedSequence().entropy % (2**63))
-        seed = checks.integer("seed", seed, lo=0)
-        count = math.floor(tf / T) + 2
-        draws = np.random.default_rng(seed).standard_normal((count, len(sens))) * sigma
-    else:
-        seed, T, draws = None, 0.0, np.zeros((1, len(sens)))
     if controller is not None and not callable(controller):
         raise ArgumentTypeError(f"controller must be callable, got {type(controller).__name__}")
     cstates = tuple(getattr(controller, "controller_states", ()) or ())
@@ -962,7 +974,18 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
     if dynamic and not all(callable(getattr(controller, a, None)) for a in ("initial_state", "derivative")):
         raise ArgumentTypeError("a controller with controller_states must define initial_state(t, y) and "
                                 "derivative(t, xc, y)")
+    sampled = dynamic and callable(getattr(controller, "sample", None))
     nc = len(cstates)
+    if noisy:
+        if seed is None:
+            seed = int(np.random.SeedSequence().entropy % (2**63))
+        seed = checks.integer("seed", seed, lo=0)
+        count = math.floor(tf / T) + 2
+        draws = np.random.default_rng(seed).standard_normal((count, len(sens))) * sigma
+    else:
+        seed, draws = None, np.zeros((1, len(sens)))
+        if not sampled:
+            T = 0.0
     kind = "setpoint" if controller is None else _command_kind(controller, command)
     if stop is not None:
         checks.function("stop", stop)
@@ -1001,6 +1024,16 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
     xc0 = np.zeros(0)
     if dynamic:
         xc0 = checks.array("controller initial_state", controller.initial_state(t0, y0), shape=(nc,))
+
+    def sample(t: float, x: np.ndarray, xc: np.ndarray, row: np.ndarray) -> np.ndarray:
+        out = np.asarray(controller.sample(t, xc, measure(x, row)), dtype=float)
+        if out.shape != (nc,) or not np.all(np.isfinite(out)):
+            raise ArgumentError(f"the controller's sample(t, xc, y) returned {out!r} at t = {t:.6g}; it must return "
+                                f"{nc} finite numbers, its states {cstates}")
+        return out
+
+    if sampled:
+        xc0 = sample(t0, x0, xc0, seg_row)
     z0 = np.concatenate([x0, xc0])
 
     def fun(t: float, zz: np.ndarray) -> np.ndarray:
@@ -1038,23 +1071,28 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
         if te[0] < t0 - slack or te[-1] > t_end + slack:
             raise ArgumentError(f"t_eval must lie in [t0, t0 + t_final] = [{t0:g}, {t_end:g}]")
         te = np.clip(te, t0, t_end)
-    if noisy:
+    if noisy or sampled:
         k_last = math.ceil(tf / T)
         cuts = sorted({t0, t_end, *[t0 + k * T for k in range(1, k_last) if t0 + k * T < t_end]})
     else:
         cuts = [t0, t_end]
     label = f"simulate_actuated({type(plant).__name__})"
+    warm: float | None = None
     ts, zs, rows = [], [], []
     z = z0
     stopped_at, stopped_by = None, "t_final"
     for k, (a, b) in enumerate(itertools.pairwise(cuts)):
         seg_row = draws[min(k, len(draws) - 1)]
         last = k == len(cuts) - 2
+        if sampled and k > 0:  # the sample at the start of the segment (the one at t0 is in z0)
+            z = np.concatenate([z[:n], sample(a, z[:n], z[n:], seg_row)])
         if event is not None and k > 0 and event(a, z) <= 0:  # a new noise sample crossed the stop condition
             seg = _Segment(a, z, [], [a], "stop")
         else:
             seg = _integrate(fun, a, b, z, method=method, rtol=rtol, atol=atol, budget=budget, dense=True,
-                             event=event, what=label)
+                             event=event, what=label, first_step=warm)
+            if method in _ONE_STEP and seg.last_step is not None:
+                warm = seg.last_step  # a one-step method restarts at the next sample with the step it had reached
         if seg.reason is not None:
             stopped_at, stopped_by = seg.t, seg.reason
             if seg.reason != "stop" and on_budget == "raise":

@@ -1,9 +1,12 @@
 """Linearization about steady glides, modal analysis, controllability and observability (§2.3.1).
 
 Linear models are returned as :class:`control.StateSpace` with named states, inputs and outputs (outputs = all
-states). Ranks are reported with the tolerance used and the singular values behind them, and checked by the
-PBH (Popov-Belevitch-Hautus) test at every eigenvalue, which does not suffer from the conditioning of the Kalman
-matrix on badly scaled states.
+states). The actuators a vehicle file fixes are not in them (:func:`design_model`, :class:`FixedActuatorModel`;
+``reduce_fixed=False`` keeps them). Ranks are reported with the tolerance used and the singular values behind
+them, and checked by the PBH (Popov-Belevitch-Hautus) test at every eigenvalue, which does not suffer from the
+conditioning of the Kalman matrix on badly scaled states; a failing mode is named by the states its failing
+directions are made of (:class:`ModeStates`). Modes are labelled by their states' participation factors
+(:func:`modes`), which do not depend on the states' units.
 """
 
 from __future__ import annotations
@@ -27,8 +30,25 @@ from ..params import Vehicle
 from ..trim.glide import SteadyGlide
 from .jacobian import jacobians
 
-__all__ = ["EXTRA_OUTPUTS", "DepthGlidePathModel", "Modes", "OutputMap", "RankTest", "controllability", "depth_rate",
-           "glide_model", "linearize_glide", "modes", "observability", "output_map"]
+__all__ = [
+    "EXTRA_OUTPUTS",
+    "FIXED_ACTUATOR_STATES",
+    "DepthGlidePathModel",
+    "FixedActuatorModel",
+    "ModeStates",
+    "Modes",
+    "OutputMap",
+    "RankTest",
+    "controllability",
+    "depth_rate",
+    "design_model",
+    "fixed_actuators",
+    "glide_model",
+    "linearize_glide",
+    "modes",
+    "observability",
+    "output_map",
+]
 
 InputKind = Literal["force", "acceleration"]
 
@@ -151,9 +171,252 @@ class DepthGlidePathModel:
         return np.concatenate([zp[..., None], d[..., 2:], d[..., 1:2]], axis=-1)
 
 
+#: States of each actuator in each input form, and the input that moves it (:func:`fixed_actuators`,
+#: :class:`FixedActuatorModel`): a fixed actuator's states and input leave the design models.
+FIXED_ACTUATOR_STATES: dict[str, dict[str, tuple[tuple[str, ...], str]]] = {
+    "force": {"r_P1": (("r_P1", "P_P1"), "u1"), "r_P3": (("r_P3", "P_P3"), "u3"), "m0": (("m0",), "u4")},
+    "acceleration": {"r_P1": (("r_P1", "rdot_P1"), "w1"), "r_P3": (("r_P3", "rdot_P3"), "w3"),
+                     "m0": (("m0",), "w4")},
+}
+
+
+def fixed_actuators(veh: Vehicle) -> tuple[str, ...]:
+    """The longitudinal actuators (``r_P1``, ``r_P3``, ``m0``, in that order) that the vehicle file fixes.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        Its ``[actuators]`` table is read (``fixed = ...`` entries); a vehicle without one fixes none.
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle.
+    """
+    acts = checks.vehicle("veh", veh).actuators
+    return tuple(a for a in ("r_P1", "r_P3", "m0") if getattr(acts.get(a), "fixed", None) is not None)
+
+
+@dataclass(frozen=True)
+class FixedActuatorModel:
+    """A glide-path model (:class:`~glidectl.models.longitudinal.GlidePathModel` or :class:`DepthGlidePathModel`)
+    with some actuators held where they are: their states and inputs removed.
+
+    A held moving-mass axis ``i`` keeps ``r_Pi`` at its value and ``rdot_Pi = 0``; a held pump keeps ``m0``. In the
+    acceleration form its input (``w_i``, ``w4``) is zero, which keeps it there exactly. In the force form the mass is
+    held by the force of the hull on it: ``P_Pi = mbar (v + Omega x r_P)_i`` (no sliding, (2.31) with
+    ``rdot_Pi = 0``), and ``u_i`` is the constraint force that keeps ``rdot_Pi = 0`` (solved at each state from the
+    model's own right-hand side, which is affine in ``u``); a held pump has ``u4 = 0``. The remaining states evolve
+    exactly as in the model with the actuator held (the held states are constant along its solutions).
+
+    Parameters
+    ----------
+    inner : GlidePathModel or DepthGlidePathModel
+        The model with every state.
+    actuators : tuple of str
+        The held actuators, among ``("r_P1", "r_P3", "m0")``.
+    values : tuple of float
+        Where each is held (m, m, kg), e.g. the steady glide's values.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``inner`` is not a glide-path model.
+    ArgumentError
+        If ``actuators`` names an unknown or repeated actuator, or ``values`` are not one finite number each.
+    """
+
+    inner: Any
+    actuators: tuple[str, ...]
+    values: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        path = self.inner.path if isinstance(self.inner, DepthGlidePathModel) else self.inner
+        if not isinstance(path, GlidePathModel):
+            raise ArgumentTypeError(f"inner must be a GlidePathModel or a DepthGlidePathModel, got "
+                                    f"{type(self.inner).__name__}")
+        acts = tuple(self.actuators)
+        if any(a not in ("r_P1", "r_P3", "m0") for a in acts) or len(set(acts)) != len(acts):
+            raise ArgumentError(f"actuators must be distinct names among ('r_P1', 'r_P3', 'm0'), got {acts!r}")
+        vals = checks.array("values", self.values, shape=(len(acts),))
+        object.__setattr__(self, "actuators", acts)
+        object.__setattr__(self, "values", tuple(float(v) for v in vals))
+        form = "force" if isinstance(path.base, LongitudinalGlider) else "acceleration"
+        table = FIXED_ACTUATOR_STATES[form]
+        dropped = {s for a in acts for s in table[a][0]}
+        names = tuple(self.inner.state_names)
+        inputs = tuple(self.inner.input_names)
+        keep = [i for i, q in enumerate(names) if q not in dropped]
+        ikeep = [i for i, q in enumerate(inputs) if q not in {table[a][1] for a in acts}]
+        object.__setattr__(self, "_layout", (form, keep, ikeep, names, inputs))
+
+    @property
+    def form(self) -> str:
+        """``"force"`` or ``"acceleration"``."""
+        return self._layout[0]
+
+    @property
+    def path(self) -> GlidePathModel:
+        """The glide-path model inside."""
+        return self.inner.path if isinstance(self.inner, DepthGlidePathModel) else self.inner
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        names, keep = self._layout[3], self._layout[1]
+        return tuple(names[i] for i in keep)
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        inputs, ikeep = self._layout[4], self._layout[2]
+        return tuple(inputs[i] for i in ikeep)
+
+    @property
+    def removed_states(self) -> tuple[str, ...]:
+        """The states of :attr:`inner` this model removes (held)."""
+        keep = set(self.state_names)
+        return tuple(q for q in self._layout[3] if q not in keep)
+
+    @property
+    def removed_inputs(self) -> tuple[str, ...]:
+        """The inputs of :attr:`inner` this model removes."""
+        keep = set(self.input_names)
+        return tuple(q for q in self._layout[4] if q not in keep)
+
+    @property
+    def vehicle(self) -> Vehicle:
+        return self.path.vehicle
+
+    @property
+    def gamma(self) -> float:
+        """Flight-path angle of the path (rad)."""
+        return self.path.gamma
+
+    def reduce(self, x: Any) -> np.ndarray:
+        """The states of this model from states ``x`` of :attr:`inner` (shape ``(..., n_inner)``)."""
+        x = trailing_array("x", x, len(self._layout[3]), self._layout[3])
+        return x[..., self._layout[1]]
+
+    def full_state(self, x: Any) -> np.ndarray:
+        """States of :attr:`inner` (shape ``(..., n_inner)``) for states ``x`` of this model: the held states at
+        their values (and, in the force form, the momentum of a held mass from the no-sliding condition)."""
+        form, keep, _, names, _ = self._layout
+        x = trailing_array("x", x, len(keep), self.state_names)
+        full = np.zeros((*x.shape[:-1], len(names)), dtype=np.result_type(x.dtype, float))
+        full[..., keep] = x
+        col = {q: full[..., i] for i, q in enumerate(names)}
+        for a, v in zip(self.actuators, self.values, strict=True):
+            full[..., names.index(a)] = v
+            if form == "acceleration" and a != "m0":
+                full[..., names.index("rdot_" + a[2:])] = 0.0
+        if form == "force":
+            mbar = self.vehicle.mbar
+            Om, v1, v3, r1, r3 = (col[q] for q in ("Omega2", "v1", "v3", "r_P1", "r_P3"))
+            if "r_P1" in self.actuators:
+                full[..., names.index("P_P1")] = mbar * (v1 + r3 * Om)
+            if "r_P3" in self.actuators:
+                full[..., names.index("P_P3")] = mbar * (v3 - r1 * Om)
+        return full
+
+    def full_input(self, x: Any, u: Any) -> np.ndarray:
+        """Inputs of :attr:`inner` for states ``x`` and inputs ``u`` of this model: zero for a held actuator, except
+        the constraint force of a held mass in the force form."""
+        form, _, ikeep, names, inputs = self._layout
+        u = trailing_array("u", u, len(ikeep), self.input_names)
+        full_x = self.full_state(x)
+        shape = np.broadcast_shapes(full_x.shape[:-1], u.shape[:-1])
+        U = np.zeros((*shape, len(inputs)), dtype=np.result_type(full_x.dtype, u.dtype, float))
+        U[..., ikeep] = u
+        held = [a for a in self.actuators if a != "m0"] if form == "force" else []
+        if not held:
+            return U
+        # the derivative of rdot_Pi is affine in the constraint forces: one batched evaluation at U and U + e_j
+        ui = [inputs.index(FIXED_ACTUATOR_STATES["force"][a][1]) for a in held]
+        trial = np.repeat(U[None], len(held) + 1, axis=0)
+        for j, k in enumerate(ui):
+            trial[j + 1, ..., k] += 1.0
+        d = self.inner.rhs(np.broadcast_to(full_x, (*shape, len(names))), trial)
+        mbar = self.vehicle.mbar
+        col = {q: full_x[..., i] for i, q in enumerate(names)}
+        dcol = {q: d[..., i] for i, q in enumerate(names)}
+
+        def slip_rate(a: str) -> Any:  # d/dt of rdot_Pi = P_Pi / mbar - v_i -+ (Omega x r_P)_i
+            if a == "r_P1":
+                return dcol["P_P1"] / mbar - dcol["v1"] - dcol["r_P3"] * col["Omega2"] - col["r_P3"] * dcol["Omega2"]
+            return dcol["P_P3"] / mbar - dcol["v3"] + dcol["r_P1"] * col["Omega2"] + col["r_P1"] * dcol["Omega2"]
+
+        g = np.stack([slip_rate(a) for a in held], axis=-1)  # (k + 1, ..., k)
+        G = np.moveaxis(g[1:] - g[0], 0, -1)  # (..., k rows (constraints), k columns (forces))
+        if len(held) == 1:
+            c = -g[0] / G[..., 0]
+        else:
+            c = np.linalg.solve(G, -g[0][..., None])[..., 0]
+        for j, k in enumerate(ui):
+            U[..., k] = c[..., j]
+        return U
+
+    def rhs(self, x: Any, u: Any) -> Any:
+        """Derivative of the remaining states: :attr:`inner`'s at the held actuators (batch, complex-safe).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If ``x`` or ``u`` is not an array of numbers with the right trailing dimension.
+        """
+        full = self.full_state(x)
+        d = self.inner.rhs(full, self.full_input(x, u))
+        return np.asarray(d)[..., self._layout[1]]
+
+
+def design_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force", *, depth: bool = False,
+                 reduce_fixed: bool = True) -> tuple[Any, np.ndarray]:
+    """The model the linear designs are made on and its equilibrium: the glide-path model (:func:`glide_model`),
+    with the depth ``z`` appended when asked for (:class:`DepthGlidePathModel`), without the states and inputs of
+    the actuators the vehicle file fixes (:class:`FixedActuatorModel`, held at the glide's values).
+
+    Parameters
+    ----------
+    veh, glide, inputs :
+        As :func:`glide_model`.
+    depth : bool
+        Append the depth ``z`` (m) as a last state (its equilibrium value is 0).
+    reduce_fixed : bool
+        Remove the fixed actuators (default); False keeps every state and input. A vehicle without fixed actuators
+        (every thesis preset) gets the same model either way.
+
+    Returns
+    -------
+    model : GlidePathModel, DepthGlidePathModel or FixedActuatorModel
+    xe : numpy.ndarray
+        Its equilibrium state on the glide.
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError, VehicleMismatchError, ModelError
+        As :func:`glide_model`, or if a flag is not a bool.
+    """
+    checks.boolean("depth", depth)
+    checks.boolean("reduce_fixed", reduce_fixed)
+    model, xe = glide_model(veh, glide, inputs)
+    plant: Any = model
+    if depth:
+        plant, xe = DepthGlidePathModel(model), np.concatenate([xe, [0.0]])
+    fixed = fixed_actuators(veh) if reduce_fixed else ()
+    if fixed:
+        names = list(plant.state_names)
+        plant = FixedActuatorModel(plant, fixed, tuple(float(xe[names.index(a)]) for a in fixed))
+        xe = plant.reduce(xe)
+    return plant, xe
+
+
 def depth_rate(model: Any, x: Any) -> Any:
     """Depth rate ``-sin(theta) v1 + cos(theta) v3`` (m/s, (2.16)) of glide-path states ``x`` (batch,
     complex-safe), from the base model's own kinematics."""
+    if isinstance(model, FixedActuatorModel):
+        x, model = model.full_state(x), model.inner
     path = model.path if isinstance(model, DepthGlidePathModel) else model
     x = np.asarray(x)
     xr = x[..., :10]
@@ -261,7 +524,7 @@ def output_map(outputs: Any, state_names: Sequence[str]) -> OutputMap:
 
 
 def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force",
-                    outputs: Any = None) -> control.StateSpace:
+                    outputs: Any = None, *, reduce_fixed: bool = True) -> control.StateSpace:
     """Exact linearization of the longitudinal glider about a steady glide, with z' (2.30), and named outputs.
 
     Parameters
@@ -286,6 +549,13 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
         In the linearization ``z`` is the depth deviation from the nominal glide at the same time (the nominal depth
         grows at the sink rate and is no equilibrium; the constant sink rate drops out), a pure integrator: with
         ``z'`` it fixes the horizontal position, which is why ``z'`` stays unobservable from depth (it needs ``x``).
+    reduce_fixed : bool
+        Leave out the actuators the vehicle's ``[actuators]`` table fixes (default): their states
+        (:data:`FIXED_ACTUATOR_STATES`: ``r_P3`` and ``rdot_P3`` or ``P_P3`` for a fixed ``r_P3``) and their input
+        (:class:`FixedActuatorModel`: in the force form the mass is held by its constraint force). A part that never
+        moves then adds no eigenvalue at 0 and no unobservable or uncontrollable mode. False: every state and input,
+        the fixed actuator free to move under its input. A vehicle without fixed actuators (every thesis preset)
+        gets the same model either way.
 
     Returns
     -------
@@ -299,19 +569,25 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
         If ``veh`` is not a Vehicle, ``glide`` is not a :class:`~glidectl.trim.glide.SteadyGlide` (e.g. ``None``),
         or ``outputs`` is not a name, a sequence of names or a mapping.
     ArgumentError
-        If ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``outputs`` names an unknown channel, names one
-        twice, is empty or gives a combination without a nonzero finite coefficient.
+        If ``inputs`` is not ``"force"`` or ``"acceleration"``, or ``outputs`` names an unknown channel (a state of
+        a fixed actuator is none unless ``reduce_fixed=False``), names one twice, is empty or gives a combination
+        without a nonzero finite coefficient.
     VehicleMismatchError
         If ``glide`` was trimmed for another vehicle (different provenance).
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite at the glide.
     """
-    model, xe = glide_model(veh, glide, inputs)
-    omap = None if outputs is None else output_map(outputs, model.state_names)
-    plant: Any = model
-    if omap is not None and omap.needs_depth:
-        plant, xe = DepthGlidePathModel(model), np.concatenate([xe, [0.0]])
-    A, B = jacobians(plant.rhs, xe, np.zeros(3))
+    checks.boolean("reduce_fixed", reduce_fixed)
+    model, _ = glide_model(veh, glide, inputs)
+    omap = None
+    if outputs is not None:
+        dropped = {q for a in (fixed_actuators(veh) if reduce_fixed else ())
+                   for q in FIXED_ACTUATOR_STATES[inputs][a][0]}
+        omap = output_map(outputs, [q for q in model.state_names if q not in dropped])
+    plant, xe = design_model(veh, glide, inputs, depth=omap is not None and omap.needs_depth,
+                             reduce_fixed=reduce_fixed)
+    m = len(plant.input_names)
+    A, B = jacobians(plant.rhs, xe, np.zeros(m))
     n = A.shape[0]
     names = list(plant.state_names)
     if omap is None:
@@ -319,7 +595,7 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
     else:
         C, _ = jacobians(lambda x, u: omap(plant, x), xe, np.zeros(0))
         onames = list(omap.names)
-    return control.ss(A, B, C, np.zeros((C.shape[0], 3)), states=names, inputs=list(model.input_names),
+    return control.ss(A, B, C, np.zeros((C.shape[0], m)), states=names, inputs=list(plant.input_names),
                       outputs=onames, name=f"{veh.name}_gamma{np.degrees(glide.gamma):+.0f}deg_{inputs}")
 
 
@@ -336,7 +612,18 @@ class Modes:
     wn, zeta, time_constant : ndarray
         Natural frequency (rad/s), damping ratio, and ``-1/Re(lambda)`` (s; inf for Re = 0).
     dominant_states : tuple of str
-        State with the largest magnitude in each (unit-normalized) eigenvector.
+        State with the largest participation in each mode (:attr:`participation`).
+    participation : ndarray, shape (n_states, n_modes)
+        Participation of each state in each mode (nondimensional, each column sums to 1): ``|P_ii|`` of the spectral
+        projector ``P`` of the mode's eigenvalue (for a simple eigenvalue ``|v_i w_i|``, right and left eigenvectors
+        with ``w v = 1``: the participation factors of Perez-Arriaga, Verghese & Schweppe 1982, independent of the
+        states' units), shared equally by the modes of a repeated eigenvalue.
+    labels : tuple of str
+        Each mode named by the states that make up 80 % of its participation (at most three, or as many as the
+        eigenvalue's multiplicity, and any tied with the last; with their percentages, e.g.
+        ``"theta 61% + Omega2 35%"``). The two modes of a complex pair are marked ``(pair +i)`` and
+        ``(pair -i)``, the modes of a repeated eigenvalue ``(k of m at lambda)``, and two distinct eigenvalues whose
+        states would read the same carry their eigenvalue (``[-0.0728/s]``): no two labels are equal.
     """
 
     eigenvalues: np.ndarray
@@ -345,6 +632,8 @@ class Modes:
     zeta: np.ndarray
     time_constant: np.ndarray
     dominant_states: tuple[str, ...]
+    participation: np.ndarray | None = None
+    labels: tuple[str, ...] = ()
 
     @property
     def stable(self) -> bool:
@@ -352,11 +641,77 @@ class Modes:
         return bool(np.all(self.eigenvalues.real < 0))
 
     def __str__(self) -> str:
-        lines = [f"{'eigenvalue [1/s]':>26} {'wn [rad/s]':>11} {'zeta':>8} {'tau [s]':>10}  dominant state"]
-        for lam, wn, z, tc, d in zip(self.eigenvalues, self.wn, self.zeta, self.time_constant,
-                                     self.dominant_states, strict=True):
+        names = self.labels or self.dominant_states
+        head = f"{'eigenvalue [1/s]':>26} {'wn [rad/s]':>11} {'zeta':>8} {'tau [s]':>10}"
+        lines = [f"{head}  dominant states (participation)"]
+        for lam, wn, z, tc, d in zip(self.eigenvalues, self.wn, self.zeta, self.time_constant, names, strict=True):
             lines.append(f"{lam.real:12.5g} {lam.imag:+12.5g}i {wn:11.5g} {z:8.4g} {tc:10.4g}  {d}")
         return "\n".join(lines)
+
+
+def _clusters(lam: np.ndarray, scale: float) -> list[list[int]]:
+    """Indices of (numerically) equal eigenvalues, grouped: a defective or repeated eigenvalue is one group."""
+    tol = 1e-6 * max(scale, 1.0)
+    groups: list[list[int]] = []
+    for k, l in enumerate(lam):
+        for g in groups:
+            if abs(lam[g[0]] - l) <= tol:
+                g.append(k)
+                break
+        else:
+            groups.append([k])
+    return groups
+
+
+def _projector_diagonal(A: np.ndarray, lam: complex, tol: float) -> np.ndarray:
+    """``|diag(P)|`` of the spectral projector of ``A`` onto the eigenvalues within ``tol`` of ``lam`` (ordered
+    complex Schur form and a Sylvester equation: well defined for defective eigenvalues)."""
+    from scipy.linalg import schur, solve_sylvester
+
+    T, Z, k = schur(A.astype(complex), output="complex", sort=lambda x: abs(x - lam) <= tol)
+    n = A.shape[0]
+    P = np.zeros((n, n), dtype=complex)
+    P[:k, :k] = np.eye(k)
+    if k < n:
+        P[:k, k:] = solve_sylvester(T[:k, :k], -T[k:, k:], T[:k, k:])
+    return np.abs(np.einsum("ij,jk,ik->i", Z, P, Z.conj()))
+
+
+def _ranked(p: np.ndarray) -> np.ndarray:
+    """State indices by decreasing participation ``p``; ties (a repeated eigenvalue) in state order."""
+    return np.argsort(-np.round(p, 9), kind="stable")
+
+
+def _mode_labels(lam: np.ndarray, part: np.ndarray, names: Sequence[str], groups: list[list[int]]) -> list[str]:
+    labels = []
+    size = {k: len(g) for g in groups for k in g}
+    for k in range(lam.size):
+        p = part[:, k]
+        order = _ranked(p)
+        chosen, total = [], 0.0
+        for i in order[:max(3, size[k])]:  # a repeated eigenvalue spreads over at least as many states
+            chosen.append(i)
+            total += p[i]
+            if total >= 0.8:
+                break
+        chosen += [i for i in order[len(chosen):] if p[i] >= p[chosen[-1]] - 5e-3]  # and states tied with the last
+        labels.append(" + ".join(f"{names[i]} {100 * p[i]:.0f}%" for i in chosen))
+    for g in groups:
+        if len(g) > 1:
+            mid = complex(np.round(np.mean(lam[g]), 9)) + 0.0  # + 0.0: no signed zeros
+            for j, k in enumerate(g):
+                labels[k] += f" ({j + 1} of {len(g)} at {mid.real:.3g}{mid.imag:+.3g}i)"
+    for k in range(lam.size):
+        if abs(lam[k].imag) > 0 and all(len(g) == 1 for g in groups if k in g):
+            labels[k] += " (pair +i)" if lam[k].imag > 0 else " (pair -i)"
+    for digits in (3, 6, 12):  # distinct eigenvalues whose states read the same: add the eigenvalue
+        dup = {q for q in labels if labels.count(q) > 1}
+        if not dup:
+            break
+        for k in range(lam.size):
+            if labels[k] in dup:
+                labels[k] += f" [{lam[k].real:.{digits}g}{lam[k].imag:+.{digits}g}i/s]"
+    return labels
 
 
 def _state_matrix(sys: Any) -> np.ndarray:
@@ -372,7 +727,8 @@ def _state_matrix(sys: Any) -> np.ndarray:
 
 
 def modes(sys: control.StateSpace) -> Modes:
-    """Eigenvalues, eigenvectors, natural frequencies, damping ratios and dominant states of ``sys``.
+    """Eigenvalues, eigenvectors, natural frequencies, damping ratios, state participations and labels of the modes
+    of ``sys``.
 
     Parameters
     ----------
@@ -383,8 +739,8 @@ def modes(sys: control.StateSpace) -> Modes:
     -------
     Modes
         Eigenvalues (1/s) sorted by decreasing real part, unit-norm eigenvectors, natural frequencies (rad/s),
-        damping ratios (nondimensional; NaN for a zero eigenvalue), time constants (s; inf for ``Re = 0``) and
-        the dominant state of each mode.
+        damping ratios (nondimensional; NaN for a zero eigenvalue), time constants (s; inf for ``Re = 0``), the
+        participation of each state in each mode (unit-free), the dominant state and a distinct label of each mode.
 
     Raises
     ------
@@ -393,7 +749,7 @@ def modes(sys: control.StateSpace) -> Modes:
     ArgumentError
         If ``sys`` has no states or ``sys.A`` is not finite.
     SolverError
-        If the eigenvalue computation does not converge.
+        If the eigenvalue, Schur or Sylvester computation fails.
     """
     A = _state_matrix(sys)
     try:
@@ -407,9 +763,70 @@ def modes(sys: control.StateSpace) -> Modes:
     with np.errstate(divide="ignore", invalid="ignore"):
         zeta = np.where(wn > 0, -lam.real / wn, np.nan)
         tc = np.where(lam.real != 0, -1.0 / lam.real, np.inf)
-    names = sys.state_labels
-    dom = tuple(names[int(np.argmax(np.abs(vec[:, k])))] for k in range(lam.size))
-    return Modes(lam, vec, wn, zeta, tc, dom)
+    names = list(sys.state_labels)
+    scale = float(np.linalg.norm(A, 2))
+    groups = _clusters(lam, scale)
+    part = np.zeros((A.shape[0], lam.size))
+    try:
+        for g in groups:
+            d = _projector_diagonal(A, complex(np.mean(lam[g])), 1e-6 * max(scale, 1.0))
+            part[:, g] = (d / np.sum(d))[:, None]
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolverError(f"participation factors of the {A.shape[0]}-state model failed: {exc}") from exc
+    dom = tuple(names[int(_ranked(part[:, k])[0])] for k in range(lam.size))
+    return Modes(lam, vec, wn, zeta, tc, dom, part, tuple(_mode_labels(lam, part, names, groups)))
+
+
+@dataclass(frozen=True)
+class ModeStates:
+    """A mode that fails a rank test, in state terms.
+
+    Attributes
+    ----------
+    eigenvalue : complex
+        The mode's eigenvalue (1/s).
+    states : tuple of str
+        The states that make up 90 % of the failing direction (at most four), largest share first.
+    shares : ndarray
+        Their shares (nondimensional, of 1): the diagonal of the orthogonal projector onto the failing directions
+        (the null space of ``[A - lambda I; C]`` for observability, of ``[A - lambda I, B]^T`` for controllability) in
+        the test's balanced coordinates, divided by its dimension.
+    dimension : int
+        Number of independent failing directions at this eigenvalue.
+    """
+
+    eigenvalue: complex
+    states: tuple[str, ...]
+    shares: np.ndarray
+    dimension: int
+
+    def __str__(self) -> str:
+        lam = self.eigenvalue
+        what = " + ".join(f"{q} {100 * w:.0f}%" for q, w in zip(self.states, self.shares, strict=True))
+        return f"{lam.real:.4g}{lam.imag:+.4g}i ({what}" + (f"; {self.dimension} directions)" if self.dimension > 1
+                                                          else ")")
+
+
+def _failing_states(As: np.ndarray, Bs: np.ndarray, bad: np.ndarray, names: Sequence[str], pbh_tol: float,
+                    scale: float) -> tuple[ModeStates, ...]:
+    """The states of the left null space of ``[As - lam I, Bs]`` at each distinct failing eigenvalue."""
+    n = As.shape[0]
+    out = []
+    for g in _clusters(bad, scale):
+        lam = complex(bad[g[0]])
+        M = np.hstack([As - lam * np.eye(n), Bs])
+        u, sv, _ = np.linalg.svd(M)
+        dim = max(1, int(np.sum(sv / scale < pbh_tol)))
+        c = np.sum(np.abs(u[:, n - dim:]) ** 2, axis=1) / dim
+        order = np.argsort(-c, kind="stable")
+        chosen, total = [], 0.0
+        for i in order[:4]:
+            chosen.append(int(i))
+            total += c[i]
+            if total >= 0.9:
+                break
+        out.append(ModeStates(lam, tuple(names[i] for i in chosen), c[chosen], dim))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -434,6 +851,9 @@ class RankTest:
     pbh_tol : float
     channels : tuple of str
         Inputs (or outputs) the test used.
+    mode_states : tuple of ModeStates
+        Each distinct failing eigenvalue in state terms: the states its uncontrollable (unobservable) directions are
+        made of, with their shares (:class:`ModeStates`); empty when the test passes.
     """
 
     kind: str
@@ -446,6 +866,7 @@ class RankTest:
     uncontrollable_modes: np.ndarray
     pbh_tol: float
     channels: tuple[str, ...]
+    mode_states: tuple[ModeStates, ...] = ()
 
     @property
     def full(self) -> bool:
@@ -459,7 +880,10 @@ class RankTest:
 
     def __str__(self) -> str:
         verdict = "full" if self.full else "NOT full"
-        bad = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in np.unique(np.round(self.uncontrollable_modes, 9)))
+        if self.mode_states:
+            bad = ", ".join(str(m) for m in self.mode_states)
+        else:
+            bad = ", ".join(f"{z.real:.4g}{z.imag:+.4g}i" for z in np.unique(np.round(self.uncontrollable_modes, 9)))
         return (f"{self.kind} with {', '.join(self.channels)}: rank {self.rank}/{self.n} ({verdict}; "
                 f"tol {self.tol:.2e}, min relative PBH singular value {np.min(self.pbh_min):.2e})"
                 + (f"; failing PBH at {bad}" if bad else ""))
@@ -559,14 +983,16 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
         As, Bs = A * (1 / d)[:, None] * d[None, :], B / d[:, None]
         rank, tol_used, s = _scaled_rank(np.asarray(control.ctrb(As, Bs)), tol)
         lam, mins, bad = _pbh(As, Bs, pbh_tol)
+        failing = _failing_states(As, Bs, bad, [sys.state_labels[i] for i in si], pbh_tol,
+                                  float(np.linalg.norm(np.hstack([As, Bs]), 2)) or 1.0)
     except (np.linalg.LinAlgError, ValueError, FloatingPointError, ZeroDivisionError) as exc:
         raise SolverError(f"controllability test failed numerically ({type(exc).__name__}: {exc})") from exc
     return RankTest("controllability", rank, A.shape[0], tol_used, s, mins, lam, bad, pbh_tol,
-                    tuple(sys.input_labels[i] for i in ui))
+                    tuple(sys.input_labels[i] for i in ui), failing)
 
 
-def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | None = None,
-                  pbh_tol: float = 1e-8) -> RankTest:
+def observability(sys: control.StateSpace, outputs: Sequence[str], states: Sequence[str] | None = None,
+                  tol: float | None = None, pbh_tol: float = 1e-8) -> RankTest:
     """Observability of ``sys`` when only the named outputs (or states) are measured.
 
     Parameters
@@ -577,6 +1003,8 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
     outputs : str or sequence of str
         Names of the measured signals: outputs of ``sys`` (their rows of ``sys.C``) or states (rows of I; an output
         name wins when a name is both); a single name is one signal (never split into characters).
+    states : str or sequence of str, optional
+        States to keep (the others are removed, as in :func:`controllability`); default all.
     tol : float, optional
         Rank tolerance of the (scaled) Kalman observability matrix; default as in :func:`controllability`.
     pbh_tol : float
@@ -585,8 +1013,10 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
     Returns
     -------
     RankTest
-        ``kind = "observability"``; ``uncontrollable_modes`` holds the unobservable modes (eigenvalues, 1/s) and
-        ``channels`` the measured signals. Computed as the controllability of the dual ``(A^T, C^T)``.
+        ``kind = "observability"``; ``uncontrollable_modes`` holds the unobservable modes (eigenvalues, 1/s),
+        ``mode_states`` names each in state terms (the states its unobservable directions, the null space of
+        ``[A - lambda I; C]``, are made of, with their shares) and ``channels`` the measured signals. Computed as the
+        controllability of the dual ``(A^T, C^T)``.
 
     Raises
     ------
@@ -595,7 +1025,8 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
         tolerance is not a real number.
     ArgumentError
         If ``outputs`` is empty, names a signal that is neither an output nor a state of ``sys``, or names one twice;
-        a tolerance is not positive and finite; ``sys`` has no states or a non-finite ``A`` or ``C``.
+        ``states`` names an unknown state, one twice or none; a tolerance is not positive and finite; ``sys`` has no
+        states or a non-finite ``A`` or ``C``.
     SolverError
         If the balancing, SVD or eigenvalue computation fails.
     """
@@ -609,7 +1040,10 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], tol: float | 
         raise ArgumentError("sys.C must be a finite real matrix (no NaN or inf)")
     eye = np.eye(A.shape[0])
     C = np.array([Cs[i] if i < len(olabels) else eye[slabels.index(labels[i])] for i in oi])
+    si = _index(slabels if states is None else states, slabels, "state")
     tol, pbh_tol = _tolerances(tol, pbh_tol)
-    r = controllability(control.ss(A.T, C.T, np.eye(A.shape[0]), 0, states=slabels), tol=tol, pbh_tol=pbh_tol)
+    A, C = A[np.ix_(si, si)], C[:, si]
+    r = controllability(control.ss(A.T, C.T, np.eye(len(si)), 0, states=[slabels[i] for i in si]), tol=tol,
+                        pbh_tol=pbh_tol)
     return RankTest("observability", r.rank, r.n, r.tol, r.singular_values, r.pbh_min, r.eigenvalues,
-                    r.uncontrollable_modes, pbh_tol, tuple(labels[i] for i in oi))
+                    r.uncontrollable_modes, pbh_tol, tuple(labels[i] for i in oi), r.mode_states)

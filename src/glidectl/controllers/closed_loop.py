@@ -4,12 +4,14 @@ Every controller is a time-invariant state feedback designed for one plant and o
 :func:`closed_loop` returns the input-free :class:`~glidectl.models.closed_loop.ClosedLoop` of that plant under the
 controller's law, with that equilibrium, in coordinates where the equilibrium is a point:
 
-* :class:`~glidectl.controllers.linear.LinearGlideController`: :class:`~glidectl.models.longitudinal.GlidePathModel`
-  (states ``z'`` (m) and the body states; force or acceleration form, as designed), equilibrium the steady glide
-  with ``z' = path_offset``;
-* :class:`~glidectl.controllers.output_feedback.LQGController`: the glide-path model (with depth ``z`` when a sensor
-  measures it) followed by the estimator's states ``<state>_hat``; equilibrium the glide and its estimate (None with
-  depth, which changes along the glide);
+* :class:`~glidectl.controllers.linear.LinearGlideController`: the model it was designed on,
+  :func:`~glidectl.analysis.linear.design_model`: :class:`~glidectl.models.longitudinal.GlidePathModel` (states
+  ``z'`` (m) and the body states; force or acceleration form, as designed), without the states and inputs of the
+  actuators the vehicle file fixes (:class:`~glidectl.analysis.linear.FixedActuatorModel`, unless designed with
+  ``reduce_fixed=False``), equilibrium the steady glide with ``z' = path_offset``;
+* :class:`~glidectl.controllers.output_feedback.LQGController`: the design model (with depth ``z`` when a sensor
+  measures it; without fixed actuators, likewise) followed by the estimator's states ``<state>_hat``; equilibrium
+  the glide and its estimate (None with depth, which changes along the glide);
 * :class:`~glidectl.controllers.torque.TorqueDesign`: :class:`~glidectl.models.torque_glider.TorqueControlledGlider`
   of the open-loop vehicle, equilibrium ``(V_e, gamma_e, alpha_e, 0)``;
 * :class:`~glidectl.controllers.buoyancy.BuoyancyController`: :class:`~glidectl.models.buoyancy_glider.BuoyancyGlider`,
@@ -34,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.linear import glide_model
+from ..analysis.linear import design_model
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from ..models.buoyancy_glider import BuoyancyGlider
 from ..models.closed_loop import ClosedLoop
@@ -98,9 +100,10 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
     if isinstance(c, LinearGlideController):
         if c.vehicle is None:
             raise ModelError("this LinearGlideController was built without its vehicle (use lqr_glide or "
-                                "place_glide), so its plant is unknown; use closed_loop(glide_model(veh, glide, "
+                                "place_glide), so its plant is unknown; use closed_loop(design_model(veh, glide, "
                                 "inputs)[0], controller.path_input)")
-        model, xe = glide_model(c.vehicle, c.glide, c.inputs)  # type: ignore[arg-type]
+        model, xe = design_model(c.vehicle, c.glide, c.inputs,  # type: ignore[arg-type]
+                                 reduce_fixed=bool(c.fixed_actuators))
         xe = xe.copy()
         xe[0] = c.path_offset
         return ClosedLoop(model, c.path_input, xe,

@@ -28,12 +28,16 @@ for its anti-windup, and setpoints are clipped to the ranges by the servo loops)
   horizontal position); Bryson weights from :data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION`. This is the
   regulator of :func:`~glidectl.lqg_glide` (same weights, same :func:`~glidectl.controllers.linear.lqr_subset`);
   :func:`~glidectl.lqr_glide` differs in also regulating ``z'``. Needs every state measured.
-* ``"lqg"``: :class:`ScheduledGlideLQG`, output feedback from depth, pitch and pitch rate (:data:`LQG_SENSORS`,
-  noise :data:`LQG_NOISE` unless ``noise`` says otherwise; the controller sees the noisy measurements): the gains
-  of :func:`~glidectl.lqg_glide` at each leg's glide on the acceleration inputs the file actuates (with ``r_P3``
-  fixed: ``w1``, ``w4``; with all three inputs these sensors leave two modes of the moving mass unobservable and
-  the design is refused), an estimator predicting with the actuated model and corrected by the Kalman gain, its
-  state integrated with the plant and carried over each inflection.
+* ``"lqg"``: :class:`SampledGlideLQG`, sampled-data output feedback from depth, pitch and pitch rate
+  (:data:`LQG_SENSORS`; simulated noise :data:`LQG_NOISE` unless ``noise`` says otherwise), run as a glider's
+  flight computer runs it: every ``sensor_period`` the sensors are read, a discrete Kalman filter corrects the
+  estimate and a new command is held until the next sample. Gains: :func:`~glidectl.lqg_glide` at each leg's glide
+  on the acceleration inputs the file actuates (with ``r_P3`` fixed: ``w1``, ``w4``; with all three inputs these
+  sensors leave two modes of the moving mass unobservable and the design is refused), sampled at
+  ``sensor_period`` (:meth:`~glidectl.LQGController.sampled`). The filter's weights are its own
+  (``measurement_noise``, ``process_noise``; defaults :func:`lqg_filter_noise`), separate from the simulated noise.
+  The estimate is predicted with the actuated model between samples, integrated with the plant, and carried over
+  each inflection. (:class:`ScheduledGlideLQG` is the continuous-time version, for ``controller=`` objects.)
 * ``"nonlinear"``: the chapter-6 steady-glide controller, the torque law (6.5) realized by the moving mass
   (:class:`~glidectl.MovingMassTorque`) plus the buoyancy law (6.9); applies only to vehicles that meet its
   chapter-5 assumptions (``K_q < 0``, ``K_M < 0``, equal added masses, a nominal ``m0``); refused otherwise, naming
@@ -88,12 +92,12 @@ from ..errors import (
 )
 from ..models._validate import require_glider, require_instance
 from ..models.actuated import ACTUATED_AXES, ActuatedGlider
-from ..models.longitudinal import ACCEL_STATES
+from ..models.longitudinal import ACCEL_INPUTS, ACCEL_STATES
 from ..params import Vehicle
 from ..sim import ActuatedSimulation, actuator_trace, simulate_actuated
 from ..trim.glide import SteadyGlide, steady_glide
 from .linear import DEFAULT_MAX_DEVIATION, actuated_subset, bryson_weights, lqr_subset
-from .output_feedback import LQGController, lqg_glide
+from .output_feedback import LQGController, SampledLQG, lqg_glide
 
 __all__ = [
     "CONTROLLER_NAMES",
@@ -103,10 +107,12 @@ __all__ = [
     "DiveCycleRun",
     "MissionComparison",
     "PitchPID",
+    "SampledGlideLQG",
     "ScheduledGlideLQG",
     "ScheduledGlideLQR",
     "compare_missions",
     "dive_cycle",
+    "lqg_filter_noise",
     "pump_energy",
     "tune_pitch_pid",
 ]
@@ -123,6 +129,15 @@ LQG_SENSORS = ("z", "theta", "Omega2")
 #: order of a glider's pressure sensor (5 cm, about 0.05 % of a 100 dbar range), compass/attitude sensor (0.5 deg)
 #: and rate gyro (0.2 deg/s); replace them with the datasheet values of the glider's sensors.
 LQG_NOISE = {"z": 0.05, "theta": math.radians(0.5), "Omega2": math.radians(0.2)}
+#: Default process-noise intensities of the ``"lqg"`` Kalman filter (state unit per square root of a second): the
+#: uncertainty of the model the filter predicts with, as random walks. Speed ``v1``, ``v3`` and pitch rate ``Omega2``:
+#: unmodelled hydrodynamic forces and moments (coefficients known to a few percent) drift them by about 5 mm/s and
+#: 0.1 deg/s in 100 s; buoyancy ``m0``: pump delivery and hull compression, about 2 g in 100 s. The kinematic states
+#: (``theta`` of ``Omega2``, depth ``z`` of the velocities) and the battery, driven by the flight computer's own
+#: commands, get only a floor. These are assumptions of the design; replace them with the vehicle's identified
+#: uncertainties (``process_noise=`` of :func:`dive_cycle`).
+LQG_PROCESS_NOISE = {"theta": 1e-4, "Omega2": 2e-4, "v1": 5e-4, "v3": 5e-4, "r_P1": 1e-5, "rdot_P1": 1e-5,
+                     "r_P3": 1e-5, "rdot_P3": 1e-5, "m0": 2e-4, "z": 1e-3}
 _PUMP_WORK = ("out", "both")
 _IZ = ACCEL_STATES.index("z")
 
@@ -207,6 +222,18 @@ def _ramp_reference(t: float, x_from: np.ndarray, x_to: np.ndarray, t_start: flo
     return x_ref, np.array([0.0, 0.0, sd * d[10]])
 
 
+def _accel_gain(K: Any, states: Sequence[str], inputs: Sequence[str]) -> np.ndarray:
+    """A design's gain (its inputs x its states) as the gain ``(w1, w3, w4) x ACCEL_STATES`` on the acceleration-form
+    state (zero for ``x``, for the glide-path deviation ``z'`` and for the inputs and states the design has not)."""
+    K = np.asarray(K, dtype=float)
+    out = np.zeros((3, 11))
+    for i, q in enumerate(inputs):
+        for j, sname in enumerate(states):
+            if sname != "z_prime":
+                out[ACCEL_INPUTS.index(q), ACCEL_STATES.index(sname)] = K[i, j]
+    return out
+
+
 @dataclass(frozen=True)
 class ScheduledGlideLQR:
     """LQR leg controller of a dive cycle: ``w = w_ff - K (x - x_ref(t))`` on the acceleration-form state, with the
@@ -271,8 +298,10 @@ class ScheduledGlideLQR:
 
 @dataclass(frozen=True, eq=False)
 class ScheduledGlideLQG:
-    """LQG leg controller of a dive cycle: the regulator and Kalman gains of :func:`~glidectl.lqg_glide` at the leg's
-    glide, on an estimate of the acceleration-form state, with the reference ramp of :class:`ScheduledGlideLQR`.
+    """Continuous-time LQG leg controller of a dive cycle: the regulator and Kalman gains of
+    :func:`~glidectl.lqg_glide` at the leg's glide, on an estimate of the acceleration-form state, with the reference
+    ramp of :class:`ScheduledGlideLQR`. (``controller="lqg"`` flies its sampled-data version,
+    :class:`SampledGlideLQG`; this one is for controller objects and analog studies.)
 
     ``w = w_ff(t) - K (xhat - x_ref(t))`` (``K`` of the design on the regulated states, zero columns elsewhere) and
     ``xhat' = f(xhat, w) + L (y - C xhat)``: the prediction ``f`` is the right-hand side of the actuated glider
@@ -280,7 +309,7 @@ class ScheduledGlideLQG:
     the inflection transitions and saturations that the leg's linearization does not describe); the correction is
     the design's stationary Kalman gain ``L`` (:func:`control.lqe` on the linearization at the glide) on the
     estimated states (the others, horizontal position ``x`` and the held actuators, are predicted only). The
-    controller sees only the measured sensors (noisy in :func:`dive_cycle`); its state, the estimate
+    controller sees only the measured sensors (noisy when noise is simulated); its state, the estimate
     (``<state>_hat``), is integrated with the plant by :func:`~glidectl.sim.simulate_actuated`. Commands are the
     thesis accelerations (``command = "acceleration"``); the actuated glider's servo and limiter realize them, so
     the actuator limits hold (the controller itself does not saturate).
@@ -341,11 +370,7 @@ class ScheduledGlideLQG:
         if len(self.sensor_index) != len(smap.names):
             raise ArgumentError(f"sensor_index must give the position of each of {list(smap.names)} among the "
                                 "measurements")
-        names = self.design.state_names  # glide-path states (z_prime first), then z
-        K = np.zeros((3, 11))
-        for j, sname in enumerate(names):
-            if sname != "z_prime":
-                K[:, ACCEL_STATES.index(sname)] = np.asarray(self.design.K)[:, j]
+        K = _accel_gain(self.design.K, self.design.state_names, self.design.plant.input_labels)
         Lg = np.zeros((11, len(smap.names)))
         for r, sname in enumerate(self.design.estimated_states):
             Lg[ACCEL_STATES.index(sname)] = np.asarray(self.design.L)[r]
@@ -402,6 +427,173 @@ class ScheduledGlideLQG:
     def __call__(self, t: float, y: Any, xc: Any) -> np.ndarray:
         """``(w1, w3, w4)`` from the estimate ``xc`` at time ``t`` (s)."""
         return self._w(t, np.asarray(xc, dtype=float))
+
+
+@dataclass(frozen=True, eq=False)
+class SampledGlideLQG:
+    """Sampled-data LQG leg controller of a dive cycle (the ``"lqg"`` controller): the digital version
+    (:class:`~glidectl.SampledLQG`) of :func:`~glidectl.lqg_glide` at the leg's glide, run every ``period`` seconds
+    as a glider's flight computer runs it, with the reference ramp of :class:`ScheduledGlideLQR`.
+
+    At each sample ``t_k`` (:func:`~glidectl.sim.simulate_actuated` calls :meth:`sample`) the sensors are read and
+    the predicted estimate is corrected, ``xhat_k = xhat_k^- + M (y_k - C xhat_k^-)`` (``M`` the measurement-update
+    gain of the estimated states); the command ``w_k = w_ff,k - K (xhat_k - x_ref(t_k))`` is computed and held until
+    the next sample (zero-order hold; the controller does not saturate it: the actuated glider's limiter does, in
+    the plant and in the prediction). ``w_ff,k`` is the
+    reference's pump rate averaged over the period, so that the reference's actuator positions are met at the next
+    sample. Between samples the estimate is predicted with the actuated glider under the held command,
+    ``xhat' = f(xhat, w_k)`` (:meth:`~glidectl.ActuatedGlider.rhs`, with the plant's rate/range limiter): the
+    inflection transitions, far from the leg's glide, are predicted by the model and not by the leg's linearization
+    (a linear prediction about the new leg's glide, whose pitch and buoyancy have the other sign, makes the estimate
+    diverge there); and the estimate is the prediction to any time, so an inflection between samples starts the next
+    leg from the right estimate. The states that are not estimated (horizontal position ``x``, a fixed actuator) are
+    predicted only. The command is the thesis acceleration ``(w1, w3, w4)`` (``command = "acceleration"``),
+    realized by the actuated glider's servo and limiter.
+
+    Attributes
+    ----------
+    design : SampledLQG
+        The leg's sampled-data design (gains, period, the continuous design it samples).
+    plant : ActuatedGlider
+        The actuated glider of the prediction.
+    x_from, x_to : ndarray, shape (11,)
+        Reference at the start and the end of the transition.
+    t_start, ramp_time : float
+        Start (s) and duration (s) of the transition.
+    sensor_index : tuple of int
+        Positions of the design's sensor channels among the measurements ``y`` the controller receives.
+    xhat0 : ndarray, shape (11,), optional
+        Initial (predicted) estimate, corrected at the first sample (default: ``x_from`` with the measured states
+        replaced by their measurements).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``design`` is not a :class:`~glidectl.SampledLQG` or ``plant`` not an ActuatedGlider.
+    ArgumentError
+        If the design is not on the acceleration inputs, a sensor is not a plain state, or an array has the wrong
+        shape.
+    VehicleMismatchError
+        If the design is for another vehicle than the plant.
+    """
+
+    design: SampledLQG
+    plant: ActuatedGlider = field(repr=False)
+    x_from: np.ndarray = field(repr=False)
+    x_to: np.ndarray = field(repr=False)
+    t_start: float = 0.0
+    ramp_time: float = 0.0
+    sensor_index: tuple[int, ...] = ()
+    xhat0: np.ndarray | None = field(default=None, repr=False)
+
+    command = "acceleration"
+    #: The estimate (``<state>_hat``) and the held command (``<input>_held``).
+    controller_states = (*(f"{s}_hat" for s in ACCEL_STATES), "w1_held", "w3_held", "w4_held")
+
+    def __post_init__(self) -> None:
+        require_instance("design", self.design, SampledLQG, " (from gc.lqg_glide(...).sampled(period))")
+        require_instance("plant", self.plant, ActuatedGlider)
+        d = self.design.design
+        if d.inputs != "acceleration":
+            raise ArgumentError("a dive-cycle LQG leg commands the thesis accelerations (w1, w3, w4): design it with "
+                                "inputs='acceleration'")
+        checks.same_vehicle("design", d, self.plant.vehicle)
+        object.__setattr__(self, "x_from", checks.array("x_from", self.x_from, shape=(11,)))
+        object.__setattr__(self, "x_to", checks.array("x_to", self.x_to, shape=(11,)))
+        object.__setattr__(self, "t_start", checks.real("t_start", self.t_start, unit="s"))
+        object.__setattr__(self, "ramp_time", checks.nonnegative("ramp_time", self.ramp_time, unit="s"))
+        if self.xhat0 is not None:
+            object.__setattr__(self, "xhat0", checks.array("xhat0", self.xhat0, shape=(11,)))
+        smap = d.sensors
+        bad = [c for c in smap.channels if c not in ACCEL_STATES]
+        if bad:
+            raise ArgumentError(f"the LQG sensors use channels {bad}, which are not states of the actuated glider: a "
+                                "dive cycle measures states")
+        if len(self.sensor_index) != len(smap.names):
+            raise ArgumentError(f"sensor_index must give the position of each of {list(smap.names)} among the "
+                                "measurements")
+        K = _accel_gain(self.design.K, d.state_names, d.plant.input_labels)
+        Mg = np.zeros((11, len(smap.names)))
+        for r, sname in enumerate(d.estimated_states):
+            Mg[ACCEL_STATES.index(sname)] = np.asarray(self.design.M)[r]
+        C = np.zeros((len(smap.names), 11))
+        for k, ch in enumerate(smap.channels):
+            C[:, ACCEL_STATES.index(ch)] += smap.M[:, k]
+        object.__setattr__(self, "_mats", (K, Mg, C, np.array(self.sensor_index, dtype=int)))
+
+    @property
+    def glide(self) -> SteadyGlide:
+        """The leg's glide."""
+        return self.design.design.glide
+
+    @property
+    def period(self) -> float:
+        """Sample period (s)."""
+        return self.design.period
+
+    def with_estimate(self, xc: Any) -> SampledGlideLQG:
+        """The same leg controller starting from the estimate of ``xc`` (the previous leg's last controller state,
+        shape (14,), or an estimate, shape (11,)).
+
+        Returns
+        -------
+        SampledGlideLQG
+
+        Raises
+        ------
+        ArgumentError
+            If ``xc`` is not 14 or 11 finite numbers.
+        """
+        xc = checks.array("xc", xc, ndim=1)
+        if xc.size not in (11, 14):
+            raise ArgumentError(f"xc must be the 14 controller states {self.controller_states} or the 11 estimated "
+                                f"states, got {xc.size} numbers")
+        return SampledGlideLQG(self.design, self.plant, self.x_from, self.x_to, self.t_start, self.ramp_time,
+                               self.sensor_index, xc[:11])
+
+    def initial_state(self, t: float, y: Any) -> np.ndarray:
+        """Predicted estimate at the start (:attr:`xhat0`, or ``x_from`` with the measured states replaced by their
+        measurements) and a zero held command (the first :meth:`sample` sets it)."""
+        if self.xhat0 is not None:
+            xh = self.xhat0.copy()
+        else:
+            C, idx = self._mats[2], self._mats[3]
+            xh = self.x_from.copy()
+            ym = np.asarray(y, dtype=float)[idx]
+            for r in range(C.shape[0]):
+                nz = np.flatnonzero(C[r])
+                if nz.size == 1:  # a plain state sensor: start from its measurement
+                    xh[nz[0]] = ym[r] / C[r, nz[0]]
+        return np.concatenate([xh, np.zeros(3)])
+
+    def command_at(self, t: float, xhat: Any) -> np.ndarray:
+        """Command ``(w1, w3, w4)`` (m/s^2, m/s^2, kg/s) computed at a sample at time ``t`` (s) from the corrected
+        estimate ``xhat``."""
+        T = self.design.period
+        x_ref, _ = _ramp_reference(t, self.x_from, self.x_to, self.t_start, self.ramp_time)
+        s0, _ = _ramp(t, self.t_start, self.ramp_time)
+        s1, _ = _ramp(t + T, self.t_start, self.ramp_time)
+        w_ff = np.array([0.0, 0.0, (s1 - s0) / T * (self.x_to[10] - self.x_from[10])])
+        return w_ff - self._mats[0] @ (np.asarray(xhat, dtype=float) - x_ref)
+
+    def sample(self, t: float, xc: Any, y: Any) -> np.ndarray:
+        """Sample at time ``t`` (s): the corrected estimate and the new held command (the controller state after
+        the sample, shape (14,))."""
+        Mg, C, idx = self._mats[1], self._mats[2], self._mats[3]
+        xc = np.asarray(xc, dtype=float)
+        xh = xc[:11] + Mg @ (np.asarray(y, dtype=float)[idx] - C @ xc[:11])
+        return np.concatenate([xh, self.command_at(t, xh)])
+
+    def derivative(self, t: float, xc: Any, y: Any) -> np.ndarray:
+        """Between samples: the prediction ``f(xhat, w_held)`` of the actuated glider; the held command is constant
+        (per second)."""
+        xc = np.asarray(xc, dtype=float)
+        xh, w = xc[:11], xc[11:]
+        return np.concatenate([self.plant.rhs(xh, self.plant.acceleration_rates(xh, w)), np.zeros(3)])
+
+    def __call__(self, t: float, y: Any, xc: Any) -> np.ndarray:
+        """The held command ``(w1, w3, w4)``."""
+        return np.asarray(xc, dtype=float)[11:14]
 
 
 @dataclass(frozen=True)
@@ -891,18 +1083,17 @@ def _lqr_gain(veh: Vehicle, plant: ActuatedGlider, glide: SteadyGlide,
     act, ui, si, _ = actuated_subset(sys, veh, "acceleration", None)
     si = [i for i in si if snames[i] != "z_prime"]
     extra = dict(max_deviation or {})
-    unknown = sorted(str(k) for k in extra if k not in set(snames) | set(inames))
+    known = set(snames) | set(inames) | set(ACCEL_STATES[2:]) | set(ACCEL_INPUTS)
+    unknown = sorted(str(k) for k in extra if k not in known)
     if unknown:
         raise ArgumentError(f"max_deviation names {unknown}, which are not states or inputs of the leg design; "
-                            f"known: {sorted(set(snames) | set(inames))}")
+                            f"known: {sorted(known)}")
     dev = {**DEFAULT_MAX_DEVIATION, **{k: checks.positive(f"max_deviation[{k!r}]", v) for k, v in extra.items()}}
     K10, _ = lqr_subset(A, B, bryson_weights(snames, dev), bryson_weights(inames, dev), ui, si,
                         f"the {math.degrees(glide.gamma):+.1f} deg leg of vehicle '{veh.name}' with inputs "
                         f"{list(act)}")
     E = np.linalg.eigvals((A - B @ K10)[np.ix_(si, si)])
-    K = np.zeros((3, 11))
-    K[:, 1:] = K10  # glide-path state j is acceleration-form state j + 1 (the z' column is zero)
-    return K, E, tuple(snames[i] for i in si), act
+    return _accel_gain(K10, snames, inames), E, tuple(snames[i] for i in si), act
 
 
 #: The reference of a transition moves the actuators at this fraction of their rate limits (headroom for feedback).
@@ -954,11 +1145,12 @@ def _check_depths(depths: Any) -> tuple[float, float]:
 def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float] = (5.0, 100.0),
                gamma: float = math.radians(25.0), speed: float = 0.35, cycles: int = 3,
                sensors: Sequence[str] | None = None, noise: dict[str, float] | None = None, seed: int | None = None,
-               sensor_period: float = 1.0, output_step: float = 1.0,
+               sensor_period: float = 1.0, measurement_noise: Mapping[str, float] | None = None,
+               process_noise: Mapping[str, float] | None = None, output_step: float = 1.0,
                pid_gains: tuple[float, float, float] | None = None,
                max_deviation: Mapping[str, float] | None = None, pump_work: str = "out",
                rho: float = RHO_SEAWATER, p_atm: float = P_ATM, servo_time: float = 0.5, pump_gain: float = 0.5,
-               method: str = "LSODA", rtol: float = 1e-5, atol: float = 1e-7,
+               method: str | None = None, rtol: float = 1e-5, atol: float = 1e-7,
                max_leg_time: float | None = None) -> DiveCycleRun:
     """Fly ``cycles`` sawtooth dive cycles between two depths on the actuated glider (module docstring).
 
@@ -981,9 +1173,16 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         Measured states (default all; ``"lqg"``: :data:`LQG_SENSORS`); must include ``z`` (the supervisor switches
         on the measured depth).
     noise, seed, sensor_period :
-        Sensor noise standard deviations (state units), seed and sample-and-hold period (s), as
+        Simulated sensor noise standard deviations (state units), seed and sample-and-hold period (s), as
         :func:`~glidectl.sim.simulate_actuated`; each leg draws from its own stream spawned from ``seed``.
-        ``"lqg"`` defaults to :data:`LQG_NOISE` (noise levels also weight its Kalman filter).
+        ``"lqg"`` defaults to :data:`LQG_NOISE` and samples its sensors, corrects its estimate and updates its
+        command every ``sensor_period``.
+    measurement_noise, process_noise : mapping of str to float, optional
+        The Kalman filter of ``"lqg"`` (ignored by the other controllers, which have none), independent of the
+        simulated ``noise``: the standard deviation the filter assumes for each sensor sample (sensor units) and
+        the process-noise intensity it assumes on each state (state unit per square root of a second). Defaults
+        (:func:`lqg_filter_noise`): per sensor the larger of the simulated noise and :data:`LQG_NOISE`; per state
+        :data:`LQG_PROCESS_NOISE`, the model's uncertainty.
     output_step : float
         Spacing of the output samples (s), > 0.
     pid_gains : (kp, ki, kd), optional
@@ -998,6 +1197,10 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     servo_time, pump_gain : float
         Servo settings of :class:`~glidectl.ActuatedGlider` (s, 1/s).
     method, rtol, atol : integrator settings of :func:`~glidectl.sim.simulate_actuated`.
+        ``method=None``: ``"RK23"`` for ``"lqg"``, ``"LSODA"`` otherwise. The sampled-data ``"lqg"`` restarts the
+        integrator at every sample; there a one-step method that carries its step over the sample spends the
+        fewest right-hand-side evaluations (LSODA restarts at order 1 each time), at the same accuracy (see
+        ``bench/README.md``, ``bench_lqg_dive_cycle.py``).
     max_leg_time : float, optional
         Longest leg allowed (s); default 4 times the nominal leg time plus 600 s.
 
@@ -1032,6 +1235,8 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     checks.choice("pump_work", pump_work, _PUMP_WORK)
     if isinstance(controller, str):
         checks.choice("controller", controller, CONTROLLER_NAMES)
+    if method is None:
+        method = "RK23" if controller == "lqg" else "LSODA"
     plant = ActuatedGlider(veh, servo_time=servo_time, pump_gain=pump_gain)
     if controller == "lqg":
         sens = tuple(LQG_SENSORS if sensors is None else sensors)
@@ -1058,7 +1263,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     nominal = (bottom - top) / (speed * math.sin(gamma))
     leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
     make = _leg_factory(controller, veh, plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains, max_deviation,
-                        noise)
+                        noise, measurement_noise, process_noise, sensor_period)
     name = controller if isinstance(controller, str) else type(controller).__name__
 
     n_legs = 2 * cycles + 1
@@ -1140,11 +1345,13 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
 
 def _leg_factory(controller: Any, veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_down: SteadyGlide,
                  g_up: SteadyGlide, gamma: float, speed: float, r_p3: float, pid_gains: Any,
-                 max_deviation: Any, noise: Any = None) -> Any:
+                 max_deviation: Any, noise: Any = None, measurement_noise: Any = None, process_noise: Any = None,
+                 period: float = 1.0) -> Any:
     """``make(glide, previous_glide, t_start, down) -> leg controller`` for the chosen controller."""
     full = sens == tuple(plant.state_names)
     if controller == "lqg":
-        return _lqg_factory(veh, plant, sens, g_down, g_up, max_deviation, noise)
+        return _lqg_factory(veh, plant, sens, g_down, g_up, max_deviation, noise, measurement_noise, process_noise,
+                            period)
     if controller == "lqr":
         if not full:
             raise ArgumentError("controller='lqr' is state feedback: it needs every state measured (sensors=None); "
@@ -1208,31 +1415,93 @@ def _leg_factory(controller: Any, veh: Vehicle, plant: ActuatedGlider, sens: tup
                             f"{type(controller).__name__} {controller!r}")
 
 
+def _named_levels(name: str, value: Any, allowed: Sequence[str], what: str) -> dict[str, float]:
+    """A mapping ``{name: positive level}`` over ``allowed`` names (empty for None)."""
+    if value is None:
+        return {}
+    if not isinstance(value, Mapping):
+        raise ArgumentTypeError(f"{name} must be a mapping {{{what}: standard deviation}} over {list(allowed)}, "
+                                f"got {type(value).__name__}")
+    unknown = [k for k in value if k not in allowed]
+    if unknown:
+        raise ArgumentError(f"{name} names {unknown}, which are not {what}s of the 'lqg' design; {what}s: "
+                            f"{list(allowed)}")
+    return {k: checks.positive(f"{name}[{k!r}]", v) for k, v in value.items()}
+
+
+def lqg_filter_noise(sensors: Sequence[str], noise: Mapping[str, float] | None = None,
+                     measurement_noise: Mapping[str, float] | None = None,
+                     process_noise: Mapping[str, float] | None = None) -> tuple[dict[str, float], dict[str, float]]:
+    """The Kalman-filter weights of the ``"lqg"`` dive-cycle controller: measurement and process noise.
+
+    Parameters
+    ----------
+    sensors : sequence of str
+        The filter's sensors (states of the actuated glider).
+    noise : mapping of str to float, optional
+        The simulated sensor noise (standard deviation per sample, sensor units), as ``noise`` of
+        :func:`dive_cycle`.
+    measurement_noise : mapping of str to float, optional
+        Standard deviation the filter assumes for each sensor sample (sensor units, > 0); overrides the default of a
+        sensor: the larger of its simulated noise and its :data:`LQG_NOISE` level (1e-3 of its Bryson scale for a
+        sensor without one), so that the filter never trusts a sensor more than it deserves.
+    process_noise : mapping of str to float, optional
+        Process-noise intensity the filter assumes (state unit per square root of a second, > 0); overrides entries
+        of :data:`LQG_PROCESS_NOISE`.
+
+    Returns
+    -------
+    measurement : dict of str to float
+        Standard deviation per sensor.
+    process : dict of str to float
+        Intensity per state (every state of :data:`LQG_PROCESS_NOISE`, overridden).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If a mapping is not a mapping of names to real numbers.
+    ArgumentError
+        If ``measurement_noise`` names a state that is not a sensor, ``process_noise`` a name that is not a state
+        of the actuated glider, or a level is not positive and finite.
+    """
+    sens = tuple(sensors)
+    meas = _named_levels("measurement_noise", measurement_noise, sens, "sensor")
+    proc = _named_levels("process_noise", process_noise, tuple(LQG_PROCESS_NOISE), "state")
+    sim = dict(noise or {})
+    levels = {}
+    for q in sens:
+        floor = LQG_NOISE.get(q, 1e-3 * DEFAULT_MAX_DEVIATION.get(q, 1.0))
+        levels[q] = meas.get(q, max(float(sim.get(q, 0.0)), floor))
+    return levels, {**LQG_PROCESS_NOISE, **proc}
+
+
 def _lqg_factory(veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_down: SteadyGlide,
-                 g_up: SteadyGlide, max_deviation: Any, noise: Any) -> Any:
+                 g_up: SteadyGlide, max_deviation: Any, noise: Any, measurement_noise: Any, process_noise: Any,
+                 period: float) -> Any:
     """Leg controllers of ``controller="lqg"``: :func:`~glidectl.lqg_glide` at each leg's glide from the measured
-    sensors (their noise levels weight the Kalman filter; a sensor without noise gets the default of
-    :data:`LQG_NOISE`, or 1e-3 of its Bryson scale)."""
+    sensors with the filter weights of :func:`lqg_filter_noise`, sampled every ``period`` seconds
+    (:class:`SampledGlideLQG`)."""
     bad = [q for q in sens if q not in plant.state_names]
     if bad:
         raise ArgumentError(f"sensors {bad} are not states of the actuated glider")
     lqg_sens = tuple(q for q in sens if q != "x")  # horizontal position is not a sensor of a submerged glider
-    levels = {}
-    for q in lqg_sens:
-        v = float(dict(noise or {}).get(q, 0.0))
-        levels[q] = v if v > 0 else LQG_NOISE.get(q, 1e-3 * DEFAULT_MAX_DEVIATION.get(q, 1.0))
+    levels, proc = lqg_filter_noise(lqg_sens, noise, measurement_noise, process_noise)
     designs = {}
     for g in (g_down, g_up):
         try:
-            designs[id(g)] = lqg_glide(veh, g, lqg_sens, levels, inputs="acceleration", max_deviation=max_deviation)
+            est = lqg_glide(veh, g, lqg_sens, levels, inputs="acceleration",
+                            max_deviation=max_deviation).estimated_states
+            d = lqg_glide(veh, g, lqg_sens, levels, inputs="acceleration", max_deviation=max_deviation,
+                          process_noise={k: v for k, v in proc.items() if k in est})
         except ArgumentError as exc:
             raise ArgumentError(f"controller='lqg' cannot be designed for the {math.degrees(g.gamma):+.1f} deg leg "
                                 f"of vehicle '{veh.name}': {exc}") from exc
+        designs[id(g)] = d.sampled(period)
     idx = tuple(sens.index(q) for q in lqg_sens)
 
     def make_lqg(glide: SteadyGlide, prev: SteadyGlide, t0: float, down: bool) -> Any:
         xf, xt = prev.accel_state(), glide.accel_state()
-        return ScheduledGlideLQG(designs[id(glide)], plant, xf, xt, t0, _ramp_time(plant, xf, xt), idx)
+        return SampledGlideLQG(designs[id(glide)], plant, xf, xt, t0, _ramp_time(plant, xf, xt), idx)
     return make_lqg
 
 
@@ -1245,7 +1514,8 @@ def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES
     controllers : sequence
         Names or controller objects for :func:`dive_cycle`.
     **mission
-        Keyword arguments of :func:`dive_cycle` (``depths``, ``gamma``, ``speed``, ``cycles``, ...).
+        Keyword arguments of :func:`dive_cycle` (``depths``, ``gamma``, ``speed``, ``cycles``, ``noise``, the
+        ``"lqg"`` filter's ``measurement_noise`` and ``process_noise``, ...).
 
     Returns
     -------
@@ -1258,7 +1528,8 @@ def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES
     ArgumentTypeError
         If ``controllers`` is not a sequence or ``veh`` not a Vehicle.
     ArgumentError
-        If ``controllers`` is empty.
+        If ``controllers`` is empty, or ``"lqg"`` is among them and ``measurement_noise`` / ``process_noise`` name
+        an unknown sensor / state or give a level that is not positive.
     ModelError
         If ``veh`` is not an underwater glider.
     """
@@ -1268,6 +1539,9 @@ def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES
                                 f"{type(controllers).__name__}")
     if not controllers:
         raise ArgumentError("controllers is empty")
+    if "lqg" in controllers:  # a bad filter weight is the caller's error, not a row of a refused controller
+        lqg_filter_noise(tuple(q for q in (mission.get("sensors") or LQG_SENSORS) if q != "x"), mission.get("noise"),
+                         mission.get("measurement_noise"), mission.get("process_noise"))
     rows, runs = [], {}
     nan = float("nan")
     for c in controllers:

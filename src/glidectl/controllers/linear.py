@@ -17,9 +17,10 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from .. import checks
-from ..analysis.linear import linearize_glide
+from ..analysis.linear import FIXED_ACTUATOR_STATES, fixed_actuators, linearize_glide
 from ..errors import ArgumentError, ArgumentTypeError, SolverError, VehicleMismatchError
 from ..models._validate import numeric_array, require_glider, require_instance, trailing_array
+from ..models.longitudinal import ACCEL_INPUTS, ACCEL_STATES, FORCE_INPUTS, FORCE_STATES
 from ..params import Vehicle
 from ..trim.glide import SteadyGlide
 
@@ -31,6 +32,7 @@ __all__ = [
     "LinearGlideController",
     "decoupled_gain_matrix",
     "default_actuate",
+    "design_weight",
     "lqr_glide",
     "lqr_subset",
     "place_glide",
@@ -68,12 +70,14 @@ class LinearGlideController:
 
     Attributes
     ----------
-    K : ndarray, shape (3, 10)
-        Gain on ``(z_prime, theta, ...)`` (SI units).
+    K : ndarray, shape (m, n)
+        Gain of the design model's inputs on its states ``(z_prime, theta, ...)`` (SI units): ``3 x 10`` for a
+        vehicle without fixed actuators; the states and input of a fixed actuator are not in it
+        (:attr:`fixed_actuators`).
     method : str
         ``"lqr"`` or ``"place"``.
     plant : control.StateSpace
-        Open-loop linearization the gain was designed on.
+        Open-loop linearization the gain was designed on (:func:`~glidectl.analysis.linear.linearize_glide`).
     closed_loop_poles : ndarray
         Eigenvalues of ``A - B K`` (1/s).
     glide : SteadyGlide
@@ -92,6 +96,10 @@ class LinearGlideController:
     locked_states : tuple of str
         States held by the inputs left out (:data:`LOCKED_STATES`), left out of the design: their columns of ``K``
         are zero and each adds a closed-loop pole at 0 (the actuator stays where it is).
+    fixed_actuators : tuple of str
+        Actuators the vehicle file fixes, removed from the design model with their states and inputs
+        (:class:`~glidectl.analysis.linear.FixedActuatorModel`); ``()`` for the full model (``reduce_fixed=False``,
+        or a vehicle without fixed actuators).
 
     Raises
     ------
@@ -99,7 +107,8 @@ class LinearGlideController:
         If ``glide`` is not a SteadyGlide, ``plant`` not a state-space model, or a number has the wrong type.
     ArgumentError
         If ``method`` or ``inputs`` is unknown, ``K`` is not a finite (inputs x states) array, ``path_offset``
-        is not finite, or ``actuate`` / ``locked_states`` name an unknown input / state.
+        is not finite, ``actuate`` / ``locked_states`` name an unknown input / state, or ``fixed_actuators`` does
+        not match the plant's states.
     ModelError
         If ``vehicle`` is not an underwater glider.
     VehicleMismatchError
@@ -118,6 +127,7 @@ class LinearGlideController:
     vehicle: Vehicle | None = field(default=None, repr=False, compare=False)
     actuate: tuple[str, ...] = ()
     locked_states: tuple[str, ...] = ()
+    fixed_actuators: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         checks.choice("method", self.method, ("lqr", "place"))
@@ -135,6 +145,19 @@ class LinearGlideController:
             if isinstance(val, str) or not isinstance(val, Sequence) or any(q not in labels for q in val):
                 raise ArgumentError(f"{attr} must be a sequence of names from {list(labels)}, got {val!r}")
             object.__setattr__(self, attr, tuple(val))
+        fixed = self.fixed_actuators
+        if isinstance(fixed, str) or not isinstance(fixed, Sequence) or \
+                any(a not in FIXED_ACTUATOR_STATES[self.inputs] for a in fixed):
+            raise ArgumentError(f"fixed_actuators must be a sequence of names from ('r_P1', 'r_P3', 'm0'), got "
+                                f"{fixed!r}")
+        object.__setattr__(self, "fixed_actuators", tuple(fixed))
+        path_names = ("z_prime", *(FORCE_STATES if self.inputs == "force" else ACCEL_STATES)[2:])
+        removed = {q for a in self.fixed_actuators for q in FIXED_ACTUATOR_STATES[self.inputs][a][0]}
+        kept = tuple(q for q in path_names if q not in removed)
+        if kept != tuple(self.plant.state_labels):
+            raise ArgumentError(f"the plant's states {list(self.plant.state_labels)} are not the glide-path states "
+                                f"without the fixed actuators {list(self.fixed_actuators)}: {list(kept)}")
+        object.__setattr__(self, "_keep", [path_names.index(q) for q in kept] if removed else None)
         if self.vehicle is not None:
             require_glider(self.vehicle)
             checks.same_vehicle("glide", self.glide, self.vehicle)
@@ -144,26 +167,37 @@ class LinearGlideController:
         return tuple(self.plant.state_labels)
 
     def reduced_state(self, x: Any) -> np.ndarray:
-        """Full state (x, z, ...) (shape ``(..., 11)``) -> glide-path state (z', ...) with
-        ``z' = sin(g_e) x + cos(g_e) z - offset``."""
+        """Full state (x, z, ...) (shape ``(..., 11)``) -> design-model state (z', ...) with
+        ``z' = sin(g_e) x + cos(g_e) z - offset`` (without the states of :attr:`fixed_actuators`)."""
         x = checks.array("x", x)
-        trailing_array("x", x, len(self.state_names) + 1)
+        trailing_array("x", x, 11)
         zp = np.sin(self.glide.gamma) * x[..., 0] + np.cos(self.glide.gamma) * x[..., 1] - self.path_offset
-        return np.concatenate([zp[..., None], x[..., 2:]], axis=-1)
+        xr = np.concatenate([zp[..., None], x[..., 2:]], axis=-1)
+        return xr if self._keep is None else xr[..., self._keep]
 
     def equilibrium(self) -> np.ndarray:
-        """Glide-path equilibrium state (z' = 0)."""
+        """Design-model equilibrium state (z' = 0)."""
         xe = self.glide.force_state() if self.inputs == "force" else self.glide.accel_state()
-        return np.concatenate([[0.0], xe[2:]])
+        xr = np.concatenate([[0.0], xe[2:]])
+        return xr if self._keep is None else xr[self._keep]
 
     def u(self, x: Any) -> np.ndarray:
-        """Input (u1, u3, u4) or (w1, w3, w4) for full states ``x`` (shape ``(..., 11)``)."""
-        return -(self.reduced_state(x) - self.equilibrium()) @ self.K.T
+        """Input (u1, u3, u4) or (w1, w3, w4) for full states ``x`` (shape ``(..., 11)``); the input of a fixed
+        actuator is zero (in the acceleration form it holds the actuator; in the force form simulate
+        :func:`glidectl.closed_loop`, whose model holds the mass by its constraint force)."""
+        v = -(self.reduced_state(x) - self.equilibrium()) @ self.K.T
+        if self._keep is None:
+            return v
+        names = FORCE_INPUTS if self.inputs == "force" else ACCEL_INPUTS
+        out = np.zeros((*v.shape[:-1], 3))
+        out[..., [names.index(q) for q in self.plant.input_labels]] = v
+        return out
 
     def path_input(self, xr: Any) -> np.ndarray:
-        """Input for glide-path states ``xr = (z', theta, ...)`` of
-        :class:`~glidectl.models.longitudinal.GlidePathModel` (shape ``(..., 10)``; ``z'`` in m from the path through
-        the origin, so the law regulates ``z' = path_offset``)."""
+        """Input of the design model (:attr:`plant`'s inputs) for its states ``xr = (z', theta, ...)``
+        (:func:`~glidectl.analysis.linear.design_model`: the glide-path model, shape ``(..., 10)``, without the states
+        of :attr:`fixed_actuators`; ``z'`` in m from the path through the origin, so the law regulates
+        ``z' = path_offset``)."""
         xr = trailing_array("xr", xr, len(self.state_names), self.state_names)
         zp = xr[..., :1] - self.path_offset
         return -(np.concatenate([zp, xr[..., 1:]], axis=-1) - self.equilibrium()) @ self.K.T
@@ -255,6 +289,12 @@ def actuated_subset(sys: control.StateSpace, veh: Vehicle, inputs: str, actuate:
         if not act:
             raise ArgumentError(f"actuate is empty; name at least one input of {labels} (or None for the default)")
         bad = [q for q in act if q not in labels]
+        held = [q for q in bad if q in ACTUATOR_OF_INPUT and q[0] == ("u" if inputs == "force" else "w")]
+        if held:
+            raise ArgumentError(f"actuate names {held}, which move{'s' if len(held) == 1 else ''} "
+                                f"{[ACTUATOR_OF_INPUT[q] for q in held]}, fixed by the vehicle file and removed from "
+                                f"the design model (inputs: {labels}); pass reduce_fixed=False to design on the "
+                                "full model")
         if bad:
             raise ArgumentError(f"actuate names {bad}, which are not inputs of the {inputs} form; inputs: {labels}")
         if len(set(act)) != len(act):
@@ -284,9 +324,37 @@ def symmetric_weight(name: str, value: Any, n: int, *, definite: bool) -> np.nda
     return W
 
 
+def design_weight(name: str, value: Any, names: Sequence[str], full_names: Sequence[str], *,
+                  definite: bool) -> np.ndarray:
+    """A weight given on the design model's channels ``names``, or on every channel ``full_names`` of the full model
+    (then restricted to ``names``: the channels of fixed actuators are dropped), as :func:`symmetric_weight`.
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        As :func:`symmetric_weight`, for the size of either model.
+    """
+    names, full_names = list(names), list(full_names)
+    if names != full_names and np.shape(value) == (len(full_names), len(full_names)):
+        W = symmetric_weight(name, value, len(full_names), definite=definite)
+        idx = [full_names.index(q) for q in names]
+        return W[np.ix_(idx, idx)]
+    return symmetric_weight(name, value, len(names), definite=definite)
+
+
+def _full_names(sys: control.StateSpace, inputs: str, fixed: Sequence[str]) -> tuple[list[str], list[str]]:
+    """States and inputs of the full glide-path model of ``sys`` (``sys`` without the fixed actuators)."""
+    if not fixed:
+        return list(sys.state_labels), list(sys.input_labels)
+    states = ["z_prime", *(FORCE_STATES if inputs == "force" else ACCEL_STATES)[2:]]
+    if "z" in sys.state_labels:
+        states.append("z")
+    return states, list(FORCE_INPUTS if inputs == "force" else ACCEL_INPUTS)
+
+
 def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acceleration"] = "force",
               Q: Any = None, R: Any = None, max_deviation: Mapping[str, float] | None = None,
-              actuate: Sequence[str] | None = None) -> LinearGlideController:
+              actuate: Sequence[str] | None = None, reduce_fixed: bool = True) -> LinearGlideController:
     """LQR regulator to the glide path of ``glide`` (z' included), designed with :func:`control.lqr`.
 
     Parameters
@@ -294,8 +362,8 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
     veh, glide : Vehicle, SteadyGlide
     inputs : {"force", "acceleration"}
     Q, R : array_like, optional
-        Weights on the glide-path state and the input; default Bryson's rule with ``max_deviation``
-        (default :data:`DEFAULT_MAX_DEVIATION`).
+        Weights on the design model's state and input (or on the full model's 10 states and 3 inputs, restricted to
+        the design model's); default Bryson's rule with ``max_deviation`` (default :data:`DEFAULT_MAX_DEVIATION`).
     max_deviation : mapping of str to float, optional
         Acceptable deviation of named states and inputs (SI units of each: m, rad, rad/s, m/s, kg m/s, kg, N,
         m/s^2, kg/s), overriding entries of :data:`DEFAULT_MAX_DEVIATION` for Bryson's rule
@@ -306,13 +374,18 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         restricted to the rest). Default :func:`default_actuate`: every input, except those moving an actuator the
         vehicle's ``[actuators]`` table marks ``fixed`` (e.g. a fixed ``r_P3`` removes ``u3``/``w3``); a vehicle
         without the table keeps all three (the gains of the presets are unchanged).
+    reduce_fixed : bool
+        Design on the model without the fixed actuators' states and inputs (default;
+        :func:`~glidectl.analysis.linear.linearize_glide`): the closed-loop poles are those of the states that move.
+        False: the full model, where a fixed actuator's states are locked (a pole at 0 each).
 
     Returns
     -------
     LinearGlideController
-        ``method = "lqr"``, gain ``K`` of shape (3, 10) (input units per glide-path-state unit; zero rows for inputs
-        not actuated), the linearization it was designed on, the closed-loop poles (1/s, of ``A - B K``: the
-        designed ones plus a 0 per locked state) and the weights used.
+        ``method = "lqr"``, gain ``K`` of shape (m, n) (the design model's inputs and states, 3 x 10 without fixed
+        actuators; input units per glide-path-state unit; zero rows for inputs not actuated), the linearization it
+        was designed on, the closed-loop poles (1/s, of ``A - B K``: the designed ones plus a 0 per locked state) and
+        the weights used.
 
     Raises
     ------
@@ -321,7 +394,8 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
         real numbers, or ``Q``/``R`` not real arrays.
     ArgumentError
         If ``inputs`` is not ``"force"`` or ``"acceleration"``; ``Q`` is not a finite symmetric positive
-        semidefinite 10x10 matrix or ``R`` a finite symmetric positive definite 3x3 matrix; ``max_deviation``
+        semidefinite matrix or ``R`` a finite symmetric positive definite matrix of the design model's (or the full
+        model's) size; ``max_deviation``
         names an unknown state or input or gives a value that is not a positive finite number; or ``actuate`` is
         empty, names an unknown input or one twice (or the vehicle file fixes every actuator).
     VehicleMismatchError
@@ -336,9 +410,11 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
     if max_deviation is not None and not isinstance(max_deviation, Mapping):
         raise ArgumentTypeError(f"max_deviation must be a mapping of state/input names to deviations, got "
                                 f"{type(max_deviation).__name__}")
-    sys = linearize_glide(veh, glide, inputs)
+    sys = linearize_glide(veh, glide, inputs, reduce_fixed=reduce_fixed)
+    fixed = fixed_actuators(veh) if reduce_fixed else ()
+    full_states, full_inputs = _full_names(sys, inputs, fixed)
     extra = dict(max_deviation or {})
-    known = set(sys.state_labels) | set(sys.input_labels)
+    known = set(full_states) | set(full_inputs)
     unknown = sorted(str(k) for k in extra if k not in known)
     if unknown:
         raise ArgumentError(f"max_deviation names {unknown}, which are not states or inputs of this design; known: "
@@ -346,14 +422,15 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
     for k, v in extra.items():
         extra[k] = checks.positive(f"max_deviation[{k!r}]", v)
     dev = {**DEFAULT_MAX_DEVIATION, **extra}
-    n, m = sys.nstates, sys.ninputs
-    Qm = bryson_weights(sys.state_labels, dev) if Q is None else symmetric_weight("Q", Q, n, definite=False)
-    Rm = bryson_weights(sys.input_labels, dev) if R is None else symmetric_weight("R", R, m, definite=True)
+    Qm = bryson_weights(sys.state_labels, dev) if Q is None else design_weight("Q", Q, sys.state_labels, full_states,
+                                                                               definite=False)
+    Rm = bryson_weights(sys.input_labels, dev) if R is None else design_weight("R", R, sys.input_labels, full_inputs,
+                                                                               definite=True)
     act, ui, si, locked = actuated_subset(sys, veh, inputs, actuate)
     K, E = lqr_subset(np.asarray(sys.A), np.asarray(sys.B), Qm, Rm, ui, si,
                       f"glide gamma = {np.degrees(glide.gamma):.2f} deg with inputs {list(act)}")
     return LinearGlideController(K, "lqr", sys, E, glide, inputs, Qm, Rm, vehicle=veh, actuate=act,
-                                 locked_states=locked)
+                                 locked_states=locked, fixed_actuators=fixed)
 
 
 def lqr_subset(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray, ui: Sequence[int], si: Sequence[int],
@@ -401,7 +478,7 @@ def lqr_subset(A: np.ndarray, B: np.ndarray, Q: np.ndarray, R: np.ndarray, ui: S
 
 def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
                 inputs: Literal["force", "acceleration"] = "force",
-                actuate: Sequence[str] | None = None) -> LinearGlideController:
+                actuate: Sequence[str] | None = None, reduce_fixed: bool = True) -> LinearGlideController:
     """Pole placement to the glide path of ``glide`` with :func:`control.place` (1/s poles, conjugate-closed).
 
     Parameters
@@ -411,21 +488,24 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
     glide : SteadyGlide
         From :func:`~glidectl.trim.glide.steady_glide`.
     poles : sequence of complex
-        The requested closed-loop poles (1/s) of the designed states (10, less the states locked by inputs left out
-        of ``actuate``), finite and closed under conjugation (a pole may be repeated at most as often as there are
-        actuated inputs).
+        The requested closed-loop poles (1/s) of the designed states (the design model's: 10 without fixed
+        actuators, less the states locked by inputs left out of ``actuate``), finite and closed under conjugation (a
+        pole may be repeated at most as often as there are actuated inputs).
     inputs : {"force", "acceleration"}
         Input form of the linearization (see :func:`~glidectl.analysis.linear.linearize_glide`).
     actuate : sequence of str, optional
         Inputs to design on; the others get exactly zero gain and the states they hold
         (:data:`LOCKED_STATES`) zero gain columns and a pole at 0. Default :func:`default_actuate` (as
         :func:`lqr_glide`).
+    reduce_fixed : bool
+        Design on the model without the fixed actuators (default), as :func:`lqr_glide`.
 
     Returns
     -------
     LinearGlideController
-        ``method = "place"``, gain ``K`` of shape (3, 10), the linearization and the achieved closed-loop poles
-        (1/s; the requested ones plus a 0 per locked state); ``Q`` and ``R`` are None.
+        ``method = "place"``, gain ``K`` of the design model's shape (3, 10 without fixed actuators), the
+        linearization and the achieved closed-loop poles (1/s; the requested ones plus a 0 per locked state);
+        ``Q`` and ``R`` are None.
 
     Raises
     ------
@@ -447,7 +527,8 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
     p = numeric_array("poles", poles).astype(complex).ravel()
     if not np.all(np.isfinite(p)):
         raise ArgumentError(f"poles must be finite, got {poles!r}")
-    sys = linearize_glide(veh, glide, inputs)
+    sys = linearize_glide(veh, glide, inputs, reduce_fixed=reduce_fixed)
+    fixed = fixed_actuators(veh) if reduce_fixed else ()
     act, ui, si, locked = actuated_subset(sys, veh, inputs, actuate)
     names = [sys.state_labels[i] for i in si]
     if p.size != len(si):
@@ -482,7 +563,8 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
                             "ill-conditioned for this plant")
     if locked:
         E = np.linalg.eigvals(A - B @ K)
-    return LinearGlideController(K, "place", sys, E, glide, inputs, vehicle=veh, actuate=act, locked_states=locked)
+    return LinearGlideController(K, "place", sys, E, glide, inputs, vehicle=veh, actuate=act, locked_states=locked,
+                                 fixed_actuators=fixed)
 
 
 ZETA = ("r_P1", "rdot_P1", "r_P3", "rdot_P3", "m0")

@@ -8,7 +8,13 @@ an explicit estimator state:
 * :meth:`LQGController.closed_loop` (and :func:`glidectl.closed_loop`) gives the input-free model whose state is the
   nonlinear plant's followed by the estimate (names ``<state>_hat``), for :func:`glidectl.simulate`;
 * :meth:`LQGController.to_iosys` gives the controller alone as a :class:`control.NonlinearIOSystem` (sensors in,
-  inputs out), for python-control interconnections.
+  inputs out), for python-control interconnections;
+* :meth:`LQGController.sampled` gives its sampled-data (digital) version, :class:`SampledLQG`: a discrete LQR and
+  Kalman filter on the zero-order-hold discretization, for a flight computer that reads its sensors and updates
+  its command every sample period (the dive cycle's ``"lqg"``).
+
+A vehicle file that fixes an actuator (e.g. ``r_P3 = { fixed = 0.05 }``) has the design made on the model without
+that actuator's states and input (``reduce_fixed=True``, :func:`~glidectl.analysis.linear.design_model`).
 
 What can be estimated: ``z'`` (distance from the glide path, 2.30) needs the horizontal position, which a submerged
 glider does not measure: it is a pure integrator that no other state sees, so it is estimated and regulated only
@@ -29,7 +35,16 @@ import control
 import numpy as np
 
 from .. import checks
-from ..analysis.linear import DepthGlidePathModel, OutputMap, glide_model, linearize_glide, output_map
+from ..analysis.linear import (
+    FIXED_ACTUATOR_STATES,
+    OutputMap,
+    design_model,
+    fixed_actuators,
+    glide_model,
+    linearize_glide,
+    observability,
+    output_map,
+)
 from ..errors import ArgumentError, ArgumentTypeError, SolverError
 from ..models._validate import trailing_array
 from ..models.closed_loop import ClosedLoop
@@ -40,11 +55,11 @@ from .linear import (
     actuated_subset,
     bryson_weights,
     check_glide_design,
+    design_weight,
     lqr_subset,
-    symmetric_weight,
 )
 
-__all__ = ["LQGController", "PlantWithEstimator", "lqg_glide"]
+__all__ = ["LQGController", "PlantWithEstimator", "SampledLQG", "lqg_glide"]
 
 #: Default process-noise intensity of each estimated state: this fraction of its Bryson scale
 #: (:data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION`), per square root of a second.
@@ -67,8 +82,9 @@ class LQGController:
 
     Attributes
     ----------
-    K : ndarray, shape (3, n)
-        Regulator gain on the plant state (zero rows for inputs not actuated, zero columns for states not regulated).
+    K : ndarray, shape (m, n)
+        Regulator gain of the plant's inputs on its states (zero rows for inputs not actuated, zero columns for states
+        not regulated; ``m = 3`` without fixed actuators).
     L : ndarray, shape (len(estimated_states), len(sensors))
         Kalman-filter gain (state units per sensor unit).
     plant : control.StateSpace
@@ -91,6 +107,9 @@ class LQGController:
     vehicle : Vehicle
     provenance : str
         The vehicle's parameter hash.
+    fixed_actuators : tuple of str
+        Actuators the vehicle file fixes, removed from the plant model with their states and inputs
+        (:class:`~glidectl.analysis.linear.FixedActuatorModel`); ``()`` for the full model.
 
     Raises
     ------
@@ -116,6 +135,7 @@ class LQGController:
     locked_states: tuple[str, ...]
     vehicle: Vehicle = field(repr=False, compare=False)
     method: str = "lqg"
+    fixed_actuators: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         n, m = np.asarray(self.plant.B).shape
@@ -141,13 +161,12 @@ class LQGController:
 
         Returns
         -------
-        model : GlidePathModel or DepthGlidePathModel
+        model : GlidePathModel, DepthGlidePathModel or FixedActuatorModel
+            :func:`~glidectl.analysis.linear.design_model`.
         xe : ndarray, shape (n,)
         """
-        model, xe = glide_model(self.vehicle, self.glide, self.inputs)  # type: ignore[arg-type]
-        if "z" in self.state_names:
-            return DepthGlidePathModel(model), np.concatenate([xe, [0.0]])
-        return model, xe
+        return design_model(self.vehicle, self.glide, self.inputs,  # type: ignore[arg-type]
+                            depth="z" in self.state_names, reduce_fixed=bool(self.fixed_actuators))
 
     def _data(self) -> tuple[Any, np.ndarray, list[int], np.ndarray, np.ndarray]:
         cache = self.__dict__.get("_cache")
@@ -156,7 +175,7 @@ class LQGController:
             ei = [self.state_names.index(s) for s in self.estimated_states]
             drift = np.zeros(len(ei))
             if "z" in self.estimated_states:
-                drift[self.estimated_states.index("z")] = np.real(model.rhs(xe, np.zeros(3)))[-1]
+                drift[self.estimated_states.index("z")] = np.real(model.rhs(xe, np.zeros(len(model.input_names))))[-1]
             ye = np.real(self.sensors(model, xe))
             cache = (model, xe, ei, drift, ye)
             object.__setattr__(self, "_cache", cache)
@@ -199,6 +218,32 @@ class LQGController:
         return ClosedLoop(aug, aug.law, eq, f"LQG from {', '.join(self.sensors.names)} "
                           f"(gamma_e = {np.degrees(self.glide.gamma):.4g} deg)")
 
+    def sampled(self, period: float) -> SampledLQG:
+        """The sampled-data (digital) version of this design at the sample period ``period``.
+
+        Parameters
+        ----------
+        period : float
+            Sample period ``T`` (s), > 0: the sensors are read, the estimate corrected and the input updated every
+            ``T`` seconds; the input is held in between (zero-order hold).
+
+        Returns
+        -------
+        SampledLQG
+            Discrete LQR gain and Kalman measurement-update gain of the zero-order-hold discretization of
+            :attr:`plant`, with the same weights (see :class:`SampledLQG`).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``period`` is not a real number.
+        ArgumentError
+            If ``period`` is not positive and finite.
+        SolverError
+            If a discrete Riccati equation has no stabilizing solution at this period.
+        """
+        return _sample_design(self, checks.positive("period", period, unit="s"))
+
     def to_iosys(self) -> control.NonlinearIOSystem:
         """The controller as a :class:`control.NonlinearIOSystem`: inputs the sensors, states the estimate
         (``<state>_hat``), outputs the plant inputs.
@@ -219,6 +264,121 @@ class LQGController:
         return control.NonlinearIOSystem(update, output, states=list(self.estimator_state_names),
                                          inputs=list(self.sensors.names), outputs=list(self.plant.input_labels),
                                          name="lqg_controller")
+
+
+@dataclass(frozen=True, eq=False)
+class SampledLQG:
+    """Sampled-data (digital) LQG of an :class:`LQGController`: what a glider's flight computer runs.
+
+    Every ``period`` seconds the sensors are read (``y_k``), the predicted estimate is corrected,
+    ``xhat_k = xhat_k^- + M (y_k - y_e - C (xhat_k^- - x_e))``, and the input ``u_k = -K (xhat_k - x_e)`` is
+    computed and held until the next sample (zero-order hold); the estimate is then predicted to the next sample
+    with the plant's model under the held input. Built by :meth:`LQGController.sampled`.
+
+    Gains are those of the zero-order-hold discretization ``(A_d, B_d)`` of the design's linearization over one
+    period, with the design's weights carried over exactly (Van Loan's integrals): the regulator minimizes the same
+    continuous cost ``integral of (x' Q x + u' R u) dt`` over sampled inputs (:func:`control.dlqr` with the
+    integrated state, cross and input weights); the Kalman filter assumes the design's process-noise intensity
+    ``QN`` (integrated over a period) and, per sample, independent sensor errors of standard deviation
+    :attr:`LQGController.noise` (``R_d = diag(noise^2)``: a sensor read once per period, whose error is held over
+    it, as :func:`glidectl.sim.simulate_actuated` draws it).
+
+    Attributes
+    ----------
+    design : LQGController
+        The continuous design whose states, sensors and weights are sampled.
+    period : float
+        Sample period (s).
+    K : ndarray, shape (m, n)
+        Discrete regulator gain of the plant's inputs on its states (zero rows for inputs not actuated, zero
+        columns for states not regulated; input units per state unit).
+    M : ndarray, shape (len(design.estimated_states), len(design.sensors.names))
+        Measurement-update (correction) gain of the estimated states (state units per sensor unit).
+    Ad, Bd : ndarray
+        Zero-order-hold discretization of ``(A, B)`` over one period on the estimated states (``Bd`` on every input
+        of the plant).
+    regulator_poles, estimator_poles : ndarray
+        Eigenvalues (nondimensional, z-plane) of ``A_d - B_d K`` on the regulated states and of the estimation
+        error ``A_d (I - M C)`` on the estimated states; inside the unit circle.
+    """
+
+    design: LQGController
+    period: float
+    K: np.ndarray
+    M: np.ndarray
+    Ad: np.ndarray
+    Bd: np.ndarray
+    regulator_poles: np.ndarray
+    estimator_poles: np.ndarray
+
+    @property
+    def regulator_poles_s(self) -> np.ndarray:
+        """Continuous-time equivalents ``log(z) / period`` (1/s) of :attr:`regulator_poles`."""
+        return np.log(self.regulator_poles.astype(complex)) / self.period
+
+    @property
+    def estimator_poles_s(self) -> np.ndarray:
+        """Continuous-time equivalents ``log(z) / period`` (1/s) of :attr:`estimator_poles`."""
+        return np.log(self.estimator_poles.astype(complex)) / self.period
+
+
+def _van_loan(A: np.ndarray, W: np.ndarray, T: float) -> np.ndarray:
+    """``integral_0^T exp(A' t) W exp(A t) dt`` (Van Loan 1978, IEEE TAC 23(3): one matrix exponential)."""
+    from scipy.linalg import expm
+
+    n = A.shape[0]
+    E = expm(np.block([[-A.T, W], [np.zeros((n, n)), A]]) * T)
+    G = E[n:, n:].T @ E[:n, n:]
+    return 0.5 * (G + G.T)
+
+
+def _sample_design(d: LQGController, T: float) -> SampledLQG:
+    from scipy.linalg import expm, solve_discrete_are
+
+    names = list(d.state_names)
+    A, B, C = (np.asarray(M, dtype=float) for M in (d.plant.A, d.plant.B, d.plant.C))
+    ui = [list(d.plant.input_labels).index(q) for q in d.actuate]
+    ri = [names.index(s) for s in d.regulated_states]
+    ei = [names.index(s) for s in d.estimated_states]
+    # regulator: ZOH on the regulated states and actuated inputs, the continuous cost integrated over a period
+    nr, m = len(ri), len(ui)
+    F = np.zeros((nr + m, nr + m))
+    F[:nr, :nr], F[:nr, nr:] = A[np.ix_(ri, ri)], B[np.ix_(ri, ui)]
+    W = np.zeros_like(F)
+    W[:nr, :nr], W[nr:, nr:] = d.Q, d.R
+    Phi = expm(F * T)
+    Ard, Brd = Phi[:nr, :nr], Phi[:nr, nr:]
+    Wd = _van_loan(F, W, T)
+    try:
+        Kr, _, Er = control.dlqr(Ard, Brd, Wd[:nr, :nr], Wd[nr:, nr:], Wd[:nr, nr:])
+    except Exception as exc:  # python-control raises several types
+        raise SolverError(f"sampled LQR design (period {T:g} s) failed: {exc}") from exc
+    Kr, Er = np.asarray(Kr, dtype=float), np.asarray(Er)
+    if not (np.all(np.isfinite(Kr)) and np.max(np.abs(Er)) < 1.0):
+        raise SolverError(f"the sampled LQR (period {T:g} s) does not stabilize the discretized linearization "
+                          f"(poles {np.round(Er, 6)})")
+    K = np.zeros_like(np.asarray(d.K, dtype=float))
+    K[np.ix_(ui, ri)] = Kr
+    # Kalman filter: ZOH on the estimated states, process noise integrated over a period, R_d per sample
+    ne = len(ei)
+    nu = B.shape[1]
+    Fe = np.zeros((ne + nu, ne + nu))
+    Fe[:ne, :ne], Fe[:ne, ne:] = A[np.ix_(ei, ei)], B[ei]
+    Phe = expm(Fe * T)
+    Ad, Bd = Phe[:ne, :ne], Phe[:ne, ne:]
+    Qd = _van_loan(A[np.ix_(ei, ei)].T, np.asarray(d.process_noise, dtype=float), T)
+    Ce = C[:, ei]
+    Rd = np.diag(np.asarray(d.noise, dtype=float) ** 2)
+    try:
+        P = solve_discrete_are(Ad.T, Ce.T, Qd, Rd)
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        raise SolverError(f"sampled Kalman-filter design (period {T:g} s) failed for sensors "
+                          f"{list(d.sensors.names)}: {exc}") from exc
+    Mg = np.linalg.solve(Ce @ P @ Ce.T + Rd, Ce @ P).T
+    Ee = np.linalg.eigvals(Ad @ (np.eye(ne) - Mg @ Ce))
+    if not (np.all(np.isfinite(Mg)) and np.max(np.abs(Ee)) < 1.0):
+        raise SolverError(f"the sampled Kalman filter (period {T:g} s) is not stable (poles {np.round(Ee, 6)})")
+    return SampledLQG(d, T, K, Mg, Ad, Bd, np.asarray(Er), Ee)
 
 
 @dataclass(frozen=True, eq=False)
@@ -289,27 +449,29 @@ def _noise(sensors: OutputMap, noise: Any) -> np.ndarray:
     return np.array([checks.positive(f"noise[{k!r}]", noise[k]) for k in sensors.names])
 
 
-def _unobservable(A: np.ndarray, C: np.ndarray, names: Sequence[str]) -> list[tuple[complex, str]]:
-    """Undetectable modes (Re >= 0) and the dominant state of each (PBH on the state-scaled pair)."""
+def _unobservable(A: np.ndarray, C: np.ndarray, names: Sequence[str]) -> list[str]:
+    """Undetectable modes (Re >= 0) of ``(A, C)`` (PBH on the pair), each in state terms as
+    :func:`~glidectl.analysis.linear.observability` names it."""
     n = A.shape[0]
     scale = max(np.linalg.norm(np.vstack([A, C]), 2), 1.0)
-    out: list[tuple[complex, str]] = []
+    bad = []
     for lam in np.linalg.eigvals(A):
         if lam.real < -1e-9 * scale:
             continue
-        M = np.vstack([A - lam * np.eye(n), C])
-        _, s, vh = np.linalg.svd(M)
-        if s[-1] / scale < 1e-8:
-            item = (complex(np.round(lam, 9)), names[int(np.argmax(np.abs(vh[-1])))])
-            if item not in out:
-                out.append(item)
-    return out
+        if np.linalg.svd(np.vstack([A - lam * np.eye(n), C]), compute_uv=False)[-1] / scale < 1e-8:
+            bad.append(complex(np.round(lam, 9)))
+    if not bad:
+        return []
+    outs = [f"y{i}" for i in range(C.shape[0])]
+    named = observability(control.ss(A, np.zeros((n, 1)), C, 0, states=list(names), outputs=outs), outs).mode_states
+    found = [str(m) for m in named if m.eigenvalue.real >= -1e-9 * scale]
+    return found or [f"{lam.real:.4g}{lam.imag:+.4g}i" for lam in dict.fromkeys(bad)]
 
 
 def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str, float], *,
               inputs: Literal["force", "acceleration"] = "force", process_noise: Mapping[str, float] | None = None,
               actuate: Sequence[str] | None = None, Q: Any = None, R: Any = None,
-              max_deviation: Mapping[str, float] | None = None) -> LQGController:
+              max_deviation: Mapping[str, float] | None = None, reduce_fixed: bool = True) -> LQGController:
     """LQG output feedback to a steady glide from named sensors: :func:`control.lqr` gain on a :func:`control.lqe`
     (stationary Kalman filter) estimate.
 
@@ -333,11 +495,15 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
         Inputs to design on (as :func:`~glidectl.controllers.linear.lqr_glide`; default all but those moving a
         ``fixed`` actuator of the vehicle file).
     Q, R : array_like, optional
-        LQR weights, given in full (10x10 on the glide-path states, 3x3) and restricted to the regulated states and
-        actuated inputs; default Bryson's rule.
+        LQR weights on the design model's glide-path states and inputs (or in full, 10x10 and 3x3, restricted to
+        the design model's), restricted to the regulated states and actuated inputs; default Bryson's rule.
     max_deviation : mapping of str to float, optional
         Overrides of :data:`~glidectl.controllers.linear.DEFAULT_MAX_DEVIATION` for Bryson's rule and the default
         process noise.
+    reduce_fixed : bool
+        Design on the model without the states and inputs of the actuators the vehicle file fixes (default; as
+        :func:`~glidectl.controllers.linear.lqr_glide`): the estimator and the closed loop have no pole at 0 for a
+        part that never moves. False: the full model (a fixed actuator's states are locked, not estimated).
 
     Returns
     -------
@@ -365,15 +531,21 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
         If the LQR or Kalman-filter design fails or returns gains that do not stabilize.
     """
     check_glide_design(veh, glide, inputs)
-    path_states = glide_model(veh, glide, inputs)[0].state_names
+    checks.boolean("reduce_fixed", reduce_fixed)
+    fixed = fixed_actuators(veh) if reduce_fixed else ()
+    full_states = glide_model(veh, glide, inputs)[0].state_names
+    dropped = {q for a in fixed for q in FIXED_ACTUATOR_STATES[inputs][a][0]}
+    path_states = tuple(q for q in full_states if q not in dropped)
     smap = output_map(sensors, path_states)
     sig = _noise(smap, noise)
     sys = linearize_glide(veh, glide, inputs, outputs={k: dict(zip(smap.channels, row, strict=True))
-                                                      for k, row in zip(smap.names, smap.M, strict=True)})
+                                                      for k, row in zip(smap.names, smap.M, strict=True)},
+                          reduce_fixed=reduce_fixed)
     if max_deviation is not None and not isinstance(max_deviation, Mapping):
         raise ArgumentTypeError(f"max_deviation must be a mapping of state/input names to deviations, got "
                                 f"{type(max_deviation).__name__}")
-    known = set(sys.state_labels) | set(sys.input_labels)
+    known = set(sys.state_labels) | set(sys.input_labels) | set(full_states) | set(
+        glide_model(veh, glide, inputs)[0].input_names)
     extra = dict(max_deviation or {})
     unknown = sorted(str(k) for k in extra if k not in known)
     if unknown:
@@ -388,10 +560,13 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
     # regulator
     A, B, C = np.asarray(sys.A), np.asarray(sys.B), np.asarray(sys.C)
     n10 = len(path_states)
-    Qp = bryson_weights(path_states, dev) if Q is None else symmetric_weight("Q", Q, n10, definite=False)
+    Qp = bryson_weights(path_states, dev) if Q is None else design_weight("Q", Q, path_states, full_states,
+                                                                          definite=False)
     Qm = np.zeros((len(names), len(names)))
     Qm[:n10, :n10] = Qp
-    Rm = bryson_weights(sys.input_labels, dev) if R is None else symmetric_weight("R", R, 3, definite=True)
+    full_inputs = glide_model(veh, glide, inputs)[0].input_names
+    Rm = bryson_weights(sys.input_labels, dev) if R is None else design_weight("R", R, sys.input_labels, full_inputs,
+                                                                               definite=True)
     ri = [names.index(s) for s in reg]
     K, Ereg = lqr_subset(A, B, Qm, Rm, ui, ri, f"glide gamma = {np.degrees(glide.gamma):.2f} deg with inputs "
                          f"{list(act)} on states {reg}")
@@ -401,7 +576,7 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
     Ae, Ce = A[np.ix_(ei, ei)], C[:, ei]
     bad = _unobservable(Ae, Ce, est)
     if bad:
-        modes = ", ".join(f"{lam.real:.3g}{lam.imag:+.3g}i (mostly {s})" for lam, s in bad)
+        modes = ", ".join(bad)
         raise ArgumentError(f"the sensors {list(smap.names)} cannot detect the estimated states {est}: modes {modes} "
                             "are unobservable and not stable; add a sensor that sees them (e.g. the moving-mass "
                             "position r_P1 or r_P3, or m0) or leave an input out with actuate= (its actuator is then "
@@ -426,4 +601,4 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
     if not (np.all(np.isfinite(L)) and np.max(Eest.real) < 0):
         raise SolverError(f"the Kalman filter from {list(smap.names)} is not stable (poles {np.round(Eest, 6)})")
     return LQGController(K, L, sys, glide, inputs, smap, sig, QN, Qm[np.ix_(ri, ri)], Rm[np.ix_(ui, ui)],
-                         Ereg, Eest, tuple(est), tuple(reg), act, locked, vehicle=veh)
+                         Ereg, Eest, tuple(est), tuple(reg), act, locked, vehicle=veh, fixed_actuators=fixed)

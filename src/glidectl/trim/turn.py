@@ -179,8 +179,10 @@ def design_turn(veh: Vehicle, radius: float, *, gamma: float = math.radians(25.0
 
     Raises
     ------
-    ArgumentTypeError, ArgumentError
-        If a number is not real or out of range.
+    ArgumentTypeError
+        If ``veh`` is not a Vehicle or a number is not real.
+    ArgumentError
+        If a number is out of range or ``direction`` is not 1 or -1.
     ModelError
         If the vehicle has no heading actuator or lacks the 3D parameters.
     InfeasibleGlideError
