@@ -6,7 +6,8 @@ default (3 cycles between 5 and 100 m at 0.35 m/s and +-25 deg; "lqr": every sta
 depth, pitch and pitch rate with the default simulated sensor noise sampled every second), in one process, the
 controllers alternating (lqr, lqg, lqr, lqg, ...) after one untimed warm-up each; medians over ``--repeats``.
 ``--same-noise`` also times "lqr" flown with the "lqg"'s simulated noise (``noise=LQG_NOISE``), the comparison at
-equal sensor sampling. The script uses only arguments that every version of ``dive_cycle`` has, so it also times an
+equal sensor sampling. "lqg analog" is the LQG with its continuous Kalman filter on noise-free sensors
+(``noise={}, sensor_period=0``), the noise-free comparison with "lqr". The script uses only arguments that every version of ``dive_cycle`` has, so it also times an
 older checkout: ``PYTHONPATH=/path/to/old/src python bench/bench_lqg_dive_cycle.py``.
 
 Reported per controller: median wall time (s), right-hand-side evaluations, the fraction of the mission during
@@ -58,7 +59,7 @@ def main() -> None:
     ap.add_argument("--same-noise", action="store_true", help="also time 'lqr' with the 'lqg' simulated noise")
     args = ap.parse_args()
     veh = gc.load_vehicle("slocum_shallow")
-    cases = {"lqr": ("lqr", {}), "lqg": ("lqg", {})}
+    cases = {"lqr": ("lqr", {}), "lqg": ("lqg", {}), "lqg analog": ("lqg", {"noise": {}, "sensor_period": 0.0})}
     if args.same_noise:
         cases["lqr+noise"] = ("lqr", {"noise": dict(LQG_NOISE)})
     times: dict[str, list[float]] = {k: [] for k in cases}
@@ -71,6 +72,7 @@ def main() -> None:
     med = {k: float(np.median(v)) for k, v in times.items()}
     result = {"vehicle": veh.name, "seed": SEED, "repeats": args.repeats, "times_s": times, "median_s": med,
               "metrics": {k: metrics(r) for k, r in runs.items()}, "ratio_lqg_lqr": med["lqg"] / med["lqr"],
+              "ratio_analog_lqg_lqr": med["lqg analog"] / med["lqr"],
               "target_ratio": TARGET, "glidectl": str(Path(gc.__file__).parent)}
     print(f"\n{'controller':10s} {'median [s]':>10s} {'nfev':>8s} {'at a limit':>10s} {'sat/cycle [s]':>13s} "
           f"{'pump/cycle [J]':>14s}")
@@ -80,6 +82,8 @@ def main() -> None:
               f"{m['saturated_time_per_cycle_s']:13.1f} {m['energy_per_cycle_J']:14.1f}")
     ratio = result["ratio_lqg_lqr"]
     print(f"lqg / lqr wall time: {ratio:.1f} (target <= {TARGET:g}: {'met' if ratio <= TARGET else 'NOT met'})")
+    print(f"analog lqg (noise-free, continuous filter) / lqr: {med['lqg analog'] / med['lqr']:.2f} "
+          f"(target <= {TARGET:g})")
     if "lqr+noise" in med:
         print(f"lqg / (lqr with the same noise): {med['lqg'] / med['lqr+noise']:.2f}")
     out = Path(__file__).resolve().parent / "results"

@@ -184,3 +184,15 @@ def test_sampled_lqg_estimate_converges_on_the_nonlinear_plant(design):
         ctrl.with_estimate(np.zeros(5))
     with pytest.raises(gc.ArgumentTypeError, match="SampledLQG"):
         SampledGlideLQG(design, plant, x0, x0)
+
+
+def test_analog_lqg_flies_like_the_sampled_one_without_noise():
+    """sensor_period = 0 flies the continuous filter; on noise-free sensors its cycles match the 1-s sampled
+    filter's to the effect of the sampling (a 1 s hold against minute-long legs)."""
+    analog = gc.dive_cycle(VEH, "lqg", noise={}, sensor_period=0.0, cycles=1)
+    sampled = gc.dive_cycle(VEH, "lqg", noise={}, sensor_period=1.0, cycles=1)
+    a, s = analog.as_dict(), sampled.as_dict()
+    assert a["distance_per_cycle"] == pytest.approx(s["distance_per_cycle"], rel=0.01)
+    assert a["duration_per_cycle"] == pytest.approx(s["duration_per_cycle"], rel=0.01)
+    with pytest.raises(gc.ArgumentError, match="cannot be noisy"):
+        gc.dive_cycle(VEH, "lqg", sensor_period=0.0)

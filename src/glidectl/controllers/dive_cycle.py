@@ -1176,7 +1176,8 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         Simulated sensor noise standard deviations (state units), seed and sample-and-hold period (s), as
         :func:`~glidectl.sim.simulate_actuated`; each leg draws from its own stream spawned from ``seed``.
         ``"lqg"`` defaults to :data:`LQG_NOISE` and samples its sensors, corrects its estimate and updates its
-        command every ``sensor_period``.
+        command every ``sensor_period``; ``sensor_period = 0`` flies the analog LQG (continuous Kalman filter,
+        :class:`ScheduledGlideLQG`) on noise-free sensors (``noise={}``).
     measurement_noise, process_noise : mapping of str to float, optional
         The Kalman filter of ``"lqg"`` (ignored by the other controllers, which have none), independent of the
         simulated ``noise``: the standard deviation the filter assumes for each sensor sample (sensor units) and
@@ -1197,7 +1198,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     servo_time, pump_gain : float
         Servo settings of :class:`~glidectl.ActuatedGlider` (s, 1/s).
     method, rtol, atol : integrator settings of :func:`~glidectl.sim.simulate_actuated`.
-        ``method=None``: ``"RK23"`` for ``"lqg"``, ``"LSODA"`` otherwise. The sampled-data ``"lqg"`` restarts the
+        ``method=None``: ``"RK23"`` for the sampled ``"lqg"``, ``"LSODA"`` otherwise. The sampled-data ``"lqg"`` restarts the
         integrator at every sample; there a one-step method that carries its step over the sample spends the
         fewest right-hand-side evaluations (LSODA restarts at order 1 each time), at the same accuracy (see
         ``bench/README.md``, ``bench_lqg_dive_cycle.py``).
@@ -1235,8 +1236,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     checks.choice("pump_work", pump_work, _PUMP_WORK)
     if isinstance(controller, str):
         checks.choice("controller", controller, CONTROLLER_NAMES)
-    if method is None:
-        method = "RK23" if controller == "lqg" else "LSODA"
+    period = checks.nonnegative("sensor_period", sensor_period, unit="s")
     plant = ActuatedGlider(veh, servo_time=servo_time, pump_gain=pump_gain)
     if controller == "lqg":
         sens = tuple(LQG_SENSORS if sensors is None else sensors)
@@ -1244,6 +1244,11 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
             noise = dict(LQG_NOISE)
     else:
         sens = tuple(plant.state_names if sensors is None else sensors)
+    if period == 0.0 and noise and any(float(v) > 0 for v in dict(noise).values()):
+        raise ArgumentError("sensor_period = 0 asks for continuous (analog) sensors and filter, which cannot be "
+                            "noisy: simulated noise is drawn once per sample; pass noise={} or a sensor_period > 0")
+    if method is None:
+        method = "RK23" if controller == "lqg" and period > 0 else "LSODA"
     if "z" not in sens:
         raise ArgumentError(f"sensors {sens} must include the depth 'z': the supervisor switches on the measured "
                             "depth")
@@ -1263,7 +1268,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     nominal = (bottom - top) / (speed * math.sin(gamma))
     leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
     make = _leg_factory(controller, veh, plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains, max_deviation,
-                        noise, measurement_noise, process_noise, sensor_period)
+                        noise, measurement_noise, process_noise, period)
     name = controller if isinstance(controller, str) else type(controller).__name__
 
     n_legs = 2 * cycles + 1
@@ -1306,7 +1311,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
                 return float(yy[iz]) - top
         te = np.append(np.arange(t, t + leg_cap, step), t + leg_cap)
         run = simulate_actuated(plant, x, leg_cap, ctrl, sensors=sens, noise=noise, seed=leg_seeds[leg],
-                                sensor_period=sensor_period, t0=t, t_eval=te, method=method, rtol=rtol, atol=atol,
+                                sensor_period=period or 1.0, t0=t, t_eval=te, method=method, rtol=rtol, atol=atol,
                                 stop=stop, max_steps=200_000, on_budget="stop")
         nfev += run.nfev
         if run.stopped_by not in ("stop",) and not tail:
@@ -1480,7 +1485,7 @@ def _lqg_factory(veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_d
                  period: float) -> Any:
     """Leg controllers of ``controller="lqg"``: :func:`~glidectl.lqg_glide` at each leg's glide from the measured
     sensors with the filter weights of :func:`lqg_filter_noise`, sampled every ``period`` seconds
-    (:class:`SampledGlideLQG`)."""
+    (:class:`SampledGlideLQG`), or the continuous filter (:class:`ScheduledGlideLQG`) for ``period = 0``."""
     bad = [q for q in sens if q not in plant.state_names]
     if bad:
         raise ArgumentError(f"sensors {bad} are not states of the actuated glider")
@@ -1496,12 +1501,13 @@ def _lqg_factory(veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_d
         except ArgumentError as exc:
             raise ArgumentError(f"controller='lqg' cannot be designed for the {math.degrees(g.gamma):+.1f} deg leg "
                                 f"of vehicle '{veh.name}': {exc}") from exc
-        designs[id(g)] = d.sampled(period)
+        designs[id(g)] = d.sampled(period) if period > 0 else d
     idx = tuple(sens.index(q) for q in lqg_sens)
 
     def make_lqg(glide: SteadyGlide, prev: SteadyGlide, t0: float, down: bool) -> Any:
         xf, xt = prev.accel_state(), glide.accel_state()
-        return SampledGlideLQG(designs[id(glide)], plant, xf, xt, t0, _ramp_time(plant, xf, xt), idx)
+        leg = SampledGlideLQG if period > 0 else ScheduledGlideLQG      # period 0: the analog filter
+        return leg(designs[id(glide)], plant, xf, xt, t0, _ramp_time(plant, xf, xt), idx)
     return make_lqg
 
 
