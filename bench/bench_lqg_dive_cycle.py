@@ -7,8 +7,9 @@ depth, pitch and pitch rate with the default simulated sensor noise sampled ever
 controllers alternating (lqr, lqg, lqr, lqg, ...) after one untimed warm-up each; medians over ``--repeats``.
 ``--same-noise`` also times "lqr" flown with the "lqg"'s simulated noise (``noise=LQG_NOISE``), the comparison at
 equal sensor sampling. "lqg analog" is the LQG with its continuous Kalman filter on noise-free sensors
-(``noise={}, sensor_period=0``), the noise-free comparison with "lqr". The script uses only arguments that every version of ``dive_cycle`` has, so it also times an
-older checkout: ``PYTHONPATH=/path/to/old/src python bench/bench_lqg_dive_cycle.py``.
+(``noise={}, sensor_period=0``), the noise-free comparison with "lqr". The script uses only arguments that every
+version of ``dive_cycle`` has (the analog case aside), so it also times an older checkout:
+``PYTHONPATH=/path/to/old/src python bench/bench_lqg_dive_cycle.py``.
 
 Reported per controller: median wall time (s), right-hand-side evaluations, the fraction of the mission during
 which some actuator is at a limit (``run.saturated``: a rate cut by the limiter, or within 1e-3 of its range width

@@ -1198,10 +1198,10 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     servo_time, pump_gain : float
         Servo settings of :class:`~glidectl.ActuatedGlider` (s, 1/s).
     method, rtol, atol : integrator settings of :func:`~glidectl.sim.simulate_actuated`.
-        ``method=None``: ``"RK23"`` for the sampled ``"lqg"``, ``"LSODA"`` otherwise. The sampled-data ``"lqg"`` restarts the
-        integrator at every sample; there a one-step method that carries its step over the sample spends the
-        fewest right-hand-side evaluations (LSODA restarts at order 1 each time), at the same accuracy (see
-        ``bench/README.md``, ``bench_lqg_dive_cycle.py``).
+        ``method=None``: ``"RK23"`` for the sampled ``"lqg"``, ``"LSODA"`` otherwise. The sampled-data ``"lqg"``
+        restarts the integrator at every sample; there a one-step method that carries its step over the sample
+        spends the fewest right-hand-side evaluations (LSODA restarts at order 1 each time), at the same accuracy
+        (see ``bench/README.md``, ``bench_lqg_dive_cycle.py``).
     max_leg_time : float, optional
         Longest leg allowed (s); default 4 times the nominal leg time plus 600 s.
 
