@@ -3,7 +3,9 @@
 Five waypoints on a pentagon of 6 km sides (longer than a day's flight, so the mission ends at ``duration``),
 100 m dives at 28 deg and 0.4 m/s (close to the steepest glide the battery travel holds), one minute at the surface
 per dive, a depth-varying current, the default glider behaviours (rudder), samples every 2 s. Target: under 30 s on
-one core. BLAS runs on one thread (threadpoolctl); the median over ``--repeats`` is reported with the dives flown.
+one core. The same mission with the fast model (``model="fast"``) is timed too, and its per-dive error measured:
+each full-model dive without a waypoint switch under water is replayed from the same start and compared with the
+full model's fix. BLAS runs on one thread (threadpoolctl); the median over ``--repeats`` is reported with the dives flown.
 
 Usage::
 
@@ -40,6 +42,30 @@ def mission() -> tuple[gc.Mission, gc.Current]:
     return m, current
 
 
+def replay_errors(run: gc.MissionRun, m: gc.Mission) -> np.ndarray:
+    """Per dive of a full-model run without a waypoint switch under water: the fast model's replay of the dive from
+    the same start, toward the same waypoint with the same current estimate, against the full model's fix: (error
+    in m, error over the dive's horizontal displacement)."""
+    from glidectl.missions.fast import calibrate_dive, replay_dive
+
+    plan = gc.DivePlan(run.plant, m.gamma, m.speed)
+    prof = calibrate_dive(run.plant, plan, gc.GliderBehaviours(), m.depths, m.yos)
+    rows = []
+    for i, d in enumerate(run.dives):
+        sel = (run.t >= d.start) & (run.t <= d.end)
+        if len(set(run.leg[sel])) > 1:
+            continue
+        k = int(np.argmax(sel))
+        x0 = run.states[k]
+        c_est = run.dives[i - 1].current_estimate if i else np.zeros(2)
+        rep = replay_dive(prof, x0, d.start, target=tuple(m.waypoints[run.leg[k]]), current=run.current,
+                          current_estimate=c_est, arrival_radius=-1.0)
+        end = rep.states[-1]
+        err = math.hypot(end[1] - d.fix[0], end[0] - d.fix[1])
+        rows.append((err, err / math.hypot(d.fix[0] - x0[1], d.fix[1] - x0[0])))
+    return np.array(rows)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
@@ -52,8 +78,20 @@ def main() -> None:
             t0 = time.perf_counter()
             run = gc.fly_mission(veh, m, current=current, duration=86400.0)
             times.append(time.perf_counter() - t0)
+        fast_times = []
+        for _ in range(args.repeats):
+            t0 = time.perf_counter()
+            fast = gc.fly_mission(veh, m, current=current, duration=86400.0, model="fast")
+            fast_times.append(time.perf_counter() - t0)
     med = float(np.median(times))
-    out = {"mission_hours": run.duration / 3600.0, "dives": len(run.dives), "legs_arrived":
+    errors = replay_errors(run, m)
+    out = {"fast_wall_median_s": float(np.median(fast_times)), "fast_dives": len(fast.dives),
+           "fast_speedup": med / float(np.median(fast_times)),
+           "fast_per_dive_error_median_m": float(np.median(errors[:, 0])),
+           "fast_per_dive_error_max_m": float(np.max(errors[:, 0])),
+           "fast_per_dive_relative_error_median": float(np.median(errors[:, 1])),
+           "fast_dives_compared": int(errors.shape[0]),
+           "mission_hours": run.duration / 3600.0, "dives": len(run.dives), "legs_arrived":
            sum(leg.arrived for leg in run.legs), "wall_median_s": med, "wall_all_s": times, "target_s": TARGET_S,
            "ratio_to_target": med / TARGET_S, "energy_per_km_J": run.energy_per_km, "samples": int(run.t.size)}
     print(json.dumps(out, indent=2))

@@ -207,3 +207,45 @@ def test_lqr_dive_controller_flies_the_mission_within_the_limits():
     assert np.max(np.abs(np.degrees(run.pitch[mid] - plan.down.theta))) < 1.0
     with pytest.raises(ArgumentError, match="prepare"):
         gc.DiveLQR().rates(plant, plan, run.states[0, :19], 1, 0.0)
+
+
+@pytest.fixture(scope="module")
+def box_runs():
+    """The same two-leg mission in a sheared current with the full and the fast model."""
+    m = gc.Mission(waypoints=[(1500.0, 0.0), (1500.0, 1500.0)], depths=(5.0, 60.0), surface_time=120.0)
+    cur = gc.Current.profile([0.0, 60.0], [0.10, 0.02], [0.05, 0.0])
+    return m, gc.fly_mission(SLOCUM, m, current=cur), gc.fly_mission(SLOCUM, m, current=cur, model="fast")
+
+
+def test_fast_model_flies_the_mission_like_the_full_one(box_runs):
+    from glidectl.missions.fast import calibrate_dive, replay_dive
+
+    m, full, fast = box_runs
+    assert [leg.reason for leg in fast.legs] == [leg.reason for leg in full.legs] == ["arrived", "arrived"]
+    for a, b in zip(full.legs, fast.legs, strict=True):
+        assert b.duration == pytest.approx(a.duration, rel=0.15)
+    assert fast.energy_per_km == pytest.approx(full.energy_per_km, rel=0.15)
+    # per dive, from the full model's own dive starts (dives without a waypoint switch under water): the replayed
+    # dive surfaces within a few percent of the dive's horizontal displacement of the full model's fix
+    plan = gc.DivePlan(full.plant, m.gamma, m.speed)
+    prof = calibrate_dive(full.plant, plan, gc.GliderBehaviours(), m.depths)
+    assert prof.duration == pytest.approx(full.dives[0].duration, rel=1e-3)   # still water, straight: the same dive
+    rel = []
+    for i, d in enumerate(full.dives):
+        sel = (full.t >= d.start) & (full.t <= d.end)
+        if len(set(full.leg[sel])) > 1:
+            continue
+        k = int(np.argmax(sel))
+        x0 = full.states[k]
+        c_est = full.dives[i - 1].current_estimate if i else np.zeros(2)
+        rep = replay_dive(prof, x0, d.start, target=tuple(m.waypoints[full.leg[k]]), current=full.current,
+                          current_estimate=c_est, arrival_radius=-1.0)
+        end = rep.states[-1]
+        rel.append(math.hypot(end[1] - d.fix[0], end[0] - d.fix[1]) / math.hypot(d.fix[0] - x0[1], d.fix[1] - x0[0]))
+    assert len(rel) >= 3 and float(np.median(rel)) < 0.05
+    # the fast run's samples carry the calibrated attitude and actuators: limits hold there too
+    for i, name in enumerate(fast.plant.actuator_names):
+        v = fast.actuator(name)
+        assert np.all(v >= fast.plant.lower[i] - 1e-9) and np.all(v <= fast.plant.upper[i] + 1e-9)
+    with pytest.raises(ArgumentError, match="model"):
+        gc.fly_mission(SLOCUM, m, model="kinematic")

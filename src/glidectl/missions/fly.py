@@ -39,11 +39,11 @@ from ..environment import Current
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError
 from ..models._validate import require_glider
 from ..models.actuated3d import ActuatedGlider3D
-from ..models.glider3d import ypr_to_quat
 from ..params import Vehicle
 from ..sim import simulate
 from .behaviours import DiveLQR, DivePlan, GliderBehaviours, pitch_heading
-from .loop import MISSION_STATES, MissionLoop, current_corrected_heading
+from .fast import DiveProfile, calibrate_dive, replay_dive
+from .loop import MISSION_STATES, MissionLoop, current_corrected_heading, rest_state
 from .mission import MAX_MISSION_DEPTH, Mission
 
 __all__ = ["CONTROLLER_SETS", "DiveMetrics", "LegMetrics", "MissionRun", "fly_mission"]
@@ -325,19 +325,6 @@ def _law(controller: Any) -> tuple[Any, str]:
     return controller, str(getattr(controller, "name", type(controller).__name__))
 
 
-def _rest_state(plan: DivePlan, position: np.ndarray, fix: np.ndarray, heading: float,
-                energy: float = 0.0) -> np.ndarray:
-    """At rest at the surface at ``position`` (east, north), pitched as the dive, heading ``heading``, pump and
-    battery at the dive's settings, dead reckoning started at ``fix``, ``energy`` (J) spent so far."""
-    g = plan.down
-    x = np.zeros(len(MISSION_STATES))
-    x[0], x[1] = position[1], position[0]
-    x[3:7] = ypr_to_quat(heading, g.theta, 0.0)
-    x[13], x[17] = g.r_p1, g.m0
-    x[19], x[20], x[21] = fix[0], fix[1], energy
-    return x
-
-
 class _Recorder:
     """Samples of the mission as it is flown."""
 
@@ -347,11 +334,11 @@ class _Recorder:
         self.phase: list[np.ndarray] = []
         self.leg: list[np.ndarray] = []
 
-    def add(self, t: np.ndarray, x: np.ndarray, phase: int, leg: int) -> None:
+    def add(self, t: np.ndarray, x: np.ndarray, phase: Any, leg: int) -> None:
         # a phase boundary is recorded twice, once per phase: the state is continuous there, the actuator rates jump
         self.t.append(t)
         self.x.append(x)
-        self.phase.append(np.full(t.size, phase))
+        self.phase.append(np.broadcast_to(np.asarray(phase), t.shape).copy())
         self.leg.append(np.full(t.size, leg))
 
     def arrays(self) -> tuple[np.ndarray, ...]:
@@ -384,6 +371,7 @@ class _Flight:
     dive_start: float = 0.0
     dive_energy: float = 0.0
     leg_surfacings: list[int] = field(default_factory=list)
+    profile: DiveProfile | None = None
 
     @property
     def done(self) -> bool:
@@ -507,12 +495,39 @@ def _surface(f: _Flight, x: np.ndarray) -> np.ndarray:
     heading = float(pitch_heading(x)[1])   # the glider turns under water, not at the surface
     f.fix_time = f.dive_start = f.t
     f.dive_energy = float(x[21])
-    return _rest_state(f.plan, pos, fix, heading, f.dive_energy)
+    return rest_state(f.plan, pos, fix, heading, f.dive_energy)
+
+
+def _fast_dive(f: _Flight, x: np.ndarray) -> tuple[np.ndarray, str]:
+    """One surfacing-to-surfacing dive of the fast model (:func:`~glidectl.missions.fast.replay_dive` of the
+    calibrated dive), switching waypoints on arrival as the full model does."""
+    assert f.profile is not None
+    k = 0
+    while True:
+        target = None if f.done else f.target()
+        if target is not None and math.hypot(x[19] - target[0], x[20] - target[1]) <= f.mission.arrival_radius:
+            f.end_leg(x, "arrived")
+            continue
+        rep = replay_dive(f.profile, x, f.t, target=target, current=f.plant.current, current_estimate=f.c_est,
+                          arrival_radius=f.mission.arrival_radius, first=k)
+        keep = rep.t <= f.t_end
+        late = not np.all(keep)
+        t, X, phase = rep.t[keep], rep.states[keep], rep.phase[keep]
+        f.rec.add(t, X, phase, min(f.leg, f.mission.legs - 1))
+        f.t, x = float(t[-1]), X[-1].copy()
+        if late:
+            return x, "duration"
+        if rep.stopped == "surface":
+            return x, "surface"
+        f.end_leg(x, "arrived")
+        k = rep.index
 
 
 def _dive(f: _Flight, x: np.ndarray) -> tuple[np.ndarray, str]:
     """One surfacing-to-surfacing dive (``yos`` yos); returns the state at the surface and what ended the dive
     (``"surface"`` or the reason the flight cannot go on)."""
+    if f.profile is not None:
+        return _fast_dive(f, x)
     top, bottom = f.mission.depths
     for yo in range(f.mission.yos):
         for phase, depth in ((1, bottom), (-1, top if yo < f.mission.yos - 1 else 0.0)):
@@ -542,7 +557,7 @@ def _legs(f: _Flight, hotel_power: float) -> tuple[LegMetrics, ...]:
 
 def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, current: Any = None, seed: int = 0,
                 steer: str = "auto", gps_noise: float = 0.0, hotel_power: float = 0.0, record_period: float = 2.0,
-                duration: float | None = None, rtol: float = 1e-6) -> MissionRun:
+                duration: float | None = None, rtol: float = 1e-6, model: str = "full") -> MissionRun:
     """Fly ``mission`` with vehicle ``veh`` (module docstring of :mod:`glidectl.missions.fly`).
 
     Parameters
@@ -573,6 +588,11 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
         Longest mission time (s); default: until the last leg ends.
     rtol : float
         Relative tolerance of the integrator, in ``[1e-10, 1e-3]``.
+    model : {"full", "fast"}
+        ``"full"``: every dive integrated with the 3-D actuated model. ``"fast"``: one dive of the full model in
+        still water, replayed along each dive's turning track through the current
+        (:mod:`glidectl.missions.fast`); for long missions and fleets, its error against the full model is in
+        ``bench/README.md``.
 
     Returns
     -------
@@ -610,10 +630,13 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
     plan = DivePlan(plant, mission.gamma, mission.speed, steer)
     if callable(getattr(law, "prepare", None)):
         law = law.prepare(plan)
+    checks.choice("model", model, ("full", "fast"))
     f = _Flight(plant, plan, law, mission, np.random.default_rng(seed), gps, period, rtol, t_end)
+    if model == "fast":
+        f.profile = calibrate_dive(plant, plan, law, mission.depths, mission.yos, period, rtol)
     start = np.asarray(mission.start, dtype=float)
     heading = float(current_corrected_heading(start, f.target(), f.c_est, plan.horizontal_speed(1)))
-    x = _rest_state(plan, start, start, heading)
+    x = rest_state(plan, start, start, heading)
     ended_by = "last leg ended"
     while not f.done:
         x, why = _dive(f, x)

@@ -29,9 +29,11 @@ from typing import Any
 import numpy as np
 
 from ..models.actuated3d import ACTUATED3D_STATES, ActuatedGlider3D
+from ..models.glider3d import ypr_to_quat
 from .behaviours import DivePlan, pitch_heading
 
-__all__ = ["DR_GAMMA_MIN", "MISSION_STATES", "P_ATM", "MissionLoop", "current_corrected_heading", "pump_power"]
+__all__ = ["DR_GAMMA_MIN", "MISSION_STATES", "P_ATM", "MissionLoop", "current_corrected_heading", "pump_power",
+           "rest_state"]
 
 #: State names of :class:`MissionLoop`.
 MISSION_STATES = (*ACTUATED3D_STATES, "dr_east", "dr_north", "pump_energy")
@@ -160,3 +162,16 @@ class MissionLoop:
         if self.target is None:
             return math.inf
         return math.hypot(float(np.real(x[19])) - self.target[0], float(np.real(x[20])) - self.target[1])
+
+
+def rest_state(plan: DivePlan, position: np.ndarray, fix: np.ndarray, heading: float,
+                energy: float = 0.0) -> np.ndarray:
+    """At rest at the surface at ``position`` (east, north), pitched as the dive, heading ``heading``, pump and
+    battery at the dive's settings, dead reckoning started at ``fix``, ``energy`` (J) spent so far."""
+    g = plan.down
+    x = np.zeros(len(MISSION_STATES))
+    x[0], x[1] = position[1], position[0]
+    x[3:7] = ypr_to_quat(heading, g.theta, 0.0)
+    x[13], x[17] = g.r_p1, g.m0
+    x[19], x[20], x[21] = fix[0], fix[1], energy
+    return x
