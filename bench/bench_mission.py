@@ -5,7 +5,8 @@ Five waypoints on a pentagon of 6 km sides (longer than a day's flight, so the m
 per dive, a depth-varying current, the default glider behaviours (rudder), samples every 2 s. Target: under 30 s on
 one core. The same mission with the fast model (``model="fast"``) is timed too, and its per-dive error measured:
 each full-model dive without a waypoint switch under water is replayed from the same start and compared with the
-full model's fix. BLAS runs on one thread (threadpoolctl); the median over ``--repeats`` is reported with the dives flown.
+full model's fix. BLAS runs on one thread (threadpoolctl); the median over ``--repeats`` is reported with the
+dives flown.
 
 Usage::
 
