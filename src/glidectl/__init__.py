@@ -125,9 +125,20 @@ from .errors import (
     VehicleFileError,
     VehicleMismatchError,
 )
+from .fleets import FleetRun, FormationControl, fly_fleet
 from .hydro import excess_mass, lift_drag
 from .iosys import to_iosys
-from .missions import DiveLQR, DiveMetrics, DivePlan, GliderBehaviours, LegMetrics, Mission, MissionRun, fly_mission
+from .missions import (
+    DiveLQR,
+    DiveMetrics,
+    DivePlan,
+    GliderBehaviours,
+    GliderFlight,
+    LegMetrics,
+    Mission,
+    MissionRun,
+    fly_mission,
+)
 from .models import phugoid_hamiltonian
 from .models.actuated import ActuatedGlider
 from .models.actuated3d import ActuatedGlider3D
@@ -251,8 +262,11 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "pump_energy", "simulate_actuated",
     ),
     "missions": (
-        "Current", "DiveLQR", "DiveMetrics", "DivePlan", "fly_mission", "GliderBehaviours", "LegMetrics", "Mission",
-        "MissionRun",
+        "Current", "DiveLQR", "DiveMetrics", "DivePlan", "fly_mission", "GliderBehaviours", "GliderFlight",
+        "LegMetrics", "Mission", "MissionRun",
+    ),
+    "fleets": (
+        "FleetRun", "fly_fleet", "FormationControl",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -314,13 +328,16 @@ __all__ = [
     "FeedbackLinearizingController",
     "FixedActuatorModel",
     "FixedMassGlider3D",
+    "FleetRun",
     "FlightFit",
+    "FormationControl",
     "GlideEnvelope",
     "GlidePathModel",
     "GlideTracking",
     "GlidectlError",
     "Glider3D",
     "GliderBehaviours",
+    "GliderFlight",
     "Helix",
     "HelixDesign",
     "HelixRbhLocus",
@@ -421,6 +438,7 @@ __all__ = [
     "feedback_linearization_blowup",
     "fit_flight_model",
     "fixed_actuators",
+    "fly_fleet",
     "fly_mission",
     "glide_envelope",
     "glide_model",

@@ -1207,3 +1207,61 @@ def plot_mission_3d(run: Any, ax: Any = None) -> Any:
     ax.set_title(f"{run.vehicle.name}: {len(run.dives)} dives", fontsize=9)
     ax.legend(loc="best", fontsize=7)
     return ax
+
+
+def plot_fleet_run(run: Any, ax: Any = None, *, snapshots: int = 6) -> Any:
+    """A fleet's run: the tracks with snapshots of the formation at evenly spaced times (Fig 3.2), and the mean
+    spacing against the scheduled one (Fig 3.3).
+
+    Parameters
+    ----------
+    run : FleetRun
+    ax : array of 2 axes, optional
+        Default a new figure.
+    snapshots : int
+        Formation snapshots drawn on the map.
+
+    Returns
+    -------
+    ndarray of Axes
+        Map, spacing.
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` is not 2 axes.
+    """
+    if ax is None:
+        _, a = new_figure(1, 2, width=11.0, height=5.0, gridspec_kw={"width_ratios": (1.0, 1.2)})
+        axes = np.asarray(a)
+    else:
+        axes = _axes(ax, 2, "FleetRun.plot")
+    m = axes[0]
+    for i in range(run.size):
+        p = run.position(i) / 1000.0
+        m.plot(p[:, 0], p[:, 1], lw=0.8, color=f"C{i}", label=f"glider {i} ({run.vehicles[i].name})")
+    times, spacing = run.mean_spacing()
+    snap = np.linspace(0.0, times[-1], snapshots)
+    P = run.positions_at(snap) / 1000.0
+    for k, tk in enumerate(snap):
+        poly = np.vstack([P[k], P[k][:1]])
+        m.plot(poly[:, 0], poly[:, 1], "k-", lw=0.6, alpha=0.4 + 0.6 * k / max(snapshots - 1, 1))
+        m.annotate(f"{tk / 3600:.0f} h", P[k].mean(0), fontsize=7, ha="center")
+    lp = getattr(run.coordinator, "leader_path", None)
+    if lp is not None:
+        lp = np.asarray(lp) / 1000.0
+        m.plot(lp[:, 0], lp[:, 1], ":", color="0.4", lw=1, label="virtual body's path")
+    m.set_aspect("equal", adjustable="datalim")
+    m.set_xlabel("east [km]")
+    m.set_ylabel("north [km]")
+    m.legend(loc="best", fontsize=7)
+    m.set_title(f"{run.size} gliders, formation snapshots", fontsize=9)
+    s = axes[1]
+    s.plot(times / 3600.0, spacing / 1000.0, "C0", label="mean spacing")
+    desired = run.desired_spacing(times)
+    if np.all(np.isfinite(desired)):
+        s.plot(times / 3600.0, desired / 1000.0, "k--", lw=1, label="desired")
+    s.set_xlabel("time [h]")
+    s.set_ylabel("spacing [km]")
+    s.legend(loc="best", fontsize=7)
+    return axes

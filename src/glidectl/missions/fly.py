@@ -28,6 +28,7 @@ pushing oil out against the sea pressure); per leg also ``hotel_power`` times th
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -36,7 +37,7 @@ import numpy as np
 
 from .. import checks
 from ..environment import Current
-from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError
+from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, SolverError
 from ..models._validate import require_glider
 from ..models.actuated3d import ActuatedGlider3D
 from ..params import Vehicle
@@ -46,7 +47,7 @@ from .fast import DiveProfile, calibrate_dive, replay_dive
 from .loop import MISSION_STATES, MissionLoop, current_corrected_heading, rest_state
 from .mission import MAX_MISSION_DEPTH, Mission
 
-__all__ = ["CONTROLLER_SETS", "DiveMetrics", "LegMetrics", "MissionRun", "fly_mission"]
+__all__ = ["CONTROLLER_SETS", "DiveMetrics", "GliderFlight", "LegMetrics", "MissionRun", "fly_mission"]
 
 #: Named controller sets of :func:`fly_mission`.
 CONTROLLER_SETS = ("behaviours", "lqr")
@@ -555,6 +556,131 @@ def _legs(f: _Flight, hotel_power: float) -> tuple[LegMetrics, ...]:
     return tuple(out)
 
 
+def _setup(veh: Any, mission: Mission, controller: Any, current: Any, seed: int, steer: str, gps_noise: float,
+           record_period: float, rtol: float, model: str, t_end: float,
+           profile: DiveProfile | None = None) -> tuple[_Flight, str]:
+    """The checked flight state of a mission (the arguments of :func:`fly_mission`)."""
+    veh = require_glider(veh)
+    if not isinstance(mission, Mission):
+        raise ArgumentTypeError(f"mission must be a glidectl.Mission, got {type(mission).__name__}")
+    rating = float(veh.params.get("depth_rating", MAX_MISSION_DEPTH))
+    if mission.depths[1] > rating:
+        raise InfeasibleGlideError(f"the mission dives to {mission.depths[1]:g} m, below the depth rating "
+                                   f"{rating:g} m of vehicle '{veh.name}' ([parameters] depth_rating)")
+    seed = checks.integer("seed", seed, lo=0)
+    gps = checks.nonnegative("gps_noise", gps_noise, unit="m")
+    period = checks.real("record_period", record_period, lo=0.1, hi=60.0, unit="s")
+    rtol = checks.real("rtol", rtol, lo=1e-10, hi=1e-3)
+    checks.choice("model", model, ("full", "fast"))
+    law, name = _law(controller)
+    plant = ActuatedGlider3D(veh, current)
+    plan = DivePlan(plant, mission.gamma, mission.speed, steer)
+    if callable(getattr(law, "prepare", None)):
+        law = law.prepare(plan)
+    f = _Flight(plant, plan, law, mission, np.random.default_rng(seed), gps, period, rtol, t_end)
+    if model == "fast":
+        f.profile = profile if profile is not None else calibrate_dive(plant, plan, law, mission.depths, mission.yos,
+                                                                       period, rtol)
+    return f, name
+
+
+class GliderFlight:
+    """A glider flown dive by dive toward waypoints given one dive at a time (a fleet's member): the flight of
+    :func:`fly_mission` with the waypoint chosen at each surfacing by someone else.
+
+    Parameters
+    ----------
+    veh : Vehicle
+        As :func:`fly_mission`.
+    mission : Mission
+        Depths, glide, surface time and arrival radius of every dive; its ``start`` is the launch point (its
+        waypoints are replaced dive by dive).
+    controller, current, seed, steer, gps_noise, record_period, rtol, model :
+        As :func:`fly_mission` (default ``model="fast"``).
+    profile : DiveProfile, optional
+        A calibrated dive of the same vehicle and settings to share between gliders (``model="fast"``).
+
+    Attributes
+    ----------
+    time : float
+        Mission time (s) at which the glider is next at the surface, ready to dive.
+    position : ndarray, shape (2,)
+        Its ``(east, north)`` there (m).
+    """
+
+    def __init__(self, veh: Any, mission: Mission, controller: Any = "behaviours", *, current: Any = None,
+                 seed: int = 0, steer: str = "auto", gps_noise: float = 0.0, record_period: float = 2.0,
+                 rtol: float = 1e-6, model: str = "fast", profile: DiveProfile | None = None) -> None:
+        self._f, self.controller = _setup(veh, mission, controller, current, seed, steer, gps_noise, record_period,
+                                          rtol, model, math.inf, profile)
+        start = np.asarray(mission.start, dtype=float)
+        self._x = rest_state(self._f.plan, start, start, 0.0)
+
+    @property
+    def time(self) -> float:
+        """Mission time (s) of the glider's next dive start."""
+        return self._f.t
+
+    @property
+    def position(self) -> np.ndarray:
+        """``(east, north)`` (m) of the glider's next dive start."""
+        return np.array([self._x[1], self._x[0]])
+
+    @property
+    def plan(self) -> DivePlan:
+        """The designed glides the glider flies."""
+        return self._f.plan
+
+    @property
+    def profile(self) -> DiveProfile | None:
+        """The calibrated dive of the fast model (None for the full model)."""
+        return self._f.profile
+
+    @property
+    def dive_time(self) -> float:
+        """Nominal time (s) of one dive and surfacing: the calibrated dive plus the surface time (the designed
+        glides' time for the full model)."""
+        f = self._f
+        if f.profile is not None:
+            return f.profile.duration + f.mission.surface_time
+        top, bottom = f.mission.depths
+        return sum((bottom - top if p > 0 else bottom) / abs(f.plan.glide(p).speed * math.sin(f.plan.glide(p).gamma))
+                   for p in (1, -1)) + f.mission.surface_time
+
+    def dive(self, waypoint: Any) -> tuple[DiveMetrics, tuple[np.ndarray, ...]]:
+        """Fly one dive toward ``waypoint`` (east, north; m) and surface.
+
+        Returns
+        -------
+        DiveMetrics
+            The dive (its ``fix`` is the surfacing report).
+        (t, states, phase) : tuple of ndarray
+            The dive's samples (:data:`~glidectl.missions.loop.MISSION_STATES`), the surface time included.
+
+        Raises
+        ------
+        ArgumentError
+            If ``waypoint`` is not a finite (east, north) pair.
+        SolverError
+            If the dive cannot be flown (the glider stalls or the integration fails).
+        """
+        wp = checks.array("waypoint (east, north), m", waypoint, shape=(2,))
+        f = self._f
+        f.mission = dataclasses.replace(f.mission, waypoints=[tuple(wp)])
+        f.leg, f.leg_ends = 0, []
+        heading = float(pitch_heading(self._x)[1]) if f.dives else float(
+            current_corrected_heading(self.position, wp, f.c_est, f.plan.horizontal_speed(1)))
+        if not f.dives:          # the launch: pointing at the first waypoint
+            self._x = rest_state(f.plan, self.position, self._x[19:21], heading, float(self._x[21]))
+        f.rec = _Recorder()
+        x, why = _dive(f, self._x)
+        if why != "surface":
+            raise SolverError(f"the glider could not fly its dive toward {tuple(wp)}: {why}")
+        self._x = _surface(f, x)
+        t, X, phase, _ = f.rec.arrays()
+        return f.dives[-1], (t, X, phase)
+
+
 def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, current: Any = None, seed: int = 0,
                 steer: str = "auto", gps_noise: float = 0.0, hotel_power: float = 0.0, record_period: float = 2.0,
                 duration: float | None = None, rtol: float = 1e-6, model: str = "full") -> MissionRun:
@@ -612,28 +738,10 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
         If the mission's glides are outside the flight envelope or the actuator ranges, or its bottom depth is below
         the vehicle's ``depth_rating``.
     """
-    veh = require_glider(veh)
-    if not isinstance(mission, Mission):
-        raise ArgumentTypeError(f"mission must be a glidectl.Mission, got {type(mission).__name__}")
-    rating = float(veh.params.get("depth_rating", MAX_MISSION_DEPTH))
-    if mission.depths[1] > rating:
-        raise InfeasibleGlideError(f"the mission dives to {mission.depths[1]:g} m, below the depth rating "
-                                   f"{rating:g} m of vehicle '{veh.name}' ([parameters] depth_rating)")
-    seed = checks.integer("seed", seed, lo=0)
-    gps = checks.nonnegative("gps_noise", gps_noise, unit="m")
     hotel = checks.nonnegative("hotel_power", hotel_power, unit="W")
-    period = checks.real("record_period", record_period, lo=0.1, hi=60.0, unit="s")
     t_end = math.inf if duration is None else checks.positive("duration", duration, unit="s")
-    rtol = checks.real("rtol", rtol, lo=1e-10, hi=1e-3)
-    law, name = _law(controller)
-    plant = ActuatedGlider3D(veh, current)
-    plan = DivePlan(plant, mission.gamma, mission.speed, steer)
-    if callable(getattr(law, "prepare", None)):
-        law = law.prepare(plan)
-    checks.choice("model", model, ("full", "fast"))
-    f = _Flight(plant, plan, law, mission, np.random.default_rng(seed), gps, period, rtol, t_end)
-    if model == "fast":
-        f.profile = calibrate_dive(plant, plan, law, mission.depths, mission.yos, period, rtol)
+    f, name = _setup(veh, mission, controller, current, seed, steer, gps_noise, record_period, rtol, model, t_end)
+    plant, plan = f.plant, f.plan
     start = np.asarray(mission.start, dtype=float)
     heading = float(current_corrected_heading(start, f.target(), f.c_est, plan.horizontal_speed(1)))
     x = rest_state(plan, start, start, heading)

@@ -1,0 +1,6 @@
+"""Fleets: gliders coordinated at their surfacings (thesis chapter 3): the fleet simulator and its coordinators."""
+
+from .fleet import FleetRun, fly_fleet
+from .formation import SHAPES, FormationControl, shape_offsets
+
+__all__ = ["SHAPES", "FleetRun", "FormationControl", "fly_fleet", "shape_offsets"]

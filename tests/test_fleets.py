@@ -1,0 +1,109 @@
+"""Fleets (glidectl.fleets): the formation's potentials and slots, a fleet run whose spacing follows the schedule,
+serial and parallel runs equal, bad input."""
+
+from __future__ import annotations
+
+import itertools
+import math
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+import pytest
+
+import glidectl as gc
+from glidectl.errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError
+from glidectl.fleets import shape_offsets
+
+SLOCUM = gc.load_vehicle("slocum_shallow")
+DIVES = gc.Mission(waypoints=[(1.0, 0.0)], depths=(5.0, 100.0), surface_time=300.0)
+
+
+def _formation(**kw):
+    args = dict(shape="triangle", spacing=[(0.0, 6000.0), (12 * 3600.0, 3000.0)], leader_path=[(0, 0), (30000, 0)],
+                leader_speed=0.12)
+    return gc.FormationControl(**{**args, **kw})
+
+
+def test_triangle_offsets_have_the_spacing_as_sides():
+    off = shape_offsets("triangle", 3, 5000.0)
+    for i, j in itertools.combinations(range(3), 2):
+        assert math.hypot(*(off[i] - off[j])) == pytest.approx(5000.0, rel=1e-12)
+    np.testing.assert_allclose(off.mean(0), 0.0, atol=1e-9)
+    assert off[0, 0] > 0 and off[0, 1] == pytest.approx(0.0, abs=1e-9)          # a vertex ahead
+    np.testing.assert_allclose(np.diff(shape_offsets("line", 4, 100.0)[:, 1]), 100.0)
+
+
+def test_the_potentials_equilibrium_is_the_desired_shape():
+    fc = _formation()
+    for t in (0.0, 5000.0, 20 * 3600.0):
+        slots = fc.slots(3, t)
+        assert fc.potential(slots, t) == pytest.approx(0.0, abs=1e-12)
+        d = fc.spacing_at(t)
+        for i, j in itertools.combinations(range(3), 2):
+            assert math.hypot(*(slots[i] - slots[j])) == pytest.approx(d, rel=1e-12)
+        # every glider on its slot: the waypoint for the next surfacing is the slot there (the gradient vanishes)
+        h = 1700.0
+        reports = {j: (t, slots[j]) for j in range(3)}
+        for i in range(3):
+            np.testing.assert_allclose(fc.waypoint(i, 3, t, h, reports), fc.slots(3, t + h)[i], atol=1e-6)
+        # off the shape the potential is positive
+        assert fc.potential(slots + [[100.0, 0.0], [0.0, 0.0], [0.0, 0.0]], t) > 0
+
+
+def test_leader_moves_along_its_path_and_stops_at_its_end():
+    fc = _formation()
+    pos, u = fc.leader(1000.0)
+    np.testing.assert_allclose(pos, [120.0, 0.0], atol=1e-9)
+    np.testing.assert_allclose(u, [1.0, 0.0])
+    np.testing.assert_allclose(fc.leader(1e7)[0], [30000.0, 0.0])
+    np.testing.assert_allclose(fc.leader_velocity(1e7), [0.0, 0.0])
+
+
+@pytest.fixture(scope="module")
+def still_run():
+    fc = _formation()
+    starts = fc.slots(3, 0.0) + np.array([[800.0, -600.0], [-700.0, 900.0], [500.0, 1000.0]])
+    return gc.fly_fleet([SLOCUM] * 3, fc, mission=DIVES, starts=starts, duration=24 * 3600.0)
+
+
+def test_spacing_converges_in_still_water_and_follows_the_schedule(still_run):
+    times, spacing = still_run.mean_spacing()
+    desired = still_run.desired_spacing(times)
+    assert abs(spacing[0] - 6000.0) > 400.0                     # launched off the shape
+    for lo, hi in ((6 * 3600.0, 12 * 3600.0), (18 * 3600.0, 24 * 3600.0)):
+        sel = (times >= lo) & (times < hi)
+        err = np.abs(spacing[sel] - desired[sel]) / desired[sel]
+        assert float(np.mean(err)) < 0.1
+    assert still_run.late_reports == 0 and still_run.executor == "serial"
+    assert len(still_run.surfacings) >= 3 * 40 and len(still_run.waypoints) >= len(still_run.surfacings)
+    axes = still_run.plot()
+    assert len(axes) == 2 and axes[1].get_ylabel() == "spacing [km]"
+
+
+def test_parallel_run_is_the_serial_run():
+    fc = _formation()
+    kw = dict(mission=DIVES, duration=4 * 3600.0, current=(0.05, 0.1), seed=3)
+    serial = gc.fly_fleet([SLOCUM] * 3, fc, **kw)
+    with ProcessPoolExecutor(2) as pool:
+        parallel = gc.fly_fleet([SLOCUM] * 3, fc, executor=pool, **kw)
+    for a, b in zip(serial.states, parallel.states, strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert parallel.executor.endswith("ProcessPoolExecutor")
+
+
+def test_bad_fleets_are_refused():
+    fc = _formation()
+    with pytest.raises(ArgumentError, match="non-empty"):
+        gc.fly_fleet([], fc, mission=DIVES, starts=np.zeros((0, 2)), duration=3600.0)
+    with pytest.raises(ArgumentError, match="triangle formation has 3 gliders"):
+        gc.fly_fleet([SLOCUM] * 2, fc, mission=DIVES, duration=3600.0)
+    with pytest.raises(InfeasibleGlideError, match="cannot keep up"):
+        gc.fly_fleet([SLOCUM] * 3, _formation(leader_speed=0.5), mission=DIVES, duration=3600.0)
+    with pytest.raises(ArgumentError, match="delay"):
+        gc.fly_fleet([SLOCUM] * 3, fc, mission=DIVES, duration=3600.0, delay=1e5)
+    with pytest.raises(ArgumentTypeError, match="waypoint"):
+        gc.fly_fleet([SLOCUM] * 3, object(), mission=DIVES, starts=np.zeros((3, 2)), duration=3600.0)
+    with pytest.raises(ArgumentError, match="spacing"):
+        _formation(spacing=[(0.0, 6000.0), (0.0, 3000.0)])
+    with pytest.raises(ArgumentError, match="zero length"):
+        _formation(leader_path=[(0, 0), (0, 0)])
