@@ -47,7 +47,7 @@ def test_the_potentials_equilibrium_is_the_desired_shape():
         for i in range(3):
             np.testing.assert_allclose(fc.waypoint(i, 3, t, h, reports), fc.slots(3, t + h)[i], atol=1e-6)
         # off the shape the potential is positive
-        assert fc.potential(slots + [[100.0, 0.0], [0.0, 0.0], [0.0, 0.0]], t) > 0
+        assert fc.potential(slots + np.array([[100.0, 0.0], [0.0, 0.0], [0.0, 0.0]]), t) > 0
 
 
 def test_leader_moves_along_its_path_and_stops_at_its_end():
