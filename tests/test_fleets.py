@@ -107,3 +107,43 @@ def test_bad_fleets_are_refused():
         _formation(spacing=[(0.0, 6000.0), (0.0, 3000.0)])
     with pytest.raises(ArgumentError, match="zero length"):
         _formation(leader_path=[(0, 0), (0, 0)])
+
+
+def _drifter(v=(0.08, 0.04), hours=48.0):
+    return gc.drift_track(v, (100.0, -50.0), hours * 3600.0)
+
+
+def test_drift_track_of_a_uniform_current_is_a_straight_line():
+    t, p = _drifter()
+    np.testing.assert_allclose(p, np.c_[100.0 + 0.08 * t, -50.0 + 0.04 * t], atol=1e-9)
+
+
+def test_drifter_prediction_from_delayed_reports_against_a_constructed_drift():
+    dt = gc.DrifterTracking(_drifter(), radius=1000.0)
+    # reports every 30 min, 15 min late: at t = 2 h 10 min the last report is from 1 h 30 min
+    t = 2 * 3600.0 + 600.0
+    assert dt.last_report(t) == 5400.0
+    # a constant drift is predicted exactly from the last two reports, for any time ahead
+    for ahead in (0.0, 1700.0, 7200.0):
+        np.testing.assert_allclose(dt.predicted(t, t + ahead), dt.actual(t + ahead), atol=1e-6)
+    delayed = gc.DrifterTracking(_drifter(), radius=1000.0, mode="delayed")
+    np.testing.assert_allclose(delayed.centre(t, 1700.0), dt.actual(5400.0), atol=1e-9)
+    # the waypoint is on the circle, one chord ahead of the glider's own bearing, counter-clockwise
+    c = dt.centre(t, 1700.0)
+    own = c + np.array([1000.0, 0.0])
+    wp = dt.waypoint(0, 1, t, 1700.0, {0: (t, own)})
+    assert math.hypot(*(wp - c)) == pytest.approx(1000.0, rel=1e-12)
+    assert math.hypot(*(wp - own)) == pytest.approx(min(0.3 * 1700.0, 2000.0), rel=1e-9) and wp[1] > c[1]
+
+
+def test_real_time_tracking_stays_on_the_circle_and_the_delayed_one_lags():
+    runs = {}
+    for mode in ("predicted", "delayed"):
+        dt = gc.DrifterTracking(_drifter(), radius=1500.0, mode=mode)
+        run = gc.fly_fleet([SLOCUM], dt, mission=DIVES, starts=[(1600.0, -50.0)], current=(0.08, 0.04),
+                           duration=18 * 3600.0)
+        runs[mode] = dt.errors(run)
+    assert runs["predicted"]["circle"] < 0.1 * 1500.0
+    assert runs["delayed"]["circle"] > runs["predicted"]["circle"]
+    with pytest.raises(ArgumentError, match="drifter"):
+        gc.DrifterTracking(3.0, radius=100.0)

@@ -125,7 +125,7 @@ from .errors import (
     VehicleFileError,
     VehicleMismatchError,
 )
-from .fleets import FleetRun, FormationControl, fly_fleet
+from .fleets import DrifterTracking, FleetRun, FormationControl, drift_track, fly_fleet
 from .hydro import excess_mass, lift_drag
 from .iosys import to_iosys
 from .missions import (
@@ -266,7 +266,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "LegMetrics", "Mission", "MissionRun",
     ),
     "fleets": (
-        "FleetRun", "fly_fleet", "FormationControl",
+        "drift_track", "DrifterTracking", "FleetRun", "fly_fleet", "FormationControl",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -316,6 +316,7 @@ __all__ = [
     "DivePlan",
     "DiveRecord",
     "Domain",
+    "DrifterTracking",
     "ElevatorBuoyancyController",
     "ElevatorBuoyancyGlider",
     "ElevatorEquilibrium",
@@ -428,6 +429,7 @@ __all__ = [
     "design_torque_control",
     "design_turn",
     "dive_cycle",
+    "drift_track",
     "elevator_closed_loop_eigenvalues",
     "elevator_equilibrium",
     "elevator_example",
