@@ -147,3 +147,33 @@ def test_real_time_tracking_stays_on_the_circle_and_the_delayed_one_lags():
     assert runs["delayed"]["circle"] > runs["predicted"]["circle"]
     with pytest.raises(ArgumentError, match="drifter"):
         gc.DrifterTracking(3.0, radius=100.0)
+
+
+def test_mapping_error_by_hand_on_a_tiny_grid():
+    L, tau, eta = 1000.0, 3600.0, 0.1
+    # one measurement 500 m and 1800 s from the point: e = 1 - c^2 / (1 + eta), c = exp(-0.25 - 0.5)
+    e = gc.fleets.mapping_error([(500.0, 0.0)], 1800.0, [(0.0, 0.0)], [0.0], space_scale=L, time_scale=tau,
+                                noise=eta)
+    c = math.exp(-0.25 - 0.5)
+    assert e[0] == pytest.approx(1.0 - c * c / (1.0 + eta), rel=1e-12)
+    # two measurements at the same place and time: e = 1 - 2 c^2 / (2 + eta) at a point at distance 0
+    e2 = gc.fleets.mapping_error([(0.0, 0.0), (1e6, 0.0)], 0.0, [(0.0, 0.0), (0.0, 0.0)], [0.0, 0.0],
+                                 space_scale=L, time_scale=tau, noise=eta)
+    assert e2[0] == pytest.approx(1.0 - 2.0 / (2.0 + eta), rel=1e-12) and e2[1] == pytest.approx(1.0)
+    assert gc.fleets.mapping_error([(0.0, 0.0)], 0.0, np.zeros((0, 2)), [], space_scale=L, time_scale=tau)[0] == 1.0
+
+
+def test_curve_patrol_spaces_the_gliders_evenly_and_scores_better_than_bunched():
+    curve = [(0, 0), (4000, 0), (4000, 4000), (0, 4000)]
+    cp = gc.CurvePatrol(curve, speed=0.2)
+    assert cp.length == pytest.approx(16000.0)
+    s = cp.slots(4, 1000.0)
+    np.testing.assert_allclose(s[0], [200.0, 0.0])
+    np.testing.assert_allclose(s[1], [0.0, 3800.0])        # a quarter of the curve behind
+    E, N = np.meshgrid(np.linspace(0, 4000, 5), np.linspace(0, 4000, 5))
+    grid = np.c_[E.ravel(), N.ravel()]
+    scores = {}
+    for spacing in ("even", "none"):
+        run = gc.fly_fleet([SLOCUM] * 3, gc.CurvePatrol(curve, 0.2, spacing), mission=DIVES, duration=12 * 3600.0)
+        scores[spacing] = gc.coverage_metric(run, grid, space_scale=1500.0, time_scale=4 * 3600.0).mean
+    assert 0.0 < scores["even"] < scores["none"] < 1.0

@@ -125,7 +125,16 @@ from .errors import (
     VehicleFileError,
     VehicleMismatchError,
 )
-from .fleets import DrifterTracking, FleetRun, FormationControl, drift_track, fly_fleet
+from .fleets import (
+    Coverage,
+    CurvePatrol,
+    DrifterTracking,
+    FleetRun,
+    FormationControl,
+    coverage_metric,
+    drift_track,
+    fly_fleet,
+)
 from .hydro import excess_mass, lift_drag
 from .iosys import to_iosys
 from .missions import (
@@ -266,7 +275,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "LegMetrics", "Mission", "MissionRun",
     ),
     "fleets": (
-        "drift_track", "DrifterTracking", "FleetRun", "fly_fleet", "FormationControl",
+        "Coverage", "coverage_metric", "CurvePatrol", "drift_track", "DrifterTracking", "FleetRun", "fly_fleet",
+        "FormationControl",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -305,7 +315,9 @@ __all__ = [
     "CompositeCertificate",
     "CompositeVerification",
     "ControllerRecord",
+    "Coverage",
     "Current",
+    "CurvePatrol",
     "CycleMetrics",
     "DecoupledAccelerationFeedback",
     "DepthGlidePathModel",
@@ -417,6 +429,7 @@ __all__ = [
     "compare_realized_torque",
     "composite_lyapunov",
     "controllability",
+    "coverage_metric",
     "ctol_closed_loop_eigenvalues",
     "ctol_glide",
     "ctol_glide_map",
