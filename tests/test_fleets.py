@@ -177,3 +177,18 @@ def test_curve_patrol_spaces_the_gliders_evenly_and_scores_better_than_bunched()
         run = gc.fly_fleet([SLOCUM] * 3, gc.CurvePatrol(curve, 0.2, spacing), mission=DIVES, duration=12 * 3600.0)
         scores[spacing] = gc.coverage_metric(run, grid, space_scale=1500.0, time_scale=4 * 3600.0).mean
     assert 0.0 < scores["even"] < scores["none"] < 1.0
+
+
+def test_least_squares_gradient_of_a_plane_is_exact():
+    gcl = gc.GradientClimbing(lambda e, n: 3.0 + 2e-3 * e - 5e-4 * n, "triangle", 1000.0, 0.1)
+    reports = {0: (0.0, (0.0, 0.0)), 1: (0.0, (1000.0, 200.0)), 2: (0.0, (300.0, 900.0))}
+    np.testing.assert_allclose(gcl.gradient(reports), [2e-3, -5e-4], rtol=1e-10)
+    assert gcl.gradient({0: (0.0, (0.0, 0.0)), 1: (0.0, (1.0, 1.0)), 2: (0.0, (2.0, 2.0))}) is None   # collinear
+
+
+def test_the_formation_climbs_to_the_maximum_of_a_field():
+    top = np.array([6000.0, 3000.0])
+    gcl = gc.GradientClimbing(lambda e, n: -((e - top[0]) ** 2 + (n - top[1]) ** 2), "triangle", 1000.0, 0.12)
+    run = gc.fly_fleet([SLOCUM] * 3, gcl, mission=DIVES, starts=gcl.slots(3, 0.0), duration=20 * 3600.0)
+    start, end = (float(np.hypot(*(run.positions_at([t])[0].mean(0) - top))) for t in (0.0, 19.5 * 3600.0))
+    assert start > 6000.0 and end < 1000.0

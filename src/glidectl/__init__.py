@@ -131,6 +131,7 @@ from .fleets import (
     DrifterTracking,
     FleetRun,
     FormationControl,
+    GradientClimbing,
     coverage_metric,
     drift_track,
     fly_fleet,
@@ -276,7 +277,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     ),
     "fleets": (
         "Coverage", "coverage_metric", "CurvePatrol", "drift_track", "DrifterTracking", "FleetRun", "fly_fleet",
-        "FormationControl",
+        "FormationControl", "GradientClimbing",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -351,6 +352,7 @@ __all__ = [
     "Glider3D",
     "GliderBehaviours",
     "GliderFlight",
+    "GradientClimbing",
     "Helix",
     "HelixDesign",
     "HelixRbhLocus",

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from dataclasses import field as dataclasses_field
 from typing import Any
 
 import numpy as np
@@ -26,7 +27,7 @@ import numpy as np
 from .. import checks
 from ..errors import ArgumentError
 
-__all__ = ["SHAPES", "FormationControl", "shape_offsets"]
+__all__ = ["SHAPES", "FormationControl", "GradientClimbing", "shape_offsets"]
 
 #: Formation shapes and their number of gliders.
 SHAPES = {"triangle": 3, "line": None}
@@ -173,3 +174,102 @@ class FormationControl:
             for j in range(i + 1, n):
                 v += 0.5 * self.k_spacing * (float(np.hypot(*(X[i] - X[j]))) - d) ** 2
         return v
+
+
+@dataclass
+class GradientClimbing:
+    """A formation that climbs the gradient of a scalar field it samples (thesis §3.2.1; Ogren, Fiorelli and
+    Leonard 2004): the virtual body moves at ``speed`` along the gradient estimated by least squares, ``f ~ a + g .
+    x``, from the field's values at the gliders' last reported positions, and carries the formation's slots
+    (:func:`shape_offsets`) as :class:`FormationControl` does. With fewer than three reports (or collinear ones) the
+    virtual body keeps its direction.
+
+    Parameters
+    ----------
+    field : callable
+        ``field(east, north) -> value`` (m, m; any unit), the quantity the gliders measure at the surface.
+    shape : {"triangle", "line"}
+    spacing : float
+        Side of the formation (m), > 0.
+    speed : float
+        Speed of the virtual body (m/s), > 0.
+    start : (float, float)
+        The virtual body's position (east, north; m) at ``t = 0``.
+    stop_gradient : float
+        Below this gradient magnitude (field units per m) the virtual body stops (default 0).
+
+    Attributes
+    ----------
+    history : list of (float, ndarray, ndarray)
+        ``(time, virtual body position, estimated gradient)`` at each decision.
+    """
+
+    field: Any
+    shape: str
+    spacing: float
+    speed: float
+    start: Any = (0.0, 0.0)
+    stop_gradient: float = 0.0
+    history: list[tuple[float, np.ndarray, np.ndarray]] = dataclasses_field(default_factory=list, repr=False)
+    name = "gradient climbing"
+
+    def __post_init__(self) -> None:
+        if not callable(self.field):
+            raise ArgumentError("field must be callable: field(east, north) -> value")
+        checks.choice("shape", self.shape, tuple(SHAPES))
+        self.spacing = checks.positive("spacing", self.spacing, unit="m")
+        self.speed = checks.positive("speed", self.speed, unit="m/s")
+        self.start = checks.array("start (east, north), m", self.start, shape=(2,)).astype(float)
+        self.stop_gradient = checks.nonnegative("stop_gradient", self.stop_gradient)
+        self._state = [0.0, self.start.copy(), np.array([1.0, 0.0]), 0.0]   # time, position, direction, |g|
+
+    @property
+    def leader_speed(self) -> float:
+        """The virtual body's speed (m/s): the fleet checks it against the gliders'."""
+        return self.speed
+
+    def spacing_at(self, t: float) -> float:
+        """The formation's side (m)."""
+        return self.spacing
+
+    def gradient(self, reports: Mapping[int, tuple[float, Any]]) -> np.ndarray | None:
+        """Least-squares gradient (field units per m) from the field at the reported positions; None when the
+        positions do not determine a plane."""
+        pts = np.array([np.asarray(p, dtype=float) for _, p in reports.values()])
+        if len(pts) < 3:
+            return None
+        A = np.c_[np.ones(len(pts)), pts - pts.mean(0)]
+        if np.linalg.matrix_rank(A) < 3:
+            return None
+        vals = np.array([float(self.field(p[0], p[1])) for p in pts])
+        coef, *_ = np.linalg.lstsq(A, vals, rcond=None)
+        return coef[1:]
+
+    def _advance(self, t: float) -> None:
+        t0, p, u, gnorm = self._state
+        if t > t0:
+            moving = gnorm > self.stop_gradient or not self.history
+            self._state = [t, p + (self.speed * (t - t0) if moving else 0.0) * u, u, gnorm]
+
+    def slots(self, n: int, t: float) -> np.ndarray:
+        """The slots at time ``t`` (s) about the virtual body carried forward along its current direction."""
+        t0, p, u, gnorm = self._state
+        moving = gnorm > self.stop_gradient or not self.history
+        pos = p + (self.speed * max(t - t0, 0.0) if moving else 0.0) * u
+        off = shape_offsets(self.shape, n, self.spacing)
+        across = np.array([u[1], -u[0]])
+        return pos + off[:, :1] * u + off[:, 1:] * across
+
+    def waypoint(self, i: int, n: int, t: float, horizon: float,
+                 reports: Mapping[int, tuple[float, Any]]) -> np.ndarray:
+        """Update the virtual body to ``t`` and its direction from the reports' gradient, then glider ``i``'s slot
+        at its next surfacing."""
+        self._advance(t)
+        g = self.gradient(reports)
+        if g is not None:
+            norm = float(np.hypot(*g))
+            if norm > 0:
+                self._state[2] = g / norm
+            self._state[3] = norm
+        self.history.append((t, self._state[1].copy(), np.zeros(2) if g is None else g.copy()))
+        return self.slots(n, t + horizon)[i]
