@@ -154,7 +154,7 @@ def _check_feasible(coordinator: Any, flights: list[GliderFlight]) -> None:
 
 def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission, starts: Any = None,
               current: Any = None, duration: float, delay: float = 0.0, seed: int = 0, executor: Any = None,
-              model: str = "fast", controller: Any = "behaviours") -> FleetRun:
+              model: str = "fast", controller: Any = "behaviours", record_period: float = 10.0) -> FleetRun:
     """Fly a fleet coordinated at its surfacings (module docstring).
 
     Parameters
@@ -181,6 +181,9 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
         Runs each round's dives (``executor.submit``); ``None``: in this process.
     model, controller :
         As :class:`~glidectl.missions.fly.GliderFlight` (default the fast model and the glider behaviours).
+    record_period : float
+        Spacing (s) of the recorded samples and of the fast model's calibrated dive (default 10 s: a glider's state
+        travels to an executor's worker and back every dive, and its size is the calibrated dive's).
 
     Returns
     -------
@@ -215,7 +218,7 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
         m = Mission(waypoints=[tuple(S[k] + (1.0, 0.0))], depths=mission.depths, gamma=mission.gamma,
                     speed=mission.speed, surface_time=mission.surface_time, arrival_radius=mission.arrival_radius,
                     start=tuple(S[k]), yos=mission.yos)
-        g = GliderFlight(v, m, controller, current=current, seed=seeds[k], model=model,
+        g = GliderFlight(v, m, controller, current=current, seed=seeds[k], model=model, record_period=record_period,
                          profile=profiles.get(v.provenance))
         profiles.setdefault(v.provenance, g.profile)
         flights.append(g)

@@ -615,6 +615,7 @@ class GliderFlight:
                                           rtol, model, math.inf, profile)
         start = np.asarray(mission.start, dtype=float)
         self._x = rest_state(self._f.plan, start, start, 0.0)
+        self._launched = False
 
     @property
     def time(self) -> float:
@@ -668,17 +669,20 @@ class GliderFlight:
         f = self._f
         f.mission = dataclasses.replace(f.mission, waypoints=[tuple(wp)])
         f.leg, f.leg_ends = 0, []
-        heading = float(pitch_heading(self._x)[1]) if f.dives else float(
-            current_corrected_heading(self.position, wp, f.c_est, f.plan.horizontal_speed(1)))
-        if not f.dives:          # the launch: pointing at the first waypoint
+        if not self._launched:          # the launch: pointing at the first waypoint
+            heading = float(current_corrected_heading(self.position, wp, f.c_est, f.plan.horizontal_speed(1)))
             self._x = rest_state(f.plan, self.position, self._x[19:21], heading, float(self._x[21]))
+            self._launched = True
         f.rec = _Recorder()
         x, why = _dive(f, self._x)
         if why != "surface":
             raise SolverError(f"the glider could not fly its dive toward {tuple(wp)}: {why}")
         self._x = _surface(f, x)
         t, X, phase, _ = f.rec.arrays()
-        return f.dives[-1], (t, X, phase)
+        dive = f.dives[-1]
+        # keep the flight's state small: it travels to an executor's worker and back every dive
+        f.rec, f.dives, f.leg_surfacings, f.leg_ends = _Recorder(), [], [], []
+        return dive, (t, X, phase)
 
 
 def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, current: Any = None, seed: int = 0,
