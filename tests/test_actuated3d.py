@@ -228,3 +228,26 @@ def test_a_compressible_hull_in_a_stratified_sea_changes_buoyancy_with_depth():
     x_surface[2], x_surface[17] = 0.0, x[17] + dm
     np.testing.assert_allclose(at_depth[7:13], plant.rhs(x_surface, np.zeros(4))[7:13], rtol=1e-12, atol=1e-15)
     assert ActuatedGlider3D(SLOCUM).buoyancy_change(z) == 0.0
+
+
+def test_gridded_current_interpolates_and_reads_an_xarray_dataset():
+    import xarray as xr
+    east, north = np.array([0.0, 1000.0, 2000.0]), np.array([0.0, 500.0])
+    E, N = np.meshgrid(east, north)
+    u, v = 1e-4 * E, 2e-4 * N                       # a linear field: interpolation is exact inside the grid
+    c = Current.gridded(east, north, u, v)
+    np.testing.assert_allclose(c.at(0.0, [750.0, 250.0, 30.0]), [0.075, 0.05], atol=1e-12)
+    np.testing.assert_allclose(c.at(0.0, [5000.0, -100.0, 0.0]), [0.2, 0.0], atol=1e-12)    # held at the edges
+    assert not c.time_varying
+    times = np.array([0.0, 3600.0])
+    ut = np.stack([u, 2 * u])
+    vt = np.stack([v, v])
+    ds = xr.Dataset({"u": (("time", "north", "east"), ut), "v": (("time", "north", "east"), vt)},
+                    coords={"time": times, "north": north, "east": east})
+    cd = Current.from_dataset(ds)
+    assert cd.time_varying
+    np.testing.assert_allclose(cd.at(1800.0, [1000.0, 0.0, 0.0]), [0.15, 0.0], atol=1e-12)
+    with pytest.raises(ArgumentError, match="dimensions"):
+        Current.from_dataset(ds.transpose("east", "north", "time"))
+    with pytest.raises(ArgumentError, match="shape"):
+        Current.gridded(east, north, u[:, :2], v)

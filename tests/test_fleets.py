@@ -192,3 +192,13 @@ def test_the_formation_climbs_to_the_maximum_of_a_field():
     run = gc.fly_fleet([SLOCUM] * 3, gcl, mission=DIVES, starts=gcl.slots(3, 0.0), duration=20 * 3600.0)
     start, end = (float(np.hypot(*(run.positions_at([t])[0].mean(0) - top))) for t in (0.0, 19.5 * 3600.0))
     assert start > 6000.0 and end < 1000.0
+
+
+def test_a_spacing_tighter_than_the_gliders_turn_is_refused():
+    from glidectl.missions.fast import tightest_turn
+
+    plant = gc.ActuatedGlider3D(SLOCUM)
+    r = tightest_turn(plant, gc.DivePlan(plant, DIVES.gamma, DIVES.speed))
+    assert 50.0 < r < 500.0                 # the rudder's tightest dive turn, about 110 m
+    with pytest.raises(InfeasibleGlideError, match="tightest turn radius"):
+        gc.fly_fleet([SLOCUM] * 3, _formation(spacing=0.5 * r), mission=DIVES, duration=3600.0)

@@ -11,7 +11,11 @@ Three kinds:
 * a depth profile: ``Current.profile(depths, east, north)``, linear between the tabulated depths and constant
   beyond the ends (a table from an ADCP cast or a model);
 * any callable ``f(t, position) -> (east, north)`` of the time (s) and the position ``(east, north, depth)`` (m):
-  ``Current.field(f)``, or the callable itself.
+  ``Current.field(f)``, or the callable itself;
+* a gridded field (an ocean model's or an HF-radar product's): ``Current.gridded(east, north, u, v, times=None)``
+  on a rectangular grid, linear in space (and time) and constant beyond the grid's edges, or
+  ``Current.from_dataset(ds, u="u", v="v")`` from an ``xarray.Dataset`` with coordinates ``east``, ``north`` (m)
+  and optionally ``time`` (s).
 """
 
 from __future__ import annotations
@@ -67,6 +71,7 @@ class Current:
     north: np.ndarray = field(default_factory=lambda: np.zeros(()))
     depths: np.ndarray = field(default_factory=lambda: np.zeros(0))
     function: Callable[[float, np.ndarray], Any] | None = None
+    _gridded_in_time: bool | None = field(default=None, repr=False)
     _ned: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -125,10 +130,75 @@ class Current:
                                     f"got {type(function).__name__}")
         return cls("field", function=function)
 
+    @classmethod
+    def gridded(cls, east: Any, north: Any, u: Any, v: Any, times: Any = None) -> Current:
+        """A current tabulated on a rectangular grid: ``u``, ``v`` (east, north components, m/s) of shape
+        ``(len(north), len(east))``, or ``(len(times), len(north), len(east))`` with ``times`` (s); linear in
+        between, constant beyond the edges (depth-independent).
+
+        Raises
+        ------
+        ArgumentTypeError, ArgumentError
+            If an axis is not strictly increasing with at least two points, the components do not have the grid's
+            shape, or a speed exceeds :data:`CURRENT_MAX`.
+        """
+        from scipy.interpolate import RegularGridInterpolator
+
+        axes = [("north", north), ("east", east)] if times is None else [("times", times), ("north", north),
+                                                                          ("east", east)]
+        grid = []
+        for name, a in axes:
+            arr = checks.array(f"gridded current {name}", a, ndim=1, min_size=2)
+            if np.any(np.diff(arr) <= 0):
+                raise ArgumentError(f"gridded current {name} must be strictly increasing")
+            grid.append(arr)
+        shape = tuple(g.size for g in grid)
+        U = checks.array("gridded current u", u)
+        V = checks.array("gridded current v", v)
+        if U.shape != shape or V.shape != shape:
+            raise ArgumentError(f"gridded current u and v must have shape {shape} ({', '.join(n for n, _ in axes)}), "
+                                f"got {U.shape} and {V.shape}")
+        _speed_checked("gridded current", U, V)
+        interp = RegularGridInterpolator(tuple(grid), np.stack([U, V], -1), bounds_error=False, fill_value=None)
+        lo = np.array([g[0] for g in grid])
+        hi = np.array([g[-1] for g in grid])
+
+        def f(t: float, pos: np.ndarray) -> np.ndarray:
+            q = np.array([pos[1], pos[0]] if times is None else [t, pos[1], pos[0]])
+            return interp(np.clip(q, lo, hi)[None])[0]
+
+        return cls("field", function=f, depths=np.zeros(0), east=np.zeros(()), north=np.zeros(()),
+                   _gridded_in_time=times is not None)
+
+    @classmethod
+    def from_dataset(cls, ds: Any, u: str = "u", v: str = "v") -> Current:
+        """A gridded current from an ``xarray.Dataset`` (or anything with the same item access): variables ``u``,
+        ``v`` (m/s) over the coordinates ``north`` and ``east`` (m), and ``time`` (s) when they have it (in that
+        order of dimensions: ``(time, north, east)``).
+
+        Raises
+        ------
+        ArgumentError
+            If a variable or coordinate is missing or the dimensions are not ``(north, east)`` or ``(time, north,
+            east)``.
+        """
+        try:
+            U, V = ds[u], ds[v]
+            dims = tuple(U.dims)
+        except (KeyError, AttributeError, TypeError) as exc:
+            raise ArgumentError(f"the dataset has no current variables {u!r} and {v!r} with dimensions: "
+                                f"{exc}") from None
+        if dims not in (("north", "east"), ("time", "north", "east")) or tuple(V.dims) != dims:
+            raise ArgumentError(f"current variables must have dimensions (north, east) or (time, north, east), got "
+                                f"{dims}")
+        times = np.asarray(ds["time"].values, dtype=float) if dims[0] == "time" else None
+        return cls.gridded(np.asarray(ds["east"].values, dtype=float), np.asarray(ds["north"].values, dtype=float),
+                           np.asarray(U.values, dtype=float), np.asarray(V.values, dtype=float), times)
+
     @property
     def time_varying(self) -> bool:
-        """Whether the current may change in time (a user field)."""
-        return self.kind == "field"
+        """Whether the current may change in time (a user field; a gridded field with a time axis)."""
+        return self.kind == "field" and (self.function is not None and self._gridded_in_time is not False)
 
     @property
     def still(self) -> bool:

@@ -26,6 +26,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError
+from ..missions.fast import tightest_turn
 from ..missions.fly import GliderFlight
 from ..missions.mission import Mission
 from ..params import Vehicle
@@ -142,14 +143,21 @@ def _check_members(vehicles: Any, starts: Any, mission: Any) -> tuple[list[Vehic
 
 
 def _check_feasible(coordinator: Any, flights: list[GliderFlight]) -> None:
-    """A leader slower than every glider; a spacing wider than the tightest turn."""
+    """A leader slower than every glider; a spacing no tighter than any glider's tightest turn."""
     speed = getattr(coordinator, "leader_speed", None)
+    sched = getattr(coordinator, "schedule", None)
+    spacing = min(s for _, s in sched) if sched else getattr(coordinator, "spacing", None)
     for k, g in enumerate(flights):
         plan = g.plan
         u = min(plan.horizontal_speed(1), plan.horizontal_speed(-1))
         if speed is not None and speed >= u:
             raise InfeasibleGlideError(f"the leader moves at {speed:g} m/s, as fast as or faster than glider {k}'s "
                                        f"horizontal speed {u:.3g} m/s: the formation cannot keep up")
+        if isinstance(spacing, float):
+            r = tightest_turn(g.plant, plan)
+            if spacing < r:
+                raise InfeasibleGlideError(f"the formation asks for a spacing of {spacing:g} m, below glider {k}'s "
+                                           f"tightest turn radius {r:.4g} m ({plan.steer}): it cannot hold its slot")
 
 
 def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission, starts: Any = None,

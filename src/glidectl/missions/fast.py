@@ -37,7 +37,8 @@ from ..trim.turn import turn_helix
 from .behaviours import DivePlan, dead_zone, pitch_heading, wrap_angle
 from .loop import MissionLoop, current_corrected_heading, rest_state
 
-__all__ = ["TURN_TABLE_FRACTIONS", "DiveProfile", "ReplayedDive", "calibrate_dive", "replay_dive"]
+__all__ = ["TURN_TABLE_FRACTIONS", "DiveProfile", "ReplayedDive", "calibrate_dive", "replay_dive", "tightest_turn",
+           "turn_table"]
 
 _ATOL = np.array([1e-3] * 3 + [1e-8] * 4 + [1e-7] * 3 + [1e-8] * 3 + [1e-8, 1e-9, 1e-7, 1e-8, 1e-7, 1e-7] + [1e-3] * 3)
 
@@ -148,7 +149,7 @@ def calibrate_dive(plant: ActuatedGlider3D, plan: DivePlan, law: Any, depths: tu
     heading = _heading_law(law)
     i = plant.actuator_names.index(plan.steer)
     lim = min(abs(plant.lower[i]), abs(plant.upper[i]))
-    tables = {p: _turn_table(plant, plan, p, lim) for p in (1, -1)}
+    tables = {p: turn_table(plant, plan, p, lim) for p in (1, -1)}
     # no deadband in the replay: in the full model the turn's yaw and roll transients carry the heading on after the
     # steering centres at the deadband's edge, so it settles near the reference (halves the per-dive error)
     return DiveProfile(t, X, phase, loop_rate[:, 0], loop_rate[:, 1], tables, 0.0, float(heading.heading_time),
@@ -159,7 +160,7 @@ def calibrate_dive(plant: ActuatedGlider3D, plan: DivePlan, law: Any, depths: tu
 TURN_TABLE_FRACTIONS = (0.0, 0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 0.85, 1.0)
 
 
-def _turn_table(plant: ActuatedGlider3D, plan: DivePlan, phase: int, limit: float) -> tuple[np.ndarray, np.ndarray]:
+def turn_table(plant: ActuatedGlider3D, plan: DivePlan, phase: int, limit: float) -> tuple[np.ndarray, np.ndarray]:
     """Steady turn rate (rad/s) against the steering setting (rad) of one glide, on the stable branch continued
     from the straight glide (odd in the setting by symmetry); the table ends where the branch does."""
     g = plan.glide(phase)
@@ -255,3 +256,15 @@ def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array([w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
                      w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2])
 
+
+def tightest_turn(plant: ActuatedGlider3D, plan: DivePlan) -> float:
+    """Radius (m) of the tightest steady turn both glides of ``plan`` can fly with the steering actuator in its
+    range (the larger of the dive's and the climb's tightest radius, from :func:`turn_table`)."""
+    i = plant.actuator_names.index(plan.steer)
+    lim = min(abs(plant.lower[i]), abs(plant.upper[i]))
+    radii = []
+    for p in (1, -1):
+        _, rates = turn_table(plant, plan, p, lim)
+        top = float(np.max(np.abs(rates)))
+        radii.append(plan.horizontal_speed(p) / top if top > 0 else math.inf)
+    return max(radii)

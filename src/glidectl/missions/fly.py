@@ -633,6 +633,11 @@ class GliderFlight:
         return self._f.plan
 
     @property
+    def plant(self) -> ActuatedGlider3D:
+        """The actuated glider (its vehicle, actuators and the current)."""
+        return self._f.plant
+
+    @property
     def profile(self) -> DiveProfile | None:
         """The calibrated dive of the fast model (None for the full model)."""
         return self._f.profile
