@@ -202,3 +202,17 @@ def test_a_spacing_tighter_than_the_gliders_turn_is_refused():
     assert 50.0 < r < 500.0                 # the rudder's tightest dive turn, about 110 m
     with pytest.raises(InfeasibleGlideError, match="tightest turn radius"):
         gc.fly_fleet([SLOCUM] * 3, _formation(spacing=0.5 * r), mission=DIVES, duration=3600.0)
+
+
+def test_dask_run_is_the_serial_run_and_other_kinds_are_refused():
+    from dask.distributed import Client
+
+    fc = _formation()
+    kw = dict(mission=DIVES, duration=3 * 3600.0, current=(0.05, 0.1), seed=1)
+    serial = gc.fly_fleet([SLOCUM] * 3, fc, **kw)
+    with Client(processes=False, n_workers=2, threads_per_worker=1, dashboard_address=None) as client:
+        run = gc.fly_fleet([SLOCUM] * 3, fc, executor=client.get_executor(), **kw)
+    for a, b in zip(serial.states, run.states, strict=True):
+        np.testing.assert_array_equal(a, b)
+    with pytest.raises(gc.ModelError, match="underwater glider"):
+        gc.fly_fleet([SLOCUM, SLOCUM, gc.load_vehicle("dc8_ctol")], fc, mission=DIVES, duration=3600.0)

@@ -80,3 +80,19 @@ def test_readme_mission_example_runs(capsys):
     assert "arrived" in capsys.readouterr().out
     assert abs(turn.helices[1].radius - 150.0) < 1e-6 and turn.steer == "rudder"
     assert ns["spiral"].ended_by.startswith("duration")
+
+
+def test_readme_fleet_example_runs():
+    """The README's fleet example flies three gliders in a triangle whose spacing follows the schedule."""
+    import matplotlib
+
+    import glidectl as gc
+
+    matplotlib.use("Agg")
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    block = next(b for b in blocks if "fly_fleet" in b)
+    ns: dict = {"gc": gc, "np": np}
+    exec(compile(block, str(README), "exec"), ns)
+    times, spacing, fleet = ns["times"], ns["spacing"], ns["fleet"]
+    late = times > 48 * 3600
+    assert fleet.size == 3 and abs(np.mean(spacing[late]) - 3000.0) < 300.0
