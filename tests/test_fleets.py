@@ -216,3 +216,31 @@ def test_dask_run_is_the_serial_run_and_other_kinds_are_refused():
         np.testing.assert_array_equal(a, b)
     with pytest.raises(gc.ModelError, match="underwater glider"):
         gc.fly_fleet([SLOCUM, SLOCUM, gc.load_vehicle("dc8_ctol")], fc, mission=DIVES, duration=3600.0)
+
+
+def test_per_glider_controllers_default_dives_and_a_failing_glider_ends_the_run():
+    fc = _formation()
+    run = gc.fly_fleet([SLOCUM] * 3, fc, controller=["behaviours", "lqr", "behaviours"], duration=2 * 3600.0)
+    assert run.ended_by == "duration" and all(len(t) for t in run.t)
+    with pytest.raises(ArgumentError, match="one per glider"):
+        gc.fly_fleet([SLOCUM] * 3, fc, controller=["lqr", "lqr"], duration=3600.0)
+
+    class Breaks:
+        """The behaviours until its pump fails, after some thousands of evaluations (past the first dives)."""
+
+        name = "breaks"
+
+        def __init__(self, after):
+            self.law, self.calls, self.after = gc.GliderBehaviours(), 0, after
+
+        def rates(self, plant, plan, x, phase, heading_ref):
+            self.calls += 1
+            if self.calls > self.after:
+                raise gc.SolverError("the pump failed")
+            return self.law.rates(plant, plan, x, phase, heading_ref)
+
+    probe = Breaks(10**9)
+    gc.fly_fleet([SLOCUM] * 3, fc, controller=probe, model="full", duration=1800.0)     # one dive each
+    broken = gc.fly_fleet([SLOCUM] * 3, fc, controller=Breaks(probe.calls + 10), model="full", duration=4 * 3600.0)
+    assert broken.ended_by.startswith("a glider could not fly its dive") and "pump failed" in broken.ended_by
+    assert all(len(t) for t in broken.t) and max(t[-1] for t in broken.t) < 4 * 3600.0

@@ -25,13 +25,13 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError
+from ..errors import ArgumentError, ArgumentTypeError, GlidectlError, InfeasibleGlideError, SolverError
 from ..missions.fast import tightest_turn
 from ..missions.fly import GliderFlight
 from ..missions.mission import Mission
 from ..params import Vehicle
 
-__all__ = ["FleetRun", "fly_fleet"]
+__all__ = ["DEFAULT_DIVES", "FleetRun", "fly_fleet"]
 
 
 def _fly_one(flight: GliderFlight, waypoint: np.ndarray) -> tuple[GliderFlight, Any, Any]:
@@ -61,6 +61,8 @@ class FleetRun:
     seed : int
     executor : str
         The executor's class, or ``"serial"``.
+    ended_by : str
+        ``"duration"``, or why the run stopped early (a glider that could not fly its dive, with the message).
     """
 
     t: tuple[np.ndarray, ...]
@@ -72,6 +74,7 @@ class FleetRun:
     vehicles: tuple[Vehicle, ...] = field(repr=False)
     seed: int = 0
     executor: str = "serial"
+    ended_by: str = "duration"
 
     @property
     def size(self) -> int:
@@ -160,7 +163,12 @@ def _check_feasible(coordinator: Any, flights: list[GliderFlight]) -> None:
                                            f"tightest turn radius {r:.4g} m ({plan.steer}): it cannot hold its slot")
 
 
-def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission, starts: Any = None,
+#: Dive settings of a fleet's gliders when ``fly_fleet`` is given none: 5-100 m dives at 25 deg and 0.35 m/s, five
+#: minutes at the surface (its waypoint is a placeholder: the coordinator gives them).
+DEFAULT_DIVES = Mission(waypoints=[(1.0, 0.0)], depths=(5.0, 100.0), surface_time=300.0)
+
+
+def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission = DEFAULT_DIVES, starts: Any = None,
               current: Any = None, duration: float, delay: float = 0.0, seed: int = 0, executor: Any = None,
               model: str = "fast", controller: Any = "behaviours", record_period: float = 10.0) -> FleetRun:
     """Fly a fleet coordinated at its surfacings (module docstring).
@@ -174,7 +182,7 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
         e.g. :class:`~glidectl.fleets.formation.FormationControl`.
     mission : Mission
         Dive settings of every glider (depths, gamma, speed, surface time, arrival radius); its waypoints are not
-        used.
+        used. Default :data:`DEFAULT_DIVES`.
     starts : array_like, shape (n, 2), optional
         Launch points (east, north; m); default the coordinator's slots at ``t = 0`` (``coordinator.slots``).
     current : Current, (east, north), callable or None
@@ -187,8 +195,11 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
         Seed (>= 0); each glider's stream is spawned from it.
     executor : concurrent.futures.Executor, optional
         Runs each round's dives (``executor.submit``); ``None``: in this process.
-    model, controller :
-        As :class:`~glidectl.missions.fly.GliderFlight` (default the fast model and the glider behaviours).
+    model : {"fast", "full"}
+        As :class:`~glidectl.missions.fly.GliderFlight` (default the fast model).
+    controller : str, controller object, or a sequence of them
+        Each glider's onboard controller (one for all, or one per glider), as :func:`~glidectl.fly_mission`
+        (default the glider behaviours).
     record_period : float
         Spacing (s) of the recorded samples and of the fast model's calibrated dive (default 10 s: a glider's state
         travels to an executor's worker and back every dive, and its size is the calibrated dive's).
@@ -205,7 +216,11 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
         An empty fleet, starts not one per glider, a delay outside ``[0, one dive)``, a formation that needs
         another number of gliders.
     InfeasibleGlideError
-        A leader as fast as a glider, or a glide a vehicle cannot fly.
+        A leader as fast as a glider, a spacing below a glider's tightest turn, or a glide a vehicle cannot fly.
+    ModelError
+        A vehicle that is not a 3D underwater glider with a heading actuator.
+    SolverError
+        If a glider cannot fly its first dive (a later failure ends the run with :attr:`FleetRun.ended_by`).
     """
     if not callable(getattr(coordinator, "waypoint", None)):
         raise ArgumentTypeError(f"coordinator must have waypoint(i, n, t, horizon, reports), got "
@@ -220,15 +235,21 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
     T = checks.positive("duration", duration, unit="s")
     seed = checks.integer("seed", seed, lo=0)
     seeds = [int(s.generate_state(1)[0] % (2**31)) for s in np.random.SeedSequence(seed).spawn(n)]
-    profiles: dict[str, Any] = {}
+    per_glider = isinstance(controller, Sequence) and not isinstance(controller, str)
+    if per_glider and len(controller) != n:
+        raise ArgumentError(f"controller gives {len(controller)} controllers for {n} gliders; give one, or one per "
+                            "glider")
+    profiles: dict[Any, Any] = {}
     flights = []
     for k, v in enumerate(vehs):
+        ctrl = controller[k] if per_glider else controller
         m = Mission(waypoints=[tuple(S[k] + (1.0, 0.0))], depths=mission.depths, gamma=mission.gamma,
                     speed=mission.speed, surface_time=mission.surface_time, arrival_radius=mission.arrival_radius,
                     start=tuple(S[k]), yos=mission.yos)
-        g = GliderFlight(v, m, controller, current=current, seed=seeds[k], model=model, record_period=record_period,
-                         profile=profiles.get(v.provenance))
-        profiles.setdefault(v.provenance, g.profile)
+        key = (v.provenance, repr(ctrl))
+        g = GliderFlight(v, m, ctrl, current=current, seed=seeds[k], model=model, record_period=record_period,
+                         profile=profiles.get(key))
+        profiles.setdefault(key, g.profile)
         flights.append(g)
     _check_feasible(coordinator, flights)
     dive_min = min(g.dive_time for g in flights)
@@ -239,6 +260,7 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
 def _rounds(flights: list[GliderFlight], coordinator: Any, T: float, delay: float, executor: Any,
             vehs: list[Vehicle], seed: int) -> FleetRun:
     n = len(flights)
+    ended_by = "duration"
     reports: list[tuple[float, int, np.ndarray]] = [(0.0, k, g.position) for k, g in enumerate(flights)]
     samples: list[list[tuple[np.ndarray, np.ndarray]]] = [[] for _ in range(n)]
     issued: list[tuple[float, int, np.ndarray]] = []
@@ -257,11 +279,15 @@ def _rounds(flights: list[GliderFlight], coordinator: Any, T: float, delay: floa
                     known[j] = (tr, p)
             wps[k] = np.asarray(coordinator.waypoint(k, n, t, flights[k].dive_time, known), dtype=float)
             issued.append((t, k, wps[k]))
-        if executor is None:
-            results = [_fly_one(flights[k], wps[k]) for k in active]
-        else:
-            futures = [executor.submit(_fly_one, flights[k], wps[k]) for k in active]
-            results = [f.result() for f in futures]
+        try:
+            if executor is None:
+                results = [_fly_one(flights[k], wps[k]) for k in active]
+            else:
+                futures = [executor.submit(_fly_one, flights[k], wps[k]) for k in active]
+                results = [f.result() for f in futures]
+        except GlidectlError as exc:     # a glider that cannot fly its dive ends the run, with the reason
+            ended_by = f"a glider could not fly its dive: {exc}"
+            break
         new = []
         for k, (g, dive, (t, X, _)) in zip(active, results, strict=True):
             flights[k] = g
@@ -270,9 +296,11 @@ def _rounds(flights: list[GliderFlight], coordinator: Any, T: float, delay: floa
         # a report of this round that had arrived before another glider's decision of this round: missed
         late += sum(1 for (tr, j, _) in new for k, td in decided.items() if j != k and tr + delay <= td)
         reports = sorted(reports + new, key=lambda r: (r[0], r[1]))
+    if any(not s for s in samples):
+        raise SolverError(f"the fleet flew no dive: {ended_by}")
     ts = tuple(np.concatenate([a for a, _ in s]) for s in samples)
     xs = tuple(np.concatenate([b for _, b in s]) for s in samples)
     surf = tuple((tr, j, p) for tr, j, p in reports if tr > 0)
     ex = "serial" if executor is None else f"{type(executor).__module__}.{type(executor).__qualname__}"
-    return FleetRun(ts, xs, surf, tuple(issued), late, coordinator, tuple(vehs), seed, ex)
+    return FleetRun(ts, xs, surf, tuple(issued), late, coordinator, tuple(vehs), seed, ex, ended_by)
 
