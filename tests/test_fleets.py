@@ -244,3 +244,36 @@ def test_per_glider_controllers_default_dives_and_a_failing_glider_ends_the_run(
     broken = gc.fly_fleet([SLOCUM] * 3, fc, controller=Breaks(probe.calls + 10), model="full", duration=4 * 3600.0)
     assert broken.ended_by.startswith("a glider could not fly its dive") and "pump failed" in broken.ended_by
     assert all(len(t) for t in broken.t) and max(t[-1] for t in broken.t) < 4 * 3600.0
+
+
+def test_line_formation_slots_are_the_potentials_equilibrium():
+    fc = gc.FormationControl("line", 1000.0, leader_path=[(0, 0), (10000, 0)], leader_speed=0.1)
+    slots = fc.slots(4, 3600.0)
+    assert fc.potential(slots, 3600.0) == pytest.approx(0.0, abs=1e-9)
+    reports = {j: (3600.0, slots[j]) for j in range(4)}
+    for i in range(4):
+        np.testing.assert_allclose(fc.waypoint(i, 4, 3600.0, 1500.0, reports), fc.slots(4, 5100.0)[i], atol=1e-6)
+
+
+def test_runs_of_a_stateful_coordinator_are_repeatable():
+    top = np.array([4000.0, 2000.0])
+    gcl = gc.GradientClimbing(lambda e, n: -((e - top[0]) ** 2 + (n - top[1]) ** 2), "triangle", 1000.0, 0.12)
+    kw = dict(mission=DIVES, starts=gcl.slots(3, 0.0), duration=4 * 3600.0, delay=600.0)
+    a, b = gc.fly_fleet([SLOCUM] * 3, gcl, **kw), gc.fly_fleet([SLOCUM] * 3, gcl, **kw)
+    for x, y in zip(a.states, b.states, strict=True):
+        np.testing.assert_array_equal(x, y)
+    assert gcl.history == [] and len(a.coordinator.history) > 0      # the runs flew copies
+    # with the delay the first round has no gradient: the virtual body keeps moving along its direction
+    h = a.coordinator.history
+    assert h[3][0] > h[0][0] == 0.0
+    assert float(np.hypot(*(h[3][1] - h[0][1]))) == pytest.approx(0.12 * h[3][0], rel=1e-9)
+
+
+def test_full_model_dive_time_is_the_flown_one():
+    from glidectl.missions import GliderFlight
+
+    for yos in (1, 3):
+        m = gc.Mission(waypoints=[(1.0, 0.0)], depths=(20.0, 100.0), surface_time=300.0, yos=yos)
+        g = GliderFlight(SLOCUM, m, model="full")
+        dive, _ = g.dive((3000.0, 0.0))
+        assert g.dive_time == pytest.approx(dive.duration + 300.0, rel=0.1)

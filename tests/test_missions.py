@@ -249,3 +249,11 @@ def test_fast_model_flies_the_mission_like_the_full_one(box_runs):
         assert np.all(v >= fast.plant.lower[i] - 1e-9) and np.all(v <= fast.plant.upper[i] + 1e-9)
     with pytest.raises(ArgumentError, match="model"):
         gc.fly_mission(SLOCUM, m, model="kinematic")
+
+
+def test_a_run_that_ends_at_the_surface_stops_there():
+    m = gc.Mission(waypoints=[(5000.0, 0.0)], depths=(5.0, 40.0), surface_time=600.0)
+    first = gc.fly_mission(SLOCUM, m, model="fast", duration=3000.0).dives[0]
+    for model in ("fast", "full"):
+        run = gc.fly_mission(SLOCUM, m, model=model, duration=first.end + 100.0)   # inside the surface interval
+        assert run.t[-1] <= first.end + 100.0 + 1e-6 and run.ended_by == "duration"

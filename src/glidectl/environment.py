@@ -67,9 +67,9 @@ class Current:
     """
 
     kind: str
-    east: np.ndarray = field(default_factory=lambda: np.zeros(()))
-    north: np.ndarray = field(default_factory=lambda: np.zeros(()))
-    depths: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    east: np.ndarray = field(default_factory=lambda: np.zeros(()), compare=False)
+    north: np.ndarray = field(default_factory=lambda: np.zeros(()), compare=False)
+    depths: np.ndarray = field(default_factory=lambda: np.zeros(0), compare=False)
     function: Callable[[float, np.ndarray], Any] | None = None
     _gridded_in_time: bool | None = field(default=None, repr=False)
     _ned: np.ndarray = field(init=False, repr=False, compare=False)

@@ -16,6 +16,7 @@ in time (0 when the gliders' dives take the same time, as in the designs).
 
 from __future__ import annotations
 
+import copy
 import itertools
 import math
 from collections.abc import Sequence
@@ -179,7 +180,9 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
         One vehicle file per glider (3D, with a heading actuator).
     coordinator : object
         ``coordinator.waypoint(i, n, t, horizon, reports)`` returns glider ``i``'s next waypoint (east, north; m),
-        e.g. :class:`~glidectl.fleets.formation.FormationControl`.
+        e.g. :class:`~glidectl.fleets.formation.FormationControl`. The run flies a copy (a stateful coordinator
+        such as :class:`~glidectl.fleets.formation.GradientClimbing` starts afresh; :attr:`FleetRun.coordinator`
+        is the copy, with its state at the end).
     mission : Mission
         Dive settings of every glider (depths, gamma, speed, surface time, arrival radius); its waypoints are not
         used. Default :data:`DEFAULT_DIVES`.
@@ -251,6 +254,7 @@ def fly_fleet(vehicles: Sequence[Vehicle], coordinator: Any, *, mission: Mission
                          profile=profiles.get(key))
         profiles.setdefault(key, g.profile)
         flights.append(g)
+    coordinator = copy.deepcopy(coordinator)     # a stateful coordinator starts every run afresh
     _check_feasible(coordinator, flights)
     dive_min = min(g.dive_time for g in flights)
     delay = checks.real("delay", delay, lo=0.0, hi=dive_min, hi_open=True, unit="s")

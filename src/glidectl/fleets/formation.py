@@ -8,7 +8,8 @@ shape with side ``d(t)`` (the spacing schedule) turned to the path's direction. 
 
     w_i = c_i(t + h) - k_spacing sum_j (|c_i - xhat_j| - d) (c_i - xhat_j) / |c_i - xhat_j|,
 
-the slot minus the gradient of the spacing potentials ``V_ij = (|x_i - x_j| - d)^2 / 2`` toward the other
+the slot minus the gradient of the spacing potentials ``V_ij = (|x_i - x_j| - d_ij)^2 / 2`` (``d_ij = |o_i -
+o_j|``, the pair's designed distance) toward the other
 gliders, each at its last reported position carried along with the virtual body to ``t + h``
 (``xhat_j = x_j + v_vb (t + h - t_j)``). With every glider on its slot the potential terms vanish: the equilibrium
 of the potentials is the desired shape (tested).
@@ -149,12 +150,13 @@ class FormationControl:
         ``horizon`` seconds later, from the other gliders' last reports ``{j: (time, (east, north))}``."""
         tt = t + horizon
         c = self.slots(n, tt)[i]
-        d = self.spacing_at(tt)
+        off = shape_offsets(self.shape, n, self.spacing_at(tt))
         v = self.leader_velocity(t)
         grad = np.zeros(2)
         for j, (tj, pj) in reports.items():
             if j == i:
                 continue
+            d = float(np.hypot(*(off[i] - off[j])))           # the pair's designed distance
             xj = np.asarray(pj, dtype=float) + v * (tt - tj)
             delta = c - xj
             r = float(np.hypot(*delta))
@@ -164,14 +166,16 @@ class FormationControl:
 
     def potential(self, X: Any, t: float) -> float:
         """Total potential (m^2) of positions ``X`` (shape ``(n, 2)``) at time ``t``: ``sum_i |x_i - c_i|^2 / 2 +
-        k_spacing sum_{i<j} (|x_i - x_j| - d)^2 / 2``; zero exactly on the slots."""
+        k_spacing sum_{i<j} (|x_i - x_j| - d_ij)^2 / 2`` with the pairs' designed distances; zero exactly on the
+        slots."""
         X = np.asarray(X, dtype=float)
         n = X.shape[0]
         c = self.slots(n, t)
-        d = self.spacing_at(t)
+        off = shape_offsets(self.shape, n, self.spacing_at(t))
         v = 0.5 * float(np.sum((X - c) ** 2))
         for i in range(n):
             for j in range(i + 1, n):
+                d = float(np.hypot(*(off[i] - off[j])))
                 v += 0.5 * self.k_spacing * (float(np.hypot(*(X[i] - X[j]))) - d) ** 2
         return v
 
@@ -221,7 +225,7 @@ class GradientClimbing:
         self.speed = checks.positive("speed", self.speed, unit="m/s")
         self.start = checks.array("start (east, north), m", self.start, shape=(2,)).astype(float)
         self.stop_gradient = checks.nonnegative("stop_gradient", self.stop_gradient)
-        self._state = [0.0, self.start.copy(), np.array([1.0, 0.0]), 0.0]   # time, position, direction, |g|
+        self._state = [0.0, self.start.copy(), np.array([1.0, 0.0]), math.inf]   # time, position, direction, |g|
 
     @property
     def leader_speed(self) -> float:
@@ -248,13 +252,13 @@ class GradientClimbing:
     def _advance(self, t: float) -> None:
         t0, p, u, gnorm = self._state
         if t > t0:
-            moving = gnorm > self.stop_gradient or not self.history
+            moving = gnorm > self.stop_gradient
             self._state = [t, p + (self.speed * (t - t0) if moving else 0.0) * u, u, gnorm]
 
     def slots(self, n: int, t: float) -> np.ndarray:
         """The slots at time ``t`` (s) about the virtual body carried forward along its current direction."""
         t0, p, u, gnorm = self._state
-        moving = gnorm > self.stop_gradient or not self.history
+        moving = gnorm > self.stop_gradient
         pos = p + (self.speed * max(t - t0, 0.0) if moving else 0.0) * u
         off = shape_offsets(self.shape, n, self.spacing)
         across = np.array([u[1], -u[0]])
@@ -266,7 +270,7 @@ class GradientClimbing:
         at its next surfacing."""
         self._advance(t)
         g = self.gradient(reports)
-        if g is not None:
+        if g is not None:           # else the virtual body keeps its direction and its pace
             norm = float(np.hypot(*g))
             if norm > 0:
                 self._state[2] = g / norm

@@ -459,7 +459,7 @@ def _leg_decision(f: _Flight, x: np.ndarray, fix: np.ndarray) -> None:
 
 def _drift(f: _Flight, east_north: np.ndarray, hold: np.ndarray) -> np.ndarray:
     """Drift at the surface for ``surface_time`` with the water at depth 0 (recorded); returns the final position."""
-    T = f.mission.surface_time
+    T = min(f.mission.surface_time, max(f.t_end - f.t, 0.0))      # no drift past the end of the run
     leg = min(f.leg, f.mission.legs - 1)
     if T <= 0:
         return east_north
@@ -505,6 +505,8 @@ def _fast_dive(f: _Flight, x: np.ndarray) -> tuple[np.ndarray, str]:
     assert f.profile is not None
     k = 0
     while True:
+        if f.t >= f.t_end:
+            return x, "duration"
         target = None if f.done else f.target()
         if target is not None and math.hypot(x[19] - target[0], x[20] - target[1]) <= f.mission.arrival_radius:
             f.end_leg(x, "arrived")
@@ -512,6 +514,7 @@ def _fast_dive(f: _Flight, x: np.ndarray) -> tuple[np.ndarray, str]:
         rep = replay_dive(f.profile, x, f.t, target=target, current=f.plant.current, current_estimate=f.c_est,
                           arrival_radius=f.mission.arrival_radius, first=k)
         keep = rep.t <= f.t_end
+        keep[0] = True                     # the dive's start (at or before the end of the run)
         late = not np.all(keep)
         t, X, phase = rep.t[keep], rep.states[keep], rep.phase[keep]
         f.rec.add(t, X, phase, min(f.leg, f.mission.legs - 1))
@@ -644,14 +647,18 @@ class GliderFlight:
 
     @property
     def dive_time(self) -> float:
-        """Nominal time (s) of one dive and surfacing: the calibrated dive plus the surface time (the designed
-        glides' time for the full model)."""
+        """Nominal time (s) of one dive and surfacing: the calibrated dive plus the surface time (for the full
+        model the designed glides' time over the dive's depth spans, ``yos`` yos, plus the surface time: a few
+        percent short, the inflections' transients left out)."""
         f = self._f
         if f.profile is not None:
             return f.profile.duration + f.mission.surface_time
         top, bottom = f.mission.depths
-        return sum((bottom - top if p > 0 else bottom) / abs(f.plan.glide(p).speed * math.sin(f.plan.glide(p).gamma))
-                   for p in (1, -1)) + f.mission.surface_time
+        sink = {p: abs(f.plan.glide(p).speed * math.sin(f.plan.glide(p).gamma)) for p in (1, -1)}
+        yos = f.mission.yos
+        down = bottom + (yos - 1) * (bottom - top)          # surface to bottom, then top to bottom
+        up = bottom + (yos - 1) * (bottom - top)            # bottom to top, then bottom to the surface
+        return down / sink[1] + up / sink[-1] + f.mission.surface_time
 
     def dive(self, waypoint: Any) -> tuple[DiveMetrics, tuple[np.ndarray, ...]]:
         """Fly one dive toward ``waypoint`` (east, north; m) and surface.
