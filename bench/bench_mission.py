@@ -26,6 +26,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 import glidectl as gc
+from glidectl.missions.fast import replay_errors
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_S = 30.0
@@ -41,30 +42,6 @@ def mission() -> tuple[gc.Mission, gc.Current]:
                    arrival_radius=150.0)
     current = gc.Current.profile([0.0, 50.0, 100.0], [0.10, 0.05, 0.02], [0.05, 0.03, 0.0])
     return m, current
-
-
-def replay_errors(run: gc.MissionRun, m: gc.Mission) -> np.ndarray:
-    """Per dive of a full-model run without a waypoint switch under water: the fast model's replay of the dive from
-    the same start, toward the same waypoint with the same current estimate, against the full model's fix: (error
-    in m, error over the dive's horizontal displacement)."""
-    from glidectl.missions.fast import calibrate_dive, replay_dive
-
-    plan = gc.DivePlan(run.plant, m.gamma, m.speed)
-    prof = calibrate_dive(run.plant, plan, gc.GliderBehaviours(), m.depths, m.yos)
-    rows = []
-    for i, d in enumerate(run.dives):
-        sel = (run.t >= d.start) & (run.t <= d.end)
-        if len(set(run.leg[sel])) > 1:
-            continue
-        k = int(np.argmax(sel))
-        x0 = run.states[k]
-        c_est = run.dives[i - 1].current_estimate if i else np.zeros(2)
-        rep = replay_dive(prof, x0, d.start, target=tuple(m.waypoints[run.leg[k]]), current=run.current,
-                          current_estimate=c_est, arrival_radius=-1.0)
-        end = rep.states[-1]
-        err = math.hypot(end[1] - d.fix[0], end[0] - d.fix[1])
-        rows.append((err, err / math.hypot(d.fix[0] - x0[1], d.fix[1] - x0[0])))
-    return np.array(rows)
 
 
 def main() -> None:
@@ -85,7 +62,7 @@ def main() -> None:
             fast = gc.fly_mission(veh, m, current=current, duration=86400.0, model="fast")
             fast_times.append(time.perf_counter() - t0)
     med = float(np.median(times))
-    errors = replay_errors(run, m)
+    errors = replay_errors(run)
     out = {"fast_wall_median_s": float(np.median(fast_times)), "fast_dives": len(fast.dives),
            "fast_speedup": med / float(np.median(fast_times)),
            "fast_per_dive_error_median_m": float(np.median(errors[:, 0])),

@@ -218,7 +218,7 @@ def box_runs():
 
 
 def test_fast_model_flies_the_mission_like_the_full_one(box_runs):
-    from glidectl.missions.fast import calibrate_dive, replay_dive
+    from glidectl.missions.fast import calibrate_dive, replay_errors
 
     m, full, fast = box_runs
     assert [leg.reason for leg in fast.legs] == [leg.reason for leg in full.legs] == ["arrived", "arrived"]
@@ -230,18 +230,7 @@ def test_fast_model_flies_the_mission_like_the_full_one(box_runs):
     plan = gc.DivePlan(full.plant, m.gamma, m.speed)
     prof = calibrate_dive(full.plant, plan, gc.GliderBehaviours(), m.depths)
     assert prof.duration == pytest.approx(full.dives[0].duration, rel=1e-3)   # still water, straight: the same dive
-    rel = []
-    for i, d in enumerate(full.dives):
-        sel = (full.t >= d.start) & (full.t <= d.end)
-        if len(set(full.leg[sel])) > 1:
-            continue
-        k = int(np.argmax(sel))
-        x0 = full.states[k]
-        c_est = full.dives[i - 1].current_estimate if i else np.zeros(2)
-        rep = replay_dive(prof, x0, d.start, target=tuple(m.waypoints[full.leg[k]]), current=full.current,
-                          current_estimate=c_est, arrival_radius=-1.0)
-        end = rep.states[-1]
-        rel.append(math.hypot(end[1] - d.fix[0], end[0] - d.fix[1]) / math.hypot(d.fix[0] - x0[1], d.fix[1] - x0[0]))
+    rel = replay_errors(full)[:, 1]
     assert len(rel) >= 3 and float(np.median(rel)) < 0.05
     # the fast run's samples carry the calibrated attitude and actuators: limits hold there too
     for i, name in enumerate(fast.plant.actuator_names):

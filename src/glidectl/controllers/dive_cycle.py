@@ -114,6 +114,7 @@ __all__ = [
     "dive_cycle",
     "lqg_filter_noise",
     "pump_energy",
+    "pump_power",
     "tune_pitch_pid",
 ]
 
@@ -143,6 +144,29 @@ _IZ = ACCEL_STATES.index("z")
 
 
 # ------------------------------------------------------------------------------------------------ energy
+def pump_power(depth: Any, m0_rate: Any, *, efficiency: float = 1.0, rho: float = RHO_SEAWATER, g: float = 9.81,
+               p_atm: float = P_ATM, pump_work: str = "out") -> Any:
+    """Power (W) the buoyancy pump draws: ``p(z) |dV/dt| / eta`` while it pushes oil out (``pump_work="out"``,
+    ``dm0/dt < 0``; the return stroke is driven by the sea pressure) or always (``"both"``), with ``dV/dt =
+    -(dm0/dt) / rho`` and ``p(z) = p_atm + rho g z``. No argument checks (right-hand sides and
+    :func:`~glidectl.pump_energy` check theirs).
+
+    Parameters
+    ----------
+    depth : array_like
+        Depth ``z`` (m, positive down).
+    m0_rate : array_like
+        Pump rate ``dm0/dt`` (kg/s).
+    efficiency, rho, g, p_atm : float
+        Pump efficiency ``eta`` (0, 1], water density (kg/m^3), gravity (m/s^2), surface pressure (Pa).
+    pump_work : {"out", "both"}
+        Which strokes cost energy.
+    """
+    vdot = -np.asarray(m0_rate) / rho
+    flow = np.maximum(vdot, 0.0) if pump_work == "out" else np.abs(vdot)
+    return (p_atm + rho * g * np.asarray(depth)) * flow / efficiency
+
+
 def pump_energy(t: Any, depth: Any, m0_rate: Any, *, efficiency: float = 1.0, rho: float = RHO_SEAWATER,
                 p_atm: float = P_ATM, g: float = 9.81, pump_work: str = "out") -> float:
     """Pump energy, ``1/eta`` times the integral of ``p(z) abs(dV/dt)`` over time (J), of a sampled trajectory.
@@ -191,12 +215,10 @@ def pump_energy(t: Any, depth: Any, m0_rate: Any, *, efficiency: float = 1.0, rh
     p_atm = checks.nonnegative("p_atm", p_atm, unit="Pa")
     g = checks.positive("g", g, unit="m/s^2")
     checks.choice("pump_work", pump_work, _PUMP_WORK)
-    vdot = -r / rho
-    flow = np.maximum(vdot, 0.0) if pump_work == "out" else np.abs(vdot)
-    power = (p_atm + rho * g * z) * flow
+    power = pump_power(z, r, efficiency=eta, rho=rho, g=g, p_atm=p_atm, pump_work=pump_work)
     if t.size < 2:
         return 0.0
-    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(t)) / eta)
+    return float(np.sum(0.5 * (power[1:] + power[:-1]) * np.diff(t)))
 
 
 # ------------------------------------------------------------------------------------------------ controllers

@@ -37,8 +37,8 @@ from ..trim.turn import turn_helix
 from .behaviours import DivePlan, dead_zone, pitch_heading, wrap_angle
 from .loop import MissionLoop, current_corrected_heading, rest_state
 
-__all__ = ["TURN_TABLE_FRACTIONS", "DiveProfile", "ReplayedDive", "calibrate_dive", "replay_dive", "tightest_turn",
-           "turn_table"]
+__all__ = ["TURN_TABLE_FRACTIONS", "DiveProfile", "ReplayedDive", "calibrate_dive", "replay_dive", "replay_errors",
+           "tightest_turn", "turn_table"]
 
 _ATOL = np.array([1e-3] * 3 + [1e-8] * 4 + [1e-7] * 3 + [1e-8] * 3 + [1e-8, 1e-9, 1e-7, 1e-8, 1e-7, 1e-7] + [1e-3] * 3)
 
@@ -268,3 +268,43 @@ def tightest_turn(plant: ActuatedGlider3D, plan: DivePlan) -> float:
         top = float(np.max(np.abs(rates)))
         radii.append(plan.horizontal_speed(p) / top if top > 0 else math.inf)
     return max(radii)
+
+
+def replay_errors(run: Any, law: Any = None) -> np.ndarray:
+    """How far the fast model strays from a full-model run, dive by dive: each dive of ``run`` (a
+    :class:`~glidectl.missions.fly.MissionRun` of the full model) without a waypoint switch under water is replayed
+    from the same start toward the same waypoint with the same current estimate, and its surfacing compared with
+    the full model's fix.
+
+    Parameters
+    ----------
+    run : MissionRun
+    law : object, optional
+        The onboard law the run flew (default the glider behaviours).
+
+    Returns
+    -------
+    ndarray, shape (k, 2)
+        Per compared dive: the distance (m) between the replay's surfacing and the fix, and that distance over the
+        dive's horizontal displacement.
+    """
+    from .behaviours import GliderBehaviours
+
+    m = run.mission
+    plan = DivePlan(run.plant, m.gamma, m.speed)
+    law = GliderBehaviours() if law is None else law
+    prof = calibrate_dive(run.plant, plan, law.prepare(plan) if hasattr(law, "prepare") else law, m.depths, m.yos)
+    rows = []
+    for i, d in enumerate(run.dives):
+        sel = (run.t >= d.start) & (run.t <= d.end)
+        if len(set(run.leg[sel])) > 1:
+            continue
+        k = int(np.argmax(sel))
+        x0 = run.states[k]
+        c_est = run.dives[i - 1].current_estimate if i else np.zeros(2)
+        rep = replay_dive(prof, x0, d.start, target=tuple(m.waypoints[run.leg[k]]), current=run.current,
+                          current_estimate=c_est, arrival_radius=-1.0)
+        end = rep.states[-1]
+        err = math.hypot(end[1] - d.fix[0], end[0] - d.fix[1])
+        rows.append((err, err / math.hypot(d.fix[0] - x0[1], d.fix[1] - x0[0])))
+    return np.array(rows).reshape(-1, 2)

@@ -22,7 +22,7 @@ last leg, or at ``duration``.
 Energy
 ------
 Per dive and per leg: the pump energy integrated with the motion (the loop's ``pump_energy`` state,
-:func:`~glidectl.missions.loop.pump_power` with the vehicle's ``pump_efficiency`` and surface water density:
+:func:`~glidectl.controllers.dive_cycle.pump_power` with the vehicle's ``pump_efficiency`` and surface water density:
 pushing oil out against the sea pressure); per leg also ``hotel_power`` times the duration.
 """
 

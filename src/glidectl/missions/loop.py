@@ -2,8 +2,9 @@
 dead reckoning, as one input-free model.
 
 State: the 19 states of :class:`~glidectl.models.actuated3d.ActuatedGlider3D` followed by the dead-reckoned
-position ``(dr_east, dr_north)`` (m) and the pump energy spent (J), ``E' =`` :func:`pump_power` (the integrand of
-:func:`~glidectl.pump_energy`, integrated with the motion instead of on samples).
+position ``(dr_east, dr_north)`` (m) and the pump energy spent (J), ``E' =``
+:func:`~glidectl.controllers.dive_cycle.pump_power` (the integrand of :func:`~glidectl.pump_energy`, integrated with
+the motion instead of on samples).
 
 Dead reckoning uses what the glider measures: the depth rate ``zdot`` (pressure), pitch ``theta`` and heading
 ``psi`` (compass), and the flight model of the leg's designed glide (angle of attack ``alpha_e``), as Slocum's
@@ -28,42 +29,17 @@ from typing import Any
 
 import numpy as np
 
+from ..controllers.dive_cycle import pump_power
 from ..models.actuated3d import ACTUATED3D_STATES, ActuatedGlider3D
 from ..models.glider3d import ypr_to_quat
 from .behaviours import DivePlan, pitch_heading
 
-__all__ = ["DR_GAMMA_MIN", "MISSION_STATES", "P_ATM", "MissionLoop", "current_corrected_heading", "pump_power",
-           "rest_state"]
+__all__ = ["DR_GAMMA_MIN", "MISSION_STATES", "MissionLoop", "current_corrected_heading", "rest_state"]
 
 #: State names of :class:`MissionLoop`.
 MISSION_STATES = (*ACTUATED3D_STATES, "dr_east", "dr_north", "pump_energy")
-#: Surface pressure (Pa).
-P_ATM = 101_325.0
 #: Smallest glide-path angle (rad) the dead reckoning divides by.
 DR_GAMMA_MIN = 0.1
-
-
-def pump_power(depth: Any, m0_rate: Any, *, efficiency: float = 1.0, rho: float = 1025.0, g: float = 9.81,
-               p_atm: float = P_ATM, pump_work: str = "out") -> Any:
-    """Power (W) the buoyancy pump draws: ``p(z) |dV/dt| / eta`` while it pushes oil out (``pump_work="out"``,
-    ``dm0/dt < 0``; the return stroke is driven by the sea pressure) or always (``"both"``), with ``dV/dt =
-    -(dm0/dt) / rho`` and ``p(z) = p_atm + rho g z``. No argument checks (right-hand sides and
-    :func:`~glidectl.pump_energy` check theirs).
-
-    Parameters
-    ----------
-    depth : array_like
-        Depth ``z`` (m, positive down).
-    m0_rate : array_like
-        Pump rate ``dm0/dt`` (kg/s).
-    efficiency, rho, g, p_atm : float
-        Pump efficiency ``eta`` (0, 1], water density (kg/m^3), gravity (m/s^2), surface pressure (Pa).
-    pump_work : {"out", "both"}
-        Which strokes cost energy.
-    """
-    vdot = -np.asarray(m0_rate) / rho
-    flow = np.maximum(vdot, 0.0) if pump_work == "out" else np.abs(vdot)
-    return (p_atm + rho * g * np.asarray(depth)) * flow / efficiency
 
 
 def current_corrected_heading(position: Any, target: Any, current: Any, speed: float) -> Any:

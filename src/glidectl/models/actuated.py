@@ -54,7 +54,8 @@ from ..params import Vehicle
 from ._validate import require_glider, trailing_array
 from .longitudinal import ACCEL_STATES, AccelerationControlledGlider
 
-__all__ = ["ACTUATED_AXES", "ACTUATED_INPUTS", "ACTUATED_UNITS", "ActuatedGlider", "check_actuator_state"]
+__all__ = ["ACTUATED_AXES", "ACTUATED_INPUTS", "ACTUATED_UNITS", "ActuatedGlider", "RateLimitedActuators",
+           "check_actuator_state", "rate_interval"]
 
 #: The actuators of the longitudinal model, in input order.
 ACTUATED_AXES = ("r_P1", "r_P3", "m0")
@@ -64,6 +65,48 @@ ACTUATED_INPUTS = ("r_P1_rate", "r_P3_rate", "m0_rate")
 ACTUATED_UNITS = {"r_P1": "m", "r_P3": "m", "m0": "kg", "r_P1_rate": "m/s", "r_P3_rate": "m/s", "m0_rate": "kg/s"}
 
 _POS = np.array([6, 8, 10])  # columns of r_P1, r_P3, m0 in ACCEL_STATES
+
+
+def rate_interval(p: Any, lower: np.ndarray, upper: np.ndarray, rate_limit: np.ndarray,
+                  gain: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Allowed rate interval ``(lo, hi)`` of actuators at positions ``p`` (shape ``(..., k)``): the rate limit and
+    the linear taper of slope ``gain`` onto the range ends, ``[max(-R, k (min - p)), min(R, k (max - p))]``."""
+    with np.errstate(invalid="ignore"):
+        lo = np.maximum(-rate_limit, gain * (lower - p))
+        hi = np.minimum(rate_limit, gain * (upper - p))
+    return lo, hi
+
+
+class RateLimitedActuators:
+    """The actuator limiter shared by the actuated models (module docstring): needs ``positions(x)``, ``lower``,
+    ``upper``, ``rate_limit``, ``gain``, ``input_names`` and ``actuator_names``."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    rate_limit: np.ndarray
+    gain: np.ndarray
+    input_names: tuple[str, ...]
+    actuator_names: tuple[str, ...]
+
+    def positions(self, x: Any) -> np.ndarray:  # pragma: no cover - every model defines its own
+        raise NotImplementedError
+
+    def rate_bounds(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
+        """Allowed rate interval ``(lo, hi)`` of each actuator at states ``x`` (shape ``(..., k)`` each, the
+        actuators' units per second): the rate limit and the linear taper onto the range ends."""
+        return rate_interval(self.positions(x), self.lower, self.upper, self.rate_limit, self.gain)
+
+    def limited_rates(self, x: Any, u: Any) -> np.ndarray:
+        """Requested rates ``u`` (shape ``(..., k)``) limited to :meth:`rate_bounds` (what the actuators do)."""
+        u = trailing_array("u", u, len(self.input_names), self.input_names)
+        lo, hi = self.rate_bounds(x)
+        return np.minimum(np.maximum(u, lo), hi)
+
+    def setpoint_rates(self, x: Any, setpoints: Any) -> np.ndarray:
+        """Requested rates of the servo loops for position setpoints (shape ``(..., k)``, in
+        ``actuator_names`` order): ``k_i (clip(c_i) - p_i)``, ``c_i`` clipped to the range."""
+        c = trailing_array("setpoints", setpoints, len(self.actuator_names), self.actuator_names)
+        return self.gain * (np.clip(c, self.lower, self.upper) - self.positions(x))
 
 
 def check_actuator_state(plant: Any, x: np.ndarray, what: str, servo_columns: dict[int, int],
@@ -100,7 +143,7 @@ def check_actuator_state(plant: Any, x: np.ndarray, what: str, servo_columns: di
 
 
 @dataclass(frozen=True)
-class ActuatedGlider:
+class ActuatedGlider(RateLimitedActuators):
     """Longitudinal glider whose pump and moving mass obey the vehicle's ``[actuators]`` limits (module docstring).
 
     State ``(x, z, theta, Omega2, v1, v3, r_P1, rdot_P1, r_P3, rdot_P3, m0)`` (SI units, as
@@ -175,27 +218,6 @@ class ActuatedGlider:
         """Actuator positions ``(r_P1, r_P3, m0)`` (m, m, kg) of states ``x`` (shape ``(..., 11)``)."""
         return trailing_array("x", x, 11, self.state_names)[..., _POS]
 
-    def rate_bounds(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """Allowed rate interval ``(lo, hi)`` of each actuator at states ``x`` (shape ``(..., 3)`` each; m/s, m/s,
-        kg/s): the rate limit and the linear taper onto the range ends (module docstring)."""
-        p = self.positions(x)
-        with np.errstate(invalid="ignore"):
-            lo = np.maximum(-self.rate_limit, self.gain * (self.lower - p))
-            hi = np.minimum(self.rate_limit, self.gain * (self.upper - p))
-        return lo, hi
-
-    def limited_rates(self, x: Any, u: Any) -> np.ndarray:
-        """Requested rates ``u`` (shape ``(..., 3)``) limited to :meth:`rate_bounds` (what the actuators do)."""
-        u = trailing_array("u", u, 3, self.input_names)
-        lo, hi = self.rate_bounds(x)
-        return np.minimum(np.maximum(u, lo), hi)
-
-    def setpoint_rates(self, x: Any, setpoints: Any) -> np.ndarray:
-        """Requested rates of the servo loops for position setpoints ``(r_P1, r_P3, m0)`` (shape ``(..., 3)``):
-        ``k_i (clip(c_i) - p_i)``, ``c_i`` clipped to the range."""
-        c = trailing_array("setpoints", setpoints, 3, self.actuator_names)
-        return self.gain * (np.clip(c, self.lower, self.upper) - self.positions(x))
-
     def acceleration_rates(self, x: Any, w: Any) -> np.ndarray:
         """Requested rates realizing the thesis inputs ``w = (w1, w3, w4)`` of (2.33) inside the limits:
         ``(rdot_P1 + tau w1, rdot_P3 + tau w3, w4)``."""
@@ -233,10 +255,7 @@ class ActuatedGlider:
         """
         x = trailing_array("x", x, 11, self.state_names)
         u = trailing_array("u", u, 3, self.input_names)
-        p = x[..., _POS]
-        with np.errstate(invalid="ignore"):
-            lo = np.maximum(-self.rate_limit, self.gain * (self.lower - p))
-            hi = np.minimum(self.rate_limit, self.gain * (self.upper - p))
+        lo, hi = rate_interval(x[..., _POS], self.lower, self.upper, self.rate_limit, self.gain)
         s = np.minimum(np.maximum(u, lo), hi)
         tau = self.servo_time
         if s.ndim == 1 and x.ndim == 1 and s.dtype.kind == "f" and x.dtype.kind == "f":  # one real state

@@ -71,7 +71,7 @@ from ..errors import ModelError
 from ..hydro import excess_mass, loads_3d
 from ..params import Vehicle
 from ._validate import require_glider, trailing_array
-from .actuated import check_actuator_state
+from .actuated import RateLimitedActuators, check_actuator_state, rate_interval
 from .glider3d import body_masses, cross, quaternion_rate, require_glider3d, rotation
 
 __all__ = ["ACTUATED3D_AXES", "ACTUATED3D_INPUTS", "ACTUATED3D_STATES", "ACTUATED3D_UNITS", "BUOYANCY_TABLE_DEPTHS",
@@ -105,7 +105,7 @@ def _fixed_setting(veh: Vehicle, axis: str) -> float:
 
 
 @dataclass(frozen=True)
-class ActuatedGlider3D:
+class ActuatedGlider3D(RateLimitedActuators):
     """Three-dimensional glider whose pump, battery (translation and roll) and rudder obey the vehicle's
     ``[actuators]`` limits, flying in a current (module docstring).
 
@@ -216,27 +216,6 @@ class ActuatedGlider3D:
         x = trailing_array("x", x, 19, self.state_names)
         return np.stack([x[..., 13], self.r_P2 + self.rho * np.sin(x[..., 15]), self.rho * np.cos(x[..., 15])], -1)
 
-    def rate_bounds(self, x: Any) -> tuple[np.ndarray, np.ndarray]:
-        """Allowed rate interval ``(lo, hi)`` of each actuator at states ``x`` (shape ``(..., 4)`` each): the rate
-        limit and the linear taper onto the range ends."""
-        p = self.positions(x)
-        with np.errstate(invalid="ignore"):
-            lo = np.maximum(-self.rate_limit, self.gain * (self.lower - p))
-            hi = np.minimum(self.rate_limit, self.gain * (self.upper - p))
-        return lo, hi
-
-    def limited_rates(self, x: Any, u: Any) -> np.ndarray:
-        """Requested rates ``u`` (shape ``(..., 4)``) limited to :meth:`rate_bounds` (what the actuators do)."""
-        u = trailing_array("u", u, 4, self.input_names)
-        lo, hi = self.rate_bounds(x)
-        return np.minimum(np.maximum(u, lo), hi)
-
-    def setpoint_rates(self, x: Any, setpoints: Any) -> np.ndarray:
-        """Requested rates of the servo loops for position setpoints ``(r_P1, roll, m0, rudder)`` (shape
-        ``(..., 4)``): ``k_i (clip(c_i) - p_i)``, ``c_i`` clipped to the range."""
-        c = trailing_array("setpoints", setpoints, 4, self.actuator_names)
-        return self.gain * (np.clip(c, self.lower, self.upper) - self.positions(x))
-
     def buoyancy_change(self, depth: Any) -> Any:
         """``dm(z)`` (kg): the net buoyancy at ``depth`` (m) minus the surface's at the same pump setting (module
         docstring); 0 for a hull that neither compresses nor meets a density profile."""
@@ -269,10 +248,7 @@ class ActuatedGlider3D:
         u = trailing_array("u", u, 4, self.input_names)
         shape = np.broadcast_shapes(x.shape[:-1], u.shape[:-1])
         x, u = np.broadcast_to(x, (*shape, 19)), np.broadcast_to(u, (*shape, 4))
-        p = x[..., _POS]
-        with np.errstate(invalid="ignore"):
-            lo = np.maximum(-self.rate_limit, self.gain * (self.lower - p))
-            hi = np.minimum(self.rate_limit, self.gain * (self.upper - p))
+        lo, hi = rate_interval(x[..., _POS], self.lower, self.upper, self.rate_limit, self.gain)
         s = np.minimum(np.maximum(u, lo), hi)
         tau = self.servo_time
         w1 = (s[..., 0] - x[..., 14]) / tau       # battery acceleration along body-1
