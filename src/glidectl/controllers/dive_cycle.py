@@ -318,6 +318,39 @@ class ScheduledGlideLQR:
         return w_ff - self.K @ (np.asarray(y, dtype=float) - x_ref)
 
 
+def _check_lqg_leg(leg: Any, d: LQGController, K_design: Any, filter_gain: Any) -> None:
+    """The checks and matrices the LQG leg controllers (:class:`ScheduledGlideLQG`, :class:`SampledGlideLQG`)
+    share: a design on the acceleration inputs and on the plant's vehicle, the references and initial estimate,
+    sensors that are states; sets ``leg._mats = (K, G, C, sensor positions)``: the gain on the 11 states, the filter
+    gain ``filter_gain`` (continuous ``L`` or sampled ``M``) placed on the estimated states, the sensor matrix."""
+    if d.inputs != "acceleration":
+        raise ArgumentError("a dive-cycle LQG leg commands the thesis accelerations (w1, w3, w4): design it with "
+                            "inputs='acceleration'")
+    checks.same_vehicle("design", d, leg.plant.vehicle)
+    object.__setattr__(leg, "x_from", checks.array("x_from", leg.x_from, shape=(11,)))
+    object.__setattr__(leg, "x_to", checks.array("x_to", leg.x_to, shape=(11,)))
+    object.__setattr__(leg, "t_start", checks.real("t_start", leg.t_start, unit="s"))
+    object.__setattr__(leg, "ramp_time", checks.nonnegative("ramp_time", leg.ramp_time, unit="s"))
+    if leg.xhat0 is not None:
+        object.__setattr__(leg, "xhat0", checks.array("xhat0", leg.xhat0, shape=(11,)))
+    smap = d.sensors
+    bad = [c for c in smap.channels if c not in ACCEL_STATES]
+    if bad:
+        raise ArgumentError(f"the LQG sensors use channels {bad}, which are not states of the actuated glider: a "
+                            "dive cycle measures states")
+    if len(leg.sensor_index) != len(smap.names):
+        raise ArgumentError(f"sensor_index must give the position of each of {list(smap.names)} among the "
+                            "measurements")
+    K = _accel_gain(K_design, d.state_names, d.plant.input_labels)
+    G = np.zeros((11, len(smap.names)))
+    for r, sname in enumerate(d.estimated_states):
+        G[ACCEL_STATES.index(sname)] = np.asarray(filter_gain)[r]
+    C = np.zeros((len(smap.names), 11))
+    for k, ch in enumerate(smap.channels):
+        C[:, ACCEL_STATES.index(ch)] += smap.M[:, k]
+    object.__setattr__(leg, "_mats", (K, G, C, np.array(leg.sensor_index, dtype=int)))
+
+
 @dataclass(frozen=True, eq=False)
 class ScheduledGlideLQG:
     """Continuous-time LQG leg controller of a dive cycle: the regulator and Kalman gains of
@@ -358,6 +391,8 @@ class ScheduledGlideLQG:
     ArgumentError
         If the design is not on the acceleration inputs, a sensor is not a plain state, or an array has the wrong
         shape.
+    VehicleMismatchError
+        If the design is for another vehicle than the plant.
     """
 
     design: LQGController
@@ -375,31 +410,7 @@ class ScheduledGlideLQG:
     def __post_init__(self) -> None:
         require_instance("design", self.design, LQGController, " (from gc.lqg_glide)")
         require_instance("plant", self.plant, ActuatedGlider)
-        if self.design.inputs != "acceleration":
-            raise ArgumentError("a dive-cycle LQG leg commands the thesis accelerations (w1, w3, w4): design it with "
-                                "inputs='acceleration'")
-        object.__setattr__(self, "x_from", checks.array("x_from", self.x_from, shape=(11,)))
-        object.__setattr__(self, "x_to", checks.array("x_to", self.x_to, shape=(11,)))
-        object.__setattr__(self, "t_start", checks.real("t_start", self.t_start, unit="s"))
-        object.__setattr__(self, "ramp_time", checks.nonnegative("ramp_time", self.ramp_time, unit="s"))
-        if self.xhat0 is not None:
-            object.__setattr__(self, "xhat0", checks.array("xhat0", self.xhat0, shape=(11,)))
-        smap = self.design.sensors
-        bad = [c for c in smap.channels if c not in ACCEL_STATES]
-        if bad:
-            raise ArgumentError(f"the LQG sensors use channels {bad}, which are not states of the actuated glider: a "
-                                "dive cycle measures states")
-        if len(self.sensor_index) != len(smap.names):
-            raise ArgumentError(f"sensor_index must give the position of each of {list(smap.names)} among the "
-                                "measurements")
-        K = _accel_gain(self.design.K, self.design.state_names, self.design.plant.input_labels)
-        Lg = np.zeros((11, len(smap.names)))
-        for r, sname in enumerate(self.design.estimated_states):
-            Lg[ACCEL_STATES.index(sname)] = np.asarray(self.design.L)[r]
-        C = np.zeros((len(smap.names), 11))
-        for k, ch in enumerate(smap.channels):
-            C[:, ACCEL_STATES.index(ch)] += smap.M[:, k]
-        object.__setattr__(self, "_mats", (K, Lg, C, np.array(self.sensor_index, dtype=int)))
+        _check_lqg_leg(self, self.design, self.design.K, self.design.L)
 
     @property
     def glide(self) -> SteadyGlide:
@@ -515,33 +526,7 @@ class SampledGlideLQG:
     def __post_init__(self) -> None:
         require_instance("design", self.design, SampledLQG, " (from gc.lqg_glide(...).sampled(period))")
         require_instance("plant", self.plant, ActuatedGlider)
-        d = self.design.design
-        if d.inputs != "acceleration":
-            raise ArgumentError("a dive-cycle LQG leg commands the thesis accelerations (w1, w3, w4): design it with "
-                                "inputs='acceleration'")
-        checks.same_vehicle("design", d, self.plant.vehicle)
-        object.__setattr__(self, "x_from", checks.array("x_from", self.x_from, shape=(11,)))
-        object.__setattr__(self, "x_to", checks.array("x_to", self.x_to, shape=(11,)))
-        object.__setattr__(self, "t_start", checks.real("t_start", self.t_start, unit="s"))
-        object.__setattr__(self, "ramp_time", checks.nonnegative("ramp_time", self.ramp_time, unit="s"))
-        if self.xhat0 is not None:
-            object.__setattr__(self, "xhat0", checks.array("xhat0", self.xhat0, shape=(11,)))
-        smap = d.sensors
-        bad = [c for c in smap.channels if c not in ACCEL_STATES]
-        if bad:
-            raise ArgumentError(f"the LQG sensors use channels {bad}, which are not states of the actuated glider: a "
-                                "dive cycle measures states")
-        if len(self.sensor_index) != len(smap.names):
-            raise ArgumentError(f"sensor_index must give the position of each of {list(smap.names)} among the "
-                                "measurements")
-        K = _accel_gain(self.design.K, d.state_names, d.plant.input_labels)
-        Mg = np.zeros((11, len(smap.names)))
-        for r, sname in enumerate(d.estimated_states):
-            Mg[ACCEL_STATES.index(sname)] = np.asarray(self.design.M)[r]
-        C = np.zeros((len(smap.names), 11))
-        for k, ch in enumerate(smap.channels):
-            C[:, ACCEL_STATES.index(ch)] += smap.M[:, k]
-        object.__setattr__(self, "_mats", (K, Mg, C, np.array(self.sensor_index, dtype=int)))
+        _check_lqg_leg(self, self.design.design, self.design.K, self.design.M)
 
     @property
     def glide(self) -> SteadyGlide:
