@@ -196,6 +196,24 @@ def _model(case: str):
     raise SystemExit(f"unknown case {case}")
 
 
+_GROUPS = {"n_truth": "sampling", "n_verify": "sampling", "n_simulate": "sampling", "horizon": "sampling",
+           "seed": "sampling", "time_limit": "budget", "memory_limit": "budget", "max_degree": "budget",
+           "on_budget": "budget", "backoff": "solver", "eps": "solver", "center": "solver", "extra": "solver",
+           "reuse": "solver", "inner": "solver", "solver": "solver"}
+
+
+def certify(gc, model, **kw):
+    """``gc.certify_roa(model, **kw)`` with flat keyword arguments, on this tree or on an older one: where
+    certify_roa groups its options (``sampling=``, ``budget=``, ``solver=``), the flat ones are grouped."""
+    if not hasattr(gc, "SamplingOptions"):
+        return gc.certify_roa(model, **kw)
+    grouped: dict = {}
+    for k in [k for k in kw if k in _GROUPS]:
+        v = kw.pop(k)
+        grouped.setdefault(_GROUPS[k], {})["name" if k == "solver" else k] = v
+    return gc.certify_roa(model, **kw, **grouped)
+
+
 def worker(case: str, time_limit: float) -> dict:
     """One certification in this process (imports whatever glidectl PYTHONPATH gives)."""
     import glidectl as gc
@@ -204,21 +222,25 @@ def worker(case: str, time_limit: float) -> dict:
     if time_limit > 0:
         kw.update(time_limit=time_limit, on_budget="stop")
     t0, c0 = time.perf_counter(), time.process_time()
-    cert = gc.certify_roa(model, **kw)
+    cert = certify(gc, model, **kw)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     hist = list(cert.history)
     out = {"case": case, "wall_s": wall, "solve_s": float(cert.solve_time), "certified": bool(cert.certified),
            "degree": int(cert.degree), "volume": float(cert.volume(n=2**16)), "steps": len(hist),
            "stopped_by": getattr(cert, "stopped_by", ""), "glidectl": os.path.dirname(gc.__file__)}
     out["cpu_s"] = cpu
-    if hist and "compile_time" in hist[0]:
-        out["compile_s"] = float(sum(h.get("compile_time", 0.0) for h in hist))
-        out["solver_s"] = float(sum(h.get("solver_time", 0.0) for h in hist))
+    rows = [h if isinstance(h, dict) else vars(h) for h in hist]      # dicts on older trees, HistoryRow now
+
+    def total(key: str) -> float:       # (NaN: not recorded)
+        return float(sum(v for h in rows if (v := h.get(key, 0.0)) == v))
+
+    if rows and "compile_time" in rows[0]:
+        out["compile_s"], out["solver_s"] = total("compile_time"), total("solver_time")
     if case == "vdp":
         out["fraction_of_true"] = out["volume"] / gc.benchmarks.VAN_DER_POL_AREA
     # the path: every step of the history (which backoff the final margin passed at, the rounds tried)
     out["history"] = [{"degree": int(h["degree"]), "step": str(h["step"]), "rho": float(h["rho"]),
-                       "volume": float(h["volume"]), "sdp_s": float(h["sdp_time"])} for h in hist]
+                       "volume": float(h["volume"]), "sdp_s": float(h["sdp_time"])} for h in rows]
     return out
 
 
@@ -230,16 +252,16 @@ def glider4_sdp() -> dict:
 
     fm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5", K_M=-50.0)).full_model()
     ps = C.recast(fm)
-    k = C._scaling(ps)
-    pss = C._rescale(ps, k)
-    F = C._scaled(pss)
-    V2 = C._to_scaled(C.lyapunov_quadratic(ps), k)
+    k = C.variable_scaling(ps)
+    pss = C.rescaled(ps, k)
+    F = C.scaled_field(pss)
+    V2 = C.to_scaled(C.lyapunov_quadratic(ps), k)
     V = V2 + V2 * V2 * 0.1
-    ex = C._auto_extra(ps, None)
+    ex = C.auto_extra(ps, None)
     out = {}
     for tag, sym in (("reduced", True), ("today_program", False)):
         t0 = time.perf_counter()
-        prog, o = C._build(pss, F, 4, V=V, lam=None, rho=None, eps=0.0, extra=ex, symmetry=sym)
+        prog, o = C.build_program(pss, F, 4, V=V, lam=None, rho=None, eps=0.0, extra=ex, symmetry=sym)
         prog.constraints.append(o["rho"].var <= 1e6)
         build = time.perf_counter() - t0
         import cvxpy as cp

@@ -93,14 +93,14 @@ def main() -> None:
         print(f"physical caps (alphabar <= 2, 1-cos <= 3): basis {len(basis)}, residual {res:.2e}, "
               f"{time.perf_counter() - t0:.1f} s; terms {[len(k) for k in keep]}, degrees "
               f"{[max(sum(basis[i]) for i in k) for k in keep]}")
-    ex = C._auto_extra(ps, None)
-    k = C._scaling(ps)
-    pss = C._rescale(ps, k)
-    F = C._scaled(pss)
-    V = C._to_scaled(C.lyapunov_quadratic(ps), k)
+    ex = C.auto_extra(ps, None)
+    k = C.variable_scaling(ps)
+    pss = C.rescaled(ps, k)
+    F = C.scaled_field(pss)
+    V = C.to_scaled(C.lyapunov_quadratic(ps), k)
     print(f"degrees {C._degrees(2, ps.degree, ex)}; estimate: {C._size(ps, 2, ex).summary()}")
     t0 = time.perf_counter()
-    prog, out = C._build(pss, F, 2, V=V, lam=None, rho=None, eps=0.0, extra=ex)
+    prog, out = C.build_program(pss, F, 2, V=V, lam=None, rho=None, eps=0.0, extra=ex)
     print(f"level program built in {time.perf_counter() - t0:.1f} s; Gram blocks {prog.gram_sizes()}; symmetry "
           f"generators {out['symmetry'].tolist()}")
     for name, expr, _ in prog.sos_constraints:

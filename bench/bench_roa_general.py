@@ -103,13 +103,13 @@ def main() -> None:
     for name in args.loops.split(","):
         model, box, weight = all_loops[name]
         for deg in (int(d) for d in args.degrees.split(",")):
-            opts = {"iterations": 2, "n_truth": 256, "n_verify": 4000, "n_simulate": 32}
+            opts = {"iterations": 2, "sampling": gc.SamplingOptions(n_truth=256, n_verify=4000, n_simulate=32)}
             times, res = [], None
             for _ in range(args.repeats):
                 t0 = time.perf_counter()
                 try:
-                    cert = gc.certify_roa(model, degree=deg, box=box, time_limit=args.time_limit, on_budget="stop",
-                                          initial=weight, **opts)
+                    cert = gc.certify_roa(model, degree=deg, box=box, initial=weight, **opts,
+                                          budget=gc.BudgetOptions(time_limit=args.time_limit, on_budget="stop"))
                 except BudgetError as exc:
                     res = {"loop": name, "degree": deg, "refused": str(exc)[:400]}
                     break

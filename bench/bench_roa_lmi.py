@@ -63,7 +63,7 @@ def main() -> None:
             cert = gc.certify_roa_lmi(loop)
             walls.append(time.perf_counter() - t0)
             solves.append(cert.solve_time)
-        unsat = dataclasses.replace(loop, u_lo=np.full(loop.m, -np.inf), u_hi=np.full(loop.m, np.inf),
+        unsat = dataclasses.replace(loop, u_lo=np.full(loop.n_feedback, -np.inf), u_hi=np.full(loop.n_feedback, np.inf),
                                     truth=loop.rhs, name=loop.name + " (saturation ignored)")
         cu = gc.certify_roa_lmi(unsat)
         assert cert is not None

@@ -77,7 +77,7 @@ def _worker(settings: str, retry: float) -> dict:
     wall = time.perf_counter() - t0
     case = res["user_sat"]
     cert = case["sos"].get("cert")
-    rows = [h["step"] for h in cert.history if "failed" in h["step"] or "not kept" in h["step"]] if cert else []
+    rows = [h.step for h in cert.history if "failed" in h.step or "not kept" in h.step] if cert else []
     return {"settings": settings, "retry_center": retry, "certified": bool(cert is not None and cert.certified),
             "sos_volume": case["sos"].get("volume", 0.0), "lmi_volume": case["cert"].volume(),
             "error": case["sos"].get("error"), "failed_or_dropped": rows, "wall_s": wall}

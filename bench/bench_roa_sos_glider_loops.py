@@ -29,7 +29,7 @@ elevator loop: 0.97-0.99 of it in every state), which is what the second round, 
 set, removes.
 
 2026-12-03 (the alternation judges a step by the directed volume estimate when fewer than 100 of its 8192 Sobol
-points fall inside the set, ``certify._step_volume``), inside a FULL ``glidectl report all --no-cache --jobs 2``
+points fall inside the set, ``certify.step_volume``), inside a FULL ``glidectl report all --no-cache --jobs 2``
 build compared number by number with main's: the user glider's unsaturated loop held no Sobol point at any step, so
 no V step had counted and its certificate was the starting V's (1.553e-12, 854 x LMI); now 3.633e-11 (19981 x LMI),
 certified. The saturated loop's first round now keeps its 4th V step instead of the 2nd, which gives the second round

@@ -33,7 +33,7 @@ def main() -> None:
     loop = gc.closed_loop(gc.lqr_glide(veh, trim, inputs="acceleration"))
     t = time.perf_counter()
     try:
-        cert = gc.certify_roa(loop, degree=2, time_limit=120)
+        cert = gc.certify_roa(loop, degree=2, budget=dict(time_limit=120))
     except gc.errors.GlidectlError as exc:
         print(f"{type(exc).__name__} after {time.perf_counter() - t:.1f} s (final verification {VERIFY} s): {exc}")
         return

@@ -15,8 +15,8 @@ import time
 import numpy as np
 
 import glidectl as gc
-from glidectl.analysis.jacobian import hessian
-from glidectl.roa.certify import _V_of, _volume_directed
+from glidectl.derivatives import hessian
+from glidectl.roa.certify import _volume_directed, value_of
 
 
 def _timed(f, repeats: int = 3):
@@ -33,7 +33,7 @@ def main() -> None:
     trim = gc.steady_glide(veh, 0.35, -math.radians(25), r_p3=veh.actuators["r_P3"].fixed)
     loop = gc.closed_loop(gc.lqr_glide(veh, trim, inputs="acceleration"))
     t = time.perf_counter()
-    cert = gc.certify_roa(loop, degree=2, time_limit=120)
+    cert = gc.certify_roa(loop, degree=2, budget=dict(time_limit=120))
     print(f"certify_roa {time.perf_counter() - t:.1f} s: {cert}, certified {cert.certified}")
     ps = cert.system
     lo, hi = ps.box
@@ -46,7 +46,7 @@ def main() -> None:
         print(f"volume(method={method!r}) = {v:.8g} (fraction of box {v / box:.4g}), median {dt:.3f} s")
     v, se = _volume_directed(ps, cert.V, cert.rho, lo, hi, 4096, 0)
     print(f"directed, 4096 directions: {v:.8g} +- {se:.3g}")
-    H = hessian(lambda X: _V_of(cert.V, ps, X), xe)[np.ix_(free, free)]
+    H = hessian(lambda X: value_of(cert.V, ps, X), xe)[np.ix_(free, free)]
     ext = 1.05 * np.sqrt(2 * cert.rho * np.diag(np.linalg.inv(H)))
     blo, bhi = lo.copy(), hi.copy()
     blo[free], bhi[free] = xe[free] - ext, xe[free] + ext

@@ -436,7 +436,7 @@ def report(res: Ch2Results) -> Report:
     rep.text("Method and reproduction policy", (
         "All equilibria are closed-form (module glidectl.trim.glide) and checked by evaluating the one right-hand "
         "side (glidectl.models.longitudinal.LongitudinalGlider.rhs); residuals are printed in the table. "
-        "Jacobians are exact (complex step, glidectl.analysis.jacobian) and tested against central differences. "
+        "Jacobians are exact (complex step, glidectl.derivatives) and tested against central differences. "
         "\n\nA thesis number counts as reproduced when our value is within 1 % of the printed one (the same rule "
         "for every number; printed values have 2-4 significant digits and several ROGUE parameters are not "
         "printed). Parameters were never adjusted to approach a printed value.\n\n"

@@ -203,8 +203,8 @@ def _vdp(s: Settings) -> tuple[_Problem, float, float, dict[str, float] | None, 
     t_lvl = time.perf_counter() - t0
     drake = gc.benchmarks.drake_van_der_pol()
     cycle, area = gc.benchmarks.van_der_pol_limit_cycle()
-    vc = gc.certify_roa(vdp, backoff=s.backoff, n_truth=s.n_guide, degree=s.vdp_degree,
-                        iterations=s.vdp_iterations)
+    vc = gc.certify_roa(vdp, degree=s.vdp_degree, iterations=s.vdp_iterations,
+                        solver=gc.SolverOptions(backoff=s.backoff), sampling=gc.SamplingOptions(n_truth=s.n_guide))
     drake_area = math.pi * DRAKE_RHO / math.sqrt(np.linalg.det(gc.lyapunov_matrix(vdp)))   # ellipse x'Px <= rho
     lo, hi = vdp.box
     vprob = _Problem("van_der_pol", vc, vc.volume(n=s.n_volume), area, drake_area, "Drake (fixed quadratic V)",
@@ -217,8 +217,8 @@ def _reduced(s: Settings) -> tuple[_Problem, gc.SingularPerturbation, tuple[np.n
     """The reduced 2-state glider (K_M = -50): certificate, Phi < 2/3, simulated region, Taylor trap."""
     sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
     rm = sp.reduced_model()
-    rc = gc.certify_roa(rm, backoff=s.backoff, n_truth=s.n_guide, degree=s.reduced_degree,
-                        iterations=s.reduced_iterations)
+    rc = gc.certify_roa(rm, degree=s.reduced_degree, iterations=s.reduced_iterations,
+                        solver=gc.SolverOptions(backoff=s.backoff), sampling=gc.SamplingOptions(n_truth=s.n_guide))
     lo, hi = rm.box
     Vg = np.linspace(lo[0], hi[0], s.n_truth_2d)
     Gg = np.linspace(lo[1], hi[1], s.n_truth_2d)
@@ -241,8 +241,8 @@ def _full(s: Settings, key: str, veh: gc.Vehicle, label: str) -> tuple[str, _Pro
     lo, hi = fm.box
     bvol = float(np.prod(hi - lo))
     lstar = cl.estimate_volume((lo, hi), n=s.n_volume, seed=s.seed_volume)
-    fc = gc.certify_roa(fm, backoff=s.backoff, n_truth=s.n_guide, degree=s.full_degree,
-                        iterations=s.full_iterations)
+    fc = gc.certify_roa(fm, degree=s.full_degree, iterations=s.full_iterations,
+                        solver=gc.SolverOptions(backoff=s.backoff), sampling=gc.SamplingOptions(n_truth=s.n_guide))
     truth = gc.box_measure(lambda X, rhs=fm.rhs: _converged(s, rhs, X, s.horizon_4d), (lo, hi), n=s.n_truth_4d,
                            seed=s.seed_truth)
     prob = _Problem(label, fc, fc.volume(n=s.n_volume), truth, lstar, "thesis L* (5.85)", bvol,
@@ -259,8 +259,9 @@ def _ctol(s: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
     model = cl.roa_model()
     progress(f"CTOL closed loop (k3, k4) = ({s.ctol_k3:g}, {s.ctol_k4:g}) at the level glide: degree-"
              f"{s.ctol_degree} certificate in 7 lifted variables (slow: ~100 s per SDP), Theorem 5, simulations")
-    cert = gc.certify_roa(model, degree=s.ctol_degree, iterations=s.ctol_iterations, backoff=s.backoff,
-                          n_truth=s.n_guide // 2)
+    cert = gc.certify_roa(model, degree=s.ctol_degree, iterations=s.ctol_iterations,
+                          solver=gc.SolverOptions(backoff=s.backoff),
+                          sampling=gc.SamplingOptions(n_truth=s.n_guide // 2))
     th5 = gc.ctol_lyapunov(veh, gl, s.ctol_k3, s.ctol_k4)
     # {Q <= level} is tiny: its volume is that of the ellipsoid of the Hessian of Q at 0 (level ~ 1e-8)
     H = gc.hessian(th5.Q, np.zeros(4))
@@ -544,7 +545,7 @@ USER_SPEED, USER_GAMMA = 0.35, -math.radians(25.0)     # m/s, rad: the down leg 
 #: gc.certify_roa's arguments for the user glider's unsaturated loop: those of designs/slocum_dive_cycle.py (its
 #: ROA_ARGS and its FULL time limit, none), which certifies the same loop under the same cache key
 #: (:func:`_certify_lqr_loop`), so a build computes it once
-USER_ROA_ARGS = {"degree": 2, "time_limit": None}
+USER_ROA_ARGS = {"degree": 2, "budget": gc.BudgetOptions(time_limit=None)}
 
 
 def _user_glider_loop() -> tuple[gc.Vehicle, Any, Any]:
@@ -607,9 +608,9 @@ def _sos_case(system: Any, lmi: Any, s: Settings, certify: Callable[[], Any] | N
     certify_roa call, also when the certificate came from the cache)."""
     t0 = time.perf_counter()
     try:
-        cert = certify() if certify is not None else gc.certify_roa(
-            system, degree=s.sat_sos_degree, iterations=s.sat_sos_iterations, n_simulate=s.sat_n_simulate,
-            n_verify=s.sat_n_verify)
+        sampling = gc.SamplingOptions(n_simulate=s.sat_n_simulate, n_verify=s.sat_n_verify)
+        cert = certify() if certify is not None else gc.certify_roa(system, degree=s.sat_sos_degree,
+                                                                    iterations=s.sat_sos_iterations, sampling=sampling)
     except gc.GlidectlError as exc:
         return {"error": f"{type(exc).__name__}: {exc}", "wall": time.perf_counter() - t0}
     vol = cert.volume() if cert.certified else 0.0
@@ -639,7 +640,7 @@ def _binding(case: dict[str, Any]) -> str:
 
 def _saturation_reach(cert: Any) -> float | None:
     """Largest ``|K_i (x - x_e)| / u0_i`` over the certified ellipsoid (saturating channels), None without any."""
-    sl = cert.loop
+    sl = cert.system
     sat = np.flatnonzero(sl.saturating)
     if len(sat) == 0:
         return None
@@ -690,8 +691,9 @@ def _saturated_part(s: Settings, which: str) -> tuple[str, Any, float]:
     poly = gc.SaturatedLoop("x1' = x2, x2' = x1 + 0.3 x1^2 + sat(-2 x1 - 2 x2)", ("x1", "x2"), ("u",), _poly_field,
                             np.zeros(2), np.array([[-2.0, -2.0]]), np.array([-1.0]), np.array([1.0]),
                             (-2.0 * np.ones(2), 2.0 * np.ones(2)))
-    sos = gc.certify_roa(poly, degree=s.sat_sos_degree, iterations=2, extra=0, n_truth=s.n_guide // 8,
-                         backoff=s.backoff)
+    sos = gc.certify_roa(poly, degree=s.sat_sos_degree, iterations=2,
+                         solver=gc.SolverOptions(extra=0, backoff=s.backoff),
+                         sampling=gc.SamplingOptions(n_truth=s.n_guide // 8))
     t_sos = time.perf_counter() - t0
     t1 = time.perf_counter()
     lmi = gc.certify_roa_lmi(poly, n_verify=s.sat_n_verify, n_simulate=s.sat_n_simulate, **kw)
@@ -730,7 +732,7 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
                    f"{c['label']}: certified ellipsoid / box volume (free states), method {cert.method}",
                    note=f"Extent / box half-width per state: {ext}. Limited by: {bind}.")
         rep.number(f"sat_{key}_true_fraction", c["true_fraction"], "-",
-                   f"{c['n_truth']} box points simulated (converged within {v.horizon:.0f} {cert.loop.time_unit})")
+                   f"{c['n_truth']} box points simulated (converged within {v.horizon:.0f} {cert.system.time_unit})")
         rep.number(f"sat_{key}_verified", cert.certified, "-", v.summary())
         rep.number(f"sat_{key}_wall_time_s", c["wall"], "s", f"certify_roa_lmi, {len(cert.history)} SDPs",
                    note=f"SDP solver {cert.solve_time:.1f} s, Hessian sampling {cert.hessian_time:.1f} s")
@@ -748,8 +750,8 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
                 continue
             sc = o["cert"]
             rb = sc.system.remainder_bound
-            hist = [h for h in sc.history if h["step"].startswith("remainder box")]
-            rounds = [h["step"] for h in sc.history if h["step"].startswith("remainder-box round")]
+            hist = [h for h in sc.history if h.step.startswith("remainder box")]
+            rounds = [h.step for h in sc.history if h.step.startswith("remainder-box round")]
             second = ("round 2 not kept" if any("not kept" in r for r in rounds) else
                       "round 2 skipped (same box)" if any("skipped" in r for r in rounds) else
                       "round 2 stopped" if any("stopped" in r for r in rounds) else
@@ -787,7 +789,7 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
               ["loop", "method", "certified", "simulated", "V scale", "verified", "s", "limited by"], rows)
     for key, c in sat["cases"].items():
         d = c["dims"]
-        rep.figure(f"sat_{key}", c["cert"].plot(dims=d),
+        rep.figure(f"sat_{key}", c["cert"].plot(dims=d).figure,
                    f"{c['label']}: slice of the certified ellipsoid in ({d[0]}, {d[1]}) through the equilibrium, "
                    "within the loop's box.")
     fig = p["sos"].plot()

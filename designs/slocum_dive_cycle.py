@@ -63,11 +63,11 @@ ROA_ARGS = {"degree": 2}
 
 def _certify_lqr_loop(veh: gc.Vehicle, controller: Any, loop: gc.ClosedLoop,
                       time_limit: float | None) -> gc.ROACertificate:
-    """``gc.certify_roa(loop, time_limit=time_limit, **ROA_ARGS)`` for the closed loop of ``controller`` (a
+    """``gc.certify_roa(loop, budget=time_limit, **ROA_ARGS)`` for the closed loop of ``controller`` (a
     ``gc.lqr_glide``) on ``veh``, cached under a key of the vehicle, the gain, the loop's equilibrium and every
     argument (the time limit too: a budget can stop the second remainder-box round and return the first round's
     certificate). In a build, a design that asks while another computes it waits and reads it."""
-    args = dict(ROA_ARGS, time_limit=time_limit)
+    args = dict(ROA_ARGS, budget=gc.BudgetOptions(time_limit=time_limit))
     key = ("certify_roa", "lqr_glide loop", veh, np.asarray(controller.K), np.asarray(loop.equilibrium), args)
     return cached(key, lambda: gc.certify_roa(loop, **args))
 

@@ -85,3 +85,17 @@ def fast_mp() -> Any:
     everywhere), and each spawned worker imports glidectl anew, seconds on a loaded 2-core machine, so the tests fork
     where the platform can (the jobs are the same picklable calls either way)."""
     return multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn")
+
+
+@pytest.fixture
+def moment_policy(monkeypatch: pytest.MonkeyPatch) -> Callable[..., None]:
+    """``moment_policy(field=value, ...)`` runs the rest of the test with those fields of
+    :data:`glidectl.roa.moment.MOMENT_POLICY` changed (restored afterwards)."""
+    import dataclasses
+
+    from glidectl.roa import moment
+
+    def change(**fields: Any) -> None:
+        monkeypatch.setattr(moment, "MOMENT_POLICY", dataclasses.replace(moment.MOMENT_POLICY, **fields))
+
+    return change

@@ -92,7 +92,7 @@ def test_converged_to_classifies_region_of_attraction():
 
 
 def test_hessian_matches_closed_form():
-    from glidectl.analysis.jacobian import hessian
+    from glidectl.derivatives import hessian
 
     f = lambda X: np.sin(X[..., 0]) * X[..., 1] ** 2 + X[..., 0] ** 3  # noqa: E731
     x, y = 0.3, -0.7

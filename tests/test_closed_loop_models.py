@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.analysis.jacobian import jacobians
+from glidectl.derivatives import jacobians
 from glidectl.models.reduced import ReducedLongitudinalGlider
 
 ROGUE = gc.load_vehicle("rogue")

@@ -9,10 +9,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import glidectl as gc
-from glidectl.analysis.jacobian import central_difference_jacobians
 from glidectl.controllers import ctol_tracking
 from glidectl.controllers.ctol import SteadyGlideController
 from glidectl.controllers.ctol_tracking import _augmented, _closed_loop_jacobian, track_with_steady_glides
+from glidectl.derivatives import central_difference_jacobians
 from glidectl.models.ctol import CTOLAircraft
 from glidectl.trim.ctol import _roots, angle_equation
 

@@ -14,8 +14,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import glidectl as gc
-from glidectl.analysis.jacobian import jacobians
 from glidectl.controllers.torque import TorqueLaw
+from glidectl.derivatives import jacobians
 from glidectl.errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 from glidectl.hydro import DAMPING_KEYS, damping_moment, loads_3d, loads_at
 from glidectl.models.glider3d import FixedMassGlider3D, Glider3D, ypr_to_quat

@@ -154,4 +154,4 @@ def test_the_lqr_loop_certificate_is_shared_with_roa_certification(design, monke
     other._certify_lqr_loop(*other._user_glider_loop())
     full, quick = seen["slocum"]
     assert seen["roa"] == [full] and quick != full
-    assert dict(m.ROA_ARGS, time_limit=m.FULL.roa_time_limit) == other.USER_ROA_ARGS
+    assert dict(m.ROA_ARGS, budget=gc.BudgetOptions(time_limit=m.FULL.roa_time_limit)) == other.USER_ROA_ARGS

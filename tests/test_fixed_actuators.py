@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.analysis.jacobian import jacobians
 from glidectl.analysis.linear import FixedActuatorModel, design_model, fixed_actuators
+from glidectl.derivatives import jacobians
 
 SLOCUM = gc.load_vehicle("slocum_shallow")
 GLIDE = gc.steady_glide(SLOCUM, 0.35, -math.radians(25), r_p3=SLOCUM.actuators["r_P3"].fixed)

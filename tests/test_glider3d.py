@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 import glidectl as gc
 from glidectl import LongitudinalGlider, ModelError, load_vehicle
-from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
+from glidectl.derivatives import central_difference_jacobians, jacobians
 from glidectl.hydro import loads_3d, longitudinal_loads
 from glidectl.models.glider3d import (
     FIXED_STATES,

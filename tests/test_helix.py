@@ -21,7 +21,7 @@ from glidectl import (
     helix_trim,
     load_vehicle,
 )
-from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
+from glidectl.derivatives import central_difference_jacobians, jacobians
 from glidectl.models.glider3d import R_to_ypr, quat_to_R, ypr_to_quat
 from glidectl.sim import simulate
 from glidectl.trim.helix import (

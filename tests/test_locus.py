@@ -10,7 +10,6 @@ from scipy.optimize import linear_sum_assignment
 
 import glidectl as gc
 from glidectl import GlidectlError, load_vehicle
-from glidectl.analysis.jacobian import jacobians
 from glidectl.analysis.locus import (
     UNCONTROLLED_BLOCK,
     eta_r_eigenvalues,
@@ -19,6 +18,7 @@ from glidectl.analysis.locus import (
     rbh_locus,
     uncontrolled_eigs,
 )
+from glidectl.derivatives import jacobians
 from glidectl.models.longitudinal import LongitudinalGlider
 from glidectl.trim.glide import steady_glide
 

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 import glidectl as gc
 from glidectl import ModelError, load_vehicle
-from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
+from glidectl.derivatives import central_difference_jacobians, jacobians
 from glidectl.models.longitudinal import (
     ACCEL_INPUTS,
     ACCEL_STATES,

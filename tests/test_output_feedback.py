@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.analysis.jacobian import central_difference_jacobians
 from glidectl.analysis.linear import DepthGlidePathModel, depth_rate, glide_model
+from glidectl.derivatives import central_difference_jacobians
 
 ROGUE = gc.load_vehicle("rogue")
 GLIDE = gc.steady_glide(ROGUE, 0.3, math.radians(-45), r_p3=0.05)

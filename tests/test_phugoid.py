@@ -18,7 +18,7 @@ from scipy.special import beta
 
 import glidectl as gc
 from glidectl import GlidectlError, ModelError, load_vehicle
-from glidectl.analysis.jacobian import jacobians
+from glidectl.derivatives import jacobians
 from glidectl.errors import InfeasibleGlideError
 from glidectl.models import phugoid_hamiltonian as ph
 from glidectl.models.phugoid import (

@@ -205,8 +205,8 @@ def test_existence_scan_plot():
 # ------------------------------------------------------------------------------------------------ certificates
 @pytest.fixture(scope="module")
 def vdp_cert():
-    return gc.certify_roa(gc.benchmarks.van_der_pol(), degree=2, iterations=1, n_truth=128, n_verify=2000,
-                          n_simulate=8)
+    return gc.certify_roa(gc.benchmarks.van_der_pol(), degree=2, iterations=1,
+                          sampling=dict(n_truth=128, n_verify=2000, n_simulate=8))
 
 
 def test_roa_certificate_plot(vdp_cert):

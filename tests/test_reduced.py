@@ -35,7 +35,7 @@ from glidectl import (
     ReducedLongitudinalGlider,
     load_vehicle,
 )
-from glidectl.analysis.jacobian import central_difference_jacobians, jacobians
+from glidectl.derivatives import central_difference_jacobians, jacobians
 
 # --------------------------------------------------------------------------------------------------- vehicles
 ROGUE = load_vehicle("rogue", m0=0.3)                                    # m1 = 13.22 != m3 = 25.22, mbar = 2

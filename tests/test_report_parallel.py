@@ -293,7 +293,8 @@ TITLE = "certifying"
 
 def design(progress, quick=False):
     rm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model()
-    c = gc.certify_roa(rm, degree=4, iterations=1, solver="CLARABEL", n_truth=256, n_verify=500, n_simulate=4)
+    c = gc.certify_roa(rm, degree=4, iterations=1, solver="CLARABEL", sampling=dict(n_truth=256, n_verify=500,
+                                                                                    n_simulate=4))
     rep = Report(TITLE)
     rep.number("rho", c.rho, "-")
     rep.number("V", [float(v) for v in c.V.arrays()[1]], "-")

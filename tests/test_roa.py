@@ -24,7 +24,7 @@ from glidectl.errors import (
     SolverError,
 )
 from glidectl.roa import Poly, SOSProgram, max_level, monomials, polynomial_system, recast
-from glidectl.roa.certify import lyapunov_quadratic
+from glidectl.roa.programs import lyapunov_quadratic
 
 # ------------------------------------------------------------------------------------------- polynomials
 coef = st.floats(-3, 3, allow_nan=False, allow_infinity=False)
@@ -193,10 +193,10 @@ VDP = gc.benchmarks.van_der_pol()
     (ArgumentError, dict(degree=0)),
     (ArgumentError, dict(degree=-2)),
     (ArgumentError, dict(degree=3)),
-    (ArgumentError, dict(degree=2, backoff=-1.0)),
-    (ArgumentError, dict(degree=2, backoff=1.0)),
-    (ArgumentError, dict(degree=2, backoff=2.0)),
-    (ArgumentError, dict(degree=2, backoff=float("nan"))),
+    (ArgumentError, dict(degree=2, solver=dict(backoff=-1.0))),
+    (ArgumentError, dict(degree=2, solver=dict(backoff=1.0))),
+    (ArgumentError, dict(degree=2, solver=dict(backoff=2.0))),
+    (ArgumentError, dict(degree=2, solver=dict(backoff=float("nan")))),
     (ArgumentError, dict(degree=2, iterations=0)),
     (ArgumentError, dict(degree=4, iterations=(3,))),          # one count per degree 2, 4
     (ArgumentError, dict(degree=4, iterations=(3, 1, 1))),
@@ -206,21 +206,24 @@ VDP = gc.benchmarks.van_der_pol()
     (ArgumentTypeError, dict(degree=4, iterations=b"\x03\x01")),
     (ArgumentTypeError, dict(degree=4, iterations=np.array(3))),
     (ArgumentTypeError, dict(degree=4, iterations=[[3, 1]])),
-    (ArgumentError, dict(degree=2, eps=0.0)),
-    (ArgumentError, dict(degree=2, center=1.0)),
-    (ArgumentError, dict(degree=2, n_truth=0)),
-    (ArgumentError, dict(degree=2, n_verify=0)),
-    (ArgumentError, dict(degree=2, horizon=-1.0)),
+    (ArgumentError, dict(degree=2, solver=dict(eps=0.0))),
+    (ArgumentError, dict(degree=2, solver=dict(center=1.0))),
+    (ArgumentError, dict(degree=2, sampling=dict(n_truth=0))),
+    (ArgumentError, dict(degree=2, sampling=dict(n_verify=0))),
+    (ArgumentError, dict(degree=2, sampling=dict(horizon=-1.0))),
     (ArgumentError, dict(degree=2, solver="BOGUS")),
-    (ArgumentError, dict(degree=2, speed_floor=0.0)),
-    (ArgumentError, dict(degree=2, extra=-2)),
-    (ArgumentError, dict(degree=2, time_limit=0.0)),
-    (ArgumentError, dict(degree=2, memory_limit=-1.0)),
-    (ArgumentError, dict(degree=2, on_budget="ignore")),
+    (ArgumentError, dict(degree=2, surrogate=dict(speed_floor=0.0))),
+    (ArgumentError, dict(degree=2, solver=dict(extra=-2))),
+    (ArgumentError, dict(degree=2, budget=dict(time_limit=0.0))),
+    (ArgumentError, dict(degree=2, budget=dict(memory_limit=-1.0))),
+    (ArgumentError, dict(degree=2, budget=dict(on_budget="ignore"))),
     (ArgumentError, dict(degree=2, initial=Poly.variables(3)[0] ** 2)),
     (ArgumentError, dict(degree=2, initial=Poly.const(1.0, 2) + Poly.variables(2)[0] ** 2)),
     (ArgumentTypeError, dict(degree=2, initial="x1^2 + x2^2")),
-    (ArgumentTypeError, dict(degree=2, solver=None)),
+    (ArgumentTypeError, dict(degree=2, solver=[1])),
+    (ArgumentTypeError, dict(degree=2, sampling=3)),
+    (ArgumentError, dict(degree=2, sampling=dict(n_trth=5))),
+    (ArgumentError, dict(degree=2, solver=dict(name="CLARABEL", bogus=1))),
 ])
 def test_certify_roa_checks_every_argument(exc, kwargs):
     t0 = time.perf_counter()
@@ -232,42 +235,42 @@ def test_certify_roa_checks_every_argument(exc, kwargs):
 def test_iterations_per_degree():
     """``iterations`` as one count per degree: at most that many V steps at each (fewer when two in a row do not
     enlarge the set); one integer is the same count at every degree, with the same result."""
-    kw = dict(degree=4, n_truth=256, n_verify=2000, n_simulate=8)
+    kw = dict(degree=4, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8))
     staged = gc.certify_roa(VDP, iterations=(3, 1), **kw)
-    steps = [h["degree"] for h in staged.history if h["step"] == "V step + level"]
+    steps = [h.degree for h in staged.history if h.step == "V step + level"]
     assert steps.count(4) == 1 and 1 <= steps.count(2) <= 3 and staged.certified
     # the counts are taken in the order of the degrees (a reversed lookup would run three quadratic steps here)
     rev = gc.certify_roa(VDP, iterations=(1, 3), **kw)
-    steps = [h["degree"] for h in rev.history if h["step"] == "V step + level"]
+    steps = [h.degree for h in rev.history if h.step == "V step + level"]
     assert steps.count(2) == 1 and 1 <= steps.count(4) <= 3 and steps[0] == 2
     same = gc.certify_roa(VDP, iterations=(2, 2), **kw)
     one = gc.certify_roa(VDP, iterations=2, **kw)
     assert same.V.terms == one.V.terms and same.rho == one.rho
-    assert [h["step"] for h in same.history] == [h["step"] for h in one.history]
+    assert [h.step for h in same.history] == [h.step for h in one.history]
 
 
 def test_history_sdp_times_add_up_to_solve_time_when_a_level_program_fails(monkeypatch):
     """A V step whose level program fails: its row carries the V step's SDP time, which ``solve_time`` counts (it
     showed 0 before), so the rows add up to ``solve_time``; the certificate is the last good V's."""
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real, calls = C._level, []
+    real, calls = programs.solve_level, []
 
     def failing(*a, **k):
         calls.append(1)
         # the initial level, the first V step's level, then the second's: fails; its retry's multiplier (4th), the
         # retried V step's level (5th): fails too
         if len(calls) in (3, 5):
-            raise C.SolverError("level program failed (test)")
+            raise SolverError("level program failed (test)")
         return real(*a, **k)
 
-    monkeypatch.setattr(C, "_level", failing)
-    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
-    failed = [h for h in cert.history if h["step"].startswith("V step failed")]
-    assert len(failed) == 2 and "retried" in failed[0]["step"] and "retried" not in failed[1]["step"]
-    assert all(h["sdp_time"] > 0 for h in failed)
+    monkeypatch.setattr(alternation, "solve_level", failing)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8))
+    failed = [h for h in cert.history if h.step.startswith("V step failed")]
+    assert len(failed) == 2 and "retried" in failed[0].step and "retried" not in failed[1].step
+    assert all(h.sdp_time > 0 for h in failed)
     assert cert.stopped_by == "solver failure" and cert.certified
-    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+    assert sum(h.sdp_time for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
 @pytest.mark.parametrize("bad", [0.0, -0.0, -1e-9, math.nan])
@@ -276,9 +279,9 @@ def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch,
     before, ``V / rho`` was infinite and the next V step started from its multiplier. When its retry (the deeper
     multiplier) gives such a level too, the alternation stops as for a failed solve, each row counts its SDPs, and
     the certificate is the last good V's."""
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real, calls = C._level, []
+    real, calls = programs.solve_level, []
 
     def zero_level(*a, **k):
         calls.append(1)
@@ -286,15 +289,15 @@ def test_a_v_step_whose_level_is_not_positive_stops_the_alternation(monkeypatch,
         # the second V step's level (3rd call) and that of its retry (5th; the 4th centres the retry's multiplier)
         return dataclasses.replace(out, rho=bad) if len(calls) in (3, 5) else out
 
-    monkeypatch.setattr(C, "_level", zero_level)
-    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
-    failed = [h for h in cert.history if h["step"].startswith("V step failed")]
-    assert len(failed) == 2 and all("not positive" in h["step"] and h["sdp_time"] > 0 for h in failed)
-    assert "retried with the multiplier centred at (1 - 0.25) rho*" in failed[0]["step"]
-    assert [h["step"] for h in cert.history].count("V step + level") == 1
+    monkeypatch.setattr(alternation, "solve_level", zero_level)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8))
+    failed = [h for h in cert.history if h.step.startswith("V step failed")]
+    assert len(failed) == 2 and all("not positive" in h.step and h.sdp_time > 0 for h in failed)
+    assert "retried with the multiplier centred at (1 - 0.25) rho*" in failed[0].step
+    assert [h.step for h in cert.history].count("V step + level") == 1
     assert cert.stopped_by == "solver failure" and cert.certified
     assert np.all(np.isfinite(cert.V.arrays()[1])) and cert.rho > 0
-    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+    assert sum(h.sdp_time for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
 def test_a_v_step_whose_level_is_not_positive_is_retried_from_a_deeper_multiplier(monkeypatch):
@@ -302,9 +305,9 @@ def test_a_v_step_whose_level_is_not_positive_is_retried_from_a_deeper_multiplie
     user glider) is tried again with the current V's multiplier centred at ``(1 - RETRY_CENTER) rho*``: the
     alternation goes on instead of stopping, the retry's multiplier really is the deeper one, and the certificate is
     sound. With ``RETRY_CENTER = 0`` (no retry) the same failure stops the alternation, as before."""
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real = C._level
+    real = programs.solve_level
 
     def run(retry: float) -> tuple[gc.ROACertificate, list[float]]:
         calls, centers = [], []
@@ -315,81 +318,82 @@ def test_a_v_step_whose_level_is_not_positive_is_retried_from_a_deeper_multiplie
             out = real(*a, **k)
             return dataclasses.replace(out, rho=-2.8e-7) if len(calls) == 3 else out   # the second V step's level
 
-        monkeypatch.setattr(C, "_level", once)
-        monkeypatch.setattr(C, "RETRY_CENTER", retry)
-        return gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8), centers
+        monkeypatch.setattr(alternation, "solve_level", once)
+        monkeypatch.setattr(alternation, "RETRY_CENTER", retry)
+        return gc.certify_roa(VDP, degree=2, iterations=3, sampling=dict(n_truth=256, n_verify=2000,
+                                                                         n_simulate=8)), centers
 
-    cert, centers = run(C.RETRY_CENTER)
-    steps = [h["step"] for h in cert.history]
+    cert, centers = run(alternation.RETRY_CENTER)
+    steps = [h.step for h in cert.history]
     assert sum(s.startswith("V step failed (the level of the new V is -2.8e-07, not positive): retried") for s in
                steps) == 1
-    assert centers[3] == C.RETRY_CENTER == 0.25 and centers[1] == 0.05 and centers[2] == 0.05
+    assert centers[3] == alternation.RETRY_CENTER == 0.25 and centers[1] == 0.05 and centers[2] == 0.05
     assert steps.count("V step + level") == 3 and cert.stopped_by != "solver failure"
     assert cert.certified and cert.verification.passed and cert.verification.max_Vdot < 0
-    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+    assert sum(h.sdp_time for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
     plain, _ = run(0.0)
-    assert plain.stopped_by == "solver failure" and [h["step"] for h in plain.history].count("V step + level") == 1
-    assert not any("retried" in h["step"] for h in plain.history)
+    assert plain.stopped_by == "solver failure" and [h.step for h in plain.history].count("V step + level") == 1
+    assert not any("retried" in h.step for h in plain.history)
 
 
 def test_a_retry_whose_multiplier_fails_stops_the_alternation(monkeypatch):
     """A failed V step whose retry cannot get its deeper multiplier (that level program fails too) stops the
     alternation with one row naming both failures; the certificate is the last good V's."""
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real, calls = C._level, []
+    real, calls = programs.solve_level, []
 
     def failing(*a, **k):
         calls.append(1)
         if len(calls) in (3, 4):        # the second V step's level, then the retry's multiplier
-            raise C.SolverError(f"level program {len(calls)} failed (test)")
+            raise SolverError(f"level program {len(calls)} failed (test)")
         return real(*a, **k)
 
-    monkeypatch.setattr(C, "_level", failing)
-    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8)
-    failed = [h["step"] for h in cert.history if h["step"].startswith("V step failed")]
+    monkeypatch.setattr(alternation, "solve_level", failing)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8))
+    failed = [h.step for h in cert.history if h.step.startswith("V step failed")]
     assert failed == ["V step failed: level program 3 failed (test); its retry's multiplier: level program 4 failed "
                       "(test)"]
     # no V step after the retry's failed multiplier: no level program after the 4th
     assert cert.stopped_by == "solver failure" and cert.certified and len(calls) == 4
-    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+    assert sum(h.sdp_time for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
 def test_a_failed_v_step_with_no_time_left_for_its_retry_stops_at_the_time_limit(monkeypatch):
     """A V step that fails when the time limit has passed is not retried: its row says so, the alternation stops as
     at any time limit (``stopped_by = "time_limit"``, not a solver failure), and the last good V is certified."""
     from glidectl import checks
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real, calls, late = C._level, [], []
+    real, calls, late = programs.solve_level, [], []
 
     def failing(*a, **k):
         calls.append(1)
         if len(calls) == 3:             # the second V step's level fails after the time limit
             late.append(True)
-            raise C.SolverError("level program failed (test)")
+            raise SolverError("level program failed (test)")
         return real(*a, **k)
 
     elapsed = checks.Deadline.elapsed
     monkeypatch.setattr(checks.Deadline, "elapsed", property(lambda d: 1e9 if late else elapsed.fget(d)))
-    monkeypatch.setattr(C, "_level", failing)
-    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8, time_limit=1e6,
-                          on_budget="stop")
-    failed = [h["step"] for h in cert.history if h["step"].startswith("V step failed")]
+    monkeypatch.setattr(alternation, "solve_level", failing)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8),
+                          budget=dict(time_limit=1e6, on_budget="stop"))
+    failed = [h.step for h in cert.history if h.step.startswith("V step failed")]
     assert failed == ["V step failed: level program failed (test); not retried: time limit"]
     assert len(calls) == 3 and cert.stopped_by == "time_limit" and cert.certified
-    assert [h["step"] for h in cert.history].count("V step + level") == 1
+    assert [h.step for h in cert.history].count("V step + level") == 1
 
 
 def test_a_first_level_that_is_not_positive_is_a_clear_error(monkeypatch):
     """The starting V's level <= 0 with SOS multipliers: a SolverError that says so (it said 'use inner=sos',
     which was the option in use)."""
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real = C._level
-    monkeypatch.setattr(C, "_level", lambda *a, **k: dataclasses.replace(real(*a, **k), rho=0.0))
+    real = programs.solve_level
+    monkeypatch.setattr(alternation, "solve_level", lambda *a, **k: dataclasses.replace(real(*a, **k), rho=0.0))
     with pytest.raises(gc.SolverError, match="not positive: the starting V is not certified") as e:
-        gc.certify_roa(VDP, degree=2, iterations=1, n_truth=256, n_verify=2000, n_simulate=8)
+        gc.certify_roa(VDP, degree=2, iterations=1, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8))
     assert "use inner" not in str(e.value)
 
 
@@ -398,24 +402,24 @@ def test_a_v_step_cut_off_by_the_time_limit_keeps_its_sdp_time_in_the_history(mo
     its SDP time (there was no row before, though ``solve_time`` counted it). The clock is the test's: no time
     passes until the first V step is solved, then the limit is over (a loaded machine cannot move the cut)."""
     from glidectl import checks
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
-    real, over = C._v_step, []
+    real, over = programs.solve_v_step, []
 
     def solved_then_late(*a, **k):
         out = real(*a, **k)
         over.append(True)                                   # past the limit once it is solved
         return out
 
-    monkeypatch.setattr(C, "_v_step", solved_then_late)
+    monkeypatch.setattr(alternation, "solve_v_step", solved_then_late)
     monkeypatch.setattr(checks.Deadline, "elapsed",
                         property(lambda self: (self.limit or 0.0) + 1.0 if over else 0.0))
-    cert = gc.certify_roa(VDP, degree=2, iterations=3, n_truth=256, n_verify=2000, n_simulate=8, time_limit=8.0,
-                          on_budget="stop")
-    cut = [h for h in cert.history if h["step"].startswith("V step solved, not used")]
-    assert len(cut) == 1 and cut[0]["sdp_time"] > 0 and cert.stopped_by == "time_limit"
-    assert not any(h["step"] == "V step + level" for h in cert.history)
-    assert sum(h["sdp_time"] for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
+    cert = gc.certify_roa(VDP, degree=2, iterations=3, sampling=dict(n_truth=256, n_verify=2000, n_simulate=8),
+                          budget=dict(time_limit=8.0, on_budget="stop"))
+    cut = [h for h in cert.history if h.step.startswith("V step solved, not used")]
+    assert len(cut) == 1 and cut[0].sdp_time > 0 and cert.stopped_by == "time_limit"
+    assert not any(h.step == "V step + level" for h in cert.history)
+    assert sum(h.sdp_time for h in cert.history) == pytest.approx(cert.solve_time, rel=1e-12)
 
 
 def test_certify_roa_refuses_systems_it_cannot_certify():
@@ -433,7 +437,7 @@ def test_certify_roa_refuses_systems_it_cannot_certify():
         with pytest.raises(ModelError, match="marginally stable"):
             gc.lyapunov_matrix(ps)
         with pytest.raises(ModelError):
-            gc.certify_roa(ps, degree=2, horizon=10.0, initial=x1**2 + x2**2)
+            gc.certify_roa(ps, degree=2, initial=x1**2 + x2**2, sampling=dict(horizon=10.0))
 
 
 def test_degree_100_is_refused_quickly_with_what_fits():
@@ -444,28 +448,28 @@ def test_degree_100_is_refused_quickly_with_what_fits():
     assert "max_degree = 8" in str(info.value) and isinstance(info.value, RuntimeError)
     # the memory limit alone: degree 12 needs ~250 MB
     with pytest.raises(BudgetError, match=r"above memory_limit = 100 MB.*largest degree within the limits is 8"):
-        gc.certify_roa(VDP, degree=12, max_degree=12, memory_limit=1e8)
+        gc.certify_roa(VDP, degree=12, budget=dict(max_degree=12, memory_limit=1e8))
     with pytest.raises(BudgetError, match="no degree fits"):
-        gc.certify_roa(VDP, degree=2, memory_limit=1e6)
+        gc.certify_roa(VDP, degree=2, budget=dict(memory_limit=1e6))
     with pytest.raises(BudgetError, match="max_degree"):
         gc.max_level(VDP, Poly.variables(2)[0] ** 10 + Poly.variables(2)[1] ** 2)
 
 
 def test_estimate_sos_size_counts_what_is_built():
     """The closed-form counts equal the Gram matrices the builder creates, for a plain and a lifted system."""
-    from glidectl.roa.certify import _auto_extra, _build, _scaled
+    from glidectl.roa.programs import auto_extra, build_program, scaled_field
 
     sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
     for system, degree in ((VDP, 4), (recast(sp.reduced_model()), 4), (recast(sp.full_model()), 2)):
         size = gc.estimate_sos_size(system, degree)
-        ex = _auto_extra(system, None)
-        F = _scaled(system)
-        prog, _ = _build(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex,
+        ex = auto_extra(system, None)
+        F = scaled_field(system)
+        prog, _ = build_program(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex,
                          symmetry=False)
         built = sorted(u.var.shape[0] for u in prog.unknowns if u.gram)
         assert built == sorted(k for _, k in size.gram), (system.name, size.gram)
         # the exact basis reduction only shrinks the program: the estimate is an upper bound of what is solved
-        red, _ = _build(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex)
+        red, _ = build_program(system, F, degree, V=None, lam=Poly.const(1.0, system.nz), rho=1.0, eps=1e-6, extra=ex)
         assert sum(u.var.shape[0] ** 2 for u in red.unknowns if u.gram) <= sum(k * k for k in built)
         assert size.n_gram_entries == sum(k * (k + 1) // 2 for k in built)
         assert len(prog.constraints) > 0 and size.n_constraints > 0 and size.bytes > 0
@@ -478,12 +482,12 @@ def test_estimate_sos_size_counts_what_is_built():
 
 
 def test_time_limit_raises_or_certifies_the_best_so_far():
-    cheap = dict(n_truth=128, n_verify=2000, n_simulate=8)
+    cheap = dict(sampling=dict(n_truth=128, n_verify=2000, n_simulate=8))
     with pytest.raises(BudgetError, match=r"time limit of 0\.01 s"):
-        gc.certify_roa(VDP, degree=4, time_limit=0.01, **cheap)
-    c = gc.certify_roa(VDP, degree=4, time_limit=0.01, on_budget="stop", **cheap)
+        gc.certify_roa(VDP, degree=4, **cheap, budget=dict(time_limit=0.01))
+    c = gc.certify_roa(VDP, degree=4, **cheap, budget=dict(time_limit=0.01, on_budget="stop"))
     assert c.stopped_by == "time_limit" and c.certified and c.degree == 2
-    steps = [h["step"] for h in c.history]
+    steps = [h.step for h in c.history]
     assert "time limit" in steps[-1] or ("time limit" in steps[-2] and steps[-1].startswith("final margin"))
 
 
@@ -545,7 +549,7 @@ def test_level_lyapunov_and_helpers_check_inputs():
 # ------------------------------------------------------------------------------------------- certificates
 @pytest.fixture(scope="module")
 def vdp_cert():
-    return gc.certify_roa(gc.benchmarks.van_der_pol(), degree=6, iterations=6, backoff=0.003)
+    return gc.certify_roa(gc.benchmarks.van_der_pol(), degree=6, iterations=6, solver=dict(backoff=0.003))
 
 
 def test_van_der_pol_certificate_target(vdp_cert):
@@ -580,7 +584,7 @@ def test_certificate_soundness_van_der_pol(vdp_cert):
 @pytest.fixture(scope="module")
 def reduced_cert():
     sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
-    return gc.certify_roa(sp.reduced_model(), degree=2, iterations=3, n_verify=5000, n_simulate=64)
+    return gc.certify_roa(sp.reduced_model(), degree=2, iterations=3, sampling=dict(n_verify=5000, n_simulate=64))
 
 
 def test_reduced_glider_certificate_sound(reduced_cert):
@@ -606,7 +610,7 @@ def test_full_glider_certificate_sound():
     roa_certification design with more alternations.)"""
     veh = gc.load_vehicle("sphere_ch5", K_M=-100.0)
     model = gc.singular_perturbation(veh).full_model()
-    c = gc.certify_roa(model, degree=2, iterations=1, n_truth=256, n_verify=4000, n_simulate=32)
+    c = gc.certify_roa(model, degree=2, iterations=1, sampling=dict(n_truth=256, n_verify=4000, n_simulate=32))
     assert c.certified, c.verification.summary()
     lo, hi = model.box
     rng = np.random.default_rng(2)
@@ -723,9 +727,9 @@ def test_history_table_rows(vdp_cert):
     rows = vdp_cert.history_table("VdP")
     assert len(rows) == len(vdp_cert.history) and len(rows[0]) == len(gc.ROACertificate.HISTORY_HEADER)
     for row, h in zip(rows, vdp_cert.history, strict=True):
-        assert row[0] == "VdP" and row[1] == str(h["degree"]) and row[2] == h["step"][:60]
-        assert float(row[3]) == pytest.approx(h["rho"], rel=1e-5)
-        assert float(row[4]) == pytest.approx(h["volume"], rel=1e-3)
+        assert row[0] == "VdP" and row[1] == str(h.degree) and row[2] == h.step[:60]
+        assert float(row[3]) == pytest.approx(h.rho, rel=1e-5)
+        assert float(row[4]) == pytest.approx(h.volume, rel=1e-3)
     assert vdp_cert.history_table()[0][0] == ""
     with pytest.raises(gc.ArgumentTypeError, match="label"):
         vdp_cert.history_table(1)

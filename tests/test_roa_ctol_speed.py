@@ -9,11 +9,14 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.roa import Poly, dVdt, polynomial_system
-from glidectl.roa import certify as C
+from glidectl.roa import Poly, alternation, certificate, dVdt, polynomial_system, programs, routes  # noqa: F401
 from glidectl.roa.sos import SOSProgram
 
-CHEAP = {"degree": 2, "iterations": 1, "backoff": 0.003, "n_truth": 64, "n_verify": 500, "n_simulate": 4}
+
+def cheap(solver: dict | None = None, sampling: dict | None = None, **kw) -> dict:
+    """Cheap certify_roa arguments, with ``solver`` and ``sampling`` options added to the cheap ones."""
+    return {"degree": 2, "iterations": 1, "solver": {"backoff": 0.003, **(solver or {})},
+            "sampling": {"n_truth": 64, "n_verify": 500, "n_simulate": 4, **(sampling or {})}, **kw}
 
 
 def _cubic_2d():
@@ -41,17 +44,17 @@ def test_last_level_is_not_centred_and_certificate_unchanged(monkeypatch):
     instead of 6), and the certificate is exactly the one the old path (centring every level) gives."""
     ps = gc.benchmarks.van_der_pol()
     calls = _count_solves(monkeypatch)
-    new = gc.certify_roa(ps, **CHEAP, reuse=False)  # every SDP built and solved anew: one solve() each
+    new = gc.certify_roa(ps, **cheap(solver=dict(reuse=False)))  # every SDP built and solved anew: one solve() each
     n_new = calls[0]
-    orig = C._level
+    orig = programs.solve_level
 
     def always_centred(*a, **k):
         k["center"] = k.get("center") or 0.05
         return orig(*a, **k)
 
-    monkeypatch.setattr(C, "_level", always_centred)
+    monkeypatch.setattr(alternation, "solve_level", always_centred)
     calls[0] = 0
-    old = gc.certify_roa(ps, **CHEAP, reuse=False)
+    old = gc.certify_roa(ps, **cheap(solver=dict(reuse=False)))
     assert n_new == 5 and calls[0] == 6
     assert new.rho == old.rho and new.rho_star == old.rho_star
     assert new.V.terms == old.V.terms
@@ -62,8 +65,8 @@ def test_two_iterations_still_centre_the_first_level(monkeypatch):
     """The skip is only for the last level: with two alternations the first new level is centred (8 solves:
     2 + (V step + level + centring) + (V step + level) + final)."""
     calls = _count_solves(monkeypatch)
-    cert = gc.certify_roa(_cubic_2d(), **{**CHEAP, "iterations": 2}, horizon=8.0, reuse=False)
-    steps = [h["step"] for h in cert.history]
+    cert = gc.certify_roa(_cubic_2d(), **cheap(dict(reuse=False), dict(horizon=8.0), iterations=2))
+    steps = [h.step for h in cert.history]
     n_alt = sum(s == "V step + level" for s in steps)
     assert n_alt == 2
     assert calls[0] == 8
@@ -73,7 +76,7 @@ def test_certified_set_has_negative_true_derivative():
     """Soundness of the certificate on the synthetic cubic: the true dV/dt is negative at points of the certified
     set (drawn in it and on its boundary), and the set is nonempty."""
     ps = _cubic_2d()
-    cert = gc.certify_roa(ps, **CHEAP, horizon=8.0)
+    cert = gc.certify_roa(ps, **cheap(sampling=dict(horizon=8.0)))
     assert cert.certified
     X = np.concatenate([cert.sample(400, seed=1), cert.sample(200, seed=2, boundary=True)])
     assert np.all(cert.contains(X))
@@ -88,7 +91,7 @@ def test_margin_checks_failing_on_the_moment_route_are_taken_again_by_clarabel(m
     certificate is the one Clarabel gives. (The checks are made to fail: Van der Pol's programs are small and go to
     Clarabel anyway, so the certificate equals the plain Clarabel run's.)"""
     ps = gc.benchmarks.van_der_pol()
-    ref = gc.certify_roa(ps, **CHEAP, solver="CLARABEL")
+    ref = gc.certify_roa(ps, **cheap(solver=dict(name="CLARABEL")))
     real = SOSProgram.check
     seen = {"margin": 0}
 
@@ -100,8 +103,8 @@ def test_margin_checks_failing_on_the_moment_route_are_taken_again_by_clarabel(m
         return out
 
     monkeypatch.setattr(SOSProgram, "check", failing)
-    cert = gc.certify_roa(ps, **CHEAP, solver="CVXOPT_MOMENT")
-    steps = [h["step"] for h in cert.history]
+    cert = gc.certify_roa(ps, **cheap(solver=dict(name="CVXOPT_MOMENT")))
+    steps = [h.step for h in cert.history]
     assert seen["margin"] == 4
     margins = [s for s in steps if s.startswith("final margin")]
     assert margins == [f"final margin at backoff {b:g}" for b in (0.003, 0.009, 0.027, 0.081)] + [

@@ -39,8 +39,8 @@ class WeakPendulum:
 
 @pytest.fixture(scope="module")
 def weak_cert():
-    return gc.certify_roa(WeakPendulum(), degree=2, box=BOX, iterations=1, n_truth=256, n_verify=2000,
-                          n_simulate=32)
+    return gc.certify_roa(WeakPendulum(), degree=2, box=BOX, iterations=1, sampling=dict(n_truth=256, n_verify=2000,
+                                                                                         n_simulate=32))
 
 
 def test_lightly_damped_loop_is_certified_soundly(weak_cert):
@@ -104,29 +104,29 @@ def test_robust_decrease_bound_dominates_the_remainder_term(n, seed, logk):
 
 
 BIG = ([-2.2, -2.5], [2.8, 2.5])
-OPTS = dict(degree=2, iterations=1, n_truth=256, n_verify=2000, n_simulate=32)
+OPTS = dict(degree=2, iterations=1, sampling=dict(n_truth=256, n_verify=2000, n_simulate=32))
 
 
 def test_transported_V_is_the_same_function_of_the_states():
-    from glidectl.roa.certify import _transport
+    from glidectl.roa.routes import transport
 
     a, b = surrogate_system(WeakPendulum(), BIG), surrogate_system(WeakPendulum(), BOX)
     assert not np.allclose(a.scale, b.scale)
     V = Poly.quadratic(np.array([[2.0, 0.3], [0.3, 1.0]]))
     X = XE + np.random.default_rng(2).uniform(-0.5, 0.5, (200, 2))
-    np.testing.assert_allclose(_transport(V, a, b)(b.lift(X)), V(a.lift(X)), rtol=1e-12)
+    np.testing.assert_allclose(transport(V, a, b)(b.lift(X)), V(a.lift(X)), rtol=1e-12)
 
 
 def test_remainder_box_search_certifies_more_on_a_large_box():
     """On +-2.5 rad the remainder bound of the whole box is loose where the set lies: the search finds a smaller
     box (one more level SDP) and the certified set is larger, sound, and inside the box it reports."""
-    whole = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, box_rounds=1, **OPTS)
+    whole = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_search=0, box_rounds=1))
     cert = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS)
     assert whole.certified and cert.certified
     np.testing.assert_allclose(whole.box, BIG)
-    assert not any(h["step"].startswith("remainder") for h in whole.history)
-    steps = [h for h in cert.history if h["step"].startswith("remainder box")]
-    assert len(steps) >= 2 and steps[0]["step"].endswith("(the box)")
+    assert not any(h.step.startswith("remainder") for h in whole.history)
+    steps = [h for h in cert.history if h.step.startswith("remainder box")]
+    assert len(steps) >= 2 and steps[0].step.endswith("(the box)")
     lo, hi = (np.asarray(b) for b in cert.box)
     assert np.all(lo > np.asarray(BIG[0])) and np.all(hi < np.asarray(BIG[1]))
     assert cert.volume(n=2**14) > 1.05 * whole.volume(n=2**14)
@@ -135,9 +135,9 @@ def test_remainder_box_search_certifies_more_on_a_large_box():
     vd = dVdt(cert.V, cert.system.lift, cert.system.rhs, X)
     assert np.all(vd[np.sum((X - XE) ** 2, axis=1) > 1e-12] < 0)
     with pytest.raises(gc.ArgumentError, match="box_search"):
-        gc.certify_roa(WeakPendulum(), box=BIG, box_search=-1, **OPTS)
+        gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_search=-1))
     with pytest.raises(gc.ArgumentError, match="box_rounds"):
-        gc.certify_roa(WeakPendulum(), box=BIG, box_rounds=0, **OPTS)
+        gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_rounds=0))
 
 
 def test_second_remainder_box_round_is_skipped_when_the_box_would_not_change():
@@ -145,12 +145,12 @@ def test_second_remainder_box_round_is_skipped_when_the_box_would_not_change():
     within 10 % of the one used: the round is skipped, recorded, and the first certificate is returned as it was.
     (The kept path: tests/test_design_roa_certification.py, the elevator loop; the not-kept path:
     tests/test_roa_sector.py, the sin loop.)"""
-    one = gc.certify_roa(WeakPendulum(), box=BIG, box_rounds=1, **OPTS)
-    two = gc.certify_roa(WeakPendulum(), box=BIG, box_rounds=2, **OPTS)
+    one = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_rounds=1))
+    two = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_rounds=2))
     assert one.certified and two.certified
-    rounds = [h["step"] for h in two.history if h["step"].startswith("remainder-box round")]
+    rounds = [h.step for h in two.history if h.step.startswith("remainder-box round")]
     assert rounds == ["remainder-box round 2 skipped: the box would change by less than 10 %"]
-    assert not any(h["step"].startswith("remainder-box round") for h in one.history)
+    assert not any(h.step.startswith("remainder-box round") for h in one.history)
     np.testing.assert_array_equal(two.box, one.box)
     assert two.rho == one.rho and two.V.terms == one.V.terms
     # the first round's sampled checks ran after the round was skipped: the same as run at once
@@ -160,25 +160,25 @@ def test_second_remainder_box_round_is_skipped_when_the_box_would_not_change():
 def test_first_round_is_sampled_only_when_it_is_the_certificate_kept(monkeypatch: pytest.MonkeyPatch) -> None:
     """With a second remainder-box round, the first round's sampling and simulations wait: when the second round
     is kept (the whole box, no box search, on this loop) they never run; the second round's do, in full."""
-    from glidectl.roa import certify as ce
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
     calls: list[int] = []
-    real = ce._verify
+    real = certificate.verify_certificate
 
     def counted(*a: object, **k: object) -> object:
         calls.append(int(k["n_verify"]))
         return real(*a, **k)
 
-    monkeypatch.setattr(ce, "_verify", counted)
-    cert = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, box_rounds=2, **OPTS)
-    steps = [h["step"] for h in cert.history if h["step"].startswith("remainder-box round")]
+    monkeypatch.setattr(alternation, "verify_certificate", counted)
+    cert = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_search=0, box_rounds=2))
+    steps = [h.step for h in cert.history if h.step.startswith("remainder-box round")]
     assert steps == ["remainder-box round 2: the box three times the extents of the certified set"]     # kept
-    assert calls == [OPTS["n_verify"]]
+    assert calls == [OPTS["sampling"]["n_verify"]]
     v = cert.verification
-    assert cert.certified and v.n_sampled > 0 and v.n_simulated == v.n_converged == OPTS["n_simulate"]
+    assert cert.certified and v.n_sampled > 0 and v.n_simulated == v.n_converged == OPTS["sampling"]["n_simulate"]
     calls.clear()
-    one = gc.certify_roa(WeakPendulum(), box=BIG, box_search=0, box_rounds=1, **OPTS)
-    assert calls == [OPTS["n_verify"]] and one.certified
+    one = gc.certify_roa(WeakPendulum(), box=BIG, **OPTS, surrogate=dict(box_search=0, box_rounds=1))
+    assert calls == [OPTS["sampling"]["n_verify"]] and one.certified
     assert cert.volume(n=2**14) > one.volume(n=2**14)
 
 
@@ -194,7 +194,7 @@ def test_quadratic_part_inverts_quadratic(n, seed):
 def test_unsampled_checks_gate_without_certifying():
     """A verification with no samples yet (a first round waiting for its sampled checks) passes the unsampled checks
     that gate a second round, and is not ``passed``; a failing local check fails both."""
-    from glidectl.roa.certify import ROAVerification
+    from glidectl.roa.certificate import ROAVerification
 
     waiting = ROAVerification((), 1.0, -1.0, 0, float("nan"), 0, 0, 10.0)
     assert waiting.unsampled_passed and not waiting.passed

@@ -112,11 +112,11 @@ def test_certify_with_inner_approximation_is_sos_and_verified(inner):
     is >= its inner level (1), every Gram check is exact, the sampled true dV/dt < 0 inside and the simulations
     converge (``certified``), and the certified set is not empty."""
     ps = _cubic_system()
-    kw = dict(degree=2, iterations=1, backoff=0.01, n_truth=64, n_verify=2000, n_simulate=16)
-    cert = gc.certify_roa(ps, inner=inner, **kw)
-    steps = [h["step"] for h in cert.history]
-    fin = [h for h in cert.history if h["step"].startswith("final SOS level")]
-    assert len(fin) == 1 and fin[0]["rho"] >= 1.0 - 1e-6, steps
+    kw = dict(degree=2, iterations=1, sampling=dict(n_truth=64, n_verify=2000, n_simulate=16))
+    cert = gc.certify_roa(ps, **kw, solver=dict(backoff=0.01, inner=inner))
+    steps = [h.step for h in cert.history]
+    fin = [h for h in cert.history if h.step.startswith("final SOS level")]
+    assert len(fin) == 1 and fin[0].rho >= 1.0 - 1e-6, steps
     assert cert.certified, cert.verification.summary()
     assert cert.verification.gram_passed and cert.verification.max_Vdot < 0
     assert cert.volume(n=2**10) > 0
@@ -124,4 +124,4 @@ def test_certify_with_inner_approximation_is_sos_and_verified(inner):
 
 def test_certify_inner_bad_value():
     with pytest.raises(gc.ArgumentError):
-        gc.certify_roa(_cubic_system(), degree=2, inner="psd")
+        gc.certify_roa(_cubic_system(), degree=2, solver=dict(inner="psd"))

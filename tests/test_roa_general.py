@@ -18,7 +18,7 @@ from glidectl.roa.surrogate import surrogate_error, surrogate_system
 B = 1.0                                   # damping
 XE = np.array([0.3, 0.0])                 # equilibrium (theta_e = 0.3 rad under a constant torque sin(0.3))
 BOX = ([-0.7, -1.2], [1.3, 1.2])
-QUICK = {"iterations": 1, "n_truth": 256, "n_verify": 2000, "n_simulate": 32}
+QUICK = {"iterations": 1, "sampling": dict(n_truth=256, n_verify=2000, n_simulate=32)}
 
 
 class Pendulum:
@@ -80,7 +80,7 @@ def test_remainder_bound_holds_on_dense_samples():
     assert b.cubic[1] >= ratio and b.cubic[1] < 100 * ratio
     assert np.allclose(R, b(ps.lift(np.concatenate([X, edges]))), rtol=1e-12)
     # the surrogate matches the exact linearization and the second derivatives of sin at the equilibrium
-    A_true = gc.roa.certify._linearization(ps) * ps.scale[None, :] / ps.scale[:, None]
+    A_true = gc.roa.programs.linearization(ps) * ps.scale[None, :] / ps.scale[:, None]
     A_p = np.array([[p.terms.get(tuple(int(k == j) for k in range(2)), 0.0) for j in range(2)] for p in ps.F])
     assert np.allclose(A_p, A_true, atol=1e-12)
     s0, s1 = ps.scale
@@ -184,21 +184,21 @@ def test_box_defaults_to_actuator_limits():
 
 
 def test_oversized_request_refused_before_any_allocation(monkeypatch):
-    import glidectl.roa.certify as certify_mod
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
 
     def never(*args, **kwargs):
         raise AssertionError("a surrogate or recast was built before the size check")
 
-    monkeypatch.setattr(certify_mod, "surrogate_system", never)
-    monkeypatch.setattr(certify_mod, "recast", never)
+    monkeypatch.setattr(routes, "surrogate_system", never)
+    monkeypatch.setattr(routes, "recast", never)
     m = Pendulum()
     with pytest.raises(BudgetError, match="refused before building anything"):
-        gc.certify_roa(m, degree=8, box=BOX, memory_limit=1e6)
+        gc.certify_roa(m, degree=8, box=BOX, budget=dict(memory_limit=1e6))
     # nothing sampled, fitted or built: one batched evaluation only, the Jacobian at the equilibrium that finds the
     # held states (the size counts the free states; see test_roa_held)
     assert m.calls == 1
     with pytest.raises(BudgetError, match="max_degree"):
-        gc.certify_roa(m, degree=10, box=BOX, max_degree=8)
+        gc.certify_roa(m, degree=10, box=BOX, budget=dict(max_degree=8))
     assert m.calls == 2
 
 
@@ -255,12 +255,12 @@ def _rogue_lqr_loop():
 def test_glider_loop_refusal_names_the_non_polynomial_dependencies():
     """The issue's user loop: the angle of attack atan2(v3, v1) and the body's rotation make the velocity and
     rate equations non-polynomial in (theta, v1, v3); the message says so and points to the surrogate route."""
-    from glidectl.roa.certify import _Shifted
+    from glidectl.roa.routes import ShiftedModel
 
     loop = _rogue_lqr_loop()
     xe = loop.equilibrium
     with pytest.raises(ModelError) as exc:
-        recast(_Shifted(loop, xe, (xe - 0.01, xe + 0.01)), max_degree=2)
+        recast(ShiftedModel(loop, xe, (xe - 0.01, xe + 0.01)), max_degree=2)
     msg = str(exc.value)
     assert "d(v1)/dt in theta, v1, v3" in msg and "d(v3)/dt in theta, v1, v3" in msg
     assert "d(r_P1)/dt" not in msg and "mixed_angle_states" not in msg and "surrogate" in msg

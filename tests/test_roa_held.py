@@ -10,11 +10,10 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-import glidectl.roa.certify as certify_mod
 from glidectl import checks as gc_checks
 from glidectl.errors import ModelError
-from glidectl.roa import dVdt
-from glidectl.roa.certify import _held_states
+from glidectl.roa import alternation, certificate, dVdt, programs, routes
+from glidectl.roa.routes import held_states
 
 
 class Loop:
@@ -56,8 +55,8 @@ def _no_route(*args, **kwargs):
 
 @pytest.mark.parametrize("method", ["auto", "surrogate"])
 def test_unstable_loop_refused_before_any_surrogate_or_recast(monkeypatch, method):
-    monkeypatch.setattr(certify_mod, "surrogate_system", _no_route)
-    monkeypatch.setattr(certify_mod, "recast", _no_route)
+    monkeypatch.setattr(routes, "surrogate_system", _no_route)
+    monkeypatch.setattr(routes, "recast", _no_route)
     box = (np.array([-1.0, -1.0]), np.array([1.0, 1.0]))
     with pytest.raises(ModelError) as err:
         gc.certify_roa(Saddle(), degree=2, box=box, method=method)
@@ -100,7 +99,7 @@ def test_a_moving_state_with_a_zero_linearization_row_is_not_held():
     # x3' = x1^2: its Jacobian row vanishes at the equilibrium but it moves on the box: not held, refused as before
     loop = Loop(c=1.0)
     lo, hi = BOX
-    assert _held_states(loop, loop.equilibrium, (lo, hi)) == ()
+    assert held_states(loop, loop.equilibrium, (lo, hi)) == ()
     with pytest.raises(ModelError, match=r"not exponentially stable: its linearization is marginally stable.*0j"):
         gc.certify_roa(loop, degree=2, box=BOX)
 
@@ -108,8 +107,8 @@ def test_a_moving_state_with_a_zero_linearization_row_is_not_held():
 def test_held_states_do_not_hide_unstable_free_dynamics(monkeypatch):
     # x3 is held, but the free dynamics (damping -1: x2' = x1 + x2 + ...) are unstable: the refusal names the
     # eigenvalues of the free states only, before anything is built
-    monkeypatch.setattr(certify_mod, "surrogate_system", _no_route)
-    monkeypatch.setattr(certify_mod, "recast", _no_route)
+    monkeypatch.setattr(routes, "surrogate_system", _no_route)
+    monkeypatch.setattr(routes, "recast", _no_route)
     with pytest.raises(ModelError, match=r"'held' is not exponentially stable: its linearization is unstable, "
                                          r"eigenvalues \[\(0\.5\+0\.866025j\), \(0\.5-0\.866025j\)\]"):
         gc.certify_roa(Loop(damping=-1.0, name="held"), degree=2, box=BOX)
@@ -124,7 +123,7 @@ def _slocum_loop():
 def test_slocum_lqr_loop_holds_the_states_saturated_loop_holds(monkeypatch):
     loop = _slocum_loop()
     sl = gc.saturated_loop(loop)
-    held = _held_states(loop, np.asarray(loop.equilibrium, float), gc.validity_box(loop))
+    held = held_states(loop, np.asarray(loop.equilibrium, float), gc.validity_box(loop))
     assert held == sl.held and [loop.state_names[i] for i in held] == ["r_P3", "rdot_P3"]
 
     seen = {}
@@ -137,9 +136,9 @@ def test_slocum_lqr_loop_holds_the_states_saturated_loop_holds(monkeypatch):
         raise Built
 
     # past the stability check: the surrogate is asked for on the 8 free states and the validity box of those
-    monkeypatch.setattr(certify_mod, "surrogate_system", spy)
+    monkeypatch.setattr(routes, "surrogate_system", spy)
     with pytest.raises(Built):
-        gc.certify_roa(loop, degree=2, method="surrogate", time_limit=60.0)
+        gc.certify_roa(loop, degree=2, method="surrogate", budget=dict(time_limit=60.0))
     free = [q for q in loop.state_names if q not in ("r_P3", "rdot_P3")]
     assert seen["names"] == tuple(free)
     lo, hi = gc.validity_box(loop)
@@ -165,27 +164,28 @@ def _vdp():
 
 
 def test_time_limit_bounds_the_final_verification_sampling(monkeypatch):
-    monkeypatch.setattr(certify_mod.checks, "Deadline", _FakeDeadline)
-    real = certify_mod._verify
+    monkeypatch.setattr(programs.checks, "Deadline", _FakeDeadline)
+    real = certificate.verify_certificate
 
     def late(*args, **kwargs):          # the alternation ran within the limit; the verification starts past it
         _Clock.now = 1e9
         return real(*args, **kwargs)
 
     _Clock.now = 0.0
-    monkeypatch.setattr(certify_mod, "_verify", late)
+    monkeypatch.setattr(alternation, "verify_certificate", late)
     with pytest.raises(gc.BudgetError, match=r"time limit of 100 s in the final verification, while sampling the "
                                              r"certified set \(n_verify = 5000 points\).*lower n_verify"):
-        gc.certify_roa(_vdp(), degree=2, iterations=1, n_truth=256, n_verify=5000, time_limit=100.0)
+        gc.certify_roa(_vdp(), degree=2, iterations=1, sampling=dict(n_truth=256, n_verify=5000),
+                       budget=dict(time_limit=100.0))
     # on_budget="stop" documents that the final checks still run in full: the same call certifies
     _Clock.now = 0.0
-    cert = gc.certify_roa(_vdp(), degree=2, iterations=1, n_truth=256, n_verify=5000, n_simulate=16, time_limit=100.0,
-                          on_budget="stop")
+    cert = gc.certify_roa(_vdp(), degree=2, iterations=1, sampling=dict(n_truth=256, n_verify=5000, n_simulate=16),
+                          budget=dict(time_limit=100.0, on_budget="stop"))
     assert cert.certified and cert.verification.n_simulated == 16
 
 
 def test_time_limit_bounds_the_final_simulations(monkeypatch):
-    real = certify_mod.integrate_batch
+    real = certificate.integrate_batch
     seen = []
 
     def batch(f, X0, t_final, **kw):
@@ -194,23 +194,24 @@ def test_time_limit_bounds_the_final_simulations(monkeypatch):
             raise gc.BudgetError("integrate_batch (16 runs) stopped at its time limit")
         return real(f, X0, t_final, **kw)
 
-    monkeypatch.setattr(certify_mod, "integrate_batch", batch)
+    monkeypatch.setattr(certificate, "integrate_batch", batch)
     with pytest.raises(gc.BudgetError, match=r"final verification ran out of its time limit while simulating "
                                              r"n_simulate = 16 runs.*lower n_simulate or horizon"):
-        gc.certify_roa(_vdp(), degree=2, iterations=1, n_truth=256, n_verify=5000, n_simulate=16, time_limit=100.0)
+        gc.certify_roa(_vdp(), degree=2, iterations=1, sampling=dict(n_truth=256, n_verify=5000, n_simulate=16),
+                       budget=dict(time_limit=100.0))
     assert len(seen) == 1 and 0 < seen[0] <= 100.0
 
 
 def test_tiny_time_limit_stops_quickly_with_a_budget_error():
     t = time.perf_counter()
     with pytest.raises(gc.BudgetError, match=r"time limit of 0\.001 s"):
-        gc.certify_roa(_vdp(), degree=2, time_limit=1e-3)
+        gc.certify_roa(_vdp(), degree=2, budget=dict(time_limit=1e-3))
     assert time.perf_counter() - t < 5.0
 
 
 def test_budget_message_says_what_took_the_time_and_what_would_fit(monkeypatch):
-    monkeypatch.setattr(certify_mod.checks, "Deadline", _FakeDeadline)
-    real = certify_mod._level
+    monkeypatch.setattr(programs.checks, "Deadline", _FakeDeadline)
+    real = programs.solve_level
     calls = []
 
     def level(*args, **kwargs):         # the limit passes after the first V step's level problem
@@ -221,9 +222,9 @@ def test_budget_message_says_what_took_the_time_and_what_would_fit(monkeypatch):
         return out
 
     _Clock.now = 0.0
-    monkeypatch.setattr(certify_mod, "_level", level)
+    monkeypatch.setattr(alternation, "solve_level", level)
     with pytest.raises(gc.BudgetError) as err:
-        gc.certify_roa(_vdp(), degree=2, iterations=3, n_truth=256, time_limit=100.0)
+        gc.certify_roa(_vdp(), degree=2, iterations=3, sampling=dict(n_truth=256), budget=dict(time_limit=100.0))
     msg = str(err.value)
     assert "degree 2, before a V step; time spent: building the exact recast system of 2 states" in msg
     assert "first level problem" in msg and "simulating n_truth = 256 box points" in msg
@@ -235,14 +236,14 @@ def test_the_surrogate_memory_estimate_counts_only_the_free_states():
     """A limit between the sizes of the 2-free-state and the 3-state surrogate programs: not refused (x3 is held, so
     the program has 2 states); a limit below the 2-state size: refused up front, naming the held state."""
     def size(n: int) -> float:
-        sk = certify_mod.skeleton(n, 3)
-        return certify_mod._size(sk, 4, certify_mod._auto_extra(sk, None)).bytes
+        sk = programs.skeleton(n, 3)
+        return programs._size(sk, 4, programs.auto_extra(sk, None)).bytes
 
     two, three = size(2), size(3)
     assert two < three
     with pytest.raises(gc.BudgetError) as exc:
-        gc.certify_roa(Loop(k=0.3), degree=4, box=BOX, method="surrogate", memory_limit=0.5 * (two + three),
-                       time_limit=1e-9)
+        gc.certify_roa(Loop(k=0.3), degree=4, box=BOX, method="surrogate",
+                       budget=dict(memory_limit=0.5 * (two + three), time_limit=1e-9))
     assert "refused before building anything" not in str(exc.value)      # the time limit, not the memory estimate
     with pytest.raises(gc.BudgetError, match=r"2-state surrogate of degree 3 \(x3 held\).*refused before building"):
-        gc.certify_roa(Loop(k=0.3), degree=4, box=BOX, method="surrogate", memory_limit=0.5 * two)
+        gc.certify_roa(Loop(k=0.3), degree=4, box=BOX, method="surrogate", budget=dict(memory_limit=0.5 * two))

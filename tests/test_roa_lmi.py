@@ -100,7 +100,8 @@ def test_lmi_certifies_at_least_the_sos_degree2_certificate_on_an_unsaturated_li
     ps = polynomial_system("lin", ("x1", "x2"), [A_CL[i, 0] * Z[0] + A_CL[i, 1] * Z[1] for i in range(2)],
                            box=(-np.ones(2), np.ones(2)))
     ps = dataclasses.replace(ps, cuts=(1 - Z[0] ** 2, 1 - Z[1] ** 2))
-    sos = gc.certify_roa(ps, degree=2, iterations=1, n_truth=64, n_verify=500, n_simulate=4, extra=0)
+    sos = gc.certify_roa(ps, degree=2, iterations=1, sampling=dict(n_truth=64, n_verify=500, n_simulate=4),
+                         solver=dict(extra=0))
     assert sos.certified
     t = sos.V.terms
     P = np.array([[t.get((2, 0), 0.0), t.get((1, 1), 0.0) / 2], [t.get((1, 1), 0.0) / 2, t.get((0, 2), 0.0)]])
@@ -152,13 +153,13 @@ def test_buoyancy_loop_extraction_is_the_loop():
     c = gc.BuoyancyController(beq, sph, 5.0)
     loop = gc.closed_loop(c)
     sl = gc.saturated_loop(loop)
-    assert sl.input_names == ("u1",)
+    assert sl.feedback_names == ("u1",)
     np.testing.assert_allclose(sl.K, [[0, 0, 0, 0, -c.rate_gain]])
     np.testing.assert_allclose([sl.u_lo[0], sl.u_hi[0]], [-0.02, 0.02])        # [actuators] m0.rate
     lo, hi = sl.box
     assert -1.0 < lo[4] < hi[4] < 1.0                                          # inside the pump range
     X = lo + (hi - lo) * np.random.default_rng(0).random((200, 5))
-    np.testing.assert_allclose(sl.plant_rhs(X, sl.input(X)), loop.rhs(X), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(sl.plant_rhs(X, sl.feedback(X)), loop.rhs(X), rtol=1e-12, atol=1e-15)
 
 
 def test_buoyancy_loop_certificate_is_sound_on_the_true_loop(buoyancy):
@@ -177,12 +178,12 @@ def test_buoyancy_loop_certificate_is_sound_on_the_true_loop(buoyancy):
     res = integrate_batch(loop.rhs, X0, 200.0, rtol=1e-7, atol=1e-10)
     assert np.all(res.converged_to(xe, 1e-4))
     assert cert.volume_fraction > 0
-    fig = cert.plot(dims=("V", "m0"))
-    assert fig.axes
+    ax = cert.plot(dims=("V", "m0"))
+    assert ax.get_xlabel().endswith("[m/s]") and ax.get_ylabel().endswith("[kg]")
     # the title (the loop's name, wrapped to the figure's width) stays inside the figure, even for a long name
-    long = dataclasses.replace(cert, loop=dataclasses.replace(cert.loop, name=" ".join([cert.loop.name] * 4)))
+    long = dataclasses.replace(cert, system=dataclasses.replace(cert.system, name=" ".join([cert.system.name] * 4)))
     for c in (cert, long):
-        fig = c.plot(dims=("V", "m0"))
+        fig = c.plot(dims=("V", "m0")).figure
         fig.canvas.draw()
         box = fig.axes[0].title.get_window_extent(fig.canvas.get_renderer())
         assert box.x0 >= 0 and box.x1 <= fig.bbox.x1
@@ -192,13 +193,13 @@ def test_elevator_and_lqr_loops_are_extracted_with_their_saturations():
     ev = gc.load_vehicle("elevator_ch6")
     eq = gc.elevator_equilibrium(ev, 1.0, -np.pi / 4)
     sl = gc.saturated_loop(gc.closed_loop(gc.ElevatorBuoyancyController(eq, ev, 1.0)))
-    assert sl.input_names == ("u1",) and sl.u_hi[0] == 0.05                    # the elevator is not fed back
+    assert sl.feedback_names == ("u1",) and sl.u_hi[0] == 0.05                    # the elevator is not fed back
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, 0.35, np.radians(-25.0), r_p3=0.05)
     ctrl = gc.lqr_glide(veh, glide, inputs="acceleration", actuate=("w1", "w4"), reduce_fixed=False)
     loop = gc.closed_loop(ctrl)
     sl = gc.saturated_loop(loop)
-    assert sl.input_names == ("w1", "w4")
+    assert sl.feedback_names == ("w1", "w4")
     assert np.isinf(sl.u_hi[0]) and sl.u_hi[1] == veh.actuators["m0"].rate
     assert [sl.state_names[i] for i in sl.held] == ["r_P3", "rdot_P3"]
     i = sl.state_names.index("rdot_P1")

@@ -90,21 +90,21 @@ def test_the_shift_is_the_multipliers_negative_eigenvalue(q: float, a: float):
 
 
 @pytest.mark.parametrize("quotient", [False, True])
-def test_real_level_program_multipliers_are_made_psd_and_counted(quotient, monkeypatch):
+def test_real_level_program_multipliers_are_made_psd_and_counted(quotient, monkeypatch, moment_policy):
     """A solved level program of the chapter-5 reduced glider (a recast with a speed cut, so with multipliers):
     every multiplier Gram matrix given to the check is PSD, and the check's residual of each constraint is the
     residual at those matrices: matched modulo the angle equality (``glidectl.roa.quotient``), a polynomial equal to
     it at every point of the lifted variety."""
     import glidectl as gc
-    from glidectl.roa import certify as C
+    from glidectl.roa import alternation, certificate, programs, routes  # noqa: F401
     from glidectl.roa.sos import _gram_residual
 
     ps = gc.recast(gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model())
     assert ps.cuts
-    monkeypatch.setattr(C, "QUOTIENT_MIN_BLOCK", 0 if quotient else math.inf)
-    F = C._scaled(ps)
-    V = C.lyapunov_quadratic(ps)
-    prog, out = C._build(ps, F, 2, V=V, lam=None, rho=None, eps=0.0, extra=0, margin=False)
+    moment_policy(quotient_min_block=0 if quotient else math.inf)
+    F = programs.scaled_field(ps)
+    V = programs.lyapunov_quadratic(ps)
+    prog, out = programs.build_program(ps, F, 2, V=V, lam=None, rho=None, eps=0.0, extra=0, margin=False)
     prog.solve(cp.Maximize(out["rho"].var))
     mult = prog.multiplier_values()
     assert mult, "the level program has S-procedure multipliers"
@@ -160,15 +160,15 @@ def test_an_unreachable_low_degree_residual_bounds_a_radius(c0: float, c1: float
 def test_local_robust_check_covers_the_radius():
     """``W = -x^2 - y^2 + 10 x^3``: negative definite at 0, positive beyond x = 0.1. The local check passes on a
     radius of 0.05 (tail 10 * 0.05 < 1) and fails on 0.2; an infinite radius fails."""
-    from glidectl.roa.certify import _local_robust
+    from glidectl.roa.routes import local_robust_checks
     from glidectl.roa.surrogate import skeleton
 
     ps = skeleton(2, 3)
     x, y = Poly.variables(2)
     W = -(x**2) - y**2 + 10.0 * x**3
-    (ok,) = _local_robust(W, ps, 0.05)
-    (bad,) = _local_robust(W, ps, 0.2)
-    (inf_,) = _local_robust(W, ps, float("inf"))
+    (ok,) = local_robust_checks(W, ps, 0.05)
+    (bad,) = local_robust_checks(W, ps, 0.2)
+    (inf_,) = local_robust_checks(W, ps, float("inf"))
     assert ok.passed and ok.min_eig == pytest.approx(1.0) and ok.max_residual == pytest.approx(0.5)
     assert not bad.passed and not inf_.passed
 
@@ -233,7 +233,7 @@ def test_cut_multipliers_lose_the_constant_only_where_it_is_forced():
     import math
 
     import glidectl as gc
-    from glidectl.roa.certify import _tau_low_degrees
+    from glidectl.roa.programs import _tau_low_degrees
 
     veh = gc.load_vehicle("dc8_ctol")
     gl = gc.ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)

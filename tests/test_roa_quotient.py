@@ -10,9 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import glidectl as gc
-from glidectl.roa import certify, dVdt, max_level, recast
-from glidectl.roa.certify import _build, lyapunov_quadratic
+from glidectl.roa import dVdt, max_level, programs, recast
 from glidectl.roa.polynomial import Poly
+from glidectl.roa.programs import build_program, lyapunov_quadratic
 from glidectl.roa.quotient import angle_quotient
 from glidectl.roa.sos import _pair_sums
 
@@ -86,14 +86,14 @@ def test_lift_moves_an_unreached_residual_onto_reached_monomials():
     assert q.lift(res0, reach).terms == res0.terms
 
 
-def test_quotient_program_equals_the_multiplier_program(reduced, monkeypatch):
+def test_quotient_program_equals_the_multiplier_program(reduced, monkeypatch, moment_policy):
     """The same level of a fixed V (one SDP each), with fewer equations and no multiplier unknowns."""
     V = lyapunov_quadratic(reduced)
     out, sizes = {}, {}
     for flag in (False, True):
-        monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", 0 if flag else math.inf)
+        moment_policy(quotient_min_block=0 if flag else math.inf)
         out[flag] = max_level(reduced, V)
-        prog, _ = _build(reduced, list(reduced.F), 2, V=V, lam=None, rho=None, eps=1e-6)
+        prog, _ = build_program(reduced, list(reduced.F), 2, V=V, lam=None, rho=None, eps=1e-6)
         sizes[flag] = (sum(u.size for u in prog.unknowns if u.name.startswith("psi")),
                        sum(c.shape[0] if c.shape else 1 for c in prog.constraints if id(c) in prog.coefficient_rows))
     assert out[True].rho == pytest.approx(out[False].rho, rel=1e-5)
@@ -102,23 +102,23 @@ def test_quotient_program_equals_the_multiplier_program(reduced, monkeypatch):
     assert sizes[True][1] < sizes[False][1]
 
 
-def test_size_estimate_counts_the_quotient_form(reduced, monkeypatch):
+def test_size_estimate_counts_the_quotient_form(reduced, monkeypatch, moment_policy):
     """estimate_sos_size: no multiplier unknowns and the standard monomials' equations with the quotient."""
-    monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", 0)
+    moment_policy(quotient_min_block=0)
     with_q = gc.estimate_sos_size(reduced, 4)
-    monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", math.inf)
+    moment_policy(quotient_min_block=math.inf)
     without = gc.estimate_sos_size(reduced, 4)
     assert with_q.gram == without.gram and with_q.bytes == without.bytes
     assert with_q.n_free < without.n_free and with_q.n_constraints < without.n_constraints
 
 
-def test_quotient_certificate_is_sound_and_matches_the_multiplier_form(reduced, monkeypatch):
+def test_quotient_certificate_is_sound_and_matches_the_multiplier_form(reduced, monkeypatch, moment_policy):
     """The reduced glider's certificate by both forms: both certified, the quotient one with its Gram checks
     passed and the true dV/dt < 0 at sampled points of its set, and the same set to the solvers' accuracy."""
     cert = {}
     for flag in (False, True):
-        monkeypatch.setattr(certify, "QUOTIENT_MIN_BLOCK", 0 if flag else math.inf)
-        cert[flag] = gc.certify_roa(reduced, degree=2, iterations=1, n_verify=2000, n_simulate=32)
+        moment_policy(quotient_min_block=0 if flag else math.inf)
+        cert[flag] = gc.certify_roa(reduced, degree=2, iterations=1, sampling=dict(n_verify=2000, n_simulate=32))
     c = cert[True]
     assert c.certified and c.verification.gram_passed, c.verification.summary()
     assert cert[False].certified
@@ -135,10 +135,10 @@ def test_quotient_only_for_programs_of_the_moment_route(reduced):
     form: the reduced glider at degree 2 (order 24) and the full glider at degree 2 (49) keep their multipliers;
     the full glider at degree 4 (104) does not."""
     V = lyapunov_quadratic(reduced)
-    prog, _ = _build(reduced, list(reduced.F), 2, V=V, lam=None, rho=None, eps=1e-6)
+    prog, _ = build_program(reduced, list(reduced.F), 2, V=V, lam=None, rho=None, eps=1e-6)
     assert prog.quotient is None and any(u.name.startswith("psi") for u in prog.unknowns)
     full = recast(gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).full_model())
-    k = certify.QUOTIENT_MIN_BLOCK
-    assert certify._quotient(full, k - 1) is None and certify._quotient(full, k) is not None
+    k = gc.roa.MOMENT_POLICY.quotient_min_block
+    assert programs._quotient(full, k - 1) is None and programs._quotient(full, k) is not None
     assert gc.estimate_sos_size(full, 2).gram[0] == ("decrease", 49) and 49 < k
     assert gc.estimate_sos_size(full, 4).gram[0] == ("decrease", 104) and 104 >= k

@@ -12,10 +12,9 @@ import pytest
 from scipy.integrate import quad
 
 import glidectl as gc
-import glidectl.roa.certify as cert_mod
 from glidectl.errors import SolverError
-from glidectl.roa import Poly, lyapunov_quadratic, polynomial_system
-from glidectl.roa.certify import _contains, _sample_set
+from glidectl.roa import Poly, alternation, certificate, lyapunov_quadratic, polynomial_system, programs, routes  # noqa: F401
+from glidectl.roa.certificate import _sample_set, path_contains
 
 #: fingerprints of the rejection sampler's points before issue 17's change (main at 66dbb45; recorded with that
 #: code's sampler, which the rejection rounds still are): (case, boundary, n, seed) -> (float.hex of the sum of all
@@ -75,7 +74,7 @@ def _vdp_cases():
 def test_rejection_path_is_bitwise_unchanged(case, boundary, monkeypatch):
     ps, V, rho = _vdp_cases()[case]
     calls = []
-    monkeypatch.setattr(cert_mod, "_sample_directed", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr(certificate, "_sample_directed", lambda *a, **k: calls.append(1))
     for n, seed in ((300, 1), (1000, 7)):
         new = _sample_set(ps, V, rho, n, seed, boundary)
         total, rows = OLD_POINTS[(case, boundary, n, seed)]
@@ -116,14 +115,14 @@ def _binomial_ok(k: int, n: int, p: float, z: float = 4.5) -> bool:
 def test_thin_set_switches_and_is_uniform(monkeypatch):
     ps, V, rho = _thin()
     calls = []
-    directed = cert_mod._sample_directed
-    monkeypatch.setattr(cert_mod, "_sample_directed", lambda *a, **k: calls.append(1) or directed(*a, **k))
+    directed = certificate._sample_directed
+    monkeypatch.setattr(certificate, "_sample_directed", lambda *a, **k: calls.append(1) or directed(*a, **k))
     n = 3000
     X = _sample_set(ps, V, rho, n, 0, False)
     assert calls == [1]                       # the rejection rounds alone would need far more rounds
-    assert X.shape == (n, NF) and np.all(_contains(ps, V, rho, X))
+    assert X.shape == (n, NF) and np.all(path_contains(ps, V, rho, X))
     # radial law: the share in the copy scaled by 0.8 about the equilibrium is 0.8^NF (any star-shaped set)
-    k_in = int(np.sum(_contains(ps, V, rho, X / 0.8)))
+    k_in = int(np.sum(path_contains(ps, V, rho, X / 0.8)))
     assert _binomial_ok(k_in, n, 0.8 ** NF)
     # direction law: the share with |x0| > 0.35 is that of the exact x0 marginal (the box cut makes R(u) non-
     # ellipsoidal); uniform directions without the R^nf weight would put almost every point at small |x0|
@@ -136,20 +135,20 @@ def test_thin_non_ellipsoidal_set_radial_law_and_boundary():
     ps, V, rho = _thin(quartic=3.0)
     n = 2000
     X = _sample_set(ps, V, rho, n, 5, False)
-    assert X.shape == (n, NF) and np.all(_contains(ps, V, rho, X))
+    assert X.shape == (n, NF) and np.all(path_contains(ps, V, rho, X))
     for s in (0.9, 0.7):
-        assert _binomial_ok(int(np.sum(_contains(ps, V, rho, X / s))), n, s ** NF)
+        assert _binomial_ok(int(np.sum(path_contains(ps, V, rho, X / s))), n, s ** NF)
     # both halves of the long axis (the set is symmetric)
     assert _binomial_ok(int(np.sum(X[:, 0] > 0)), n, 0.5)
     Xb = _sample_set(ps, V, rho, 500, 6, True)          # boundary points: one round, no switch
-    assert Xb.shape == (500, NF) and np.all(_contains(ps, V, rho, Xb))
-    assert not np.any(_contains(ps, V, rho, Xb * (1 + 1e-6)))
+    assert Xb.shape == (500, NF) and np.all(path_contains(ps, V, rho, Xb))
+    assert not np.any(path_contains(ps, V, rho, Xb * (1 + 1e-6)))
 
 
 def test_directed_sampler_empty_set_raises():
     ps, V, _ = _thin()
     with pytest.raises(SolverError, match="empty"):
-        cert_mod._sample_directed(ps, V, -1.0, 10, 0)
+        certificate._sample_directed(ps, V, -1.0, 10, 0)
 
 
 def test_in_cuts_shared_powers_table_is_bitwise_each_cut():

@@ -11,9 +11,10 @@ from hypothesis import strategies as st
 
 import glidectl as gc
 from glidectl.errors import ArgumentError, SolverError
-from glidectl.roa import MOMENT_MIN_BLOCK, Poly, SOSProgram, monomials, solve_moment
-from glidectl.roa import sdp_solvers as sdp
-from glidectl.roa.sdp_solvers import MOMENT, moment_form, moment_pays, solver_argument, solver_options
+from glidectl.roa import MOMENT_POLICY, Poly, SOSProgram, monomials, sdp_solvers, solve_moment
+from glidectl.roa import moment as sdp
+from glidectl.roa.moment import moment_form, moment_pays
+from glidectl.roa.sdp_solvers import MOMENT, solver_argument, solver_options
 
 
 @pytest.fixture
@@ -115,12 +116,12 @@ def test_dependent_equations_and_free_columns_are_dropped() -> None:
 
 
 def _sextic_bound(solver: str) -> tuple[float, object]:
-    """A lower bound of a sextic in 5 variables (a 56 x 56 Gram matrix, above MOMENT_MIN_BLOCK) by ``solver``:
+    """A lower bound of a sextic in 5 variables (a 56 x 56 Gram matrix, above MOMENT_POLICY.min_block) by ``solver``:
     the optimal value and the Gram check."""
     nv = 5
     rng = np.random.default_rng(1)
     hb = monomials(nv, 3)
-    assert len(hb) >= MOMENT_MIN_BLOCK
+    assert len(hb) >= MOMENT_POLICY.min_block
     p = Poly({tuple(6 * int(k == i) for k in range(nv)): 1.0 for i in range(nv)}, nv)
     for e in monomials(nv, 4):
         if 0 < sum(e):
@@ -188,7 +189,7 @@ def test_a_run_stopped_at_a_singular_schur_complement(late: bool, monkeypatch: p
 
 
 def test_small_larger_moment_and_feasibility_programs_go_to_clarabel(moment_calls: list) -> None:
-    n = MOMENT_MIN_BLOCK
+    n = MOMENT_POLICY.min_block
     X = cp.Variable((n, n), symmetric=True)
     t = cp.Variable(500)        # 1000 rows left as equations: a moment form of order > n (n + 1) / 2 = 820
     base = [X >> 0, cp.trace(X) == n, X[0, 1] == 0.5]
@@ -213,7 +214,7 @@ def test_split_hinge_keeps_one_equation_per_sample_and_the_optimum(moment_calls:
     """The V step's hinge ``sum max(a_k' d - 1, 0)`` written as ``p - q`` with ``p, q >= 0`` (what
     ``_coverage_objective`` builds): its moment form has one equation per sample where ``cp.pos`` leaves two, it goes
     through the route, and it has the optimum of the ``cp.pos`` form in Clarabel."""
-    n, K = MOMENT_MIN_BLOCK, 30
+    n, K = MOMENT_POLICY.min_block, 30
     rng = np.random.default_rng(3)
     Am = rng.uniform(0.0, 0.1, (K, n))
     X = cp.Variable((n, n), symmetric=True)
@@ -239,7 +240,7 @@ def test_split_hinge_keeps_one_equation_per_sample_and_the_optimum(moment_calls:
 
 @pytest.mark.parametrize("kind", ["infeasible", "unbounded"])
 def test_infeasible_and_unbounded_programs_are_reported(kind: str, moment_calls: list) -> None:
-    n = MOMENT_MIN_BLOCK
+    n = MOMENT_POLICY.min_block
     X = cp.Variable((n, n), symmetric=True)
     if kind == "infeasible":
         prob = cp.Problem(cp.Minimize(X[0, 0]), [X >> 0, cp.trace(X) == -1.0])
@@ -321,7 +322,7 @@ def _hinge_program(seed: int, n: int = 8, k: int = 300) -> cp.Problem:
     return cp.Problem(cp.Minimize(cp.sum(p) / k), cons)
 
 
-def test_diagonal_elimination_is_the_same_newton_system(monkeypatch) -> None:
+def test_diagonal_elimination_is_the_same_newton_system(monkeypatch, moment_policy) -> None:
     """ELIMINATE_DIAGONAL (Woodbury on the sample columns of the Schur complement) gives the same iterations and
     optimum as the whole factorization, and finds the sample columns (each in its own nonnegative rows)."""
     prob = _hinge_program(1)
@@ -336,7 +337,7 @@ def test_diagonal_elimination_is_the_same_newton_system(monkeypatch) -> None:
     monkeypatch.setattr(sdp._SparseKKT, "__init__", spy)
     out = {}
     for flag in (False, True):
-        monkeypatch.setattr(sdp, "ELIMINATE_DIAGONAL", flag)
+        moment_policy(eliminate_diagonal_min=256 if flag else None)
         out[flag] = solve_moment(*args)
     assert found[0] is None and found[1] is not None and len(found[1][0]) == 300
     assert out[True].status in ("Solved", "AlmostSolved") and out[False].status == out[True].status
@@ -346,10 +347,11 @@ def test_diagonal_elimination_is_the_same_newton_system(monkeypatch) -> None:
 
 
 def test_steering_options_are_cvxopts_tolerances_on_the_moment_route_only() -> None:
-    assert sdp.steering_options(sdp.MOMENT) == sdp.STEERING_TOLERANCES == {"reltol": 1e-3, "feastol": 1e-5}
-    assert sdp.steering_options("CLARABEL") == {}
-    sdp.steering_options(sdp.MOMENT)["reltol"] = 1.0            # a copy: the module's tolerances stay
-    assert sdp.STEERING_TOLERANCES["reltol"] == 1e-3
+    assert sdp_solvers.steering_options(sdp.MOMENT) == sdp_solvers.STEERING_TOLERANCES == {"reltol": 1e-3,
+                                                                                           "feastol": 1e-5}
+    assert sdp_solvers.steering_options("CLARABEL") == {}
+    sdp_solvers.steering_options(sdp.MOMENT)["reltol"] = 1.0            # a copy: the module's tolerances stay
+    assert sdp_solvers.STEERING_TOLERANCES["reltol"] == 1e-3
 
 
 def test_the_v_step_is_solved_at_the_steering_tolerances(monkeypatch) -> None:
@@ -361,20 +363,20 @@ def test_the_v_step_is_solved_at_the_steering_tolerances(monkeypatch) -> None:
     seen = []
     real = SOSProgram.resolve
 
-    def spy(self, *, solver=sdp.DEFAULT_SOLVER, **kw):
+    def spy(self, *, solver=sdp_solvers.DEFAULT_SOLVER, **kw):
         seen.append((self.problem.objective.NAME, dict(kw)))
         return real(self, solver=solver, **kw)
 
     monkeypatch.setattr(SOSProgram, "resolve", spy)
-    gc.certify_roa(gc.benchmarks.van_der_pol(), degree=2, iterations=1, n_verify=500, n_simulate=8)
+    gc.certify_roa(gc.benchmarks.van_der_pol(), degree=2, iterations=1, sampling=dict(n_verify=500, n_simulate=8))
     steer = [kw for _, kw in seen if kw]
-    assert steer and all(kw == sdp.STEERING_TOLERANCES for kw in steer)
+    assert steer and all(kw == sdp_solvers.STEERING_TOLERANCES for kw in steer)
     assert any(name == "maximize" and not kw for name, kw in seen)      # the level programs: defaults
 
 
 # ------------------------------------------------------------------- cvxpy's "may be inaccurate" warning
 def _inaccurate_warnings(record: list) -> list[str]:
-    return [str(w.message) for w in record if str(w.message).startswith(sdp.INACCURATE_MESSAGE)]
+    return [str(w.message) for w in record if str(w.message).startswith(sdp_solvers.INACCURATE_MESSAGE)]
 
 
 def test_inaccuracy_checked_silences_that_warning_only() -> None:
@@ -382,11 +384,12 @@ def test_inaccuracy_checked_silences_that_warning_only() -> None:
 
     with warnings.catch_warnings(record=True) as record:
         warnings.simplefilter("always")
-        with sdp.inaccuracy_checked():
-            warnings.warn(sdp.INACCURATE_MESSAGE + ". Try another solver, ...", UserWarning, stacklevel=1)
+        with sdp_solvers.inaccuracy_checked():
+            warnings.warn(sdp_solvers.INACCURATE_MESSAGE + ". Try another solver, ...", UserWarning, stacklevel=1)
             warnings.warn("something else", UserWarning, stacklevel=1)
-        warnings.warn(sdp.INACCURATE_MESSAGE + ". Try another solver, ...", UserWarning, stacklevel=1)
-    assert [str(w.message) for w in record] == ["something else", sdp.INACCURATE_MESSAGE + ". Try another solver, ..."]
+        warnings.warn(sdp_solvers.INACCURATE_MESSAGE + ". Try another solver, ...", UserWarning, stacklevel=1)
+    assert [str(w.message) for w in record] == ["something else",
+                                                sdp_solvers.INACCURATE_MESSAGE + ". Try another solver, ..."]
 
 
 def test_sos_and_lmi_solves_check_an_inaccurate_status_without_passing_cvxpys_warning_on(
@@ -402,7 +405,7 @@ def test_sos_and_lmi_solves_check_an_inaccurate_status_without_passing_cvxpys_wa
     def warning_solve(self: cp.Problem, *a: object, **k: object) -> object:
         calls.append(1)
         out = real(self, *a, **k)
-        warnings.warn(sdp.INACCURATE_MESSAGE + ". Try another solver, adjusting the solver settings, ...",
+        warnings.warn(sdp_solvers.INACCURATE_MESSAGE + ". Try another solver, adjusting the solver settings, ...",
                       UserWarning, stacklevel=2)
         return out
 

@@ -16,7 +16,7 @@ from glidectl.roa import Poly, max_level, sector_system
 
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
 
-SMALL = dict(iterations=1, extra=0, n_truth=32, n_verify=600, n_simulate=4)
+SMALL = dict(iterations=1, solver=dict(extra=0), sampling=dict(n_truth=32, n_verify=600, n_simulate=4))
 
 
 def _loop(name, F, K, lo, hi, box):
@@ -59,7 +59,7 @@ def test_graph_terms_describe_the_saturation_exactly():
 def test_scalar_loop_reaches_its_exact_region():
     # x' = x + sat(-2x): x' = -x for |x| <= 1/2, x' = x - sign(x) beyond, equilibria at +-1: the region is |x| < 1
     sl = _loop("scalar", lambda X: X, np.array([[-2.0]]), -1.0, 1.0, 2.0)
-    cert = gc.certify_roa(sl, degree=2, backoff=0.01, **SMALL)
+    cert = gc.certify_roa(sl, degree=2, **{**SMALL, "solver": dict(extra=0, backoff=0.01)})
     assert cert.method == "sos-sector" and cert.certified, cert.verification.failing()
     assert all(e[1] == 0 for e in cert.V.terms)                       # V does not depend on sat(u)
     X = np.linspace(-2, 2, 4001)[:, None]
@@ -95,7 +95,8 @@ def test_degree_4_sos_sector_certificate_is_sound_and_larger_than_degree_2(lin2)
     it; with it in the multipliers the Gram matrix had a structural near-zero eigenvalue, and the final check failed
     at every backoff). The certificate is sound on the true loop and larger than the degree-2 one."""
     sl, cert2 = lin2
-    cert = gc.certify_roa(sl, degree=4, iterations=4, extra=0, n_truth=256, n_verify=2000, n_simulate=16)
+    cert = gc.certify_roa(sl, degree=4, iterations=4, solver=dict(extra=0), sampling=dict(n_truth=256, n_verify=2000,
+                                                                                          n_simulate=16))
     assert cert.method == "sos-sector" and cert.degree == 4 and cert.certified, cert.verification.failing()
     assert all(e[2] == 0 for e in cert.V.terms)                       # V does not depend on sat(u)
     assert cert.volume(n=2**12) > cert2.volume(n=2**12)
@@ -166,13 +167,13 @@ def test_certificate_times_cover_the_whole_call_and_rounds_not_kept():
 
     sl = _loop("sin", lambda X: np.stack([X[..., 1], np.sin(X[..., 0])], -1), K2, -1.0, 1.0, 2.0)
     t0 = time.perf_counter()
-    cert = gc.certify_roa(sl, degree=2, time_limit=600.0, **SMALL)
+    cert = gc.certify_roa(sl, degree=2, **SMALL, budget=dict(time_limit=600.0))
     wall = time.perf_counter() - t0
-    steps = [h["step"] for h in cert.history]
+    steps = [h.step for h in cert.history]
     assert "remainder-box round 2 not kept (not certified or not larger)" in steps
     assert any(s.startswith("remainder box r = ") for s in steps)
     assert 0.97 * wall - 0.01 <= cert.wall_time <= wall
-    assert cert.solve_time == pytest.approx(sum(h["sdp_time"] for h in cert.history), rel=1e-12)
+    assert cert.solve_time == pytest.approx(sum(h.sdp_time for h in cert.history), rel=1e-12)
 
 
 def test_non_polynomial_plant_gets_a_surrogate_and_a_sound_certificate():
@@ -186,7 +187,7 @@ def test_non_polynomial_plant_gets_a_surrogate_and_a_sound_certificate():
     cert = gc.certify_roa(sl, degree=2, **SMALL)
     assert cert.certified and cert.method == "sos-sector+remainder"
     # the second remainder-box round ran and was not kept: the certificate is the first round's
-    assert [h["step"] for h in cert.history if h["step"].startswith("remainder-box round 2")] == [
+    assert [h.step for h in cert.history if h.step.startswith("remainder-box round 2")] == [
         "remainder-box round 2: the box three times the extents of the certified set",
         "remainder-box round 2 not kept (not certified or not larger)"]
     local = [c for c in cert.verification.gram if c.name.startswith("local robust decrease")]

@@ -22,7 +22,7 @@ from threadpoolctl import threadpool_info, threadpool_limits
 
 import glidectl as gc
 from glidectl.roa import SOSProgram, blas_threads, max_level, resolve_box, sdp_solvers
-from glidectl.roa.certify import lyapunov_quadratic
+from glidectl.roa.programs import lyapunov_quadratic
 
 warnings.filterwarnings("ignore", message="Solution may be inaccurate")
 
@@ -35,7 +35,8 @@ from glidectl.roa import sdp_solvers
 if sys.argv[1] == "auto":
     sdp_solvers.CLARABEL_THREADS = 0
 rm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5")).reduced_model()
-c = gc.certify_roa(rm, degree=4, iterations=1, solver="CLARABEL", n_truth=256, n_verify=500, n_simulate=4)
+c = gc.certify_roa(rm, degree=4, iterations=1, solver="CLARABEL",
+                  sampling=dict(n_truth=256, n_verify=500, n_simulate=4))
 print(hashlib.sha256(c.V.arrays()[1].tobytes()).hexdigest(), repr(c.rho))
 """
 

@@ -135,7 +135,8 @@ def test_certificate_reports_the_default_box_and_its_scale():
     ps = surrogate_system(m)
     assert np.array_equal(ps.box[0], lo) and np.array_equal(ps.box[1], hi)
     np.testing.assert_allclose(ps.scale, box_scale((lo, hi), ps.equilibrium), rtol=1e-15)
-    cert = gc.certify_roa(m, degree=2, method="surrogate", iterations=1, n_truth=256, n_verify=2000, n_simulate=16)
+    cert = gc.certify_roa(m, degree=2, method="surrogate", iterations=1, sampling=dict(n_truth=256, n_verify=2000,
+                                                                                       n_simulate=16))
     assert cert.certified and cert.method == "surrogate+remainder"
     assert np.array_equal(cert.box[0], lo) and np.array_equal(cert.box[1], hi)
     # cert.scale = the state scale s of (x - x_e) / s times the internal rescaling of the programs (<= 1)

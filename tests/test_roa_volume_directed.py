@@ -22,7 +22,7 @@ import glidectl as gc
 from glidectl.analysis.measure import MIN_SOBOL_HITS
 from glidectl.errors import ArgumentError
 from glidectl.roa import Poly, polynomial_system
-from glidectl.roa.certify import ROACertificate, ROAVerification, _PathPoints, _sobol, _step_volume, _volume_directed
+from glidectl.roa.certificate import PathPoints, ROACertificate, ROAVerification, _volume_directed, sobol, step_volume
 
 
 def _system(n: int, lo, hi):
@@ -85,15 +85,15 @@ def test_alternation_judges_a_thin_set_by_the_directed_estimate():
     P = _rotated_P(axes, 3)
     ps = _system(8, [-1.5] * 8, [1.5] * 8)
     lo, hi = ps.box
-    pts = _PathPoints(ps, lo + (hi - lo) * _sobol(8, 2, 2**13))
+    pts = PathPoints(ps, lo + (hi - lo) * sobol(8, 2, 2**13))
     V = Poly.quadratic(P)
     assert not np.any(pts.contains(V, 1.0))
-    assert _step_volume(ps, pts, V, lo, hi, 0) == pytest.approx(_ellipsoid_volume(P, 1.0), rel=1e-9)
+    assert step_volume(ps, pts, V, lo, hi, 0) == pytest.approx(_ellipsoid_volume(P, 1.0), rel=1e-9)
     # a larger thin set is judged larger (with the Sobol fraction both were 0)
-    assert _step_volume(ps, pts, V * (1 / 1.2), lo, hi, 0) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
+    assert step_volume(ps, pts, V * (1 / 1.2), lo, hi, 0) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
                                                                              rel=1e-9)
     # at another level (the history's final-margin rows): the same set
-    assert _step_volume(ps, pts, V, lo, hi, 0, rho=1.2) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
+    assert step_volume(ps, pts, V, lo, hi, 0, rho=1.2) == pytest.approx(1.2 ** 4 * _ellipsoid_volume(P, 1.0),
                                                                           rel=1e-9)
 
 
@@ -101,11 +101,11 @@ def test_alternation_keeps_the_sobol_fraction_on_a_fat_set():
     cert = _fat_quartic()
     ps = cert.system
     lo, hi = ps.box
-    pts = _PathPoints(ps, lo + (hi - lo) * _sobol(2, 2, 2**13))
+    pts = PathPoints(ps, lo + (hi - lo) * sobol(2, 2, 2**13))
     V = cert.V * (1 / cert.rho)
     inside = pts.contains(V, 1.0)
     assert np.count_nonzero(inside) >= MIN_SOBOL_HITS
-    assert _step_volume(ps, pts, V, lo, hi, 0) == float(np.prod(hi - lo) * np.mean(inside))
+    assert step_volume(ps, pts, V, lo, hi, 0) == float(np.prod(hi - lo) * np.mean(inside))
 
 
 def _cut_volume(ax: np.ndarray, clip: float) -> float:
@@ -180,7 +180,7 @@ def test_auto_switches_below_the_hit_threshold():
 
 
 def _held(ps2, box3):
-    """``ps2`` (free states x1, x2) embedded in three states with ``x3`` held at 1 (as certify_roa's _embed)."""
+    """``ps2`` (free states x1, x2) embedded in three states with ``x3`` held at 1 (as certify_roa's embed_held)."""
     lift0 = ps2.lift
     return dataclasses.replace(ps2, state_names=("x1", "x2", "x3"), lift=lambda X: lift0(np.asarray(X)[..., :2]),
                                equilibrium=np.array([0.0, 0.0, 1.0]), box=box3, held=(2,))

@@ -49,7 +49,7 @@ from glidectl import (
     singular_perturbation,
     unequal_mass_check,
 )
-from glidectl.analysis.jacobian import jacobians
+from glidectl.derivatives import jacobians
 
 SPHERE = load_vehicle("sphere_ch5")
 VARIANTS = {

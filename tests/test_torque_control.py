@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 import glidectl as gc
-from glidectl.analysis.jacobian import jacobians
 from glidectl.controllers.moving_mass import MovingMassTorque, compare_realized_torque
 from glidectl.controllers.torque import (
     TorqueLaw,
@@ -18,6 +17,7 @@ from glidectl.controllers.torque import (
     peak_torque,
     torque_gain_family,
 )
+from glidectl.derivatives import jacobians
 from glidectl.errors import GlidectlError, InfeasibleGlideError, ModelError
 from glidectl.models.realized_torque import RealizedTorqueLoop
 from glidectl.models.reduced import ReducedLongitudinalGlider

@@ -25,7 +25,6 @@ from .analysis.flight_fit import FlightFit, fit_flight_model, law_start, predict
 from .analysis.helix_existence import ExistenceScan, existence_scan
 from .analysis.helix_stability import HelixRbhLocus, helix_rbh_locus, resolved_crossing
 from .analysis.helix_sweeps import HelixSweep, helix_sweep, straight_glides
-from .analysis.jacobian import hessian, jacobians
 from .analysis.linear import (
     DepthGlidePathModel,
     FixedActuatorModel,
@@ -110,6 +109,7 @@ from .controllers.torque import (
     design_torque_control,
     torque_gain_family,
 )
+from .derivatives import hessian, jacobians
 from .environment import Current
 from .errors import (
     ArgumentError,
@@ -167,12 +167,20 @@ from .models.torque_glider import TorqueControlledGlider
 from .params import Actuator, Vehicle, list_presets, load_vehicle
 from .records import DiveRecord, MaskSettings, example_record_path, read_dive_record
 from .roa import (
+    BudgetOptions,
+    Certificate,
+    Extent,
+    HistoryRow,
     PolySystem,
     RemainderBound,
     ROACertificate,
     ROAVerification,
+    SamplingOptions,
+    SolverOptions,
     SOSSize,
+    SurrogateOptions,
     certify_roa,
+    convergent_extent,
     dVdt,
     estimate_sos_size,
     installed_sdp_solvers,
@@ -253,7 +261,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     ),
     "stability and certificates": (
         "allowable_delta_m_ratio", "box_measure", "box_points", "buoyancy_lyapunov_check", "BuoyancyLyapunovCheck",
-        "certify_roa",
+        "certify_roa", "Certificate", "convergent_extent", "Extent", "SamplingOptions", "BudgetOptions",
+        "SurrogateOptions", "SolverOptions", "HistoryRow",
         "composite_lyapunov", "CompositeCertificate", "CompositeVerification", "ctol_lyapunov",
         "CTOLLyapunovCertificate", "CTOLVerification", "Domain", "dVdt", "estimate_sos_size", "lyapunov_matrix",
         "installed_sdp_solvers", "lyapunov_quadratic", "max_level", "PolySystem", "recast", "ROACertificate",
@@ -300,6 +309,7 @@ __all__ = [
     "BlowUp",
     "BreakPoint",
     "BudgetError",
+    "BudgetOptions",
     "BuoyancyController",
     "BuoyancyEquilibrium",
     "BuoyancyGlider",
@@ -310,6 +320,7 @@ __all__ = [
     "CTOLLyapunovCertificate",
     "CTOLReduced",
     "CTOLVerification",
+    "Certificate",
     "ClimbTrajectory",
     "ClosedLoop",
     "ClosedLoopCTOL",
@@ -339,6 +350,7 @@ __all__ = [
     "Ensemble",
     "ExistenceScan",
     "ExtendedCTOL",
+    "Extent",
     "FeedbackLinearizingController",
     "FixedActuatorModel",
     "FixedMassGlider3D",
@@ -357,6 +369,7 @@ __all__ = [
     "HelixDesign",
     "HelixRbhLocus",
     "HelixSweep",
+    "HistoryRow",
     "InfeasibleGlideError",
     "LQGController",
     "LegMetrics",
@@ -390,6 +403,7 @@ __all__ = [
     "SOSSize",
     "SampledGlideLQG",
     "SampledLQG",
+    "SamplingOptions",
     "SaturatedLoop",
     "ScheduledGlideLQG",
     "ScheduledGlideLQR",
@@ -397,11 +411,13 @@ __all__ = [
     "SingularPerturbation",
     "SlowModel",
     "SolverError",
+    "SolverOptions",
     "StableInversion",
     "StateFeedback",
     "SteadyFlight",
     "SteadyGlide",
     "SteadyGlideController",
+    "SurrogateOptions",
     "TorqueControlledGlider",
     "TorqueDesign",
     "TorqueGainFamily",
@@ -431,6 +447,7 @@ __all__ = [
     "compare_realized_torque",
     "composite_lyapunov",
     "controllability",
+    "convergent_extent",
     "coverage_metric",
     "ctol_closed_loop_eigenvalues",
     "ctol_glide",

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from . import checks
+from .derivatives import complex_step
 from .errors import ArgumentError, ModelError, SolverError
 
 __all__ = [
@@ -209,14 +210,17 @@ def batch_jacobian(f: Callable[[np.ndarray], Any], X: np.ndarray, F: np.ndarray 
     eye = np.eye(n)[:c]
     if method == "complex":
         h = 1e-30
-        Z = (X[None, :, :] + 1j * h * eye[:, None, :]).reshape(c * N, n)
-        D = np.asarray(f(Z))
-        if D.shape != Z.shape:
-            raise ModelError(f"the right-hand side returned shape {D.shape} for a batch of shape {Z.shape}")
-        if not np.iscomplexobj(D):
-            raise ModelError("the right-hand side dropped the imaginary part of a complex state; use "
-                             "jacobian='central' for right-hand sides that are not complex-safe")
-        cols = D.imag.reshape(c, N, n) / h            # (j, N, i) = d f_i / d x_j
+
+        def rows(Z: np.ndarray) -> np.ndarray:        # Z (j, N, n): x_k + i h e_j, direction-major
+            Z = Z.reshape(c * N, n)
+            D = np.asarray(f(Z))
+            if D.shape != Z.shape:
+                raise ModelError(f"the right-hand side returned shape {D.shape} for a batch of shape {Z.shape}")
+            return D
+
+        cols = complex_step(rows, X[None, :, :], eye[:, None, :], h, name="the right-hand side",
+                            advice="use jacobian='central' for right-hand sides that are not complex-safe"
+                            ).reshape(c, N, n)        # (j, N, i) = d f_i / d x_j
     elif method == "central":
         step = np.cbrt(np.finfo(float).eps) * np.maximum(1.0, np.abs(X[:, :c]))   # (N, c)
         dX = step.T[:, :, None] * eye[:, None, :]                                # (j, N, n)

@@ -107,7 +107,7 @@ def drake_van_der_pol(repeats: int = 5) -> dict[str, float] | None:
 
     repeats = checks.integer("repeats", repeats, lo=1, hi=100)
 
-    from .roa.certify import lyapunov_matrix
+    from .roa.programs import lyapunov_matrix
 
     try:
         from pydrake.symbolic import Variable

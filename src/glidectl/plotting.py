@@ -44,7 +44,7 @@ if TYPE_CHECKING:
     from .controllers.ctol_runs import TrackingRun
     from .controllers.ctol_tracking import ParetoStudy
     from .controllers.dive_cycle import DiveCycleRun
-    from .roa.certify import ROACertificate
+    from .roa.certificate import ROACertificate
     from .sim import Ensemble, Simulation
     from .stability.composite import CompositeCertificate
 
@@ -594,16 +594,31 @@ def plot_existence_scan(scan: ExistenceScan, ax: Any = None) -> Any:
 
 
 # ------------------------------------------------------------------------------------------------ certificates
-def _roa_label(ps: Any, k: int) -> str:
-    """Label of state ``k`` of a :class:`~glidectl.roa.systems.PolySystem`: angles in rad, states of a
-    nondimensional system ``[-]``."""
-    name = ps.state_names[k]
-    if k in tuple(ps.angle_states) + tuple(ps.mixed_states):
-        return label(name, "rad")
-    known = STATE_UNITS.get(name, _EXTRA_UNITS.get(name))
-    if known is None and ps.time_unit != "s":
-        known = "-"
-    return label(name, known)
+#: units shown in figures in place of a state's own unit (the conventions page: degrees in plots), with the factor
+DISPLAY_UNITS: dict[str, tuple[str, float]] = {"rad": ("deg", 180.0 / math.pi), "rad/s": ("deg/s", 180.0 / math.pi)}
+
+
+def display_unit(unit: str | None) -> tuple[str | None, float]:
+    """The unit a figure shows for a state of unit ``unit`` and the factor from state units to it: degrees for
+    radians (:data:`DISPLAY_UNITS`), the unit itself otherwise."""
+    return DISPLAY_UNITS.get(unit, (unit, 1.0)) if unit is not None else (None, 1.0)
+
+
+def state_axis(names: Sequence[str], k: int, time_unit: str = "s", angles: Sequence[int] = ()) -> tuple[str, float]:
+    """Axis label and factor (state units to the shown unit) of state ``k`` of a model with states ``names``:
+    angles (the known angle states, and the indices ``angles``) in degrees, states of a nondimensional model
+    (``time_unit`` not ``"s"``) ``[-]``."""
+    name = names[k]
+    unit = "rad" if k in tuple(angles) else STATE_UNITS.get(name, _EXTRA_UNITS.get(name))
+    if unit is None and time_unit != "s":
+        unit = "-"
+    shown, factor = display_unit(unit)
+    return label(name, shown), factor
+
+
+def _roa_axis(ps: Any, k: int) -> tuple[str, float]:
+    """:func:`state_axis` of state ``k`` of a :class:`~glidectl.roa.systems.PolySystem` (its lifted angles)."""
+    return state_axis(ps.state_names, k, ps.time_unit, tuple(ps.angle_states) + tuple(ps.mixed_states))
 
 
 def _slice_base(ps: Any, fixed: Any) -> np.ndarray:
@@ -639,14 +654,15 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
         Grid points per axis over the system's box (the set is :meth:`ROACertificate.contains` on the grid), and
         the number of random points of the slice in the set drawn when ``samples``.
     samples : bool
-        Draw points of the set. The certificate's :class:`~glidectl.roa.certify.ROAVerification` keeps counts, not the
-        sampled points, so ``n`` points of the slice in the set are drawn here (rejection from the box, seeded
+        Draw points of the set. The certificate's :class:`~glidectl.roa.certificate.ROAVerification` keeps counts, not
+        the sampled points, so ``n`` points of the slice in the set are drawn here (rejection from the box, seeded
         with ``seed``).
 
     Returns
     -------
     matplotlib.axes.Axes
-        The set as a filled contour with its boundary, the equilibrium as ``+``, the samples as dots.
+        The set as a filled contour with its boundary, the equilibrium as ``+``, the samples as dots; angles in
+        degrees.
     """
     ps = cert.system
     i, j = _pair(dims, ps.state_names, ps.n)
@@ -656,6 +672,7 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     if ax is None:
         _, ax = new_figure(width=6.5, height=5.2)
+    (xlabel, fx), (ylabel, fy) = _roa_axis(ps, i), _roa_axis(ps, j)
     A, B = np.meshgrid(np.linspace(lo[i], hi[i], n), np.linspace(lo[j], hi[j], n))
     X = np.tile(base, (A.size, 1))
     X[:, i], X[:, j] = A.ravel(), B.ravel()
@@ -666,8 +683,8 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
     handles: list[Any] = [Patch(color="C0", alpha=0.35, label=f"certified: V ≤ {cert.rho:.4g} (degree {cert.degree})")]
     if ins.any():
         F = np.minimum(F, 2 * cert.rho + 1.0)
-        ax.contourf(A, B, F, levels=[float(F.min()) - 1.0, cert.rho], colors=["C0"], alpha=0.35)
-        ax.contour(A, B, F, levels=[cert.rho], colors="C0", linewidths=1.2)
+        ax.contourf(fx * A, fy * B, F, levels=[float(F.min()) - 1.0, cert.rho], colors=["C0"], alpha=0.35)
+        ax.contour(fx * A, fy * B, F, levels=[cert.rho], colors="C0", linewidths=1.2)
     if samples:
         rng = np.random.default_rng(seed)
         pts = np.empty((0, 2))
@@ -679,7 +696,8 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
             if len(pts) >= n:
                 break
         if len(pts):
-            (h,) = ax.plot(pts[:, 0], pts[:, 1], ".", color="C2", ms=2.5, label=f"{len(pts)} random points of the set")
+            (h,) = ax.plot(fx * pts[:, 0], fy * pts[:, 1], ".", color="C2", ms=2.5,
+                           label=f"{len(pts)} random points of the set")
             handles.append(h)
     if samples and ps.n == 2 and hasattr(cert, "sample"):
         # the verification's simulation starts: the outermost points of the set (issue 17)
@@ -688,16 +706,16 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
         except GlidectlError:
             out = np.empty((0, 2))
         if len(out):
-            (h,) = ax.plot(out[:, i], out[:, j], "x", color="C3", ms=4,
+            (h,) = ax.plot(fx * out[:, i], fy * out[:, j], "x", color="C3", ms=4,
                            label=f"{len(out)} outermost points (simulation starts)")
             handles.append(h)
     eq = np.asarray(ps.equilibrium, dtype=float)
-    (h,) = ax.plot(eq[i], eq[j], "k+", ms=12, mew=2, label="equilibrium")
+    (h,) = ax.plot(fx * eq[i], fy * eq[j], "k+", ms=12, mew=2, label="equilibrium")
     handles.append(h)
-    ax.set_xlim(lo[i], hi[i])
-    ax.set_ylim(lo[j], hi[j])
-    ax.set_xlabel(_roa_label(ps, i))
-    ax.set_ylabel(_roa_label(ps, j))
+    ax.set_xlim(fx * lo[i], fx * hi[i])
+    ax.set_ylim(fy * lo[j], fy * hi[j])
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     rest = [f"{_LATEX.get(ps.state_names[k], ps.state_names[k])} = {base[k]:.3g}" for k in range(ps.n)
             if k not in (i, j)]
     status = "verified" if cert.verification.passed else "NOT verified"
@@ -983,10 +1001,10 @@ def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any]
 
     Returns
     -------
-    matplotlib.figure.Figure
-        The figure holding the axes: the ellipse (other free states at equilibrium), the box, the equilibrium.
+    matplotlib.axes.Axes
+        The ellipse (other free states at equilibrium), the box, the equilibrium; angles in degrees.
     """
-    loop = cert.loop
+    loop = cert.system
     i, j = _pair(dims, loop.state_names, loop.n)
     free = list(loop.free)
     if i not in free or j not in free:
@@ -1002,19 +1020,78 @@ def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any]
     if ax is None:
         _, ax = new_figure(width=6.5, height=5.2)
     lo, hi = (np.asarray(v, dtype=float) for v in cert.box)
+    (xlabel, fx), (ylabel, fy) = state_axis(loop.state_names, i), state_axis(loop.state_names, j)
+    E = E * [fx, fy]
+    (xl, xh), (yl, yh) = (fx * lo[i], fx * hi[i]), (fy * lo[j], fy * hi[j])
     ax.fill(E[:, 0], E[:, 1], color="C0", alpha=0.35, label=f"certified ellipsoid (slice), {cert.method}")
     ax.plot(E[:, 0], E[:, 1], color="C0", lw=1.2)
-    ax.plot([lo[i], hi[i], hi[i], lo[i], lo[i]], [lo[j], lo[j], hi[j], hi[j], lo[j]], "k--", lw=1, label="box")
-    ax.plot(loop.equilibrium[i], loop.equilibrium[j], "k+", ms=12, mew=2, label="equilibrium")
-    ax.set_xlabel(label(loop.state_names[i]))
-    ax.set_ylabel(label(loop.state_names[j]))
+    ax.plot([xl, xh, xh, xl, xl], [yl, yl, yh, yh, yl], "k--", lw=1, label="box")
+    ax.plot(fx * loop.equilibrium[i], fy * loop.equilibrium[j], "k+", ms=12, mew=2, label="equilibrium")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     status = "verified" if cert.certified else "NOT verified"
     # a loop's name can be longer than the axes are wide: wrapped, as the figure's width allows
     ax.set_title(textwrap.fill(loop.name, width=max(40, int(14 * ax.figure.get_figwidth())))
                  + f"\nLMI region of attraction ({status}), {100 * cert.volume_fraction:.3g} % of the box", fontsize=8)
     ax.legend(loc="lower right", fontsize=7)
     ax.grid(True, alpha=0.3)
-    return ax.figure
+    return ax
+
+
+def plot_extents(extent: Any, under: Any = None, ax: Any = None) -> Any:
+    """Bar chart of a region's extent per state axis and direction (:class:`~glidectl.roa.extent.Extent`), as the
+    fraction of the box's half-width on that side, with a second extent (e.g. the convergent one) drawn under it.
+
+    Parameters
+    ----------
+    extent : Extent
+        Drawn in front (e.g. the certified extent).
+    under : Extent, optional
+        Drawn behind, wider and lighter (e.g. :func:`glidectl.convergent_extent`); the ratio of the two is printed
+        on each bar.
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        Bars below zero for ``x_e - lo``, above for ``hi - x_e``, per state (box half-width = 1); the ratio of
+        ``extent`` to ``under`` per bar.
+    """
+    names = list(extent.names)
+    lo_b, hi_b = (np.asarray(b, dtype=float) for b in extent.box)
+    xe = np.asarray(extent.equilibrium, dtype=float)
+    below_box, above_box = xe - lo_b, hi_b - xe
+
+    def fractions(e: Any) -> tuple[np.ndarray, np.ndarray]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (np.where(below_box > 0, e.below / below_box, 0.0),
+                    np.where(above_box > 0, e.above / above_box, 0.0))
+
+    if ax is None:
+        _, ax = new_figure(width=7.0, height=4.0)
+    x = np.arange(len(names))
+    if under is not None:
+        ub, ua = fractions(under)
+        ax.bar(x, ua, 0.8, color="0.8", label=under.what)
+        ax.bar(x, -ub, 0.8, color="0.8")
+    eb, ea = fractions(extent)
+    ax.bar(x, ea, 0.5, color="C0", label=extent.what + ("" if extent.rigorous in (None, True) else ", not rigorous"))
+    ax.bar(x, -eb, 0.5, color="C0")
+    if under is not None:
+        rb, ra = extent.ratio(under)
+        for k in range(len(names)):
+            for r, y in ((ra[k], ea[k]), (rb[k], -eb[k])):
+                if np.isfinite(r):
+                    ax.annotate(f"{r:.2g}", (x[k], y), ha="center", va="bottom" if y >= 0 else "top", fontsize=6)
+    ax.axhline(0.0, color="k", lw=0.8)
+    ax.axhline(0.5, color="C3", lw=0.6, ls=":")
+    ax.axhline(-0.5, color="C3", lw=0.6, ls=":")
+    ax.set_xticks(x, [_LATEX.get(n, n) for n in names])
+    ax.set_ylim(-1.1, 1.1)
+    ax.set_ylabel("extent / box half-width [-]")
+    ax.set_title("Extent per state axis through the equilibrium (below 0: towards lo, above: towards hi)", fontsize=8)
+    ax.legend(loc="lower right", fontsize=7)
+    return ax
 
 
 # ------------------------------------------------------------------------------------------------ dive records

@@ -1,8 +1,10 @@
-"""Analysis of models and their steady motions: exact complex-step Jacobians and Hessians, linearization about
-steady glides with modes, controllability and observability (§2.3.1), root loci over physical parameters (§2.3),
-maps, existence scans and stability of steady helices (chapter 8, with the continuation engine behind them), and
-the closed-loop comparison of controllers by LQR design and batch simulation."""
+"""Analysis of models and their steady motions: exact complex-step Jacobians and Hessians (from
+:mod:`glidectl.derivatives`), linearization about steady glides with modes, controllability and observability
+(§2.3.1), root loci over physical parameters (§2.3), maps, existence scans and stability of steady helices (chapter
+8, with the continuation engine behind them), and the closed-loop comparison of controllers by LQR design and batch
+simulation."""
 
+from ..derivatives import central_difference_jacobians, hessian, jacobians
 from .closed_loop import BatchComparison, ControllerRecord, StateFeedback, compare_controllers, lqr_state_feedback
 from .continuation import (
     AGREE_TOL,
@@ -21,7 +23,6 @@ from .continuation import (
 from .helix_existence import ExistenceScan, existence_scan
 from .helix_stability import HelixRbhLocus, helix_rbh_locus, mass_position_at_rbh, resolved_crossing
 from .helix_sweeps import HelixSweep, helix_sweep, straight_glides
-from .jacobian import central_difference_jacobians, hessian, jacobians
 from .linear import Modes, RankTest, controllability, glide_model, linearize_glide, modes, observability
 from .locus import (
     BreakPoint,

@@ -19,8 +19,8 @@ from scipy.integrate import solve_ivp
 
 from .. import checks
 from ..batch import DIVERGED, FINISHED, batch_jacobian, integrate_batch
+from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
-from .jacobian import jacobians
 
 #: integrators accepted by :func:`compare_controllers`: ``"batch"`` (:func:`glidectl.integrate_batch`, every run with
 #: its own step size) or a method of :func:`scipy.integrate.solve_ivp` (one stacked ODE, one step size for all runs)

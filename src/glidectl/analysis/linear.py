@@ -19,6 +19,7 @@ import control
 import numpy as np
 
 from .. import checks
+from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, SolverError
 from ..models._validate import trailing_array
 from ..models.longitudinal import (
@@ -28,7 +29,6 @@ from ..models.longitudinal import (
 )
 from ..params import Vehicle
 from ..trim.glide import SteadyGlide
-from .jacobian import jacobians
 
 __all__ = [
     "EXTRA_OUTPUTS",

@@ -19,11 +19,11 @@ import numpy as np
 from scipy.optimize import brentq, linear_sum_assignment
 
 from .. import checks
+from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..models.longitudinal import AccelerationControlledGlider, LongitudinalGlider
 from ..params import Vehicle
 from ..trim.glide import steady_glide
-from .jacobian import jacobians
 
 __all__ = ["BreakPoint", "ParameterLocus", "eta_r_eigenvalues", "mbar_locus", "parameter_locus", "rbh_locus",
            "uncontrolled_eigs"]

@@ -41,6 +41,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
+from ..derivatives import jacobian_batch, partial_derivative
 from ..errors import ArgumentError, InfeasibleGlideError, SolverError
 from ..models._validate import require_glider, require_instance, speed_arg, trailing_array
 from ..models.buoyancy_glider import ActuatorLimits, BuoyancyGlider, actuator_limits, loaded_rates
@@ -352,9 +353,7 @@ def _grad_nu(cert: CompositeCertificate, z: np.ndarray) -> np.ndarray:
     h = 1e-30
     g = np.empty_like(z)
     for j in range(4):
-        zc = z.astype(complex)
-        zc[:, j] += 1j * h
-        g[:, j] = np.imag(cert.nu(zc)) / h
+        g[:, j] = partial_derivative(cert.nu, z, j, h)
     return g
 
 
@@ -425,8 +424,7 @@ def _local_threshold(cert: CompositeCertificate, veh: Vehicle,
     H = (_grad_nu(cert, h * E) - _grad_nu(cert, -h * E)) / (2 * h)
     H = 0.5 * (H + H.T)
     hc = 1e-30
-    Z = (1j * hc * E).astype(complex)
-    A = np.imag(_nd_rates(veh, sp, Z, np.full(4, eq.m0e))).T / hc
+    A = jacobian_batch(lambda Z: _nd_rates(veh, sp, Z, np.full(4, eq.m0e)), np.zeros(4), hc)
     dm = 1e-6
     z0 = np.zeros((1, 4))
     B = ((_nd_rates(veh, sp, z0, np.array([eq.m0e + eq.m_e * dm]))

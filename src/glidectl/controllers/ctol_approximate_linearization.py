@@ -13,15 +13,13 @@ The plant with the thrust extended is :class:`glidectl.models.ctol.ExtendedCTOL`
 
 from __future__ import annotations
 
-import cmath
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from .. import checks
-from ..analysis.jacobian import central_difference_jacobians
+from ..derivatives import central_difference_jacobians, jacobian_batch, second_directional_derivative
 from ..errors import SolverError
 from ..models._validate import require_instance, speed_arg
 from ..models.ctol import CTOLAircraft, ExtendedCTOL
@@ -34,9 +32,6 @@ __all__ = ["ApproximateLinearizationController", "approximate_linearization_eige
            "track_approximate_linearization"]
 
 _H = 1e-30  # complex step
-
-
-_W8 = cmath.exp(0.25j * math.pi)
 
 
 @dataclass(frozen=True)
@@ -113,16 +108,14 @@ class ApproximateLinearizationController:
                          shape=(8,))
         a0 = self._a0(X)
         # first derivatives of a0 w.r.t. the 8 states (complex step, one batch)
-        P = np.broadcast_to(X, (8, 8)).astype(complex)
-        P[np.arange(8), np.arange(8)] += 1j * _H
-        Da = (np.imag(self._a0(P)) / _H).T  # (2, 8)
+        Da = jacobian_batch(self._a0, X, _H)  # (2, 8)
         d1 = np.zeros(8)
         d1[2:4], d1[4], d1[6] = a0, X[5], X[7]
         j0 = Da @ d1
         nd = float(np.linalg.norm(d1))
         if nd > 0:
             h = 1e-3 / nd
-            s2 = np.imag(self._a0(X + h * _W8 * d1) + self._a0(X - h * _W8 * d1)) / h**2
+            s2 = second_directional_derivative(self._a0, X, d1, h)
         else:
             s2 = np.zeros(2)
         r0 = s2 + Da[:, 2:4] @ j0

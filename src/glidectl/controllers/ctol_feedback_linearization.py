@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, SolverError
 from ..models._validate import require_instance
 from ..models.ctol import CTOLAircraft

@@ -29,7 +29,7 @@ from scipy.integrate import solve_bvp, solve_ivp
 from scipy.interpolate import CubicSpline
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import complex_step, jacobians, jacobians_batch
 from ..errors import ArgumentError, BudgetError, SolverError
 from ..models._validate import require_instance
 from ..models.ctol import CTOLAircraft
@@ -155,9 +155,13 @@ def _quasi_static(veh: Vehicle, desired: ClimbTrajectory, t: np.ndarray, theta0:
     d = desired.derivatives(t, 1)
     th = np.arctan2(d[:, 1, 1], d[:, 1, 0]) + theta0
     z = np.zeros_like(th)
+
+    def acceleration(theta: np.ndarray) -> Any:
+        return _internal_along(veh, desired, t, theta, z)
+
     for _ in range(50):
-        f = _internal_along(veh, desired, t, th + 1j * _H, z)
-        step = np.real(f) / (np.imag(f) / _H)
+        f, df = complex_step(acceleration, th, 1.0, _H, value=True)   # value and d/dtheta in one call
+        step = f / df
         th = th - np.clip(step, -0.2, 0.2)
         if np.max(np.abs(step)) < 1e-13:
             break
@@ -388,13 +392,8 @@ class InversionTracker:
         shapes ``(..., 6, 6)`` and ``(..., 6, 1)``."""
         t = np.asarray(t, dtype=float)
         xr = self.inversion.reference_state(t)
-        X = np.repeat(xr[..., None, :], 7, axis=-2).astype(complex)
-        U = np.zeros((*X.shape[:-1], 1), dtype=complex)
-        X[..., np.arange(6), np.arange(6)] += 1j * _H
-        U[..., 6, 0] += 1j * _H
-        d = np.imag(self.closed_loop(t[..., None], X, U)) / _H  # (..., 7, 6)
-        J = np.swapaxes(d, -1, -2)
-        return J[..., :6].copy(), J[..., 6:].copy()
+        return jacobians_batch(lambda X, U: self.closed_loop(t[..., None], X, U), xr,
+                               np.zeros((*xr.shape[:-1], 1)), _H)
 
     def gain(self, t: float) -> np.ndarray:
         """``K(t)`` (6,) (N m per unit state error): cubic spline through the ``dt_gain`` grid (smooth in ``t``, so

@@ -9,7 +9,7 @@ to BDF where large ``k3, k4`` make the pitch loop stiff (a lightly damped pitch 
 gains ring at 1522 rad/s, decaying at only ``k4 T / (2 J) = 125`` 1/s, so the ringing lasts the whole 0.1 s interval
 and is part of the answer: it is in ``u2`` and in the force ``eps u2``). The implicit methods (LSODA's BDF phases,
 ``"BDF"``, ``"Radau"``) get the exact Jacobian of the closed loop (complex step of the one right-hand side,
-:func:`glidectl.analysis.jacobian.jacobians`) instead of finite differences. With the printed gains LSODA, Radau and
+:func:`glidectl.derivatives.jacobians`) instead of finite differences. With the printed gains LSODA, Radau and
 BDF with that Jacobian agree (``bench/bench_ch7_integrators.py``; ``tests/test_ctol_stiff.py`` checks the first
 interval against DOP853 at ``rtol = 1e-12``); scipy's Radau and BDF are slower here because the ringing must be
 resolved whatever the method.
@@ -32,7 +32,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, InfeasibleGlideError, ModelError, SolverError
 from ..models._validate import require_ctol_vehicle, require_instance
 from ..models.ctol import CTOLAircraft
@@ -263,7 +263,7 @@ def _with_quadrature(model: CTOLAircraft, ctrl: SteadyGlideController, spent: li
 
 
 def _closed_loop_jacobian(model: CTOLAircraft, ctrl: SteadyGlideController) -> Any:
-    """``jac(t, z)``: the exact (complex-step, :func:`glidectl.analysis.jacobian.jacobians`) Jacobian of the
+    """``jac(t, z)``: the exact (complex-step, :func:`glidectl.derivatives.jacobians`) Jacobian of the
     augmented closed-loop right-hand side ``(9, 9)``, for the implicit methods of :func:`solve_ivp`."""
 
     def jac(t: float, z: np.ndarray) -> np.ndarray:

@@ -30,7 +30,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ModelError, SolverError
 from ..models._validate import angle_arg, require_instance, speed_arg, trailing_array
 from ..models.ctol import CTOLAircraft, require_ctol

@@ -79,8 +79,8 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.jacobian import jacobians
 from ..analysis.linear import linearize_glide
+from ..derivatives import jacobians
 from ..errors import (
     ArgumentError,
     ArgumentTypeError,

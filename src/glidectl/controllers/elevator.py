@@ -27,7 +27,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, InfeasibleGlideError, ModelError, SolverError
 from ..models._validate import angle_arg, require_glider, require_instance, speed_arg, trailing_array
 from ..models.buoyancy_glider import ActuatorLimits, actuator_limits

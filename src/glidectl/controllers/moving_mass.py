@@ -28,7 +28,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, BudgetError, ModelError, SolverError
 from ..hydro import angle_of_attack
 from ..models._validate import require_glider, require_instance, trailing_array

@@ -1,5 +1,6 @@
-"""The saturated form ``X' = F(X, sat(K (X - X_e)))`` of the closed loops of this package's controllers, for the LMI
-path of the region-of-attraction layer (:func:`glidectl.roa.lmi.certify_roa_lmi`): :func:`saturated_loop`.
+"""The saturated form ``X' = F(X, sat(K (X - X_e)))`` of the closed loops of this package's controllers, an input-free
+model (:class:`~glidectl.models.saturated_loop.SaturatedLoop`) for simulation and for the LMI path of the
+region-of-attraction layer (:func:`glidectl.roa.lmi.certify_roa_lmi`): :func:`saturated_loop`.
 
 The chapter-6 buoyancy and elevator loops saturate in the pump (rate limit ``[actuators] m0.rate``); a linear glide
 regulator saturates where the vehicle file gives a rate in the input's unit (the pump rate ``u4``/``w4``); a
@@ -20,7 +21,7 @@ from ..analysis.closed_loop import StateFeedback
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from ..models.buoyancy_glider import actuator_limits
 from ..models.closed_loop import ClosedLoop
-from ..roa.lmi import SaturatedLoop, held_motion, held_points
+from ..models.saturated_loop import SaturatedLoop, held_motion, held_points
 from ..roa.scaling import DEFAULT_HALF_WIDTH, validity_box
 from .buoyancy import BuoyancyController
 from .elevator import ElevatorBuoyancyController
@@ -44,7 +45,7 @@ def _check_truth(sl: SaturatedLoop, truth: Callable[[np.ndarray], Any], what: st
     X = held_points(sl.box, sl.equilibrium, sl.held)
     with np.errstate(all="ignore"):
         a = np.asarray(truth(X), dtype=float)
-        b = np.asarray(sl.plant_rhs(X, sl.input(X)), dtype=float)
+        b = np.asarray(sl.plant_rhs(X, sl.feedback(X)), dtype=float)
     scale = np.maximum(np.max(np.abs(a), axis=0), 1e-300)
     err = float(np.max(np.abs(a - b) / scale))
     if not err <= 1e-9:
@@ -96,7 +97,10 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
     Returns
     -------
     SaturatedLoop
-        Checked against the loop's own right-hand side on 65 points of the box.
+        An input-free model (``input_names == ()``, fed-back channels in ``feedback_names``, ``equilibrium``,
+        ``rhs(x)``) that :func:`glidectl.simulate`, :func:`glidectl.simulate_many`, :func:`glidectl.jacobians`,
+        :func:`glidectl.certify_roa` and :func:`glidectl.certify_roa_lmi` take; checked against the loop's own
+        right-hand side on 65 points of the box.
 
     Raises
     ------
@@ -136,7 +140,8 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
         sl = SaturatedLoop(f"{type(plant).__name__} closed by {feedback.name}", names, tuple(inputs[i] for i in ch),
                            lambda X, W: plant.rhs(X, full_u(W)), xe, Kf[ch], lo_d[ch], hi_d[ch],
                            box if box is not None else validity_box(plant, xe),
-                           truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")))
+                           truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")),
+                           vehicle=getattr(plant, "vehicle", None))
         _check_truth(sl, truth, sl.name)
         return sl
     if not isinstance(system, ClosedLoop):
@@ -169,7 +174,7 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
                 return np.asarray(plant.rhs(X, np.concatenate([W, u2c + 0.0 * W], axis=-1)))
         sl = SaturatedLoop(system.name, names, ("u1",), F, xe, K, np.array([-lim.u4_max]), np.array([lim.u4_max]),
                            box if box is not None else validity_box(system, xe, veh), truth=system.rhs,
-                           provenance=prov)
+                           provenance=prov, vehicle=veh)
     elif isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
         inputs = tuple(plant.input_names)
         ue = np.zeros(len(inputs))
@@ -195,14 +200,15 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
             return np.asarray(plant.rhs(X, U))
 
         sl0 = SaturatedLoop(system.name, names, tuple(inputs[i] for i in ch), F, xe, Kf[ch], lo_d[ch], hi_d[ch],
-                            box if box is not None else validity_box(system, xe, veh), held=held, provenance=prov)
+                            box if box is not None else validity_box(system, xe, veh), held=held, provenance=prov,
+                            vehicle=veh)
         # the loop's own law is unsaturated: check F with the unsaturated law against it, then saturate
-        lin = SaturatedLoop(sl0.name, names, sl0.input_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
+        lin = SaturatedLoop(sl0.name, names, sl0.feedback_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
                             np.full(len(ch), np.inf), sl0.box, held=held)
         _check_truth(lin, system.rhs, system.name)
         what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch)
-        return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.input_names, F, xe, sl0.K, sl0.u_lo,
-                             sl0.u_hi, sl0.box, held=held, provenance=prov)
+        return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.feedback_names, F, xe, sl0.K,
+                             sl0.u_lo, sl0.u_hi, sl0.box, held=held, provenance=prov, vehicle=veh)
     else:
         law = getattr(system.law, "__qualname__", type(system.law).__name__)
         raise ArgumentTypeError(

@@ -3,9 +3,10 @@ longitudinal glider of chapter 2 (force, acceleration and glide-path forms), the
 nondimensional (singular-perturbation) and slow forms, its torque-, buoyancy- and elevator-controlled variants of
 chapter 6 and the torque loop realized by the moving mass, the phugoid model of chapter 4 and its
 Hamiltonian descriptions, the three-dimensional glider of chapters 2 and 8, the CTOL aircraft of chapter 7 (full,
-reduced, thrust-extended and closed-loop forms) and the generic :class:`ClosedLoop` of a plant under a state
-feedback. ``REDUCED_STATES`` is defined by both :mod:`~glidectl.models.ctol` and :mod:`~glidectl.models.reduced`
-with different meanings, so it is not re-exported here; import it from its module."""
+reduced, thrust-extended and closed-loop forms), the generic :class:`ClosedLoop` of a plant under a state feedback
+and the :class:`SaturatedLoop` of a plant under a saturated linear state feedback. ``REDUCED_STATES`` is defined by
+both :mod:`~glidectl.models.ctol` and :mod:`~glidectl.models.reduced` with different meanings, so it is not
+re-exported here; import it from its module."""
 
 from .buoyancy_glider import (
     BUOYANCY_STATES,
@@ -75,6 +76,7 @@ from .phugoid_hamiltonian import (
 )
 from .realized_torque import RealizedTorqueLoop
 from .reduced import REDUCED_UNITS, ReducedLongitudinalGlider
+from .saturated_loop import SaturatedLoop
 from .torque_glider import TORQUE_INPUTS, TorqueControlledGlider
 
 __all__ = [
@@ -116,6 +118,7 @@ __all__ = [
     "R_to_ypr",
     "RealizedTorqueLoop",
     "ReducedLongitudinalGlider",
+    "SaturatedLoop",
     "SlowModel",
     "TorqueControlledGlider",
     "actuator_limits",

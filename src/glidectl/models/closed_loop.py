@@ -3,7 +3,7 @@
 :class:`ClosedLoop` turns any glidectl model (``rhs(x, u)``, ``state_names``, ``input_names``, batch-capable over
 leading dimensions) and any state feedback ``u = law(x)`` (batch-capable: ``x`` of shape ``(..., n)`` gives ``u`` of
 shape ``(..., m)``) into an input-free model for :func:`glidectl.sim.simulate`, :func:`glidectl.sim.simulate_many`,
-:func:`glidectl.analysis.jacobian.jacobians` and the region-of-attraction tools. The right-hand side is the plant's
+:func:`glidectl.derivatives.jacobians` and the region-of-attraction tools. The right-hand side is the plant's
 own, so a closed loop is never coded twice. :func:`glidectl.closed_loop` builds it from a controller of this package
 (the plant and the equilibrium the controller was designed for).
 """

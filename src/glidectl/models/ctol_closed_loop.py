@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, ModelError, SolverError
 from ..params import Vehicle
 from ..trim.ctol import CTOLGlide

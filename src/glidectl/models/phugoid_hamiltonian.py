@@ -5,7 +5,7 @@ potential, a pendulum with a driven base) and returns the vector field it genera
 ``(x, z, xdot, zdot)`` (m, m, m/s, m/s), so that tests and the ch4 study can compare it with the one right-hand
 side :meth:`glidectl.models.phugoid.PhugoidModel.rhs`. Nothing here copies that right-hand side: gradients and
 Jacobians of the generating functions are taken by the complex-step method (exact to rounding, see
-:mod:`glidectl.analysis.jacobian`), and the mechanical structure (Hamilton's equations, ``i_X Omega = dH``, the
+:mod:`glidectl.derivatives`), and the mechanical structure (Hamilton's equations, ``i_X Omega = dH``, the
 Euler-Lagrange equations of a magnetic-type Lagrangian) is solved generically.
 
 (a) :func:`canonical_field` -- 2-D canonical Hamilton's equations (4.6)-(4.8), ``q = xdot``, ``p = zdot``.
@@ -75,6 +75,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
+from ..derivatives import jacobian_batch
 from ..errors import ArgumentError, ModelError
 from ._validate import require_instance
 from .phugoid import PhugoidModel
@@ -106,18 +107,12 @@ _H = 1e-30  # complex step
 
 def _grad(f: Callable[[Any], Any], x: Any) -> np.ndarray:
     """Gradient of a batch scalar function ``f(x[..., n]) -> [...]`` by complex step, shape (..., n)."""
-    x = np.asarray(x, dtype=float)
-    n = x.shape[-1]
-    X = x[..., None, :] + 1j * _H * np.eye(n)
-    return np.imag(np.asarray(f(X))) / _H
+    return jacobian_batch(f, np.asarray(x, dtype=float), _H)
 
 
 def _jac(f: Callable[[Any], Any], x: Any) -> np.ndarray:
     """Jacobian ``J[..., i, j] = d f_i / d x_j`` of a batch map ``f(x[..., n]) -> [..., k]`` by complex step."""
-    x = np.asarray(x, dtype=float)
-    n = x.shape[-1]
-    X = x[..., None, :] + 1j * _H * np.eye(n)
-    return np.swapaxes(np.imag(np.asarray(f(X))) / _H, -1, -2)
+    return jacobian_batch(f, np.asarray(x, dtype=float), _H)
 
 
 def _stack(*cols: Any) -> Any:

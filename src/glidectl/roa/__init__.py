@@ -1,21 +1,16 @@
 """Region-of-attraction certification by SOS/LMI programs in cvxpy (polynomial layer, exact recasting of the
 glidectl models, level maximization, V-lambda alternation with rising degree, a-posteriori verification)."""
 
-from .certify import (
-    LevelResult,
-    ROACertificate,
-    ROAVerification,
-    SOSSize,
-    certify_roa,
-    dVdt,
-    estimate_sos_size,
-    lyapunov_matrix,
-    lyapunov_quadratic,
-    max_level,
-)
+from .alternation import Alternation, HistoryRow
+from .certificate import ROACertificate, ROAVerification, dVdt
+from .certify import certify_roa
+from .extent import Certificate, Extent, convergent_extent
+from .moment import MOMENT_POLICY, MomentPolicy, solve_moment
+from .options import BudgetOptions, SamplingOptions, SolverOptions, SurrogateOptions
 from .polynomial import Poly, monomial_matrix, monomials
+from .programs import LevelResult, SOSSize, estimate_sos_size, lyapunov_matrix, lyapunov_quadratic, max_level
 from .scaling import DEFAULT_HALF_WIDTH, box_scale, resolve_box, scaled_lyapunov, validity_box
-from .sdp_solvers import MOMENT_MIN_BLOCK, SDP_SOLVERS, installed_sdp_solvers, solve_moment
+from .sdp_solvers import SDP_SOLVERS, installed_sdp_solvers
 from .sector import sector_system
 from .sos import GramCheck, LinPoly, SOSProgram
 from .surrogate import RemainderBound, surrogate_error, surrogate_system
@@ -23,11 +18,17 @@ from .systems import PolySystem, polynomial_system, recast, taylor_system
 
 __all__ = [
     "DEFAULT_HALF_WIDTH",
-    "MOMENT_MIN_BLOCK",
+    "MOMENT_POLICY",
     "SDP_SOLVERS",
+    "Alternation",
+    "BudgetOptions",
+    "Certificate",
+    "Extent",
     "GramCheck",
+    "HistoryRow",
     "LevelResult",
     "LinPoly",
+    "MomentPolicy",
     "Poly",
     "PolySystem",
     "ROACertificate",
@@ -35,8 +36,12 @@ __all__ = [
     "RemainderBound",
     "SOSProgram",
     "SOSSize",
+    "SamplingOptions",
+    "SolverOptions",
+    "SurrogateOptions",
     "box_scale",
     "certify_roa",
+    "convergent_extent",
     "dVdt",
     "estimate_sos_size",
     "installed_sdp_solvers",

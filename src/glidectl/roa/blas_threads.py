@@ -1,20 +1,20 @@
 """BLAS threads while the ROA layer computes: one, so that a certificate does not depend on the machine.
 
 numpy's and SciPy's OpenBLAS start one thread per core (or ``OPENBLAS_NUM_THREADS``), and with more than one some
-of their routines add in another order. The SOS alternation carries that rounding along its path: the saturated
-user glider's SOS certificate (designs/roa_certification.py) had volume 3.4762e-12 with one OpenBLAS thread and
-3.6618e-12 with two (2026-12-04, Clarabel held to one thread in both). The certifying entry points of
-:mod:`glidectl.roa` (:func:`~glidectl.roa.certify_roa`, :func:`~glidectl.roa.certify_roa_lmi`,
+of their routines add in another order. The SOS alternation carries that rounding along its path, so that the
+certified volume of the same program changes with the thread count (in its second digit for the saturated user
+glider's SOS certificate of designs/roa_certification.py; measurements: ``bench/README.md``). The certifying entry
+points of :mod:`glidectl.roa` (:func:`~glidectl.roa.certify_roa`, :func:`~glidectl.roa.certify_roa_lmi`,
 :func:`~glidectl.roa.max_level`, the surrogate and sector systems, :meth:`~glidectl.roa.SOSProgram.resolve`)
 therefore run with :data:`BLAS_THREADS` BLAS threads (``threadpoolctl``), and Clarabel with
 :data:`glidectl.roa.sdp_solvers.CLARABEL_THREADS`. Together they make a certificate a function of its arguments:
 the same on a laptop, in a ``glidectl report --jobs N`` build for any ``N`` and on a dask cluster.
 
-On 2 cores a second thread bought no wall time on these programs (``bench/bench_roa.py``, 2026-12-03: the CTOL
-certificate 81.2 s with the libraries' defaults against 84.6 s with one thread, for 1.6 times the CPU). On machines
-with many cores the largest programs may lose some speed (the dense Cholesky factor of the CTOL level program, order
-2810, takes about 0.2 s on one core). Set ``glidectl.roa.blas_threads.BLAS_THREADS = None`` to leave the libraries'
-thread counts alone (the results may then differ in their last digits, or more, between machines).
+On two cores a second BLAS thread saves no wall time on these programs and costs CPU time (``bench/README.md``).
+On machines with many cores the largest programs may lose some speed: their dense Cholesky factorizations (the
+Schur complements of the CTOL programs, of order a few thousand) run on one core. Set
+``glidectl.roa.blas_threads.BLAS_THREADS = None`` to leave the libraries' thread counts alone (the results may then
+differ in their last digits, or more, between machines).
 """
 from __future__ import annotations
 

@@ -70,181 +70,22 @@ from scipy.special import gammaln
 from scipy.stats import qmc
 
 from .. import checks
-from ..analysis.jacobian import jacobians
 from ..analysis.measure import MIN_SOBOL_HITS
 from ..batch import integrate_batch
+from ..derivatives import COMPLEX_STEP, jacobians, partial_derivative
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
+from ..models.saturated_loop import (  # noqa: F401 (held_motion, held_points: re-exported, the loop's old home)
+    SaturatedLoop,
+    at_held_values,
+    held_motion,
+    held_points,
+    saturate,
+)
 from .blas_threads import pinned_blas
+from .extent import Extent
 from .sdp_solvers import DEFAULT_SOLVER, check_solver, inaccuracy_checked, solver_argument, solver_options
 
 __all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
-
-
-def _sat(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
-    """``clip(v, lo, hi)`` carrying a complex step (derivative 1 inside, 0 outside)."""
-    re = np.real(v)
-    return np.where(re > hi, hi + 0.0 * v, np.where(re < lo, lo + 0.0 * v, v))
-
-
-# --------------------------------------------------------------------------------------------- the loop form
-@dataclass(frozen=True, eq=False)
-class SaturatedLoop:
-    """A closed loop ``X' = F(X, sat(K (X - X_e)))`` with saturated input deviations (see the module docstring).
-
-    Parameters
-    ----------
-    name : str
-        What the loop is.
-    state_names : tuple of str
-        The ``n`` states.
-    input_names : tuple of str
-        The ``m`` fed-back channels.
-    plant_rhs : callable
-        ``F(X, w)``: states ``(N, n)`` and input deviations ``(N, m)`` (input units, already saturated) to ``X'``
-        ``(N, n)``; batch-capable and complex-safe (complex-step Jacobians).
-    equilibrium : array_like, shape (n,)
-        ``X_e`` with ``F(X_e, 0) = 0``.
-    K : array_like, shape (m, n)
-        Gain of the input deviation ``v = K (X - X_e)`` (input units per state unit), no zero row.
-    u_lo, u_hi : array_like, shape (m,)
-        Saturation of ``v``: ``u_lo < 0 < u_hi`` (``-inf``/``inf``: not saturated).
-    box : (array_like, array_like)
-        Region of interest and validity ``(lo, hi)`` of the states, containing ``X_e`` strictly (except in held
-        states).
-    held : tuple of int
-        States held at their equilibrium value (actuators the law does not move: zero gain, zero rate); the
-        certificate is on the others, with these fixed.
-    truth : callable, optional
-        The loop's own right-hand side ``X (N, n) -> X'`` (default ``F(X, sat(K (X - X_e)))``); verification uses
-        it.
-    time_unit, provenance : str
-
-    Raises
-    ------
-    ArgumentTypeError
-        If a name is not a string or ``plant_rhs`` / ``truth`` is not callable.
-    ArgumentError
-        If shapes disagree, values are not finite, ``K`` has a zero row, the levels do not bracket 0, or the box
-        does not contain the equilibrium strictly in the free states.
-    """
-
-    name: str
-    state_names: tuple[str, ...]
-    input_names: tuple[str, ...]
-    plant_rhs: Callable[[np.ndarray, np.ndarray], Any] = field(repr=False)
-    equilibrium: np.ndarray = field(repr=False)
-    K: np.ndarray = field(repr=False)
-    u_lo: np.ndarray = field(repr=False)
-    u_hi: np.ndarray = field(repr=False)
-    box: tuple[np.ndarray, np.ndarray] = field(repr=False)
-    held: tuple[int, ...] = ()
-    truth: Callable[[np.ndarray], Any] | None = field(default=None, repr=False)
-    time_unit: str = "s"
-    provenance: str = ""
-
-    def __post_init__(self) -> None:
-        for nm in ("name", "time_unit", "provenance"):
-            if not isinstance(getattr(self, nm), str):
-                raise ArgumentTypeError(f"{nm} must be a string, got {type(getattr(self, nm)).__name__}")
-        for nm in ("state_names", "input_names"):
-            val = getattr(self, nm)
-            if isinstance(val, str) or not all(isinstance(q, str) for q in val):
-                raise ArgumentTypeError(f"{nm} must be a sequence of strings, got {val!r}")
-            object.__setattr__(self, nm, tuple(val))
-        checks.function("plant_rhs", self.plant_rhs)
-        if self.truth is not None:
-            checks.function("truth", self.truth)
-        n, m = len(self.state_names), len(self.input_names)
-        if n == 0 or m == 0:
-            raise ArgumentError(f"a saturated loop needs states and fed-back inputs, got {n} states, {m} inputs")
-        xe = checks.array("equilibrium", self.equilibrium, shape=(n,))
-        K = checks.array("K", self.K, shape=(m, n))
-        lo = checks.array("u_lo", self.u_lo, shape=(m,), finite=False)
-        hi = checks.array("u_hi", self.u_hi, shape=(m,), finite=False)
-        if np.any(np.isnan(lo)) or np.any(np.isnan(hi)) or not (np.all(lo < 0) and np.all(hi > 0)):
-            raise ArgumentError(f"saturation levels must bracket 0 (u_lo < 0 < u_hi, +-inf for none), got u_lo = "
-                                f"{lo.tolist()}, u_hi = {hi.tolist()}")
-        held = tuple(checks.integer("held index", i, lo=0, hi=n - 1) for i in self.held)
-        zero = [self.input_names[i] for i in range(m) if not np.any(K[i])]
-        if zero:
-            raise ArgumentError(f"channels {zero} have zero gain: a constant input belongs to plant_rhs, not to K")
-        if not isinstance(self.box, tuple | list) or len(self.box) != 2:
-            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({n},)")
-        blo = checks.array("box lo", self.box[0], shape=(n,))
-        bhi = checks.array("box hi", self.box[1], shape=(n,))
-        free = [i for i in range(n) if i not in held]
-        bad = [self.state_names[i] for i in free if not blo[i] < xe[i] < bhi[i]]
-        if bad:
-            raise ArgumentError(f"the box must contain the equilibrium strictly; it does not in {bad}: lo = "
-                                f"{blo.tolist()}, x_e = {xe.tolist()}, hi = {bhi.tolist()}")
-        for nm, val in (("equilibrium", xe), ("K", K), ("u_lo", lo), ("u_hi", hi), ("box", (blo, bhi)),
-                        ("held", held)):
-            object.__setattr__(self, nm, val)
-
-    @property
-    def n(self) -> int:
-        return len(self.state_names)
-
-    @property
-    def m(self) -> int:
-        return len(self.input_names)
-
-    @property
-    def free(self) -> tuple[int, ...]:
-        """Indices of the states the certificate is on (all but :attr:`held`)."""
-        return tuple(i for i in range(self.n) if i not in self.held)
-
-    @property
-    def saturating(self) -> np.ndarray:
-        """Channels with a finite saturation level."""
-        return np.isfinite(self.u_lo) | np.isfinite(self.u_hi)
-
-    def input(self, X: Any) -> Any:
-        """The saturated input deviation ``sat(K (X - X_e))`` at states ``X`` (..., n)."""
-        X = np.asarray(X)
-        return _sat((X - self.equilibrium) @ self.K.T, self.u_lo, self.u_hi)
-
-    def rhs(self, X: Any, u: Any = None) -> np.ndarray:
-        """The loop's right-hand side at states ``X`` (..., n) (``u`` ignored: input-free). The :attr:`truth` when
-        given, else ``F(X, sat(K (X - X_e)))``."""
-        X = np.asarray(X)
-        if self.truth is not None:
-            return np.asarray(self.truth(X))
-        return np.asarray(self.plant_rhs(X, self.input(X)))
-
-
-# --------------------------------------------------------------------------------------------- held states
-def held_points(box: tuple[np.ndarray, np.ndarray], equilibrium: np.ndarray, held: Any, n: int = 64,
-                seed: int = 7) -> np.ndarray:
-    """``n`` random points of the box with the ``held`` states at their equilibrium values, and the equilibrium
-    (``(n + 1, n_states)``): where a held state is checked not to move (:func:`held_motion`; used by
-    :func:`glidectl.saturated_loop` and by :func:`glidectl.certify_roa` for the states it holds)."""
-    lo, hi = (np.asarray(b, dtype=float) for b in box)
-    xe = np.asarray(equilibrium, dtype=float)
-    X = lo + (hi - lo) * np.random.default_rng(seed).random((n, len(xe)))
-    X[:, list(held)] = xe[list(held)]
-    return np.concatenate([X, xe[None, :]])
-
-
-def at_held_values(X: np.ndarray, equilibrium: np.ndarray, held: Any) -> np.ndarray:
-    """Per row of states ``X`` (..., n): whether the ``held`` states are at their equilibrium values (relative
-    ``1e-12``; all rows when none is held). A certificate with held states holds only there."""
-    X = np.asarray(X)
-    h = list(held)
-    if not h:
-        return np.ones(X.shape[:-1], dtype=bool)
-    xe = np.asarray(equilibrium, dtype=float)[h]
-    return np.all(np.abs(X[..., h] - xe) <= 1e-12 * np.maximum(1.0, np.abs(xe)), axis=-1)
-
-
-def held_motion(dX: np.ndarray, held: Any) -> float:
-    """Largest ``|x_h'|`` of the ``held`` states over rates ``dX`` (:func:`held_points`), relative to
-    ``max(1, max |x'|)``: a held state does not move when this is ``<= 1e-12``."""
-    h = list(held)
-    if not h:
-        return 0.0
-    dX = np.asarray(dX)
-    return float(np.max(np.abs(dX[:, h])) / max(1.0, float(np.max(np.abs(dX)))))
 
 
 # --------------------------------------------------------------------------------------------- scaled problem
@@ -283,7 +124,7 @@ def _scale(sl: SaturatedLoop) -> _Scaled:
     def truth(x: np.ndarray) -> np.ndarray:
         return np.asarray(sl.rhs(X_of(x)))[..., f] / d
 
-    nf, m = len(f), sl.m
+    nf, m = len(f), sl.n_feedback
     with np.errstate(all="ignore"):
         F0 = F(np.zeros((1, nf)), np.zeros((1, m)))
     A, B = jacobians(lambda x, w: F(np.asarray(x)[None, :], np.asarray(w)[None, :])[0], np.zeros(nf), np.zeros(m))
@@ -314,14 +155,10 @@ def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, see
     w = wl + (wh - wl) * rng.random((n_samples, m))
     xi = np.concatenate([x, w], axis=1)
     q = nf + m
-    h_c = 1e-30
-
     def jac(z: np.ndarray) -> np.ndarray:      # (N, nf, q), complex step
         out = np.empty((z.shape[0], nf, q))
         for k in range(q):
-            zc = z.astype(complex)
-            zc[:, k] += 1j * h_c
-            out[:, :, k] = np.imag(sc.F(zc[:, :nf], zc[:, nf:])) / h_c
+            out[:, :, k] = partial_derivative(lambda Z: sc.F(Z[:, :nf], Z[:, nf:]), z, k, COMPLEX_STEP)
         return out
 
     H = np.empty((n_samples, nf, q, q))
@@ -552,9 +389,13 @@ class EllipsoidCertificate:
     """Certified region of attraction ``{X : (X - X_e)_f' P (X - X_e)_f <= 1, X_held = X_e,held}`` of a
     :class:`SaturatedLoop` (``f`` the free states), from :func:`certify_roa_lmi`.
 
+    It has the attributes and methods every region-of-attraction certificate has
+    (:class:`~glidectl.roa.extent.Certificate`).
+
     Attributes
     ----------
-    loop : SaturatedLoop
+    system : SaturatedLoop
+        The loop certified.
     P : ndarray, shape (nf, nf)
         The quadratic form in the free states' own units (``V = dX' P dX``, certified level 1).
     G : ndarray, shape (ms, nf)
@@ -580,7 +421,7 @@ class EllipsoidCertificate:
     provenance : str
     """
 
-    loop: SaturatedLoop = field(repr=False)
+    system: SaturatedLoop = field(repr=False)
     P: np.ndarray = field(repr=False)
     G: np.ndarray = field(repr=False)
     remainder: np.ndarray = field(repr=False)
@@ -598,7 +439,7 @@ class EllipsoidCertificate:
     @property
     def certified(self) -> bool:
         """True only if every a-posteriori check passed (:class:`EllipsoidVerification`), as
-        :attr:`glidectl.roa.certify.ROACertificate.certified`."""
+        :attr:`glidectl.roa.certificate.ROACertificate.certified`."""
         return self.verification.passed
 
     @property
@@ -607,14 +448,36 @@ class EllipsoidCertificate:
         return 1.0
 
     @property
+    def rigorous(self) -> bool:
+        """Whether the set is proved a region of attraction: only when the loop is exactly linear with saturated
+        inputs (no remainder) and every check passed. With a remainder, its bound comes from sampled Hessians times
+        a safety factor (module docstring), not an enclosure: the certificate is then sampled-sound, not proved."""
+        return self.certified and not np.any(self.remainder)
+
+    def extent(self) -> Extent:
+        """The certified interval along each state axis through the equilibrium (state units): ``x_e +- 1 /
+        sqrt(P_kk)`` for a free state, ``x_e`` for a held one.
+
+        Returns
+        -------
+        Extent
+        """
+        xe = np.asarray(self.system.equilibrium, dtype=float)
+        lo, hi = xe.copy(), xe.copy()
+        f = list(self.system.free)
+        r = 1.0 / np.sqrt(np.diag(self.P))
+        lo[f], hi[f] = xe[f] - r, xe[f] + r
+        return Extent(self.state_names, lo, hi, xe, self.box, f"certified ({self.method})", self.rigorous)
+
+    @property
     def state_names(self) -> tuple[str, ...]:
-        return self.loop.state_names
+        return self.system.state_names
 
     def _states(self, X: Any) -> np.ndarray:
-        n = self.loop.n
+        n = self.system.n
         X = np.atleast_2d(checks.array("X", X, finite=False))
         if X.ndim != 2 or X.shape[-1] != n:
-            raise ArgumentError(f"X must hold states of dimension {n} ({', '.join(self.loop.state_names)}), shape "
+            raise ArgumentError(f"X must hold states of dimension {n} ({', '.join(self.system.state_names)}), shape "
                                 f"(N, {n}) or ({n},); got shape {np.shape(X)}")
         return X
 
@@ -638,7 +501,7 @@ class EllipsoidCertificate:
             If ``X`` has the wrong shape.
         """
         X = self._states(X)
-        dX = (X - self.loop.equilibrium)[:, list(self.loop.free)]
+        dX = (X - self.system.equilibrium)[:, list(self.system.free)]
         return np.einsum("ni,ij,nj->n", dX, self.P, dX)
 
     def contains(self, X: Any) -> np.ndarray:
@@ -662,7 +525,7 @@ class EllipsoidCertificate:
         """
         X = self._states(X)
         ok = np.all(np.isfinite(X), axis=1)
-        ok &= at_held_values(X, self.loop.equilibrium, self.loop.held)
+        ok &= at_held_values(X, self.system.equilibrium, self.system.held)
         with np.errstate(all="ignore"):
             return ok & (np.nan_to_num(self.value(np.where(np.isfinite(X), X, 0.0)), nan=np.inf) <= 1.0)
 
@@ -682,7 +545,7 @@ class EllipsoidCertificate:
         (exact when the box does not cut the ellipsoid; relative standard error ``std / (mean sqrt(n))`` of the
         averaged term otherwise; the box must contain the equilibrium). ``method="auto"`` keeps the Sobol number
         when at least 100 of its points are inside and takes the directed one otherwise (or the Sobol one if the box
-        does not contain the equilibrium), as :meth:`glidectl.roa.certify.ROACertificate.volume`.
+        does not contain the equilibrium), as :meth:`glidectl.roa.certificate.ROACertificate.volume`.
 
         Parameters
         ----------
@@ -711,39 +574,39 @@ class EllipsoidCertificate:
         if box is None:
             return float(math.exp(log_ball))
         if not isinstance(box, tuple | list) or len(box) != 2:
-            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({self.loop.n},)")
-        lo = checks.array("box lo", box[0], shape=(self.loop.n,))
-        hi = checks.array("box hi", box[1], shape=(self.loop.n,))
+            raise ArgumentTypeError(f"box must be a pair (lo, hi) of arrays of shape ({self.system.n},)")
+        lo = checks.array("box lo", box[0], shape=(self.system.n,))
+        hi = checks.array("box hi", box[1], shape=(self.system.n,))
         if np.any(lo >= hi):
             raise ArgumentError(f"box must have lo < hi in every state, got lo = {lo.tolist()}, hi = {hi.tolist()}")
         n = checks.integer("n", n, lo=1, hi=2**24)
         seed = checks.integer("seed", seed, lo=0)
-        f = list(self.loop.free)
+        f = list(self.system.free)
         if method != "directed":
-            X = np.tile(self.loop.equilibrium, (n, 1))
+            X = np.tile(self.system.equilibrium, (n, 1))
             X[:, f] = lo[f] + (hi[f] - lo[f]) * qmc.Sobol(len(f), seed=seed).random(n)
             inside = self.contains(X)
             sobol = float(np.prod(hi[f] - lo[f]) * np.mean(inside))
             if method == "sobol" or int(np.count_nonzero(inside)) >= MIN_SOBOL_HITS:
                 return sobol
-        xe = np.asarray(self.loop.equilibrium, dtype=float)[f]
+        xe = np.asarray(self.system.equilibrium, dtype=float)[f]
         a, b = lo[f] - xe, hi[f] - xe
         if np.any(a > 0) or np.any(b < 0):
             if method == "auto":
                 return sobol
             raise ArgumentError(f"volume(method='directed') integrates along rays from the equilibrium "
-                                f"{self.loop.equilibrium.tolist()}, which must lie in the box (lo {lo.tolist()}, hi "
+                                f"{self.system.equilibrium.tolist()}, which must lie in the box (lo {lo.tolist()}, hi "
                                 f"{hi.tolist()}): enlarge the box or use method='sobol'")
         return float(math.exp(log_ball) * np.mean(_ellipsoid_box_weights(self.P, a, b, n, seed)))
 
     @property
     def volume_fraction(self) -> float:
         """:meth:`volume` over the volume of the loop's box in the free states."""
-        f = list(self.loop.free)
+        f = list(self.system.free)
         lo, hi = self.box
         return self.volume() / float(np.prod(hi[f] - lo[f]))
 
-    def sample(self, n: int, seed: int = 0, boundary: bool = False) -> np.ndarray:
+    def sample(self, n: int, seed: int = 0, *, boundary: bool = False) -> np.ndarray:
         """``n`` random states of the ellipsoid (uniform in it, or on its boundary), held states at equilibrium.
 
         Parameters
@@ -768,8 +631,8 @@ class EllipsoidCertificate:
         seed = checks.integer("seed", seed, lo=0)
         boundary = checks.boolean("boundary", boundary)
         dX = _ellipsoid_points(np.linalg.inv(self.P), n, np.random.default_rng(seed), boundary)
-        X = np.tile(self.loop.equilibrium, (n, 1))
-        X[:, list(self.loop.free)] += dX
+        X = np.tile(self.system.equilibrium, (n, 1))
+        X[:, list(self.system.free)] += dX
         return X
 
     def plot(self, ax: Any = None, dims: Any = (0, 1), n: int = 200) -> Any:
@@ -786,8 +649,8 @@ class EllipsoidCertificate:
 
         Returns
         -------
-        matplotlib.figure.Figure
-            The figure drawn into.
+        matplotlib.axes.Axes
+            The axes drawn into (angles in degrees).
 
         Raises
         ------
@@ -1018,23 +881,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
             radii = list(rho_max * np.geomspace(1.0, 1e-3, n_radii))
         else:
             radii = list(np.geomspace(min(rho_max, 4.0 * rho0), 0.5 * rho0, n_radii))
-        vals = [solve(r) for r in radii]
-        k = int(np.argmax(vals))
-        if np.isfinite(vals[k]) and len(radii) > 1 and refine:
-            a = math.log(radii[min(k + 1, len(radii) - 1)])
-            b = math.log(radii[max(k - 1, 0)])
-            gr = (math.sqrt(5) - 1) / 2
-            c1, c2 = b - gr * (b - a), a + gr * (b - a)
-            f1, f2 = solve(math.exp(c1)), solve(math.exp(c2))
-            for _ in range(refine - 2):
-                if f1 > f2:
-                    b, c2, f2 = c2, c1, f1
-                    c1 = b - gr * (b - a)
-                    f1 = solve(math.exp(c1))
-                else:
-                    a, c1, f1 = c1, c2, f2
-                    c2 = a + gr * (b - a)
-                    f2 = solve(math.exp(c2))
+        _search_radius(solve, radii, refine)
         t_solve += ctx.t_solve
         r_best = max(sols, key=lambda r: sols[r][0])
         gain = sols[r_best][0] - best[0]
@@ -1051,7 +898,41 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
                           f"(statuses {sorted({h['status'] for h in history})}). "
                           + ("The shape P0 may not be a Lyapunov matrix of the linearized loop A + BK"
                              if W0 is not None else "The remainder bound leaves no feasible ellipsoid"))
-    sol = best[1]
+    ver, P, G, Q, rem = _backed_off(sl, sc, best[1], p_idx, backoff, n_verify=n_verify, n_simulate=n_simulate,
+                                    horizon=horizon, seed=seed)
+    return EllipsoidCertificate(sl, P, G, Q, rem.b * sc.d, sc.d.copy(), sl.box, ver, tuple(history),
+                                t_solve, t_hess, time.perf_counter() - t_wall, "lmi", sl.provenance)
+
+
+def _search_radius(solve: Callable[[float], float], radii: list[float], refine: int) -> None:
+    """Solve at every radius of ``radii``, then refine the best by ``refine`` golden-section steps in log radius
+    between its neighbours (the solutions are kept by ``solve``)."""
+    vals = [solve(r) for r in radii]
+    k = int(np.argmax(vals))
+    if not (np.isfinite(vals[k]) and len(radii) > 1 and refine):
+        return
+    a = math.log(radii[min(k + 1, len(radii) - 1)])
+    b = math.log(radii[max(k - 1, 0)])
+    gr = (math.sqrt(5) - 1) / 2
+    c1, c2 = b - gr * (b - a), a + gr * (b - a)
+    f1, f2 = solve(math.exp(c1)), solve(math.exp(c2))
+    for _ in range(refine - 2):
+        if f1 > f2:
+            b, c2, f2 = c2, c1, f1
+            c1 = b - gr * (b - a)
+            f1 = solve(math.exp(c1))
+        else:
+            a, c1, f1 = c1, c2, f2
+            c2 = a + gr * (b - a)
+            f2 = solve(math.exp(c2))
+
+
+def _backed_off(sl: SaturatedLoop, sc: _Scaled, sol: dict[str, Any], p_idx: np.ndarray, backoff: float, *,
+                n_verify: int, n_simulate: int, horizon: float | None, seed: int
+                ) -> tuple[EllipsoidVerification, np.ndarray, np.ndarray, np.ndarray, _Remainder]:
+    """The best solution scaled by ``1 - backoff``, checked in floating point and verified on the true loop: the
+    verification, ``P`` and ``G`` in state units, the remainder forms ``Q`` and the remainder used."""
+    nf = len(sc.f)
     q = 1.0 - backoff
     Wc, s_c, Zc, nuc = q * sol["W"], q * sol["s"], q * sol["Z"], q * sol["nu"]
     rem: _Remainder = sol["rem"]
@@ -1066,8 +947,7 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
     P = Dinv @ Ps @ Dinv
     sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
     G = (sc.s[sat, None] * (Zc @ Ps)) @ Dinv if len(sat) else np.zeros((0, nf))
-    return EllipsoidCertificate(sl, 0.5 * (P + P.T), G, Q, rem.b * sc.d, sc.d.copy(), sl.box, ver, tuple(history),
-                                t_solve, t_hess, time.perf_counter() - t_wall, "lmi", sl.provenance)
+    return ver, 0.5 * (P + P.T), G, Q, rem
 
 
 def _verify(sl: SaturatedLoop, sc: _Scaled, Ps: np.ndarray, Wc: np.ndarray, Q: np.ndarray, lmax: float,
@@ -1076,7 +956,7 @@ def _verify(sl: SaturatedLoop, sc: _Scaled, Ps: np.ndarray, Wc: np.ndarray, Q: n
     rng = np.random.default_rng(seed + 11)
     nb = n_verify // 2
     x = np.concatenate([_ellipsoid_points(Wc, n_verify - nb, rng, False), _ellipsoid_points(Wc, nb, rng, True)])
-    w = _sat(x @ sc.K.T, sc.lo, sc.hi)
+    w = saturate(x @ sc.K.T, sc.lo, sc.hi)
     with np.errstate(all="ignore"):
         xdot = sc.truth(x)
         Fw = sc.F(x, w)

@@ -10,10 +10,11 @@ degree, so the division algorithm gives multipliers ``psi_j`` of degree at most 
 have the same feasible set (Parrilo 2005, *Exploiting algebraic structure in sum of squares programs*).
 
 The quotient form has no multiplier unknowns and one equation per *standard* monomial (each ``s`` at most linear)
-instead of one per monomial. On the CTOL closed loop (two angle pairs in seven lifted variables), the level program
-has 1113 equations instead of 1739 and 662 unknowns fewer; on the moment route (:mod:`glidectl.roa.sdp_solvers`)
-its equality block ``A`` (the free unknowns) shrinks from 661 rows to a handful, and one solve takes 5.8 s instead
-of 11.6 s in the same 27 iterations, with the same level (measured 2026-12-04, one thread).
+instead of one per monomial. On the moment route (:mod:`glidectl.roa.moment`) the equations set the order of the
+dense factorization and the multiplier coefficients make up most of the free unknowns (its equality block ``A``),
+so each iteration of a program in the quotient form is cheaper, and it reaches the same level. Which programs use
+it: :attr:`~glidectl.roa.moment.MomentPolicy.quotient_min_block`; measurements on the CTOL closed loop:
+``bench/README.md``.
 
 The Gram check (:class:`~glidectl.roa.sos.GramCheck`) takes the residual modulo the ideal too, and
 :meth:`AngleQuotient.lift` moves a residual on a standard monomial that no Gram entry reaches (the monomial ``c``)

@@ -1,4 +1,4 @@
-"""Boxes, scales and starting Lyapunov functions for certifying any closed loop (issue 17).
+"""Boxes, scales and starting Lyapunov functions for certifying any closed loop.
 
 A closed loop of this package (:func:`glidectl.closed_loop`) lives in the plant's state units with its equilibrium
 ``x_e`` somewhere in state space. Before any SOS program is built its states are mapped to ``y = (x - x_e) / s``
@@ -93,7 +93,7 @@ def _names_of(model: Any) -> tuple[str, ...]:
 
 def validity_box(model: Any, equilibrium: Any = None, vehicle: Any = None) -> tuple[np.ndarray, np.ndarray]:
     """The validity box of a model's states: the default region of interest of :func:`glidectl.certify_roa` and
-    :func:`glidectl.saturated_loop` (issue 17).
+    :func:`glidectl.saturated_loop`.
 
     Per state, in this order:
 

@@ -1,6 +1,6 @@
-"""Saturation in the SOS path: the polynomial system of a :class:`~glidectl.roa.lmi.SaturatedLoop` with the exact
-graph of the saturation as S-procedure terms (:func:`sector_system`, used by :func:`glidectl.certify_roa` when it is
-given a SaturatedLoop: ``cert.method == "sos-sector"``).
+"""Saturation in the SOS path: the polynomial system of a :class:`~glidectl.models.saturated_loop.SaturatedLoop`
+with the exact graph of the saturation as S-procedure terms (:func:`sector_system`, used by
+:func:`glidectl.certify_roa` when it is given a SaturatedLoop: ``cert.method == "sos-sector"``).
 
 The loop is ``x' = F(x, v)`` with ``v = sat(u)``, ``u = K x`` (deviations from the equilibrium, the channels with a
 finite level; unsaturated channels are substituted, ``v = u``). Each saturated input becomes an extra polynomial
@@ -15,7 +15,7 @@ restricted to the graph of the saturation by
 
 These describe the graph exactly: with ``v`` strictly inside the levels ``h = 0`` forces ``v = u``; at ``v = hi > 0``
 ``g2`` forces ``u >= hi``; at ``v = lo < 0`` it forces ``u <= lo``. ``g1, g2`` enter the decrease condition of the
-level problem (:mod:`glidectl.roa.certify`) with SOS multipliers and ``h`` with a free polynomial multiplier
+level problem (:mod:`glidectl.roa.programs`) with SOS multipliers and ``h`` with a free polynomial multiplier
 (piecewise S-procedure), so ``dV/dt < 0`` is certified for the saturated loop itself, not for a sector bound of it;
 the generalized sector condition of the LMI path (``psi (psi - G x) <= 0`` where ``|(K - G) x| <= u0``,
 Tarbouriech et al. 2011, Lemma 1.6) is one consequence of these terms.
@@ -40,8 +40,8 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from ..models.saturated_loop import SaturatedLoop
 from .blas_threads import pinned_blas
-from .lmi import SaturatedLoop
 from .polynomial import Poly
 from .surrogate import surrogate_system
 from .systems import PolySystem, recast
@@ -56,8 +56,8 @@ class _Augmented:
     def __init__(self, sl: SaturatedLoop, sat: np.ndarray, box_dev: tuple[np.ndarray, np.ndarray]) -> None:
         self._sl, self._sat = sl, sat
         self._f = np.array(sl.free)
-        self._uns = np.array([i for i in range(sl.m) if i not in set(sat.tolist())], dtype=int)
-        self.state_names = tuple(sl.state_names[i] for i in sl.free) + tuple(f"sat({sl.input_names[i]})"
+        self._uns = np.array([i for i in range(sl.n_feedback) if i not in set(sat.tolist())], dtype=int)
+        self.state_names = tuple(sl.state_names[i] for i in sl.free) + tuple(f"sat({sl.feedback_names[i]})"
                                                                            for i in sat)
         self.equilibrium = np.zeros(len(self.state_names))
         # sampled on the box widened 3x (as the exact route of certify_roa): a polynomial is polynomial everywhere
@@ -71,7 +71,7 @@ class _Augmented:
         Z = np.asarray(Z)
         X = np.broadcast_to(sl.equilibrium, (*Z.shape[:-1], sl.n)).astype(Z.dtype).copy()
         X[..., f] = sl.equilibrium[f] + Z[..., :nf]
-        W = np.zeros((*Z.shape[:-1], sl.m), dtype=Z.dtype)
+        W = np.zeros((*Z.shape[:-1], sl.n_feedback), dtype=Z.dtype)
         if len(self._uns):
             W[..., self._uns] = (X - sl.equilibrium) @ sl.K[self._uns].T
         W[..., self._sat] = Z[..., nf:]
@@ -210,12 +210,12 @@ def sector_system(system: Any, *, box_cuts: bool = True, max_degree: int = 4, se
 
     def lift(Y: Any) -> np.ndarray:
         Y = np.asarray(Y)
-        W = sl.input(X_of(Y))[..., sat]            # sat(K (X - X_e)), complex-safe
+        W = sl.feedback(X_of(Y))[..., sat]            # sat(K (X - X_e)), complex-safe
         return lift0(np.concatenate([Y - xe[f], W], axis=-1))
 
     def rhs(Y: Any) -> np.ndarray:
         X = X_of(np.asarray(Y))
-        return np.asarray(sl.plant_rhs(X, sl.input(X)))[..., f]
+        return np.asarray(sl.plant_rhs(X, sl.feedback(X)))[..., f]
 
     return dataclasses.replace(
         ps, name=sl.name, state_names=tuple(sl.state_names[i] for i in f), valid=tuple(valid),

@@ -330,10 +330,10 @@ class GramCheck:
     constraint with every SOS multiplier made exactly SOS first (``multiplier_shift``, see
     :meth:`SOSProgram.multiplier_values`).
 
-    A residual of degree 0 or 1 on a half basis without the constant (the decrease condition: before the
-    multipliers of cuts lost their constant monomial, their terms ``tau g`` had a constant the solver left at its
-    tolerance; the equality multipliers' ``psi_j(0) h_j`` still meet ``lambda dV/dt`` on the linear ``c`` terms,
-    which :meth:`SOSProgram.check` cancels exactly where it can) cannot be absorbed into the Gram matrix
+    A residual of degree 0 or 1 on a half basis without the constant (the decrease condition: the multipliers of
+    cuts have no constant monomial, so that their terms ``tau g`` bring no constant for the solver to leave at its
+    tolerance; the equality multipliers' ``psi_j(0) h_j`` meet ``lambda dV/dt`` on the linear ``c`` terms, which
+    :meth:`SOSProgram.check` cancels exactly where it can) cannot be absorbed into the Gram matrix
     near ``z = 0``: it is ``low = (|c_0|, |c_1|)``, and the constraint holds where
     ``slack |z|^2 >= |c_0| + |c_1| |z|``, i.e. for ``|z| >= radius`` (``radius = 0`` without such residual; ``inf``
     if the basis lacks a degree-1 monomial). Inside that ball something else must hold (the local check of the

@@ -1,4 +1,4 @@
-"""Polynomial surrogates with a remainder bound, for closed loops that do not recast exactly (issue 17).
+"""Polynomial surrogates with a remainder bound, for closed loops that do not recast exactly.
 
 **What is certified.** For a closed loop ``x' = f(x)`` with equilibrium ``x_e`` and a box ``B`` containing it, the
 scaled field ``g(y) = f(x_e + S y) / s`` (``S = diag(s)``, :mod:`glidectl.roa.scaling`) is replaced by a polynomial
@@ -20,7 +20,7 @@ for any ``k_i > 0`` (Young's inequality, ``|y| |dV/dy_i| <= (k_i |y|^2 + (dV/dy_
 part is ``sum_i a_i k_i |y|^2 / 2`` (rounding level), so near the equilibrium the bound decreases as the
 linearization does: the remainder costs only quartic terms. (A remainder ``c_i |y|^2``, a surrogate matched to first
 order only, would add ``c_i t_i(0) |y|^2`` with ``t_i(0) > 0`` for any polynomial ``t_i >= |dV/dy_i|``, which
-defeats the linear decrease whenever ``c_i`` is not small: the LQR loop of the user glider was refused that way.)
+defeats the linear decrease whenever ``c_i`` is not small: the LQR loop of the user glider is refused that way.)
 
 **Why the bound holds.** With ``e = g - p``: ``e(0) = 0`` and ``De(0) = 0`` to rounding (the equilibrium is first
 refined by Newton steps, so that ``g(0)`` is at rounding level), ``|D^2 e(0)| <= 2 a_i`` (the allowance), and the
@@ -52,6 +52,7 @@ import numpy as np
 from scipy.stats import qmc
 
 from .. import checks
+from ..derivatives import complex_step
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from .blas_threads import pinned_blas
 from .polynomial import Poly, monomial_matrix, monomials
@@ -137,13 +138,11 @@ def _field(model: Any) -> Any:
 def _jac(g: Any, Y: np.ndarray) -> np.ndarray:
     """``J[k, j, i] = d g_i / d y_j`` at points ``Y`` (N, n), complex step."""
     N, n = Y.shape
-    Yc = (Y[:, None, :] + 1j * _CS * np.eye(n)[None]).reshape(N * n, n)
-    out = g(Yc)
-    if not np.iscomplexobj(out):
-        raise ModelError("the model's right-hand side is not complex-safe (it returned real values for complex "
-                         "states), so its derivatives cannot be bounded: the surrogate route needs rhs written with "
-                         "numpy operations that keep complex values")
-    return (np.imag(out) / _CS).reshape(N, n, n)
+    d = complex_step(lambda Z: g(Z.reshape(N * n, n)), Y[:, None, :], np.eye(n)[None], _CS,
+                     name="the model's right-hand side",
+                     advice="its derivatives cannot be bounded: the surrogate route needs rhs written with numpy "
+                            "operations that keep complex values")
+    return d.reshape(N, n, n)
 
 
 def _hessians(g: Any, Y: np.ndarray, chunk: int = 4096) -> np.ndarray:

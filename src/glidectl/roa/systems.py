@@ -36,13 +36,13 @@ import numpy as np
 
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
-from .lmi import at_held_values
+from ..models.saturated_loop import at_held_values
 from .polynomial import Poly, field_evaluator, monomial_matrix, monomials, powers_table
 from .quotient import AngleQuotient
 
 __all__ = ["PolySystem", "polynomial_system", "recast", "taylor_system"]
 
-#: Largest monomial basis :func:`recast` fits (a bigger least-squares fit would need gigabytes; issue 17).
+#: Largest monomial basis :func:`recast` fits (the design matrix of a bigger least-squares fit takes gigabytes).
 _MAX_RECAST_BASIS = 3000
 
 
@@ -129,16 +129,16 @@ class PolySystem:
     valid: tuple[Poly, ...] = field(default=(), repr=False)
     mixed_states: tuple[int, ...] = ()
     slots: tuple[tuple[int, ...], ...] = ()
-    # --- surrogate route (issue 17): remainder polynomials, route, scale, how the remainder was bounded
+    # --- surrogate route: remainder polynomials, route, scale, how the remainder was bounded
     remainder: tuple[Poly, ...] = field(default=(), repr=False)
     method: str = "exact recast"
     scale: np.ndarray | None = field(default=None, repr=False)
     remainder_bound: Any = field(default=None, repr=False)
     remainder_cubic: tuple[float, ...] = field(default=(), repr=False)
     remainder_norm: Poly | None = field(default=None, repr=False)
-    # --- SOS path with saturation (issue 17): z-indices of the saturated-input variables (V does not use them)
+    # --- SOS path with saturation: z-indices of the saturated-input variables (V does not use them)
     inputs: tuple[int, ...] = ()
-    # --- held states (issue 17): indices of states fixed at their equilibrium values (certificates of loops with
+    # --- held states: indices of states fixed at their equilibrium values (certificates of loops with
     # locked actuators: lift and cuts see the other states; in_cuts requires these at the equilibrium)
     held: tuple[int, ...] = ()
 
@@ -297,6 +297,31 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     eq = checks.array("model.equilibrium", model.equilibrium, shape=(n,))
     if np.max(np.abs(eq)) != 0.0:
         raise ModelError(f"recast needs the model in coordinates with the equilibrium at 0; got {eq}")
+    angles, mixed, pos = _recast_indices(model, n)
+    lo, hi = _box(model.box, n)
+    z_names, slot = _lift_layout(names, angles, mixed)
+    nz = len(z_names)
+    lift = _lift_function(n, angles, mixed)
+    equalities, s_caps, valid, den, cuts = _lifted_constraints(nz, slot, angles, mixed, pos, speed_floor)
+    rng = np.random.default_rng(seed)
+    slo, shi = _sampling_box(lo, hi, angles + mixed, pos, speed_floor)
+    sampler = _RecastSampler(model, lift, den, slo, shi, rng)
+    # each state's derivative (times den) at the smallest degree that recovers it; every lifted variable's
+    # derivative then follows by the chain rule (below), so the lift's structure is exact, not fitted
+    G, last, tried = _recover_derivatives(sampler, n, nz, s_caps, max_degree)
+    if not last < 1e-9:
+        raise ModelError(_refusal(model, names, angles + mixed, pos, slo, shi, tried, last, seed))
+    F = _chain_rule(G, slot, angles, mixed, nz)
+    return PolySystem(name=getattr(model, "name", type(model).__name__), state_names=names,
+                      z_names=tuple(z_names), F=tuple(F), den=den, equalities=equalities, cuts=cuts, lift=lift,
+                      rhs=model.rhs, equilibrium=eq, angle_states=angles, s_caps=s_caps, box=(lo, hi),
+                      recast_residual=last, time_unit=getattr(model, "time_unit", "s"),
+                      provenance=getattr(model, "provenance", ""), valid=tuple(valid), mixed_states=mixed,
+                      slots=tuple(slot))
+
+
+def _recast_indices(model: Any, n: int) -> tuple[tuple[int, ...], tuple[int, ...], int | None]:
+    """The model's angle states, mixed angle states and positive state (:func:`recast`), checked."""
     angles = tuple(checks.integer("angle state", i, lo=0, hi=n - 1) for i in getattr(model, "angle_states", ()))
     mixed = tuple(checks.integer("mixed angle state", i, lo=0, hi=n - 1)
                   for i in getattr(model, "mixed_angle_states", ()))
@@ -305,7 +330,13 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     pos = getattr(model, "positive_state", None)
     if pos is not None:
         pos = checks.integer("positive_state", pos, lo=0, hi=n - 1)
-    lo, hi = _box(model.box, n)
+    return angles, mixed, pos
+
+
+def _lift_layout(names: tuple[str, ...], angles: tuple[int, ...],
+                 mixed: tuple[int, ...]) -> tuple[list[str], list[tuple[int, ...]]]:
+    """The names of the lifted variables ``z`` and, per state, the indices of its variables in ``z``: ``(s, c)``
+    for an angle, ``(x, s, c)`` for a mixed angle, ``(x,)`` otherwise."""
     z_names: list[str] = []
     slot: list[tuple[int, ...]] = []
     for i, nm in enumerate(names):
@@ -318,7 +349,11 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         else:
             slot.append((len(z_names),))
             z_names.append(nm)
-    nz = len(z_names)
+    return z_names, slot
+
+
+def _lift_function(n: int, angles: tuple[int, ...], mixed: tuple[int, ...]) -> Callable[[Any], np.ndarray]:
+    """The lift ``x (..., n) -> z (..., nz)`` of :func:`_lift_layout` (complex-safe)."""
 
     def lift(X: Any) -> np.ndarray:
         X = np.asarray(X)
@@ -332,6 +367,15 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
                 cols.append(X[..., i])
         return np.stack(cols, axis=-1)
 
+    return lift
+
+
+def _lifted_constraints(nz: int, slot: list[tuple[int, ...]], angles: tuple[int, ...], mixed: tuple[int, ...],
+                        pos: int | None, speed_floor: float
+                        ) -> tuple[tuple[Poly, ...], dict[int, int], list[Poly], Poly, tuple[Poly, ...]]:
+    """``(equalities, s_caps, valid, den, cuts)`` of the lifted system: the angle equalities
+    ``s^2 + c^2 - 2 c = 0``, the quotient basis (each ``s`` at most linear), the Taylor enclosures of the mixed
+    angles, the denominator ``1 + x_pos`` (``1`` without a positive state) and its cut ``den - speed_floor >= 0``."""
     Z = Poly.variables(nz)
     pairs = [slot[i][:2] for i in angles] + [slot[i][1:] for i in mixed]
     equalities = tuple(Z[a] ** 2 + Z[b] ** 2 - 2.0 * Z[b] for a, b in pairs)
@@ -342,70 +386,100 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
         valid += [x * (x - sn), x * (sn - x + x**3 / 6.0), x**2 / 2.0 - c, c - x**2 / 2.0 + x**4 / 24.0]
     den = Poly.const(1.0, nz) if pos is None else 1.0 + Z[slot[pos][0]]
     cuts = () if pos is None else (den - speed_floor,)
-    rng = np.random.default_rng(seed)
-    # sampling box: the region of interest, angles over a full turn, the positive state above the floor
+    return equalities, s_caps, valid, den, cuts
+
+
+def _sampling_box(lo: np.ndarray, hi: np.ndarray, angles: tuple[int, ...], pos: int | None,
+                  speed_floor: float) -> tuple[np.ndarray, np.ndarray]:
+    """The box :func:`recast` samples its fitting points in: the region of interest, the angles (pure and mixed)
+    over a full turn, the positive state above the floor."""
     slo, shi = lo.copy(), hi.copy()
-    for i in angles + mixed:   # a full turn: (x, sin x, cos x) well separated, so the fit is well conditioned
+    for i in angles:   # a full turn: (x, sin x, cos x) well separated, so the fit is well conditioned
         slo[i], shi[i] = -np.pi, np.pi
     if pos is not None:
         slo[pos] = max(slo[pos], -1 + speed_floor)
+    return slo, shi
 
-    def targets(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+
+@dataclass(frozen=True)
+class _RecastSampler:
+    """The fitting data of :func:`recast`: states drawn uniformly in the sampling box ``[lo, hi]`` from one random
+    stream ``rng`` (shared by the fits and their checks, in the order they run), their lift and the targets
+    ``den(z) dx/dt``."""
+
+    model: Any
+    lift: Callable[[Any], np.ndarray]
+    den: Poly
+    lo: np.ndarray
+    hi: np.ndarray
+    rng: np.random.Generator
+
+    def points(self, count: int) -> np.ndarray:
+        """``count`` random states in the sampling box."""
+        return self.lo + (self.hi - self.lo) * self.rng.random((count, len(self.lo)))
+
+    def targets(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The lift ``Z`` of ``X`` and the states' derivatives times the denominator, ``den(Z) dx/dt``."""
-        Zx = lift(X)
-        return Zx, np.asarray(model.rhs(X)) * den(Zx)[:, None]
+        Zx = self.lift(X)
+        return Zx, np.asarray(self.model.rhs(X)) * self.den(Zx)[:, None]
 
-    def fit(Zx: np.ndarray, T: np.ndarray, basis: list[tuple[int, ...]]) -> np.ndarray:
-        M = monomial_matrix(Zx, basis)
-        scale = np.max(np.abs(M), axis=0)
-        coef, *_ = np.linalg.lstsq(M / scale, T, rcond=None)
-        return coef / scale[:, None]
-
-    def residual(G: Poly, i: int) -> float:
-        Xt = slo + (shi - slo) * rng.random((2000, n))
-        Zt, Tt = targets(Xt)
+    def residual(self, G: Poly, i: int) -> float:
+        """Relative residual of ``G`` as ``den dx_i/dt`` at 2000 fresh points."""
+        Zt, Tt = self.targets(self.points(2000))
         return float(np.max(np.abs(G(Zt) - Tt[:, i])) / max(np.max(np.abs(Tt[:, i])), 1e-300))
 
-    # each state's derivative (times den) at the smallest degree that recovers it; every lifted variable's
-    # derivative then follows by the chain rule (below), so the lift's structure is exact, not fitted
+
+def _lstsq_fit(Zx: np.ndarray, T: np.ndarray, basis: list[tuple[int, ...]]) -> np.ndarray:
+    """Least-squares coefficients of the monomials ``basis`` fitting ``T`` at ``Zx`` (columns scaled to unit size)."""
+    M = monomial_matrix(Zx, basis)
+    scale = np.max(np.abs(M), axis=0)
+    coef, *_ = np.linalg.lstsq(M / scale, T, rcond=None)
+    return coef / scale[:, None]
+
+
+def _recover_derivatives(sampler: _RecastSampler, n: int, nz: int, s_caps: dict[int, int],
+                         max_degree: int) -> tuple[list[Poly], float, int]:
+    """``G_i = den dx_i/dt`` of every state as polynomials in ``z`` (:func:`recast`), state by state until one is
+    not recovered; also the largest residual and the largest degree tried (for the refusal)."""
     G: list[Poly] = []
     last, tried = 0.0, 0
     for i in range(n):
-        best, gi = np.inf, None
-        for deg in range(1, max_degree + 1):
-            if math.comb(nz + deg, deg) > _MAX_RECAST_BASIS:    # the fit would not fit in memory: stop trying
-                break
-            tried = max(tried, deg)
-            basis = monomials(nz, deg, 0, s_caps)
-            X = slo + (shi - slo) * rng.random((max(4 * len(basis), 200), n))
-            Zx, T = targets(X)
-            ck = fit(Zx, T[:, [i]], basis)[:, 0]
-            g = Poly(dict(zip(basis, ck, strict=True)), nz)
-            res = residual(g, i)
-            if res < 1e-6:
-                # exact up to conditioning: keep the support that matters and refit on it (sparse, exact polynomials)
-                keep = [e for e, c in zip(basis, ck, strict=True) if abs(c) > 1e-8 * max(np.max(np.abs(ck)), 1e-300)]
-                gs = Poly(dict(zip(keep, fit(Zx, T[:, [i]], keep)[:, 0], strict=True)), nz) if keep else Poly({}, nz)
-                res_s = residual(gs, i)
-                if res_s < max(res, 1e-12):     # the sparse fit unless it is worse than rounding
-                    g, res = gs, res_s
-            if res < best:
-                best, gi = res, g
-            if res < 1e-9:
-                break
+        best, gi, deg_i = _recover_derivative(sampler, i, nz, s_caps, max_degree)
+        tried = max(tried, deg_i)
         last = max(last, best)
         if not best < 1e-9:
             break
         G.append(gi)
-    if not last < 1e-9:
-        raise ModelError(_refusal(model, names, angles + mixed, pos, slo, shi, tried, last, seed))
-    F = _chain_rule(G, slot, angles, mixed, nz)
-    return PolySystem(name=getattr(model, "name", type(model).__name__), state_names=names,
-                      z_names=tuple(z_names), F=tuple(F), den=den, equalities=equalities, cuts=cuts, lift=lift,
-                      rhs=model.rhs, equilibrium=eq, angle_states=angles, s_caps=s_caps, box=(lo, hi),
-                      recast_residual=last, time_unit=getattr(model, "time_unit", "s"),
-                      provenance=getattr(model, "provenance", ""), valid=tuple(valid), mixed_states=mixed,
-                      slots=tuple(slot))
+    return G, last, tried
+
+
+def _recover_derivative(sampler: _RecastSampler, i: int, nz: int, s_caps: dict[int, int],
+                        max_degree: int) -> tuple[float, Poly | None, int]:
+    """``den dx_i/dt`` at the smallest degree whose fit has a relative residual below ``1e-9``: ``(residual, G_i,
+    largest degree tried)``, the best fit found if none does (``G_i`` None if no degree fits in memory)."""
+    best, gi, tried = np.inf, None, 0
+    for deg in range(1, max_degree + 1):
+        if math.comb(nz + deg, deg) > _MAX_RECAST_BASIS:    # the fit would not fit in memory: stop trying
+            break
+        tried = deg
+        basis = monomials(nz, deg, 0, s_caps)
+        X = sampler.points(max(4 * len(basis), 200))
+        Zx, T = sampler.targets(X)
+        ck = _lstsq_fit(Zx, T[:, [i]], basis)[:, 0]
+        g = Poly(dict(zip(basis, ck, strict=True)), nz)
+        res = sampler.residual(g, i)
+        if res < 1e-6:
+            # exact up to conditioning: keep the support that matters and refit on it (sparse, exact polynomials)
+            keep = [e for e, c in zip(basis, ck, strict=True) if abs(c) > 1e-8 * max(np.max(np.abs(ck)), 1e-300)]
+            gs = Poly(dict(zip(keep, _lstsq_fit(Zx, T[:, [i]], keep)[:, 0], strict=True)), nz) if keep else Poly({}, nz)
+            res_s = sampler.residual(gs, i)
+            if res_s < max(res, 1e-12):     # the sparse fit unless it is worse than rounding
+                g, res = gs, res_s
+        if res < best:
+            best, gi = res, g
+        if res < 1e-9:
+            break
+    return best, gi, tried
 
 
 def _chain_rule(G: list[Poly], slot: list[tuple[int, ...]], angles: tuple[int, ...], mixed: tuple[int, ...],
@@ -415,8 +489,8 @@ def _chain_rule(G: list[Poly], slot: list[tuple[int, ...]], angles: tuple[int, .
     ``d sin x / dt = (1 - c) dx/dt`` and ``d (1 - cos x) / dt = s dx/dt``, reduced modulo ``s^2 + c^2 - 2 c`` (``s``
     at most linear). The structure is exact: ``d(1 - cos x)/dt`` is a multiple of ``s``, so its terms of degree 1
     are in ``c`` alone and the equality multipliers of an SOS program can cancel them. (A least-squares fit of
-    ``d(1 - cos x)/dt`` itself picked up terms such as ``1e-3 (alpha - sin alpha)`` that vanish to third order on the
-    graph but not on the lifted variety: linear terms of ``dV/dt`` that no SOS certificate can absorb.)
+    ``d(1 - cos x)/dt`` itself picks up small multiples of terms such as ``alpha - sin alpha``, which vanish to third
+    order on the graph but not on the lifted variety: linear terms of ``dV/dt`` that no SOS certificate can absorb.)
     """
     Z = Poly.variables(nz)
     F: list[Poly] = [Poly({}, nz)] * nz
@@ -507,7 +581,7 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
                              time_unit=ps.time_unit, provenance=ps.provenance)
 
 
-# --------------------------------------------------------------------------------------------- refusal (issue 17)
+# -------------------------------------------------------------------------------------------------------------- refusal
 def _refusal(model: Any, names: tuple[str, ...], angles: tuple[int, ...], pos: int | None, lo: np.ndarray,
              hi: np.ndarray, degree: int, residual: float, seed: int) -> str:
     """The refusal message of :func:`recast`, naming which derivatives depend non-polynomially on which states.

@@ -36,6 +36,7 @@ from scipy.optimize import minimize_scalar
 
 from .. import checks
 from ..analysis.measure import box_measure
+from ..derivatives import partial_derivative
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
 from ..params import Vehicle
 from .singular_perturbation import SingularPerturbation, singular_perturbation
@@ -599,7 +600,7 @@ class CompositeCertificate:
         """(dW/dVbar, dW/dalphabar, dW/dOmegabar2) by complex step (exact)."""
         h = 1e-30
         V = p[..., 0]
-        dV = np.imag(self._W(np.stack([V + 1j * h, p[..., 1]], axis=-1), q)) / h
+        dV = partial_derivative(lambda P: self._W(P, q), p, 0, h)
         c1, c2, c3 = _cw(self.cw, self.sp.r1, self.sp.r2, (1 + V) ** 2)
         a, O = q[..., 0], q[..., 1]
         return dV, c1 * a + c3 * O, c3 * a + c2 * O

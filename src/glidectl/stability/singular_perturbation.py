@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ModelError, SolverError
 from ..models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
 from ..models.reduced import ReducedLongitudinalGlider, require_centred_mass, require_v2_pitch_damping

@@ -29,7 +29,7 @@ import numpy as np
 from scipy.optimize import brentq, root
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, InfeasibleGlideError, ModelError, SolverError
 from ..hydro import lift_drag, loads_3d
 from ..models.glider3d import R_P_MAX, FixedMassGlider3D, ypr_to_quat

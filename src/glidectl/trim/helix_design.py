@@ -32,7 +32,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from .. import checks
-from ..analysis.jacobian import jacobians
+from ..derivatives import jacobians
 from ..errors import ArgumentError, GlidectlError, InfeasibleGlideError, ModelError, SolverError
 from ..models.glider3d import R_P_MAX, FixedMassGlider3D
 from ..params import Vehicle
