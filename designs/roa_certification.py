@@ -233,6 +233,12 @@ def _reduced(s: Settings) -> tuple[_Problem, gc.SingularPerturbation, tuple[np.n
     return rprob, sp, (VV, GG, conv), _taylor_trap(s, rm)
 
 
+def _extents(cert: Any, loop: Any, horizon: float | None = None) -> dict[str, Any]:
+    """The certificate's extent per state axis and the extent from which simulations of the true ``loop`` converge
+    (``gc.convergent_extent``, in the certificate's box)."""
+    return {"certified": cert.extent(), "convergent": gc.convergent_extent(loop, box=cert.box, horizon=horizon)}
+
+
 def _full(s: Settings, key: str, veh: gc.Vehicle, label: str) -> tuple[str, _Problem, gc.CompositeCertificate]:
     """The full 4-state model of ``veh``: certificate, the thesis's L* (5.85), simulated region."""
     spk = gc.singular_perturbation(veh)
@@ -247,7 +253,7 @@ def _full(s: Settings, key: str, veh: gc.Vehicle, label: str) -> tuple[str, _Pro
                            seed=s.seed_truth)
     prob = _Problem(label, fc, fc.volume(n=s.n_volume), truth, lstar, "thesis L* (5.85)", bvol,
                     {"mu": spk.mu, "mu_d": cl.mu_d, "thesis_certified": cl.certified, "K_M": veh.K_M,
-                     "K_q": veh.K_q, "K_M0": veh.K_M0})
+                     "K_q": veh.K_q, "K_M0": veh.K_M0, "extents": _extents(fc, fm, s.horizon_4d)})
     return key, prob, cl
 
 
@@ -273,7 +279,7 @@ def _ctol(s: Settings, progress: Callable[[str], None]) -> dict[str, Any]:
                            seed=s.seed_truth)
     return {"cert": cert, "model": model, "volume": cert.volume(n=s.n_volume), "theorem5_volume": th_vol,
             "r_a": th5.r_a, "ball_volume": ball4 * th5.r_a**4, "true_volume": truth, "box_volume": bvol,
-            "theorem5_certified": th5.certified}
+            "theorem5_certified": th5.certified, "extents": _extents(cert, model, s.horizon_4d)}
 
 
 def _taylor_trap(s: Settings, model: Any) -> dict[str, Any]:
@@ -394,7 +400,61 @@ def _figures(res: _Results) -> dict[str, tuple[Any, str]]:
         out["ctol_roa_slices"] = (fig, "CTOL closed loop (7.16)-(7.20) at the level glide: slices of the certified "
                                        "set (shaded) through the equilibrium (alphabar = thetabar - gammabar). The "
                                        "Theorem 5 estimate is far too small to draw at this scale.")
+    for key, pr in res.full.items():
+        e = pr.extra["extents"]
+        out[f"{key}_extent"] = (e["certified"].plot(other=e["convergent"]).figure, _extent_caption(pr.name, e))
+    if res.ctol is not None:
+        e = res.ctol["extents"]
+        out["ctol_extent"] = (e["certified"].plot(other=e["convergent"]).figure,
+                              _extent_caption("CTOL closed loop", e))
     return out
+
+
+def _extent_caption(name: str, e: dict[str, Any]) -> str:
+    """Caption of a bar chart of certified against convergent extent."""
+    below, above = e["certified"].ratio(e["convergent"])
+    worst = float(np.nanmin(np.concatenate([below, above])))
+    return (f"{name}: certified extent per state axis through the equilibrium (blue; "
+            f"{'rigorous' if e['certified'].rigorous else 'not rigorous'}) against the extent from which simulations "
+            f"of the true loop converge (grey), as fractions of the box's half-width on each side; the number on a "
+            f"bar is the ratio certified / convergent (smallest {worst:.2g}; the goal is 0.5, dotted).")
+
+
+def _extent_rows(name: str, e: dict[str, Any]) -> list[list[str]]:
+    """Rows of the extent table: per state axis, certified and convergent intervals and their ratios."""
+    c, v = e["certified"], e["convergent"]
+    below, above = c.ratio(v)
+    return [[name, c.names[k], f"[{c.lo[k]:.4g}, {c.hi[k]:.4g}]", f"[{v.lo[k]:.4g}, {v.hi[k]:.4g}]",
+             f"{below[k]:.3g}", f"{above[k]:.3g}", "yes" if c.rigorous else "no"] for k in range(len(c.names))]
+
+
+def _extent_number(rep: Report, key: str, name: str, e: dict[str, Any]) -> None:
+    """Ledger row: the smallest ratio of certified to convergent extent over the axes and directions."""
+    below, above = e["certified"].ratio(e["convergent"])
+    rep.number(f"{key}_min_extent_ratio", float(np.nanmin(np.concatenate([below, above]))), "-",
+               f"{name}: smallest certified / convergent extent per axis and direction (goal >= 0.5)",
+               note=f"{e['convergent'].what}; certificate {'rigorous' if e['certified'].rigorous else 'not rigorous'}")
+
+
+def _report_extents(rep: Report, res: _Results) -> None:
+    """Certified against convergent extent per state axis: ledger rows and one table for every loop."""
+    cases = [(key, pr.name, pr.extra["extents"]) for key, pr in res.full.items()]
+    if res.ctol is not None:
+        cases.append(("ctol", "CTOL closed loop", res.ctol["extents"]))
+    if res.sat is not None:
+        for key, c in res.sat["cases"].items():
+            cases.append((f"sat_{key}", c["label"] + " (LMI)", c["extents"]))
+            if "cert" in c.get("sos", {}):
+                sos = c["sos"]["cert"]
+                cases.append((f"sat_{key}_sos", c["label"] + f" (SOS, {sos.method})",
+                              {"certified": sos.extent(), "convergent": c["extents"]["convergent"]}))
+    rows = []
+    for key, name, e in cases:
+        _extent_number(rep, key, name, e)
+        rows += _extent_rows(name, e)
+    rep.table("Certified against convergent extent per state axis through the equilibrium (state units; the ratio "
+              "certified / convergent towards lo and towards hi; the goal is 0.5 or more on every axis)",
+              ["loop", "state", "certified", "convergent", "ratio lo", "ratio hi", "rigorous"], rows)
 
 
 def _report(res: _Results) -> Report:
@@ -498,6 +558,7 @@ def _report(res: _Results) -> Report:
               "area/volume in the box, SDP time [s]", list(gc.ROACertificate.HISTORY_HEADER), rows)
     for stem, (fig, cap) in _figures(res).items():
         rep.figure(stem, fig, cap)
+    _report_extents(rep, res)
     rep.text("Method", (
         "glidectl.roa: a small polynomial layer (Poly, monomials), SOS programs compiled as sparse coefficient "
         "equalities with PSD Gram matrices in cvxpy (programs with a Gram block of order 40 or more whose moment "
@@ -597,7 +658,7 @@ def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tu
     conv = res.converged_to(sl.equilibrium, 1e-3 * float(np.linalg.norm(half)))
     return {"label": label, "loop": sl, "cert": cert, "wall": wall, "extent": ext / half, "tight": tight,
             "true_fraction": float(np.mean(conv)), "n_truth": int(X.shape[0]), "dims": dims,
-            "names": [sl.state_names[i] for i in f]}
+            "names": [sl.state_names[i] for i in f], "extents": _extents(cert, sl)}
 
 
 def _sos_case(system: Any, lmi: Any, s: Settings, certify: Callable[[], Any] | None = None) -> dict[str, Any]:
@@ -788,6 +849,9 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
               "verified, wall time [s], what limits the certificate",
               ["loop", "method", "certified", "simulated", "V scale", "verified", "s", "limited by"], rows)
     for key, c in sat["cases"].items():
+        e = c["extents"]
+        rep.figure(f"sat_{key}_extent", e["certified"].plot(other=e["convergent"]).figure,
+                   _extent_caption(c["label"] + " (LMI path)", e))
         d = c["dims"]
         rep.figure(f"sat_{key}", c["cert"].plot(dims=d).figure,
                    f"{c['label']}: slice of the certified ellipsoid in ({d[0]}, {d[1]}) through the equilibrium, "

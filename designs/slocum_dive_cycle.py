@@ -93,6 +93,8 @@ class SlocumResults:
     roa_volume: float | None  # cert.volume() of the certificate (free-state units), None when not certified
     roa_loop: gc.ClosedLoop  # gc.closed_loop of the down leg's lqr_glide
     roa_box: tuple[np.ndarray, np.ndarray]  # its default box in certify_roa (gc.validity_box)
+    roa_extent: gc.Extent | None  # cert.extent() of the certificate, None when there is none
+    convergent_extent: gc.Extent  # gc.convergent_extent of the loop in that box
 
 
 def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> SlocumResults:
@@ -114,19 +116,22 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     progress("region of attraction of the LQR loop")
     loop = gc.closed_loop(lqr_path[0])
     roa_box = gc.validity_box(loop)  # certify_roa's default box (the same as gc.saturated_loop's)
-    roa_volume = None
+    roa_volume = roa_extent = None
     try:
         cert = _certify_lqr_loop(veh, lqr_path[0], loop, s.roa_time_limit)
         roa_message = f"{'certified' if cert.certified else 'NOT certified'}: {cert}"
         roa_volume = cert.volume() if cert.certified else None
+        roa_extent = cert.extent() if cert.certified else None
     except gc.GlidectlError as exc:
         roa_message = f"{type(exc).__name__}: {exc}"
+    progress("convergent extent of the LQR loop (simulations along each state axis)")
+    conv_extent = gc.convergent_extent(loop, box=roa_box)
     mission: dict[str, Any] = dict(depths=s.depths, gamma=gamma, speed=s.speed, cycles=s.cycles, noise=noise,
                                    seed=s.seed, sensor_period=s.sensor_period)
     progress(f"missions: {', '.join(CONTROLLERS)} ({s.cycles} cycles, {s.depths[0]:g}-{s.depths[1]:g} m)")
     comparison = gc.compare_missions(veh, CONTROLLERS, **mission)
     return SlocumResults(s, veh, env, mission_env, glides, lqr_path, lqg, comparison, roa_message,
-                         roa_volume, loop, roa_box)
+                         roa_volume, loop, roa_box, roa_extent, conv_extent)
 
 
 def _poles(lam: np.ndarray) -> list[list[float]]:
@@ -190,6 +195,23 @@ def report(res: SlocumResults) -> Report:
     if res.roa_volume is not None:
         rep.number("roa_lqr_volume", res.roa_volume, "-", "ROACertificate.volume",
                    note="volume of the certified set in the 8 free states' own units (product of the units)")
+    if res.roa_extent is not None:
+        below, above = res.roa_extent.ratio(res.convergent_extent)
+        rep.number("roa_lqr_min_extent_ratio", float(np.nanmin(np.concatenate([below, above]))), "-",
+                   "ROACertificate.extent / gc.convergent_extent",
+                   note="smallest certified / convergent extent over the state axes and directions (goal >= 0.5); "
+                        f"{res.convergent_extent.what}; certificate "
+                        f"{'rigorous' if res.roa_extent.rigorous else 'not rigorous'}")
+        ax = res.roa_extent.plot(other=res.convergent_extent)
+        rep.figure("roa_lqr_extent", ax.figure,
+                   "Down leg's LQR loop: certified extent per state axis through the glide (blue) against the "
+                   "extent from which simulations of the loop converge (grey), as fractions of the default box's "
+                   "half-width on each side; the number on a bar is the ratio (the goal is 0.5, dotted).")
+        rep.table("Certified against convergent extent of the down leg's LQR loop (state units)",
+                  ["state", "certified", "convergent", "ratio lo", "ratio hi"],
+                  [[k, f"[{res.roa_extent.lo[i]:.4g}, {res.roa_extent.hi[i]:.4g}]",
+                    f"[{res.convergent_extent.lo[i]:.4g}, {res.convergent_extent.hi[i]:.4g}]", f"{below[i]:.3g}",
+                    f"{above[i]:.3g}"] for i, k in enumerate(res.roa_extent.names)])
 
     # ---------------------------------------------------------------- tables
     rep.table(f"Mission glides ({s.speed:g} m/s, r_P3 = {veh.actuators['r_P3'].fixed:g} m fixed)",

@@ -57,7 +57,16 @@ def test_roa_report_builds_with_required_numbers(quick_build):
     assert all(math.isfinite(nums[n]["value"]) for n in nums if n.endswith("_volume"))
     pngs = {p.name for p in pdf.parent.glob("*.png")}
     assert pngs == {"vdp_roa.png", "reduced_roa.png", "full_roa_slices.png", "sat_user_unsat.png", "sat_user_sat.png",
-                    "sat_buoyancy.png", "sat_elevator.png", "sat_poly_sos_sector.png"}
+                    "sat_buoyancy.png", "sat_elevator.png", "sat_poly_sos_sector.png", "KM100_extent.png",
+                    "ch6_torque_extent.png", "sat_user_unsat_extent.png", "sat_user_sat_extent.png",
+                    "sat_buoyancy_extent.png", "sat_elevator_extent.png"}
+    # certified against convergent extent, per loop: a ratio in (0, 1] (a sound certificate reaches no further
+    # than the runs converge), the exact recasts of the 4-state glider well above the LMI ellipsoids
+    ratios = {n: nums[n]["value"] for n in nums if n.endswith("_min_extent_ratio")}
+    assert set(ratios) >= {"KM100_min_extent_ratio", "sat_buoyancy_min_extent_ratio",
+                           "sat_elevator_sos_min_extent_ratio"}
+    assert all(0 < r <= 1.0 + 1e-3 for r in ratios.values())       # (1e-3: the bisections' resolution)
+    assert ratios["KM100_min_extent_ratio"] > ratios["sat_buoyancy_min_extent_ratio"]
 
 
 def test_roa_report_saturated_loops(quick_build):

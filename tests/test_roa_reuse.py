@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import glidectl as gc
+from glidectl.analysis.measure import unit_sobol
 from glidectl.batch import _inverse
 from glidectl.roa import Poly, alternation, certificate, polynomial_system, programs, routes, sector_system  # noqa: F401
 from glidectl.roa.polynomial import field_evaluator
@@ -97,7 +98,7 @@ def test_reused_v_step_matches_fresh_build():
     lam1 = lv.lam
     lam2 = _perturbed(lam1, 2, 0.02)
     lo, hi = ps.box
-    Zt = pss.lift(lo + (hi - lo) * certificate.sobol(2, 5, 256))
+    Zt = pss.lift(lo + (hi - lo) * unit_sobol(2, 5, 256))
     cache: dict = {}
     vals = []
     for lam in (lam1, lam2):

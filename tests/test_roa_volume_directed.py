@@ -19,10 +19,10 @@ from scipy.integrate import quad
 from scipy.stats import qmc
 
 import glidectl as gc
-from glidectl.analysis.measure import MIN_SOBOL_HITS
+from glidectl.analysis.measure import MIN_SOBOL_HITS, unit_sobol
 from glidectl.errors import ArgumentError
 from glidectl.roa import Poly, polynomial_system
-from glidectl.roa.certificate import PathPoints, ROACertificate, ROAVerification, _volume_directed, sobol, step_volume
+from glidectl.roa.certificate import PathPoints, ROACertificate, ROAVerification, _volume_directed, step_volume
 
 
 def _system(n: int, lo, hi):
@@ -85,7 +85,7 @@ def test_alternation_judges_a_thin_set_by_the_directed_estimate():
     P = _rotated_P(axes, 3)
     ps = _system(8, [-1.5] * 8, [1.5] * 8)
     lo, hi = ps.box
-    pts = PathPoints(ps, lo + (hi - lo) * sobol(8, 2, 2**13))
+    pts = PathPoints(ps, lo + (hi - lo) * unit_sobol(8, 2, 2**13))
     V = Poly.quadratic(P)
     assert not np.any(pts.contains(V, 1.0))
     assert step_volume(ps, pts, V, lo, hi, 0) == pytest.approx(_ellipsoid_volume(P, 1.0), rel=1e-9)
@@ -101,7 +101,7 @@ def test_alternation_keeps_the_sobol_fraction_on_a_fat_set():
     cert = _fat_quartic()
     ps = cert.system
     lo, hi = ps.box
-    pts = PathPoints(ps, lo + (hi - lo) * sobol(2, 2, 2**13))
+    pts = PathPoints(ps, lo + (hi - lo) * unit_sobol(2, 2, 2**13))
     V = cert.V * (1 / cert.rho)
     inside = pts.contains(V, 1.0)
     assert np.count_nonzero(inside) >= MIN_SOBOL_HITS

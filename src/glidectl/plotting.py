@@ -1090,7 +1090,7 @@ def plot_extents(extent: Any, under: Any = None, ax: Any = None) -> Any:
     ax.set_ylim(-1.1, 1.1)
     ax.set_ylabel("extent / box half-width [-]")
     ax.set_title("Extent per state axis through the equilibrium (below 0: towards lo, above: towards hi)", fontsize=8)
-    ax.legend(loc="lower right", fontsize=7)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=2, fontsize=7, frameon=False)
     return ax
 
 

@@ -14,7 +14,7 @@ from scipy.stats import qmc
 from .. import checks
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 
-__all__ = ["box_measure", "box_points"]
+__all__ = ["box_measure", "box_points", "unit_sobol"]
 
 #: largest number of Sobol points of one call
 MAX_POINTS = 2**24
@@ -22,6 +22,25 @@ MAX_POINTS = 2**24
 #: fewest Sobol points inside a set for which the ``volume(method="auto")`` of the region-of-attraction certificates
 #: keeps the Sobol estimate (relative counting error below about 1/10); with fewer they integrate along rays instead
 MIN_SOBOL_HITS = 100
+
+
+def unit_sobol(d: int, seed: int, n: int) -> np.ndarray:
+    """The first ``n`` points of the scrambled Sobol sequence of seed ``seed`` in ``[0, 1)^d``: the one quasi-random
+    sampler of glidectl (boxes, certificates, surrogates). scipy's balance warning for ``n`` not a power of 2 is
+    silenced: the first ``n`` points of a balanced sequence are what is asked for.
+
+    Parameters
+    ----------
+    d, seed, n : int
+        Dimension (>= 1), seed (>= 0) and number of points (>= 1).
+
+    Returns
+    -------
+    ndarray, shape (n, d)
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        return qmc.Sobol(d, seed=seed).random(n)
 
 
 def box_points(box: Any, n: int = 2**16, seed: int = 0, *, dim: int | None = None) -> tuple[float, np.ndarray]:
@@ -63,10 +82,7 @@ def box_points(box: Any, n: int = 2**16, seed: int = 0, *, dim: int | None = Non
         raise ArgumentError(f"box must have lo < hi in every coordinate, got lo {lo.tolist()}, hi {hi.tolist()}")
     n = checks.integer("n", n, lo=1, hi=MAX_POINTS)
     seed = checks.integer("seed", seed, lo=0)
-    with warnings.catch_warnings():  # n not a power of 2: scipy's balance warning
-        warnings.simplefilter("ignore", UserWarning)
-        U = qmc.Sobol(lo.size, seed=seed).random(n)
-    return float(np.prod(hi - lo)), lo + (hi - lo) * U
+    return float(np.prod(hi - lo)), lo + (hi - lo) * unit_sobol(lo.size, seed, n)
 
 
 def box_measure(indicator: Callable[[np.ndarray], Any], box: Any, n: int = 2**16, seed: int = 0, *,

@@ -25,6 +25,7 @@ import cvxpy as cp
 import numpy as np
 
 from .. import checks
+from ..analysis.measure import unit_sobol
 from ..errors import SolverError
 from .certificate import (
     HistoryRow,
@@ -34,7 +35,6 @@ from .certificate import (
     default_horizon,
     local_checks,
     simulated_truth,
-    sobol,
     step_volume,
     verify_certificate,
 )
@@ -164,7 +164,7 @@ class Alternation:
         # programs re-solved with new Parameter values (per degree); the inner cones build their programs anew
         self._cache = {} if self.solver.reuse and self.solver.inner == "sos" else None
         lo, hi = ps.box
-        self._volume_points = PathPoints(self.pss, lo + (hi - lo) * sobol(ps.n, 2, 2**13))
+        self._volume_points = PathPoints(self.pss, lo + (hi - lo) * unit_sobol(ps.n, 2, 2**13))
 
     # ------------------------------------------------------------------------------------------- helpers
     def volume(self, V: Poly, rho: float = 1.0) -> float:

@@ -8,10 +8,9 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy.stats import qmc
 
 from .. import checks
-from ..analysis.measure import MIN_SOBOL_HITS, box_measure
+from ..analysis.measure import MIN_SOBOL_HITS, box_measure, unit_sobol
 from ..batch import integrate_batch
 from ..derivatives import COMPLEX_STEP, complex_step, hessian
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SolverError
@@ -24,7 +23,7 @@ from .sos import (
 from .systems import PolySystem
 
 __all__ = ["HistoryRow", "PathPoints", "ROACertificate", "ROAVerification", "dVdt", "default_horizon", "local_checks",
-           "path_contains", "simulated_truth", "sobol", "step_volume", "value_of", "verify_certificate"]
+           "path_contains", "simulated_truth", "step_volume", "value_of", "verify_certificate"]
 
 
 def value_of(V: Poly, ps: PolySystem, X: np.ndarray) -> np.ndarray:
@@ -614,15 +613,6 @@ class ROACertificate:
             return plot_roa_certificate(self, ax, dims=dims, fixed=fixed, n=n, samples=samples)
 
 
-def sobol(d: int, seed: int, n: int) -> np.ndarray:
-    """``n`` scrambled Sobol points in ``[0, 1)^d`` (the balance warning for ``n`` not a power of 2 is silenced)."""
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        return qmc.Sobol(d, seed=seed).random(n)
-
-
 _SWITCH_ROUNDS = 3       # rejection rounds of _sample_set before it may switch to the directed sampler
 _SWITCH_PROJECTED = 20   # ... which it does if the rejection sampler projects to more rounds than this
 _ROUNDS = 200            # rounds of directions at most (each sampler)
@@ -959,7 +949,7 @@ def simulated_truth(ps: PolySystem, n: int, horizon: float, seed: int,
     """Sobol points of the box (inside the cuts) whose simulations converge to the equilibrium (bounded by the
     ``deadline``, if it has a limit: :class:`BudgetError` saying to lower ``n_truth`` or ``horizon``)."""
     lo, hi = ps.box
-    X = lo + (hi - lo) * sobol(ps.n, seed + 5, n)
+    X = lo + (hi - lo) * unit_sobol(ps.n, seed + 5, n)
     X = X[ps.in_cuts(X)]
     if X.shape[0] == 0:
         return X

@@ -67,10 +67,9 @@ from typing import Any
 import cvxpy as cp
 import numpy as np
 from scipy.special import gammaln
-from scipy.stats import qmc
 
 from .. import checks
-from ..analysis.measure import MIN_SOBOL_HITS
+from ..analysis.measure import MIN_SOBOL_HITS, unit_sobol
 from ..batch import integrate_batch
 from ..derivatives import COMPLEX_STEP, jacobians, partial_derivative
 from ..errors import ArgumentError, ArgumentTypeError, ModelError, SolverError
@@ -584,7 +583,7 @@ class EllipsoidCertificate:
         f = list(self.system.free)
         if method != "directed":
             X = np.tile(self.system.equilibrium, (n, 1))
-            X[:, f] = lo[f] + (hi[f] - lo[f]) * qmc.Sobol(len(f), seed=seed).random(n)
+            X[:, f] = lo[f] + (hi[f] - lo[f]) * unit_sobol(len(f), seed, n)
             inside = self.contains(X)
             sobol = float(np.prod(hi[f] - lo[f]) * np.mean(inside))
             if method == "sobol" or int(np.count_nonzero(inside)) >= MIN_SOBOL_HITS:

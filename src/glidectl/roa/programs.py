@@ -14,9 +14,9 @@ import cvxpy as cp
 import numpy as np
 import scipy.sparse as sps
 from scipy.linalg import solve_continuous_lyapunov
-from scipy.stats import qmc
 
 from .. import checks
+from ..analysis.measure import unit_sobol
 from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, ModelError, SolverError
 from . import moment
@@ -767,7 +767,7 @@ def _remainder(ps: PolySystem, F: list[Poly]) -> tuple[list[Poly], np.ndarray]:
 def variable_scaling(ps: PolySystem) -> np.ndarray:
     """Scale of each polynomial variable (largest ``|z_i|`` over the box; angle pairs keep 1)."""
     lo, hi = ps.box
-    Z = ps.lift(lo + (hi - lo) * qmc.Sobol(ps.n, seed=3).random(1024))
+    Z = ps.lift(lo + (hi - lo) * unit_sobol(ps.n, 3, 1024))
     k = np.max(np.abs(Z), axis=0)
     for i in ps.angle_states + ps.mixed_states:   # (x, s, c) of angles keep their natural scale
         k[list(ps.slots[i])] = 1.0

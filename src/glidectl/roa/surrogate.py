@@ -49,9 +49,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy.stats import qmc
 
 from .. import checks
+from ..analysis.measure import unit_sobol
 from ..derivatives import complex_step
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
 from .blas_threads import pinned_blas
@@ -232,14 +232,6 @@ def refine_equilibrium(f: Any, xe: np.ndarray) -> np.ndarray:
     return x
 
 
-def _sobol(d: int, seed: int, n: int) -> np.ndarray:
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)
-        return qmc.Sobol(d, seed=seed).random(n)
-
-
 @pinned_blas
 def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: float = 2.0,
                      n_hessian: int | None = None, n_fit: int | None = None, seed: int = 0) -> PolySystem:
@@ -330,7 +322,7 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
         P.append(p)
     basis = monomials(n, degree, 3)
     nf = max(8 * len(basis), 512) if n_fit is None else checks.integer("n_fit", n_fit, lo=len(basis) + 1)
-    Y = ylo + (yhi - ylo) * _sobol(n, seed + 1, nf)
+    Y = ylo + (yhi - ylo) * unit_sobol(n, seed + 1, nf)
     G = np.real(g(Y))
     if not np.all(np.isfinite(G)):
         raise ModelError("the right-hand side is not finite everywhere in the box: shrink the box")
@@ -462,7 +454,7 @@ def young_weights(ps: PolySystem, V: Poly, R: list[Poly], B: Any, n_points: int 
     of the box, ``k_i^2 = sum w_i (dV/dz_i)^2 / sum (R_i + B_i q^2)`` with ``w_i = R_i + B_i q`` (any ``k_i > 0``
     is sound; this one is tight on average)."""
     lo, hi = ps.box
-    Zp = ps.lift(lo + (hi - lo) * _sobol(ps.n, 7, n_points))
+    Zp = ps.lift(lo + (hi - lo) * unit_sobol(ps.n, 7, n_points))
     q = ps.remainder_norm(Zp) if ps.remainder_norm is not None else np.zeros(len(Zp))
     B = np.asarray(B, dtype=float) if len(B) else np.zeros(ps.nz)
     k = np.ones(ps.nz)
