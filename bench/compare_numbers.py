@@ -2,8 +2,8 @@
 
     python bench/compare_numbers.py OLD_REPORTS NEW_REPORTS [DESIGN ...] [--rtol 1e-12]
 
-Numbers in seconds (unit ``s``, or a name ending in ``_s``/``_time``) are timings and are skipped. Prints every
-number that differs by more than ``rtol`` relative (NaN equals NaN) and exits 1 if any does.
+Numbers in seconds whose names say they are times are skipped. Prints every number that differs by more than
+``rtol`` relative (NaN equals NaN) or was removed, and the numbers added; exits 1 on a difference or a removal.
 """
 
 from __future__ import annotations
@@ -44,9 +44,12 @@ def main() -> int:
         new = {r["name"]: r for r in json.loads((args.new / d / "numbers.json").read_text())}
         n = 0
         for name in sorted(set(old) | set(new)):
-            if name not in old or name not in new:
-                print(f"{d}: {name} only in {'old' if name in old else 'new'}")
+            if name not in new:
+                print(f"{d}: {name} removed")
                 bad += 1
+                continue
+            if name not in old:
+                print(f"{d}: {name} added")
                 continue
             if is_timing(old[name]):
                 continue
