@@ -70,7 +70,7 @@ def worker(case: str) -> dict:
     cert_ext = cert.extent()
     t0 = time.perf_counter()
     box = cert.box if case in ("glider4", "ctol") else None
-    conv = gc.convergent_extent(cert.system if case in ("glider4", "ctol") else loop, box=box)
+    conv = gc.convergent_extent(cert.system if case in ("glider4", "ctol") else loop, box=box, within_box=cert.in_box)
     t_conv = time.perf_counter() - t0
     below, above = cert_ext.ratio(conv)
     return {"case": case, "method": cert.method, "certified": bool(cert.certified), "rigorous": bool(cert.rigorous),

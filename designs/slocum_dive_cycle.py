@@ -125,7 +125,7 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     except gc.GlidectlError as exc:
         roa_message = f"{type(exc).__name__}: {exc}"
     progress("convergent extent of the LQR loop (simulations along each state axis)")
-    conv_extent = gc.convergent_extent(loop, box=roa_box)
+    conv_extent = gc.convergent_extent(loop, box=roa_box, within_box=cert.in_box if roa_extent is not None else True)
     mission: dict[str, Any] = dict(depths=s.depths, gamma=gamma, speed=s.speed, cycles=s.cycles, noise=noise,
                                    seed=s.seed, sensor_period=s.sensor_period)
     progress(f"missions: {', '.join(CONTROLLERS)} ({s.cycles} cycles, {s.depths[0]:g}-{s.depths[1]:g} m)")

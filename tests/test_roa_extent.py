@@ -71,6 +71,20 @@ def test_convergent_extent_of_a_stable_linear_loop_is_the_whole_box():
     np.testing.assert_allclose(conv.hi, [3.0, 2.0])
 
 
+def test_convergent_extent_within_the_box_stops_where_runs_leave_it():
+    """x1' = -x1, x2' = 10 x1 - x2: from (a, 0), x2(t) = 10 a t e^-t peaks at 10 a / e. Every run converges, but
+    with |x2| <= 1 the runs that stay in the box start at |x1| <= e / 10 (the reference a certificate in that box
+    can reach); without within_box the whole x1 interval."""
+    x1, x2 = Poly.variables(2)
+    ps = polynomial_system("overshoot", ("x1", "x2"), [-x1, 10.0 * x1 - x2], box=((-1.0, -1.0), (1.0, 1.0)))
+    inside = gc.convergent_extent(ps, n=8, steps=16)
+    anywhere = gc.convergent_extent(ps, n=8, steps=16, within_box=False)
+    np.testing.assert_allclose(inside.hi, [math.e / 10, 1.0], rtol=1e-3)
+    np.testing.assert_allclose(inside.lo, [-math.e / 10, -1.0], rtol=1e-3)
+    np.testing.assert_allclose(anywhere.hi, [1.0, 1.0])
+    assert inside.what.startswith("convergent in the box") and anywhere.what.startswith("convergent (")
+
+
 def test_convergent_extent_cuts_at_the_first_gap_along_an_axis():
     """x1' = -x1 (x1 - 1)(x1 - 2) / 2: a stable origin, an unstable point at 1: from the positive side the runs converge
     only below 1 (the interval, not the stable point at 2 beyond it)."""
@@ -104,6 +118,7 @@ def test_both_certificates_follow_one_protocol(vdp_cert, buoyancy_lmi):
         X = cert.sample(16, seed=3, boundary=False)
         assert X.shape == (16, len(cert.extent().names)) and np.all(cert.contains(X))
         assert cert.volume() > 0 and cert.rho > 0 and isinstance(cert.method, str)
+        assert cert.in_box is (cert is lmi)           # the exact recast's set may reach beyond its box
         assert hasattr(cert.plot(), "get_xlabel")
     with pytest.raises(TypeError):
         lmi.sample(4, 0, True)              # boundary is keyword-only on both

@@ -312,6 +312,13 @@ class ROACertificate:
         sampled derivatives times a safety factor, not an enclosure: sampled-sound, not proved."""
         return self.method in ("exact recast", "sos-sector") and self.verification.gram_passed
 
+    @property
+    def in_box(self) -> bool:
+        """Whether the certified set lies in :attr:`box` (so that the runs from it stay there): true for the
+        surrogate routes, whose remainder bound holds only on the box and whose cuts keep the set in it; an exact
+        recast certifies the model itself, and its set may reach beyond the box."""
+        return bool(self.system.remainder)
+
     def extent(self, steps: int = 40) -> Extent:
         """The certified interval along each state axis through the equilibrium (state units), within the box: the
         states ``x_e + t e_k`` of the set, found by bisection (``steps``) on :meth:`contains`; ``x_e`` for a held

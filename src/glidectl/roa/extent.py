@@ -125,6 +125,9 @@ class Certificate(Protocol):
         Every a-posteriori check passed.
     rigorous : bool
         The set is proved a region of attraction of the true model (not only sampled-sound).
+    in_box : bool
+        The set lies in ``box`` (its runs stay there): compare its extent with
+        ``convergent_extent(loop, box=cert.box, within_box=cert.in_box)``.
     verification
         The a-posteriori checks, with ``passed`` and ``summary()``.
     """
@@ -141,6 +144,9 @@ class Certificate(Protocol):
 
     @property
     def rigorous(self) -> bool: ...
+
+    @property
+    def in_box(self) -> bool: ...
 
     def contains(self, X: Any) -> np.ndarray:
         """Whether each state (N, n) is in the certified set."""
@@ -222,9 +228,16 @@ def _loop_parts(loop: Any) -> tuple[Callable[[np.ndarray], np.ndarray], np.ndarr
 
 
 def convergent_extent(loop: Any, box: Any = None, horizon: float | None = None, n: int = 16, *,
-                      tol: float = 1e-3, steps: int = 12) -> Extent:
+                      tol: float = 1e-3, steps: int = 12, within_box: bool = True) -> Extent:
     """The interval along each state axis through the equilibrium from which simulations of the true loop
-    converge, inside a box: what a region-of-attraction certificate of the loop can at best reach per axis.
+    converge without leaving a box: what a region-of-attraction certificate of the loop in that box can at best
+    reach per axis.
+
+    A certificate's set lies in the box it was computed in (the model's domain of validity: actuator ranges and
+    rates, the documented half-widths of the glider states) and is invariant, so the runs from it never leave the
+    box. With ``within_box`` (the default) a run that leaves the box therefore counts as not converging: the
+    reference a certificate in that box can reach. ``within_box=False`` asks only that the run start in the box
+    and converge (a run of an unsaturated loop may then drive an actuator far beyond its range on the way).
 
     Along each axis and direction, ``n`` evenly spaced points from the equilibrium to the box's face are simulated;
     the interval ends before the first that does not converge, refined by ``steps`` bisections between it and the
@@ -250,11 +263,14 @@ def convergent_extent(loop: Any, box: Any = None, horizon: float | None = None, 
         half-width, is at most ``tol`` (0 < tol < 1).
     steps : int
         Bisection steps after the grid (>= 0).
+    within_box : bool
+        Whether a run must stay in the box (to ``1e-9`` of each state's width) to count as converging.
 
     Returns
     -------
     Extent
-        ``what = "convergent (simulation, horizon ...)"``; an axis along which the loop does not move (a held
+        ``what = "convergent in the box (simulation, horizon ...)"`` (``"convergent (...)"`` without
+        ``within_box``); an axis along which the loop does not move (a held
         actuator) has ``lo = hi = x_e``.
 
     Raises
@@ -271,28 +287,34 @@ def convergent_extent(loop: Any, box: Any = None, horizon: float | None = None, 
     n = checks.integer("n", n, lo=2, hi=1000)
     steps = checks.integer("steps", steps, lo=0, hi=60)
     tol = checks.real("tol", tol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+    within_box = checks.boolean("within_box", within_box)
     lo_b, hi_b = _box(loop, box)
     moving = _moving_states(f, xe, names, (lo_b, hi_b))
     T = _horizon(f, xe, names, moving, horizon)
     half = np.maximum(xe - lo_b, hi_b - xe)
     scale = np.where(half > 0, half, 1.0)
 
-    def converges(X: np.ndarray) -> np.ndarray:
+    slack = 1e-9 * (hi_b - lo_b)
+    left = (lambda Y: np.any((Y < lo_b - slack) | (Y > hi_b + slack), axis=-1)) if within_box else None
+
+    def converges(X: np.ndarray, stay: bool = True) -> np.ndarray:
         res = integrate_batch(f, X, T, rtol=1e-7, atol=1e-10 * scale, max_steps=200_000,
+                              diverged=left if stay else None,
                               bound=1e3 * float(np.max(np.abs(np.concatenate([lo_b, hi_b])))))
         dev = np.abs(res.x_final - xe) / scale
-        return np.all(np.isfinite(dev), axis=1) & (np.max(dev, axis=1) <= tol)
+        return ~res.diverged & np.all(np.isfinite(dev), axis=1) & (np.max(dev, axis=1) <= tol)
 
     near = np.tile(xe, (2 * len(moving), 1))
     for r, k in enumerate(moving):
         near[2 * r, k] -= 0.01 * (xe[k] - lo_b[k])
         near[2 * r + 1, k] += 0.01 * (hi_b[k] - xe[k])
-    if not np.all(converges(near)):
+    if not np.all(converges(near, stay=False)):
         raise ModelError(f"convergent_extent: runs started at 1 % of the box from the equilibrium of "
                          f"'{getattr(loop, 'name', 'the loop')}' have not converged within the horizon {T:.4g} "
                          "(to tol of the box): the horizon is too short to tell; give a longer horizon")
     lo, hi = _grid_then_bisect(converges, xe, (lo_b, hi_b), moving, n, steps)
-    return Extent(names, lo, hi, xe, (lo_b, hi_b), f"convergent (simulation, horizon {T:.4g})", None)
+    what = "convergent in the box" if within_box else "convergent"
+    return Extent(names, lo, hi, xe, (lo_b, hi_b), f"{what} (simulation, horizon {T:.4g})", None)
 
 
 def _box(loop: Any, box: Any) -> tuple[np.ndarray, np.ndarray]:

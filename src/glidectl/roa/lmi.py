@@ -453,6 +453,12 @@ class EllipsoidCertificate:
         a safety factor (module docstring), not an enclosure: the certificate is then sampled-sound, not proved."""
         return self.certified and not np.any(self.remainder)
 
+    @property
+    def in_box(self) -> bool:
+        """Whether the certified set lies in :attr:`box`: always (the ellipsoid lies in its remainder box, itself in
+        the box)."""
+        return True
+
     def extent(self) -> Extent:
         """The certified interval along each state axis through the equilibrium (state units): ``x_e +- 1 /
         sqrt(P_kk)`` for a free state, ``x_e`` for a held one.
