@@ -700,7 +700,7 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
                            label=f"{len(pts)} random points of the set")
             handles.append(h)
     if samples and ps.n == 2 and hasattr(cert, "sample"):
-        # the verification's simulation starts: the outermost points of the set (issue 17)
+        # the verification's simulation starts: the outermost points of the set
         try:
             out = cert.sample(min(n, 64), seed=seed, boundary=True)
         except GlidectlError:

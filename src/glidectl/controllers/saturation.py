@@ -116,107 +116,121 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
         pump is not rate limited (no saturation to certify: use the SOS path).
     """
     if feedback is not None:
-        if not isinstance(feedback, StateFeedback):
-            raise ArgumentTypeError(f"feedback must be a StateFeedback (gc.lqr_state_feedback), got "
-                                    f"{type(feedback).__name__}")
-        if u_min is not None or u_max is not None:
-            raise ArgumentError("u_min/u_max come from the StateFeedback; do not give them again")
-        plant = system
-        for attr in ("rhs", "state_names", "input_names"):
-            if not hasattr(plant, attr):
-                raise ArgumentTypeError(f"{type(plant).__name__} is not a glidectl model (no '{attr}')")
-        names, inputs = tuple(plant.state_names), tuple(plant.input_names)
-        xe, ue = np.asarray(feedback.x_e, float), np.asarray(feedback.u_e, float)
-        Kf = -np.asarray(feedback.K, float)
-        lo_d, hi_d = feedback.u_min - ue, feedback.u_max - ue
-        ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
-
-        def full_u(W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
-            U = np.broadcast_to(ue, (*W.shape[:-1], len(ue))).astype(W.dtype).copy()
-            U[..., ch] = ue[ch] + W
-            return U
-
-        truth = (lambda X: plant.rhs(X, feedback(0.0, X)))  # noqa: E731
-        sl = SaturatedLoop(f"{type(plant).__name__} closed by {feedback.name}", names, tuple(inputs[i] for i in ch),
-                           lambda X, W: plant.rhs(X, full_u(W)), xe, Kf[ch], lo_d[ch], hi_d[ch],
-                           box if box is not None else validity_box(plant, xe),
-                           truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")),
-                           vehicle=getattr(plant, "vehicle", None))
-        _check_truth(sl, truth, sl.name)
-        return sl
+        return _state_feedback_loop(system, feedback, box, u_min, u_max)
     if not isinstance(system, ClosedLoop):
         raise ArgumentTypeError(f"saturated_loop() needs a glidectl ClosedLoop (gc.closed_loop(controller)) or a "
                                 f"plant with feedback=StateFeedback, got {type(system).__name__}")
     ctrl = getattr(system.law, "__self__", None)
+    if isinstance(ctrl, BuoyancyController | ElevatorBuoyancyController) and getattr(system.law, "__name__", "") == "u":
+        sl = _chapter6_loop(system, ctrl, box, u_min, u_max)
+        _check_truth(sl, system.rhs, system.name)
+        return sl
+    if isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
+        return _linear_glide_loop(system, ctrl, box, u_min, u_max)
+    law = getattr(system.law, "__qualname__", type(system.law).__name__)
+    raise ArgumentTypeError(
+        f"saturated_loop() does not know the law '{law}' of {system.name!r} as a saturated linear state feedback "
+        "u = u_e + sat(K (x - x_e)): supported are the closed loops of BuoyancyController, "
+        "ElevatorBuoyancyController and LinearGlideController, or a plant with feedback=StateFeedback "
+        "(gc.lqr_state_feedback). Other loops go to gc.certify_roa (SOS path)")
+
+
+def _state_feedback_loop(plant: Any, feedback: Any, box: Any, u_min: Any, u_max: Any) -> SaturatedLoop:
+    """A plant closed by a saturated :class:`~glidectl.analysis.closed_loop.StateFeedback`."""
+    if not isinstance(feedback, StateFeedback):
+        raise ArgumentTypeError(f"feedback must be a StateFeedback (gc.lqr_state_feedback), got "
+                                f"{type(feedback).__name__}")
+    if u_min is not None or u_max is not None:
+        raise ArgumentError("u_min/u_max come from the StateFeedback; do not give them again")
+    for attr in ("rhs", "state_names", "input_names"):
+        if not hasattr(plant, attr):
+            raise ArgumentTypeError(f"{type(plant).__name__} is not a glidectl model (no '{attr}')")
+    names, inputs = tuple(plant.state_names), tuple(plant.input_names)
+    xe, ue = np.asarray(feedback.x_e, float), np.asarray(feedback.u_e, float)
+    Kf = -np.asarray(feedback.K, float)
+    lo_d, hi_d = feedback.u_min - ue, feedback.u_max - ue
+    ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
+
+    def full_u(W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
+        U = np.broadcast_to(ue, (*W.shape[:-1], len(ue))).astype(W.dtype).copy()
+        U[..., ch] = ue[ch] + W
+        return U
+
+    truth = (lambda X: plant.rhs(X, feedback(0.0, X)))  # noqa: E731
+    sl = SaturatedLoop(f"{type(plant).__name__} closed by {feedback.name}", names, tuple(inputs[i] for i in ch),
+                       lambda X, W: plant.rhs(X, full_u(W)), xe, Kf[ch], lo_d[ch], hi_d[ch],
+                       box if box is not None else validity_box(plant, xe),
+                       truth=truth, provenance=str(getattr(getattr(plant, "vehicle", None), "provenance", "")),
+                       vehicle=getattr(plant, "vehicle", None))
+    _check_truth(sl, truth, sl.name)
+    return sl
+
+
+def _chapter6_loop(system: ClosedLoop, ctrl: Any, box: Any, u_min: Any, u_max: Any) -> SaturatedLoop:
+    """The chapter-6 buoyancy (6.9) or elevator-buoyancy (6.21)-(6.22) loop, its pump rate saturated."""
+    if u_min is not None or u_max is not None:
+        raise ArgumentError("u_min/u_max are the vehicle's pump limits for the chapter-6 loops; change the "
+                            "vehicle's [actuators] table instead")
+    plant, names = system.plant, tuple(system.state_names)
+    xe = None if system.equilibrium is None else np.asarray(system.equilibrium, float)
+    veh = getattr(plant, "vehicle", None)
+    lim = actuator_limits(ctrl.vehicle)
+    if not math.isfinite(lim.u4_max):
+        raise ModelError(f"vehicle '{ctrl.vehicle.name}' has no pump rate limit ([actuators] m0.rate): the loop "
+                         "is not saturated; certify it with gc.certify_roa (SOS path)")
+    k = ctrl.rate_gain if isinstance(ctrl, BuoyancyController) else ctrl.K / ctrl.eq.tau_s
+    K = np.zeros((1, 5))
+    K[0, 4] = -k
+    if isinstance(ctrl, BuoyancyController):
+        def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
+            return np.asarray(plant.rhs(X, W))
+    else:
+        u2c = float(np.real(lim.elevator(ctrl.eq.u2e)))
+
+        def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
+            return np.asarray(plant.rhs(X, np.concatenate([W, u2c + 0.0 * W], axis=-1)))
+    return SaturatedLoop(system.name, names, ("u1",), F, xe, K, np.array([-lim.u4_max]), np.array([lim.u4_max]),
+                         box if box is not None else validity_box(system, xe, veh), truth=system.rhs,
+                         provenance=system.provenance, vehicle=veh)
+
+
+def _linear_glide_loop(system: ClosedLoop, ctrl: Any, box: Any, u_min: Any, u_max: Any) -> SaturatedLoop:
+    """The loop of a :class:`~glidectl.controllers.linear.LinearGlideController`, saturated by ``u_min``/``u_max``
+    or at the vehicle's pump rate; checked unsaturated against the loop's own right-hand side."""
     plant, names = system.plant, tuple(system.state_names)
     xe = None if system.equilibrium is None else np.asarray(system.equilibrium, float)
     veh = getattr(plant, "vehicle", None)
     prov = system.provenance
-    held: tuple[int, ...] = ()
-    if isinstance(ctrl, BuoyancyController | ElevatorBuoyancyController) and getattr(system.law, "__name__", "") == "u":
-        if u_min is not None or u_max is not None:
-            raise ArgumentError("u_min/u_max are the vehicle's pump limits for the chapter-6 loops; change the "
-                                "vehicle's [actuators] table instead")
-        lim = actuator_limits(ctrl.vehicle)
-        if not math.isfinite(lim.u4_max):
-            raise ModelError(f"vehicle '{ctrl.vehicle.name}' has no pump rate limit ([actuators] m0.rate): the loop "
-                             "is not saturated; certify it with gc.certify_roa (SOS path)")
-        k = ctrl.rate_gain if isinstance(ctrl, BuoyancyController) else ctrl.K / ctrl.eq.tau_s
-        K = np.zeros((1, 5))
-        K[0, 4] = -k
-        if isinstance(ctrl, BuoyancyController):
-            def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
-                return np.asarray(plant.rhs(X, W))
-        else:
-            u2c = float(np.real(lim.elevator(ctrl.eq.u2e)))
-
-            def F(X: np.ndarray, W: np.ndarray) -> np.ndarray:
-                return np.asarray(plant.rhs(X, np.concatenate([W, u2c + 0.0 * W], axis=-1)))
-        sl = SaturatedLoop(system.name, names, ("u1",), F, xe, K, np.array([-lim.u4_max]), np.array([lim.u4_max]),
-                           box if box is not None else validity_box(system, xe, veh), truth=system.rhs,
-                           provenance=prov, vehicle=veh)
-    elif isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
-        inputs = tuple(plant.input_names)
-        ue = np.zeros(len(inputs))
-        if u_min is None and u_max is None:
-            acts = getattr(veh, "actuators", {}) or {}
-            hi = np.full(len(inputs), np.inf)
-            for i, nm in enumerate(inputs):
-                a = acts.get(ACTUATOR_OF_INPUT.get(nm, ""))
-                if nm in ("u4", "w4") and a is not None and math.isfinite(a.rate):
-                    hi[i] = a.rate
-            lo_d, hi_d = -hi, hi
-        else:
-            lo_d, hi_d = _levels(u_min, u_max, ue, inputs)
-        Kf = -np.asarray(ctrl.K, float)
-        ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
-        held = tuple(names.index(s) for s in ctrl.locked_states)
-        off = np.zeros(len(names))
-        off[0] = ctrl.path_offset
-
-        def F(X: np.ndarray, W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
-            U = np.zeros((*W.shape[:-1], len(inputs)), dtype=W.dtype)
-            U[..., ch] = W
-            return np.asarray(plant.rhs(X, U))
-
-        sl0 = SaturatedLoop(system.name, names, tuple(inputs[i] for i in ch), F, xe, Kf[ch], lo_d[ch], hi_d[ch],
-                            box if box is not None else validity_box(system, xe, veh), held=held, provenance=prov,
-                            vehicle=veh)
-        # the loop's own law is unsaturated: check F with the unsaturated law against it, then saturate
-        lin = SaturatedLoop(sl0.name, names, sl0.feedback_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
-                            np.full(len(ch), np.inf), sl0.box, held=held)
-        _check_truth(lin, system.rhs, system.name)
-        what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch)
-        return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.feedback_names, F, xe, sl0.K,
-                             sl0.u_lo, sl0.u_hi, sl0.box, held=held, provenance=prov, vehicle=veh)
+    inputs = tuple(plant.input_names)
+    ue = np.zeros(len(inputs))
+    if u_min is None and u_max is None:
+        acts = getattr(veh, "actuators", {}) or {}
+        hi = np.full(len(inputs), np.inf)
+        for i, nm in enumerate(inputs):
+            a = acts.get(ACTUATOR_OF_INPUT.get(nm, ""))
+            if nm in ("u4", "w4") and a is not None and math.isfinite(a.rate):
+                hi[i] = a.rate
+        lo_d, hi_d = -hi, hi
     else:
-        law = getattr(system.law, "__qualname__", type(system.law).__name__)
-        raise ArgumentTypeError(
-            f"saturated_loop() does not know the law '{law}' of {system.name!r} as a saturated linear state feedback "
-            "u = u_e + sat(K (x - x_e)): supported are the closed loops of BuoyancyController, "
-            "ElevatorBuoyancyController and LinearGlideController, or a plant with feedback=StateFeedback "
-            "(gc.lqr_state_feedback). Other loops go to gc.certify_roa (SOS path)")
-    _check_truth(sl, system.rhs, system.name)
-    return sl
+        lo_d, hi_d = _levels(u_min, u_max, ue, inputs)
+    Kf = -np.asarray(ctrl.K, float)
+    ch = [i for i in range(len(inputs)) if np.any(Kf[i])]
+    held = tuple(names.index(s) for s in ctrl.locked_states)
+
+    def F(X: np.ndarray, W: np.ndarray, ch: list[int] = ch) -> np.ndarray:
+        U = np.zeros((*W.shape[:-1], len(inputs)), dtype=W.dtype)
+        U[..., ch] = W
+        return np.asarray(plant.rhs(X, U))
+
+    sl0 = SaturatedLoop(system.name, names, tuple(inputs[i] for i in ch), F, xe, Kf[ch], lo_d[ch], hi_d[ch],
+                        box if box is not None else validity_box(system, xe, veh), held=held, provenance=prov,
+                        vehicle=veh)
+    # the loop's own law is unsaturated: check F with the unsaturated law against it, then saturate
+    lin = SaturatedLoop(sl0.name, names, sl0.feedback_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
+                        np.full(len(ch), np.inf), sl0.box, held=held)
+    _check_truth(lin, system.rhs, system.name)
+    what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch)
+    return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.feedback_names, F, xe, sl0.K,
+                         sl0.u_lo, sl0.u_hi, sl0.box, held=held, provenance=prov, vehicle=veh)
 
 
