@@ -2,7 +2,8 @@
 
 For each loop: the certificate the toolbox gives today (``gc.certify_roa`` for closed loops and models,
 ``gc.certify_roa_lmi`` of ``gc.saturated_loop`` for saturated loops), its per-axis extent (``cert.extent()``), the
-extent from which simulations of the true loop converge (``gc.convergent_extent``) and their ratio per axis and
+extent from which simulations of the true loop converge (``gc.convergent_extent`` in the loop's default box, the
+box certify_roa is asked for) and their ratio per axis and
 direction; with the certificate's wall time and whether it is rigorous.
 
     python bench/bench_roa_extent.py [--cases a,b,...] [--out bench/results/roa_extent.json]

@@ -235,9 +235,10 @@ def _reduced(s: Settings) -> tuple[_Problem, gc.SingularPerturbation, tuple[np.n
 
 def _extents(cert: Any, loop: Any, horizon: float | None = None) -> dict[str, Any]:
     """The certificate's extent per state axis and the extent from which simulations of the true ``loop`` converge
-    (``gc.convergent_extent`` in the certificate's box; staying in it when the certified set does)."""
+    (``gc.convergent_extent`` in the loop's default box, the box certify_roa was asked for; staying in it when the
+    certified set does)."""
     return {"certified": cert.extent(),
-            "convergent": gc.convergent_extent(loop, box=cert.box, horizon=horizon, within_box=cert.in_box)}
+            "convergent": gc.convergent_extent(loop, horizon=horizon, within_box=cert.in_box)}
 
 
 def _full(s: Settings, key: str, veh: gc.Vehicle, label: str) -> tuple[str, _Problem, gc.CompositeCertificate]:
@@ -447,7 +448,9 @@ def _report_extents(rep: Report, res: _Results) -> None:
             cases.append((f"sat_{key}", c["label"] + " (LMI)", c["extents"]))
             if "cert" in c.get("sos", {}):
                 sos = c["sos"]["cert"]
-                cases.append((f"sat_{key}_sos", c["label"] + f" (SOS, {sos.method})", _extents(sos, c["loop"])))
+                conv = c["extents"]["convergent"]       # the same reference when both sets lie in the loop's box
+                e = ({"certified": sos.extent(), "convergent": conv} if sos.in_box else _extents(sos, c["loop"]))
+                cases.append((f"sat_{key}_sos", c["label"] + f" (SOS, {sos.method})", e))
     rows = []
     for key, name, e in cases:
         _extent_number(rep, key, name, e)

@@ -1040,7 +1040,8 @@ def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any]
 
 def plot_extents(extent: Any, under: Any = None, ax: Any = None) -> Any:
     """Bar chart of a region's extent per state axis and direction (:class:`~glidectl.roa.extent.Extent`), as the
-    fraction of the box's half-width on that side, with a second extent (e.g. the convergent one) drawn under it.
+    fraction of the box's half-width on that side (the union of both extents' boxes), with a second extent (e.g.
+    the convergent one) drawn under it.
 
     Parameters
     ----------
@@ -1059,6 +1060,8 @@ def plot_extents(extent: Any, under: Any = None, ax: Any = None) -> Any:
     """
     names = list(extent.names)
     lo_b, hi_b = (np.asarray(b, dtype=float) for b in extent.box)
+    if under is not None:                   # one scale for both: the union of their boxes
+        lo_b, hi_b = np.minimum(lo_b, under.box[0]), np.maximum(hi_b, under.box[1])
     xe = np.asarray(extent.equilibrium, dtype=float)
     below_box, above_box = xe - lo_b, hi_b - xe
 
