@@ -103,7 +103,8 @@ class Clock:
         if d.limit is None or d.elapsed <= d.limit:
             return False
         if self.on_budget == "raise":
-            d.check(f"{where}; {self.time_spent()}; or pass on_budget='stop' to certify the best V found so far")
+            d.check(f"{where}; {self.time_spent()}; or pass budget=gc.BudgetOptions(time_limit=..., "
+                    "on_budget='stop') to certify the best V found so far")
         return True
 
 
