@@ -84,6 +84,7 @@ class Settings:
     sat_n_verify: int = 4000                # certify_roa_lmi's a-posteriori samples and simulations
     sat_n_simulate: int = 32
     sat_n_truth: int = 256                  # Sobol box points simulated for the true converging fraction
+    sat_slice_n: int = 25                   # grid per axis of the simulated converging slice under each ellipsoid
     sat_sos_degree: int = 2                 # the SOS path with the saturation graph on the polynomial example
     # the SOS path on the glider loops (gc.certify_roa: surrogate with its cubic remainder bound, the saturation
     # graph for the saturated ones, the remainder-box search), against the LMI path's ellipsoids
@@ -98,7 +99,8 @@ QUICK = Settings(vdp_degree=4, vdp_iterations=2, reduced_degree=4, reduced_itera
                  full_iterations=1, full_KM=(-100.0,), n_volume=2**12, n_truth_2d=21, n_truth_4d=64, n_guide=256,
                  ctol=False)
 QUICK = dataclasses.replace(QUICK, sat_rounds=2, sat_n_radii=4, sat_refine=1, sat_user_rounds=1, sat_n_verify=500,
-                            sat_n_simulate=4, sat_n_truth=32, sat_sos_cases=("elevator",), sat_sos_iterations=1)
+                            sat_n_simulate=4, sat_n_truth=32, sat_sos_cases=("elevator",), sat_sos_iterations=1,
+                            sat_slice_n=9)
 
 
 @dataclass(frozen=True)
@@ -661,7 +663,8 @@ def _sat_case(label: str, sl: Any, lmi_kw: dict[str, Any], s: Settings, dims: tu
     conv = res.converged_to(sl.equilibrium, 1e-3 * float(np.linalg.norm(half)))
     return {"label": label, "loop": sl, "cert": cert, "wall": wall, "extent": ext / half, "tight": tight,
             "true_fraction": float(np.mean(conv)), "n_truth": int(X.shape[0]), "dims": dims,
-            "names": [sl.state_names[i] for i in f], "extents": _extents(cert, sl)}
+            "names": [sl.state_names[i] for i in f], "extents": _extents(cert, sl),
+            "slice": gc.convergent_slice(sl, dims=dims, n=s.sat_slice_n)}
 
 
 def _sos_case(system: Any, lmi: Any, s: Settings, certify: Callable[[], Any] | None = None) -> dict[str, Any]:
@@ -856,9 +859,11 @@ def _report_saturated(rep: Report, s: Settings, sat: dict[str, Any]) -> None:
         rep.figure(f"sat_{key}_extent", e["certified"].plot(other=e["convergent"]).figure,
                    _extent_caption(c["label"] + " (LMI path)", e))
         d = c["dims"]
-        rep.figure(f"sat_{key}", c["cert"].plot(dims=d).figure,
+        ax = c["slice"].plot()
+        rep.figure(f"sat_{key}", c["cert"].plot(ax=ax, dims=d).figure,
                    f"{c['label']}: slice of the certified ellipsoid in ({d[0]}, {d[1]}) through the equilibrium, "
-                   "within the loop's box.")
+                   f"within the loop's box, over the part of the slice from which simulations converge without "
+                   f"leaving the box (grey, a {len(c['slice'].x)} x {len(c['slice'].y)} grid).")
     fig = p["sos"].plot()
     rep.figure("sat_poly_sos_sector", getattr(fig, "figure", fig),
                f"{p['loop'].name}: certified set of the SOS path with the saturation graph (degree "

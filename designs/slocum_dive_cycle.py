@@ -53,6 +53,7 @@ class Settings:
     #: (measured 2026-12-02). Without a budget, certify_roa also skips the sampled checks of a first remainder-box
     #: round that the second replaces. QUICK gives it 20 s and shows the budget answer.
     roa_time_limit: float | None = None
+    roa_slice_n: int = 25  # grid per axis of the simulated converging (theta, m0) slice under the certificate
 
 
 #: gc.certify_roa's arguments for the down leg's LQR loop (with the settings' time limit). designs/roa_certification.py
@@ -74,7 +75,7 @@ def _certify_lqr_loop(veh: gc.Vehicle, controller: Any, loop: gc.ClosedLoop,
 
 FULL = Settings()
 QUICK = Settings(depths=(5.0, 30.0), cycles=1, envelope_speeds=(0.05, 0.8, 31),
-                 envelope_gammas_deg=(-60.0, 60.0, 49), roa_time_limit=20.0)
+                 envelope_gammas_deg=(-60.0, 60.0, 49), roa_time_limit=20.0, roa_slice_n=9)
 
 
 @dataclass(frozen=True)
@@ -95,6 +96,8 @@ class SlocumResults:
     roa_box: tuple[np.ndarray, np.ndarray]  # its default box in certify_roa (gc.validity_box)
     roa_extent: gc.Extent | None  # cert.extent() of the certificate, None when there is none
     convergent_extent: gc.Extent  # gc.convergent_extent of the loop in that box
+    roa_cert: gc.ROACertificate | None  # the certificate, None when there is none
+    convergent_slice: gc.ConvergentSlice  # the (theta, m0) slice of the loop that converges in that box
 
 
 def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> SlocumResults:
@@ -116,7 +119,7 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     progress("region of attraction of the LQR loop")
     loop = gc.closed_loop(lqr_path[0])
     roa_box = gc.validity_box(loop)  # certify_roa's default box (the same as gc.saturated_loop's)
-    roa_volume = roa_extent = None
+    roa_volume = roa_extent = cert = None
     try:
         cert = _certify_lqr_loop(veh, lqr_path[0], loop, s.roa_time_limit)
         roa_message = f"{'certified' if cert.certified else 'NOT certified'}: {cert}"
@@ -125,13 +128,16 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     except gc.GlidectlError as exc:
         roa_message = f"{type(exc).__name__}: {exc}"
     progress("convergent extent of the LQR loop (simulations along each state axis)")
-    conv_extent = gc.convergent_extent(loop, box=roa_box, within_box=cert.in_box if roa_extent is not None else True)
+    within = cert.in_box if cert is not None else True
+    conv_extent = gc.convergent_extent(loop, box=roa_box, within_box=within)
+    conv_slice = gc.convergent_slice(loop, dims=("theta", "m0"), box=roa_box, n=s.roa_slice_n, within_box=within)
     mission: dict[str, Any] = dict(depths=s.depths, gamma=gamma, speed=s.speed, cycles=s.cycles, noise=noise,
                                    seed=s.seed, sensor_period=s.sensor_period)
     progress(f"missions: {', '.join(CONTROLLERS)} ({s.cycles} cycles, {s.depths[0]:g}-{s.depths[1]:g} m)")
     comparison = gc.compare_missions(veh, CONTROLLERS, **mission)
     return SlocumResults(s, veh, env, mission_env, glides, lqr_path, lqg, comparison, roa_message,
-                         roa_volume, loop, roa_box, roa_extent, conv_extent)
+                         roa_volume, loop, roa_box, roa_extent, conv_extent,
+                         cert if roa_extent is not None else None, conv_slice)
 
 
 def _poles(lam: np.ndarray) -> list[list[float]]:
@@ -207,6 +213,11 @@ def report(res: SlocumResults) -> Report:
                    "Down leg's LQR loop: certified extent per state axis through the glide (blue) against the "
                    "extent from which simulations of the loop converge (grey), as fractions of the default box's "
                    "half-width on each side; the number on a bar is the ratio (the goal is 0.5, dotted).")
+        ax = res.convergent_slice.plot()
+        rep.figure("roa_lqr_slice", res.roa_cert.plot(ax=ax, dims=("theta", "m0"), n=61, samples=False).figure,
+                   "Down leg's LQR loop: the certified set's (theta, m0) slice through the glide over the part of the "
+                   "slice from which simulations of the loop converge without leaving the default box (grey, a "
+                   f"{len(res.convergent_slice.x)} x {len(res.convergent_slice.y)} grid).")
         rep.table("Certified against convergent extent of the down leg's LQR loop (state units)",
                   ["state", "certified", "convergent", "ratio lo", "ratio hi"],
                   [[k, f"[{res.roa_extent.lo[i]:.4g}, {res.roa_extent.hi[i]:.4g}]",

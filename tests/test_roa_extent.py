@@ -190,3 +190,24 @@ def test_options_are_grouped_and_checked():
                           sampling=gc.SamplingOptions(n_truth=64, n_verify=500, n_simulate=4), budget=600.0)
     assert cert.certified and all(isinstance(h, gc.HistoryRow) for h in cert.history)
     assert cert.history[0].step == "initial level" and cert.history[-1].step.startswith("final margin")
+
+
+def test_convergent_slice_of_van_der_pol_is_the_inside_of_its_limit_cycle(vdp_cert):
+    """A grid point converges exactly when it lies inside the (simulated) limit cycle, up to the grid points next to
+    the cycle; the certified set lies inside the converging part, and plots over it."""
+    import matplotlib
+    from matplotlib.path import Path as MplPath
+    matplotlib.use("Agg")
+    sl = gc.convergent_slice(gc.benchmarks.van_der_pol(), dims=("x1", "x2"), n=25)
+    cycle, area = gc.benchmarks.van_der_pol_limit_cycle(4001)
+    A, B = np.meshgrid(sl.x, sl.y)
+    inside = MplPath(cycle).contains_points(np.column_stack([A.ravel(), B.ravel()])).reshape(A.shape)
+    assert np.mean(sl.converged == inside) > 0.97
+    assert sl.fraction == pytest.approx(area / (6.0 * 7.0), rel=0.1)
+    cert_in = vdp_cert.contains(np.column_stack([A.ravel(), B.ravel()])).reshape(A.shape)
+    assert not np.any(cert_in & ~sl.converged)              # the certificate is sound on the grid
+    ax = sl.plot()
+    vdp_cert.plot(ax=ax, n=41, samples=False)
+    assert any("convergent" in t.get_text() for t in ax.get_legend().get_texts())
+    with pytest.raises(gc.ArgumentError):
+        gc.convergent_slice(gc.benchmarks.van_der_pol(), dims=("x1", "x1"))

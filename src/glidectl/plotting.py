@@ -672,6 +672,7 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
     lo, hi = (np.asarray(b, dtype=float) for b in ps.box)
     if ax is None:
         _, ax = new_figure(width=6.5, height=5.2)
+    drawn = ax.get_legend_handles_labels()[0]       # what the axes already show (e.g. a convergent slice)
     (xlabel, fx), (ylabel, fy) = _roa_axis(ps, i), _roa_axis(ps, j)
     A, B = np.meshgrid(np.linspace(lo[i], hi[i], n), np.linspace(lo[j], hi[j], n))
     X = np.tile(base, (A.size, 1))
@@ -722,7 +723,7 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
     route = f", {cert.method}" if getattr(cert, "method", "exact recast") != "exact recast" else ""
     ax.set_title(f"{ps.name}: certified region of attraction ({status}{route})"
                  + (f"\nslice {', '.join(rest)}" if rest else ""))
-    ax.legend(handles=handles, loc="lower right", fontsize=7)
+    ax.legend(handles=drawn + handles, loc="lower right", fontsize=7)
     ax.grid(True, alpha=0.3)
     return ax
 
@@ -1094,6 +1095,31 @@ def plot_extents(extent: Any, under: Any = None, ax: Any = None) -> Any:
     ax.set_ylabel("extent / box half-width [-]")
     ax.set_title("Extent per state axis through the equilibrium (below 0: towards lo, above: towards hi)", fontsize=8)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=2, fontsize=7, frameon=False)
+    return ax
+
+
+def plot_convergent_slice(sl: Any, ax: Any = None) -> Any:
+    """The converging part of a 2-D slice (:class:`~glidectl.roa.extent.ConvergentSlice`) filled light grey, angles
+    in degrees, with a legend entry; a certificate's slice plot drawn on the same axes lies over it.
+
+    Parameters
+    ----------
+    sl : ConvergentSlice
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    if ax is None:
+        _, ax = new_figure(width=6.5, height=5.2)
+    (xlabel, fx), (ylabel, fy) = state_axis(sl.names, 0), state_axis(sl.names, 1)
+    A, B = np.meshgrid(fx * sl.x, fy * sl.y)
+    if sl.converged.any():
+        ax.contourf(A, B, sl.converged.astype(float), levels=[0.5, 1.5], colors=["0.82"])
+    ax.fill([], [], color="0.82", label=f"{sl.what}: {100 * sl.fraction:.0f} % of the slice")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
     return ax
 
 

@@ -4,7 +4,7 @@ glidectl models, level maximization, V-lambda alternation with rising degree, a-
 from .alternation import Alternation, HistoryRow
 from .certificate import ROACertificate, ROAVerification, dVdt
 from .certify import certify_roa
-from .extent import Certificate, Extent, convergent_extent
+from .extent import Certificate, ConvergentSlice, Extent, convergent_extent, convergent_slice
 from .moment import MOMENT_POLICY, MomentPolicy, solve_moment
 from .options import BudgetOptions, SamplingOptions, SolverOptions, SurrogateOptions
 from .polynomial import Poly, monomial_matrix, monomials
@@ -23,6 +23,7 @@ __all__ = [
     "Alternation",
     "BudgetOptions",
     "Certificate",
+    "ConvergentSlice",
     "Extent",
     "GramCheck",
     "HistoryRow",
@@ -42,6 +43,7 @@ __all__ = [
     "box_scale",
     "certify_roa",
     "convergent_extent",
+    "convergent_slice",
     "dVdt",
     "estimate_sos_size",
     "installed_sdp_solvers",

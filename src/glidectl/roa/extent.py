@@ -19,7 +19,7 @@ from ..derivatives import jacobians
 from ..errors import ArgumentError, ModelError
 from .scaling import resolve_box
 
-__all__ = ["Certificate", "Extent", "axis_extent", "convergent_extent"]
+__all__ = ["Certificate", "ConvergentSlice", "Extent", "axis_extent", "convergent_extent", "convergent_slice"]
 
 
 @dataclass(frozen=True)
@@ -283,26 +283,11 @@ def convergent_extent(loop: Any, box: Any = None, horizon: float | None = None, 
         on the states that move), or the horizon is too short to tell: runs started at 1 % of the box from the
         equilibrium have not converged by the horizon.
     """
-    f, xe, names = _loop_parts(loop)
     n = checks.integer("n", n, lo=2, hi=1000)
     steps = checks.integer("steps", steps, lo=0, hi=60)
-    tol = checks.real("tol", tol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
-    within_box = checks.boolean("within_box", within_box)
-    lo_b, hi_b = _box(loop, box)
-    moving = _moving_states(f, xe, names, (lo_b, hi_b))
-    T = _horizon(f, xe, names, moving, horizon)
-    half = np.maximum(xe - lo_b, hi_b - xe)
-    scale = np.where(half > 0, half, 1.0)
-
-    slack = 1e-9 * (hi_b - lo_b)
-    left = (lambda Y: np.any((Y < lo_b - slack) | (Y > hi_b + slack), axis=-1)) if within_box else None
-
-    def converges(X: np.ndarray, stay: bool = True) -> np.ndarray:
-        res = integrate_batch(f, X, T, rtol=1e-7, atol=1e-10 * scale, max_steps=200_000,
-                              diverged=left if stay else None,
-                              bound=1e3 * float(np.max(np.abs(np.concatenate([lo_b, hi_b])))))
-        dev = np.abs(res.x_final - xe) / scale
-        return ~res.diverged & np.all(np.isfinite(dev), axis=1) & (np.max(dev, axis=1) <= tol)
+    test = _ConvergenceTest.of(loop, box, horizon, tol, within_box)
+    xe, names, (lo_b, hi_b), moving, converges, T = (test.xe, test.names, test.box, test.moving, test.converges,
+                                                     test.horizon)
 
     near = np.tile(xe, (2 * len(moving), 1))
     for r, k in enumerate(moving):
@@ -313,8 +298,142 @@ def convergent_extent(loop: Any, box: Any = None, horizon: float | None = None, 
                          f"'{getattr(loop, 'name', 'the loop')}' have not converged within the horizon {T:.4g} "
                          "(to tol of the box): the horizon is too short to tell; give a longer horizon")
     lo, hi = _grid_then_bisect(converges, xe, (lo_b, hi_b), moving, n, steps)
-    what = "convergent in the box" if within_box else "convergent"
+    what = "convergent in the box" if test.within_box else "convergent"
     return Extent(names, lo, hi, xe, (lo_b, hi_b), f"{what} (simulation, horizon {T:.4g})", None)
+
+
+@dataclass(frozen=True)
+class ConvergentSlice:
+    """Which states of a 2-D slice through the equilibrium converge under the true loop (from simulations): drawn
+    under a certificate's slice to show what it could certify.
+
+    Attributes
+    ----------
+    names : (str, str)
+        The slice's two states.
+    x, y : ndarray, shape (n,)
+        Grid values of the two states (state units).
+    converged : ndarray of bool, shape (n, n)
+        ``converged[j, i]``: the run from ``(x[i], y[j])`` (the other states at ``base``) converges (and stays in
+        the box when ``within_box``).
+    base : ndarray, shape (n_states,)
+        The state the slice goes through.
+    what : str
+        As for :class:`Extent`.
+    """
+
+    names: tuple[str, str]
+    x: np.ndarray = field(repr=False)
+    y: np.ndarray = field(repr=False)
+    converged: np.ndarray = field(repr=False)
+    base: np.ndarray = field(repr=False)
+    what: str = ""
+
+    @property
+    def fraction(self) -> float:
+        """Fraction of the slice's grid that converges."""
+        return float(np.mean(self.converged))
+
+    def plot(self, ax: Any = None) -> Any:
+        """The converging part of the slice, filled grey (angles in degrees); a certificate's ``plot(ax=ax, ...)``
+        draws over it.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
+        from ..plotting import plot_convergent_slice, style
+
+        with style():
+            return plot_convergent_slice(self, ax)
+
+
+def convergent_slice(loop: Any, dims: Any = (0, 1), box: Any = None, n: int = 41, horizon: float | None = None, *,
+                     tol: float = 1e-3, within_box: bool = True) -> ConvergentSlice:
+    """Simulate the true loop from an ``n`` x ``n`` grid of a 2-D slice through the equilibrium (the other states
+    there) and mark the runs that converge, as :func:`convergent_extent` decides it.
+
+    Parameters
+    ----------
+    loop : input-free model
+        As for :func:`convergent_extent`.
+    dims : two state names or indices
+        The slice's plane.
+    box, horizon, tol, within_box :
+        As for :func:`convergent_extent` (the grid spans the box).
+    n : int
+        Grid points per axis (2 to 401).
+
+    Returns
+    -------
+    ConvergentSlice
+
+    Raises
+    ------
+    ArgumentError
+        For ``dims`` that are not two distinct states, and as :func:`convergent_extent`.
+    ModelError
+        As :func:`convergent_extent` (an equilibrium that is not exponentially stable).
+    """
+    n = checks.integer("n", n, lo=2, hi=401)
+    test = _ConvergenceTest.of(loop, box, horizon, tol, within_box)
+    i, j = (_state_index(d, test.names) for d in dims)
+    if i == j:
+        raise ArgumentError(f"dims must be two different states, got {dims!r}")
+    lo, hi = test.box
+    x, y = np.linspace(lo[i], hi[i], n), np.linspace(lo[j], hi[j], n)
+    A, B = np.meshgrid(x, y)
+    X = np.tile(test.xe, (A.size, 1))
+    X[:, i], X[:, j] = A.ravel(), B.ravel()
+    ok = test.converges(X).reshape(A.shape)
+    what = ("convergent in the box" if test.within_box else "convergent") + f" (simulation, horizon {test.horizon:.4g})"
+    return ConvergentSlice((test.names[i], test.names[j]), x, y, ok, test.xe.copy(), what)
+
+
+def _state_index(d: Any, names: tuple[str, ...]) -> int:
+    if isinstance(d, str):
+        if d not in names:
+            raise ArgumentError(f"unknown state {d!r}; the states are {names}")
+        return names.index(d)
+    return checks.integer("dims index", d, lo=0, hi=len(names) - 1)
+
+
+@dataclass(frozen=True)
+class _ConvergenceTest:
+    """Whether runs of an input-free loop from given states converge to its equilibrium by the horizon (to ``tol``
+    of the box's half-widths per state), staying in the box when ``within_box``."""
+
+    f: Callable[[np.ndarray], np.ndarray]
+    xe: np.ndarray
+    names: tuple[str, ...]
+    box: tuple[np.ndarray, np.ndarray]
+    moving: list[int]
+    horizon: float
+    tol: float
+    within_box: bool
+
+    @classmethod
+    def of(cls, loop: Any, box: Any, horizon: float | None, tol: float, within_box: bool) -> _ConvergenceTest:
+        f, xe, names = _loop_parts(loop)
+        tol = checks.real("tol", tol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
+        within_box = checks.boolean("within_box", within_box)
+        lo_b, hi_b = _box(loop, box)
+        moving = _moving_states(f, xe, names, (lo_b, hi_b))
+        T = _horizon(f, xe, names, moving, horizon)
+        return cls(f, xe, names, (lo_b, hi_b), moving, T, tol, within_box)
+
+    def converges(self, X: np.ndarray, stay: bool = True) -> np.ndarray:
+        """Per state (N, n): the run converges (and, with ``stay`` and ``within_box``, never leaves the box)."""
+        lo_b, hi_b = self.box
+        half = np.maximum(self.xe - lo_b, hi_b - self.xe)
+        scale = np.where(half > 0, half, 1.0)
+        slack = 1e-9 * (hi_b - lo_b)
+        left = (lambda Y: np.any((Y < lo_b - slack) | (Y > hi_b + slack), axis=-1)) if self.within_box else None
+        res = integrate_batch(self.f, X, self.horizon, rtol=1e-7, atol=1e-10 * scale, max_steps=200_000,
+                              diverged=left if stay else None,
+                              bound=1e3 * float(np.max(np.abs(np.concatenate([lo_b, hi_b])))))
+        dev = np.abs(res.x_final - self.xe) / scale
+        return ~res.diverged & np.all(np.isfinite(dev), axis=1) & (np.max(dev, axis=1) <= self.tol)
 
 
 def _box(loop: Any, box: Any) -> tuple[np.ndarray, np.ndarray]:
