@@ -53,7 +53,7 @@ class Settings:
     #: (measured 2026-12-02). Without a budget, certify_roa also skips the sampled checks of a first remainder-box
     #: round that the second replaces. QUICK gives it 20 s and shows the budget answer.
     roa_time_limit: float | None = None
-    roa_slice_n: int = 25  # grid per axis of the simulated converging (theta, m0) slice under the certificate
+    roa_slice_n: int = 31  # grid per axis of the simulated converging (theta, m0) slice under the certificate
 
 
 #: gc.certify_roa's arguments for the down leg's LQR loop (with the settings' time limit). designs/roa_certification.py
@@ -130,7 +130,11 @@ def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> 
     progress("convergent extent of the LQR loop (simulations along each state axis)")
     within = cert.in_box if cert is not None else True
     conv_extent = gc.convergent_extent(loop, box=roa_box, within_box=within)
-    conv_slice = gc.convergent_slice(loop, dims=("theta", "m0"), box=roa_box, n=s.roa_slice_n, within_box=within)
+    # the slice over the certificate's own box (its plot's limits), the runs judged against the default box
+    k = [loop.state_names.index(d) for d in ("theta", "m0")]
+    window = None if cert is None else tuple((cert.box[0][i], cert.box[1][i]) for i in k)
+    conv_slice = gc.convergent_slice(loop, dims=("theta", "m0"), box=roa_box, n=s.roa_slice_n, within_box=within,
+                                     window=window)
     mission: dict[str, Any] = dict(depths=s.depths, gamma=gamma, speed=s.speed, cycles=s.cycles, noise=noise,
                                    seed=s.seed, sensor_period=s.sensor_period)
     progress(f"missions: {', '.join(CONTROLLERS)} ({s.cycles} cycles, {s.depths[0]:g}-{s.depths[1]:g} m)")

@@ -211,3 +211,12 @@ def test_convergent_slice_of_van_der_pol_is_the_inside_of_its_limit_cycle(vdp_ce
     assert any("convergent" in t.get_text() for t in ax.get_legend().get_texts())
     with pytest.raises(gc.ArgumentError):
         gc.convergent_slice(gc.benchmarks.van_der_pol(), dims=("x1", "x1"))
+
+
+def test_convergent_slice_window_grids_a_part_and_refuses_one_outside_the_box():
+    vdp = gc.benchmarks.van_der_pol()
+    sl = gc.convergent_slice(vdp, dims=(0, 1), n=5, window=((-1.0, 1.0), (-0.5, 0.5)))
+    np.testing.assert_allclose(sl.x, np.linspace(-1.0, 1.0, 5))
+    assert sl.converged.all()                                   # well inside the limit cycle
+    with pytest.raises(gc.ArgumentError, match="window"):
+        gc.convergent_slice(vdp, dims=(0, 1), n=5, window=((-4.0, 1.0), (-0.5, 0.5)))

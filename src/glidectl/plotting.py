@@ -721,8 +721,9 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
             if k not in (i, j)]
     status = "verified" if cert.verification.passed else "NOT verified"
     route = f", {cert.method}" if getattr(cert, "method", "exact recast") != "exact recast" else ""
-    ax.set_title(f"{ps.name}: certified region of attraction ({status}{route})"
-                 + (f"\nslice {', '.join(rest)}" if rest else ""))
+    width = max(40, int(14 * ax.figure.get_figwidth()))     # a long loop name wraps to the figure's width
+    ax.set_title(textwrap.fill(f"{ps.name}: certified region of attraction ({status}{route})", width=width)
+                 + (f"\n{textwrap.fill('slice ' + ', '.join(rest), width=width)}" if rest else ""), fontsize=8)
     ax.legend(handles=drawn + handles, loc="lower right", fontsize=7)
     ax.grid(True, alpha=0.3)
     return ax

@@ -349,7 +349,7 @@ class ConvergentSlice:
 
 
 def convergent_slice(loop: Any, dims: Any = (0, 1), box: Any = None, n: int = 41, horizon: float | None = None, *,
-                     tol: float = 1e-3, within_box: bool = True) -> ConvergentSlice:
+                     tol: float = 1e-3, within_box: bool = True, window: Any = None) -> ConvergentSlice:
     """Simulate the true loop from an ``n`` x ``n`` grid of a 2-D slice through the equilibrium (the other states
     there) and mark the runs that converge, as :func:`convergent_extent` decides it.
 
@@ -363,6 +363,9 @@ def convergent_slice(loop: Any, dims: Any = (0, 1), box: Any = None, n: int = 41
         As for :func:`convergent_extent` (the grid spans the box).
     n : int
         Grid points per axis (2 to 401).
+    window : ((float, float), (float, float)), optional
+        The part of the slice gridded, ``((lo_x, hi_x), (lo_y, hi_y))`` in state units, inside the box (default the
+        box's extent in the two states); the runs are still judged against the whole box.
 
     Returns
     -------
@@ -381,7 +384,13 @@ def convergent_slice(loop: Any, dims: Any = (0, 1), box: Any = None, n: int = 41
     if i == j:
         raise ArgumentError(f"dims must be two different states, got {dims!r}")
     lo, hi = test.box
-    x, y = np.linspace(lo[i], hi[i], n), np.linspace(lo[j], hi[j], n)
+    if window is None:
+        window = ((lo[i], hi[i]), (lo[j], hi[j]))
+    w = checks.array("window", window, shape=(2, 2))
+    if not (lo[i] <= w[0, 0] < w[0, 1] <= hi[i] and lo[j] <= w[1, 0] < w[1, 1] <= hi[j]):
+        raise ArgumentError(f"window must be two increasing intervals inside the box's "
+                            f"[{lo[i]:.4g}, {hi[i]:.4g}] x [{lo[j]:.4g}, {hi[j]:.4g}], got {w.tolist()}")
+    x, y = np.linspace(w[0, 0], w[0, 1], n), np.linspace(w[1, 0], w[1, 1], n)
     A, B = np.meshgrid(x, y)
     X = np.tile(test.xe, (A.size, 1))
     X[:, i], X[:, j] = A.ravel(), B.ravel()
