@@ -110,12 +110,11 @@ class Clock:
 
 @dataclass
 class _Step:
-    """A solved V step: the new ``V`` (scaled), its level problem and the SDP time of both."""
+    """A solved V step: the new ``V`` (scaled), its level problem and the V step's program."""
 
     V: Poly
     level: LevelResult
     prog: Any
-    sdp_time: float
 
 
 @dataclass
@@ -263,7 +262,7 @@ class Alternation:
                     # an inaccurate V step can return a V whose level is 0 (or a solver a NaN level): V / rho would
                     # be infinite and its multiplier would steer the next step from nothing
                     raise SolverError(f"the level of the new V is {lv.rho:.3g}, not positive")
-                return _Step(Vn, lv, prog, step_sdp)
+                return _Step(Vn, lv, prog)
             except SolverError as exc:
                 lvc = self._retry_multiplier(degV, V, exc, step_sdp, retried)
                 if lvc is None:

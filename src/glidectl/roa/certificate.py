@@ -14,7 +14,7 @@ from ..analysis.measure import MIN_SOBOL_HITS, box_measure, unit_sobol
 from ..batch import integrate_batch
 from ..derivatives import COMPLEX_STEP, complex_step, hessian
 from ..errors import ArgumentError, ArgumentTypeError, BudgetError, SolverError
-from .extent import Extent, axis_extent
+from .extent import Extent, axis_extent, settling_horizon
 from .polynomial import Poly
 from .programs import linearization
 from .sos import (
@@ -947,8 +947,8 @@ def local_checks(ps: PolySystem, V: Poly) -> tuple[float, float]:
 
 
 def default_horizon(ps: PolySystem) -> float:
-    """25 time constants of the slowest mode of the linearization."""
-    return 25.0 / float(np.min(np.abs(np.linalg.eigvals(linearization(ps)).real)))
+    """25 time constants of the slowest mode of the linearization (:func:`~glidectl.roa.extent.settling_horizon`)."""
+    return settling_horizon(linearization(ps))
 
 
 def simulated_truth(ps: PolySystem, n: int, horizon: float, seed: int,

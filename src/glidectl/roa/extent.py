@@ -19,7 +19,8 @@ from ..derivatives import jacobians
 from ..errors import ArgumentError, ModelError
 from .scaling import resolve_box
 
-__all__ = ["Certificate", "ConvergentSlice", "Extent", "axis_extent", "convergent_extent", "convergent_slice"]
+__all__ = ["Certificate", "ConvergentSlice", "Extent", "axis_extent", "convergent_extent", "convergent_slice",
+           "settling_horizon"]
 
 
 @dataclass(frozen=True)
@@ -427,8 +428,9 @@ class _ConvergenceTest:
         tol = checks.real("tol", tol, lo=0.0, hi=1.0, lo_open=True, hi_open=True)
         within_box = checks.boolean("within_box", within_box)
         lo_b, hi_b = _box(loop, box)
-        moving = _moving_states(f, xe, names, (lo_b, hi_b))
-        T = _horizon(f, xe, names, moving, horizon)
+        A = jacobians(lambda x, u: f(x[None, :])[0], xe, np.zeros(0))[0]
+        moving = _moving_states(A, (lo_b, hi_b))
+        T = _horizon(A, names, moving, horizon)
         return cls(f, xe, names, (lo_b, hi_b), moving, T, tol, within_box)
 
     def converges(self, X: np.ndarray, stay: bool = True) -> np.ndarray:
@@ -452,26 +454,31 @@ def _box(loop: Any, box: Any) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
 
 
-def _moving_states(f: Callable, xe: np.ndarray, names: tuple[str, ...], box: tuple[np.ndarray, np.ndarray]
-                   ) -> list[int]:
-    """The states the loop moves: those with a nonzero row or column in the linearization, and a box interval."""
-    A = jacobians(lambda x, u: f(x[None, :])[0], xe, np.zeros(0))[0]
+def settling_horizon(A: np.ndarray) -> float:
+    """25 time constants of the slowest mode of a stable linearization ``A`` (the model's time unit): how long the
+    simulations of the certificates and of :func:`convergent_extent` run by default."""
+    return 25.0 / float(np.min(np.abs(np.linalg.eigvals(A).real)))
+
+
+def _moving_states(A: np.ndarray, box: tuple[np.ndarray, np.ndarray]) -> list[int]:
+    """The states the loop moves: those with a nonzero row or column in the linearization ``A``, and a box
+    interval."""
     lo, hi = box
-    return [k for k in range(len(names)) if hi[k] > lo[k] and (np.any(A[k] != 0.0) or np.any(A[:, k] != 0.0))]
+    return [k for k in range(A.shape[0]) if hi[k] > lo[k] and (np.any(A[k] != 0.0) or np.any(A[:, k] != 0.0))]
 
 
-def _horizon(f: Callable, xe: np.ndarray, names: tuple[str, ...], moving: list[int], horizon: float | None) -> float:
-    """The horizon: ``horizon``, or 25 slowest time constants; refuses a loop that is not exponentially stable on
-    the states it moves."""
-    A = jacobians(lambda x, u: f(x[None, :])[0], xe, np.zeros(0))[0][np.ix_(moving, moving)]
-    ev = np.linalg.eigvals(A) if moving else np.zeros(0)
+def _horizon(A: np.ndarray, names: tuple[str, ...], moving: list[int], horizon: float | None) -> float:
+    """The horizon: ``horizon``, or :func:`settling_horizon` on the states the loop moves; refuses a loop that is
+    not exponentially stable there."""
+    Am = A[np.ix_(moving, moving)]
+    ev = np.linalg.eigvals(Am) if moving else np.zeros(0)
     if ev.size and np.max(ev.real) >= 0:
         raise ModelError(f"convergent_extent: the equilibrium is not exponentially stable (largest real part of the "
                          f"linearization on {[names[k] for k in moving]}: {np.max(ev.real):.4g}); no simulation "
                          "converges to it from an interval")
     if horizon is not None:
         return checks.positive("horizon", horizon)
-    return 25.0 / float(np.min(np.abs(ev.real))) if ev.size else 1.0
+    return settling_horizon(Am) if ev.size else 1.0
 
 
 def _grid_then_bisect(converges: Callable[[np.ndarray], np.ndarray], xe: np.ndarray,
