@@ -1,14 +1,15 @@
 """Certified against convergent extent, per state axis, on the loops of the region-of-attraction issue.
 
-For each loop: the certificate the toolbox gives today (``gc.certify_roa`` for closed loops and models,
-``gc.certify_roa_lmi`` of ``gc.saturated_loop`` for saturated loops), its per-axis extent (``cert.extent()``), the
-extent from which simulations of the true loop converge (``gc.convergent_extent`` in the loop's default box, the
-box certify_roa is asked for) and their ratio per axis and
-direction; with the certificate's wall time and whether it is rigorous.
+For each loop: the certificate of ``gc.certify_roa(loop)`` with its default arguments (it chooses the method: the
+LMI path for a saturated loop, SOS at the degree its size allows otherwise), its per-axis extent (``cert.extent()``),
+the extent from which simulations of the true loop converge (``gc.convergent_extent`` in the loop's default box, the box
+certify_roa is asked for) and their ratio per axis and direction; with the certificate's wall time and whether it is
+rigorous.
 
     python bench/bench_roa_extent.py [--cases a,b,...] [--out bench/results/roa_extent.json]
 
-Cases: slocum (LQR dive-cycle loop of slocum_shallow, unsaturated), slocum_sat (the same, pump rate saturated),
+Cases: slocum (LQR dive-cycle loop of slocum_shallow, unsaturated), slocum_sat (the same, ``gc.saturated_loop``: pump
+rate saturated, pump range, battery range and rate as state-dependent limits),
 buoyancy, elevator (chapter-6 loops, pump rate saturated), glider4 (chapter-5 4-state glider, K_M = -50), ctol
 (chapter-7 closed loop at the level glide). Each case runs in its own process, one after the other.
 """
@@ -28,35 +29,27 @@ CASES = ("slocum", "slocum_sat", "buoyancy", "elevator", "glider4", "ctol")
 
 
 def _loop(case: str):
-    """The loop of ``case`` and how today's toolbox certifies it."""
+    """The loop of ``case``: what ``gc.certify_roa`` is given, with its default arguments."""
     import glidectl as gc
 
     if case in ("slocum", "slocum_sat"):
         veh = gc.load_vehicle("slocum_shallow")
         glide = gc.steady_glide(veh, 0.35, math.radians(-25.0), r_p3=veh.actuators["r_P3"].fixed)
         loop = gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
-        if case == "slocum":
-            return loop, lambda: gc.certify_roa(loop, degree=2)
-        sl = gc.saturated_loop(loop)
-        return sl, lambda: gc.certify_roa_lmi(sl)
+        return loop if case == "slocum" else gc.saturated_loop(loop)
     if case == "buoyancy":
         sph = gc.load_vehicle("sphere_ch5")
-        sl = gc.saturated_loop(gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)))
-        return sl, lambda: gc.certify_roa_lmi(sl)
+        return gc.saturated_loop(gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)))
     if case == "elevator":
         ev = gc.load_vehicle("elevator_ch6")
         eq = gc.elevator_equilibrium(ev, 1.0, -math.pi / 4)
-        sl = gc.saturated_loop(gc.closed_loop(gc.ElevatorBuoyancyController(eq, ev, 1.0)))
-        return sl, lambda: gc.certify_roa_lmi(sl)
+        return gc.saturated_loop(gc.closed_loop(gc.ElevatorBuoyancyController(eq, ev, 1.0)))
     if case == "glider4":
-        fm = gc.singular_perturbation(gc.load_vehicle("sphere_ch5", K_M=-50.0)).full_model()
-        return fm, lambda: gc.certify_roa(fm, degree=2, iterations=8, solver={"backoff": 0.003})
+        return gc.singular_perturbation(gc.load_vehicle("sphere_ch5", K_M=-50.0)).full_model()
     if case == "ctol":
         veh = gc.load_vehicle("dc8_ctol")
         gl = gc.ctol_glide(veh, speed=0.85 / math.sqrt(veh.a_L), gamma=0.0)
-        model = gc.ClosedLoopCTOL(veh, gl, 10.0, 5.0).roa_model()
-        return model, lambda: gc.certify_roa(model, degree=2, iterations=1, solver={"backoff": 0.003},
-                                             sampling={"n_truth": 1024})
+        return gc.ClosedLoopCTOL(veh, gl, 10.0, 5.0).roa_model()
     raise SystemExit(f"unknown case {case}")
 
 
@@ -64,9 +57,9 @@ def worker(case: str) -> dict:
     """One case in this process: the certificate, both extents and their ratios."""
     import glidectl as gc
 
-    loop, certify = _loop(case)
+    loop = _loop(case)
     t0 = time.perf_counter()
-    cert = certify()
+    cert = gc.certify_roa(loop)
     t_cert = time.perf_counter() - t0
     cert_ext = cert.extent()
     t0 = time.perf_counter()

@@ -22,7 +22,7 @@ def test_settings_presets(design):
     assert (F.vdp_degree, F.vdp_iterations, F.reduced_degree, F.reduced_iterations) == (6, 6, 4, 4)
     assert (F.full_degree, F.full_iterations, F.full_KM) == (2, 8, (-50.0, -100.0))
     assert (F.n_volume, F.n_truth_2d, F.n_truth_4d, F.n_guide) == (2**16, 201, 4096, 2048)
-    assert F.ctol and (F.ctol_degree, F.ctol_iterations, F.ctol_k3, F.ctol_k4) == (2, 1, 10.0, 5.0)
+    assert F.ctol and (F.ctol_degree, F.ctol_iterations, F.ctol_k3, F.ctol_k4) == (2, 4, 10.0, 5.0)
     assert (F.backoff, F.torque_speed, F.taylor_order, F.n_trap) == (0.003, 1.5, 3, 200_000)
     assert (Q.vdp_degree, Q.vdp_iterations, Q.reduced_iterations, Q.full_iterations, Q.full_KM) == (4, 2, 1, 1,
                                                                                                   (-100.0,))

@@ -61,7 +61,7 @@ def test_readme_flight_example_runs(tmp_path, monkeypatch, capsys):
     assert "Cd0" in capsys.readouterr().out
     back = gc.load_vehicle(tmp_path / "my_glider.toml")
     assert back.law == "gliderflight" and back.params["Cd0"] == fit.params["Cd0"]
-    assert back.params["volume"] == fit.params["volume"] and back.provenance == fit.vehicle.provenance
+    assert back.params["volume"] == fit.params["volume"] and back.provenance == fit.uncertain_vehicle().provenance
 
 
 def test_readme_mission_example_runs(capsys):

@@ -15,12 +15,13 @@ from glidectl.models.saturated_loop import SaturatedLoop
 
 @pytest.fixture(scope="module")
 def slocum():
-    """The slocum_shallow LQR glide-path loop (w1, w4 fed back; w4 saturated at the pump rate), saturated form."""
+    """The slocum_shallow LQR glide-path loop (w1, w4 fed back; w4 saturated at the pump rate, the actuators'
+    ranges not modelled), saturated form."""
     veh = gc.load_vehicle("slocum_shallow")
     glide = gc.steady_glide(veh, 0.35, np.radians(-25.0), r_p3=0.05)
     ctrl = gc.lqr_glide(veh, glide, inputs="acceleration", actuate=("w1", "w4"), reduce_fixed=False)
     loop = gc.closed_loop(ctrl)
-    return veh, loop, gc.saturated_loop(loop)
+    return veh, loop, gc.saturated_loop(loop, actuator_limits=False)
 
 
 def _near(sl, scale, n, seed):

@@ -163,8 +163,9 @@ from .models.nondimensional import NondimensionalModel, NondimensionalScaling, S
 from .models.phugoid import C_STEADY, PhugoidClass, PhugoidModel, classify_C, initial_state_for_C, orbit_period
 from .models.realized_torque import RealizedTorqueLoop
 from .models.reduced import ReducedLongitudinalGlider
+from .models.saturated_loop import AffineLimit
 from .models.torque_glider import TorqueControlledGlider
-from .params import Actuator, Vehicle, list_presets, load_vehicle
+from .params import Actuator, Vehicle, VehicleSample, list_presets, load_vehicle
 from .records import DiveRecord, MaskSettings, example_record_path, read_dive_record
 from .roa import (
     BudgetOptions,
@@ -208,13 +209,14 @@ from .trim.glide import SteadyGlide, permissible_gamma, steady_glide
 from .trim.helix import Helix, classify_motion, helix_trim
 from .trim.helix_design import HelixDesign, design_helix
 from .trim.turn import TurnDesign, design_turn
+from .uncertainty import Uncertainty
 
 __version__ = "0.1.0"
 
 #: public names grouped by task (docs/api.md lists the same groups)
 API_GROUPS: dict[str, tuple[str, ...]] = {
     "vehicles": (
-        "Actuator", "list_presets", "load_vehicle", "Vehicle",
+        "Actuator", "list_presets", "load_vehicle", "Uncertainty", "Vehicle", "VehicleSample",
     ),
     "models": (
         "AccelerationControlledGlider", "benchmarks", "BuoyancyGlider", "C_STEADY", "classify_C", "ClosedLoop",
@@ -273,6 +275,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "singular_perturbation", "SingularPerturbation", "SOSSize", "taylor_system", "unequal_mass_check",
         "UnequalMassCheck",
         "certify_roa_lmi", "EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "saturated_loop",
+        "AffineLimit",
         "RemainderBound", "surrogate_error", "surrogate_system",
         "validity_box",
     ),
@@ -304,6 +307,7 @@ __all__ = [
     "ActuatedGlider3D",
     "ActuatedSimulation",
     "Actuator",
+    "AffineLimit",
     "ApproximateLinearizationController",
     "ArgumentError",
     "ArgumentTypeError",
@@ -427,10 +431,12 @@ __all__ = [
     "TorqueGainFamily",
     "TrackingRun",
     "TurnDesign",
+    "Uncertainty",
     "UnequalMassCheck",
     "Vehicle",
     "VehicleFileError",
     "VehicleMismatchError",
+    "VehicleSample",
     "ZeroDynamics",
     "allowable_delta_m_ratio",
     "approximate_linearization_eigenvalues",

@@ -27,6 +27,15 @@ Keys are those of :data:`ACTUATOR_SPECS`; rates are in unit/s; a missing ``rate`
 function that picks or commands an actuator setting respects these limits. The earlier parameters ``u2_max``,
 ``u4_max`` and ``m0_max`` moved into this table (``elevator``, ``m0`` rate, ``m0`` range).
 
+Uncertainty
+-----------
+An optional ``[uncertainty]`` table says how well some coefficients are known, one inline table per key of
+``veh.params``: an interval ``K_M = { min = -60.0, max = -40.0, source = "..." }`` or ``{ rel = 0.3, source = "..." }``
+(nominal -+ |nominal| * 0.3), a normal ``{ std = 2.0, source = "..." }`` or ``{ rel_std = 0.3, source = "..." }``
+(optionally truncated with ``min``/``max``), and correlations between normal entries in
+``[uncertainty.correlation]`` (``"K_L,K_D" = 0.6``). :mod:`glidectl.uncertainty` describes the rules;
+:meth:`Vehicle.sample` and :meth:`Vehicle.vertices` draw vehicles from it.
+
 Plausibility limits
 -------------------
 A vehicle file is read only if it is a regular file of at most :data:`MAX_FILE_BYTES` (1 MiB) of UTF-8 TOML. Every
@@ -45,7 +54,7 @@ import numbers
 import os
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -54,12 +63,14 @@ from typing import Any, Literal
 
 import numpy as np
 
+from .checks import integer
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
+from .uncertainty import Uncertainty, check_uncertainty, draw_values, keep_contained, vertex_values
 
 __all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HULL_MASS_RATIO",
            "HYDRO_SPECS", "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX",
-           "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "list_presets",
-           "load_vehicle"]
+           "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "VehicleSample",
+           "list_presets", "load_vehicle"]
 
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
 MAX_FILE_BYTES = 1 << 20
@@ -441,6 +452,11 @@ class Vehicle:
     density_profile : (depths, densities), optional
         Sea-water density against depth (m, kg/m^3), the ``[hydrodynamics.density_profile]`` table: depths
         strictly increasing from at least 0, densities of sea water (:data:`DENSITY_RANGE`). Empty: constant.
+    uncertainty : Mapping[str, Uncertainty or Mapping], optional
+        The ``[uncertainty]`` table: key -> :class:`~glidectl.Uncertainty`, or an inline table in the file's form
+        (:mod:`glidectl.uncertainty`), resolved against the parameter values. Empty: none.
+    correlation : Mapping or sequence, optional
+        Correlations between normal entries, ``{"K_L,K_D": 0.6}`` or ``(( ("K_D", "K_L"), 0.6), ...)``.
 
     Raises
     ------
@@ -449,7 +465,9 @@ class Vehicle:
     VehicleFileError
         If ``kind`` is unknown, a parameter is unknown for the kind, not a finite real number, outside its sign
         constraint or plausibility limits (:data:`VALUE_MAX`, :data:`POSITIVE_MIN`), a required parameter is
-        missing, the mass model is inconsistent, the law is unknown or a key belongs to another law.
+        missing, the mass model is inconsistent, the law is unknown or a key belongs to another law, or the
+        uncertainty table is invalid (unknown or actuated key, bad entry, bounds that exclude the nominal value,
+        correlations that are not positive semidefinite).
 
     Attributes
     ----------
@@ -470,6 +488,11 @@ class Vehicle:
         The lift and drag law (:func:`glidectl.hydro.lift_drag`).
     density_profile : tuple
         ``(depths, densities)`` as tuples of floats, or ``()`` (:meth:`water_density`).
+    uncertainty : Mapping[str, Uncertainty]
+        How well each listed coefficient is known (absolute bounds and standard deviations), in the order of
+        ``params``; empty without an ``[uncertainty]`` table (:meth:`sample`, :meth:`vertices`).
+    correlation : tuple
+        ``((key1, key2), rho)`` pairs between normal entries of ``uncertainty``, ``key1 < key2``, sorted.
     """
 
     name: str
@@ -483,13 +506,15 @@ class Vehicle:
     actuators: Mapping[str, Actuator] = field(default_factory=lambda: MappingProxyType({}))
     law: str = "thesis"
     density_profile: tuple[Any, ...] = ()
+    uncertainty: Mapping[str, Uncertainty] = field(default_factory=lambda: MappingProxyType({}))
+    correlation: tuple[tuple[tuple[str, str], float], ...] = ()
 
     def __post_init__(self) -> None:
         for key in ("name", "kind", "title", "path", "notes", "law"):
             value = object.__getattribute__(self, key)
             if not isinstance(value, str):
                 raise ArgumentTypeError(f"Vehicle {key} must be a str, got {type(value).__name__} {value!r}")
-        for key in ("params", "sources", "overrides", "actuators"):
+        for key in ("params", "sources", "overrides", "actuators", "uncertainty"):
             value = object.__getattribute__(self, key)
             if not isinstance(value, Mapping):
                 raise ArgumentTypeError(f"Vehicle {key} must be a mapping, got {type(value).__name__}")
@@ -517,6 +542,10 @@ class Vehicle:
         _check_consistency(self.kind, values, where, self.law)
         _check_actuator_scale(acts, values, where)
         object.__setattr__(self, "density_profile", _check_profile(self.density_profile, self.kind, where))
+        table, corr = _check_uncertainty(self.uncertainty, self.correlation, values, self.kind, self.law, acts, where,
+                                         "not recorded")
+        object.__setattr__(self, "uncertainty", MappingProxyType(table))
+        object.__setattr__(self, "correlation", corr)
         object.__setattr__(self, "actuators", MappingProxyType(acts))
         object.__setattr__(self, "params", MappingProxyType(values))
         object.__setattr__(self, "sources", MappingProxyType({str(k): str(v) for k, v in self.sources.items()}))
@@ -527,7 +556,8 @@ class Vehicle:
         return (_vehicle_from_plain, (self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                                       self.path, dict(self.overrides), self.notes,
                                       {k: a.as_plain() for k, a in self.actuators.items()}, self.law,
-                                      self.density_profile))
+                                      self.density_profile, {k: u.as_plain() for k, u in self.uncertainty.items()},
+                                      self.correlation))
 
     def __getattr__(self, key: str) -> float:
         params = object.__getattribute__(self, "params")
@@ -592,7 +622,8 @@ class Vehicle:
 
     @property
     def provenance(self) -> str:
-        """SHA-256 (first 16 hex digits) of name, kind and the canonical parameter values."""
+        """SHA-256 (first 16 hex digits) of name, kind and the canonical parameter values (with the actuator
+        limits, the law, the density profile and the uncertainty table where the vehicle has them)."""
         doc: dict[str, Any] = {"name": self.name, "kind": self.kind, "params": dict(sorted(self.params.items()))}
         if self.actuators:  # vehicles without an [actuators] table keep their earlier provenance
             doc["actuators"] = {k: [str(a.min), str(a.max), str(a.rate), str(a.fixed)]
@@ -601,6 +632,11 @@ class Vehicle:
             doc["law"] = self.law
         if self.density_profile:
             doc["density_profile"] = [list(map(repr, c)) for c in self.density_profile]
+        if self.uncertainty:  # vehicles without an [uncertainty] table keep their earlier provenance
+            doc["uncertainty"] = {k: [u.kind, repr(u.low), repr(u.high), repr(u.std)]
+                                  for k, u in sorted(self.uncertainty.items())}
+            if self.correlation:
+                doc["correlation"] = [[a, b, repr(r)] for (a, b), r in self.correlation]
         blob = json.dumps(doc, sort_keys=True)
         return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
@@ -693,7 +729,9 @@ class Vehicle:
         Returns
         -------
         Vehicle
-            A new vehicle; ``self`` is unchanged.
+            A new vehicle; ``self`` is unchanged. It keeps the ``[uncertainty]`` table, except an entry whose bounds
+            exclude its overridden value (dropped with its correlations: the table describes values about the
+            nominal, and sweeps and designs may move a coefficient beyond them).
 
         Raises
         ------
@@ -703,14 +741,16 @@ class Vehicle:
         """
         return _build_vehicle(self.name, self.kind, self.title, dict(self.params), dict(self.sources),
                               self.path, {**self.overrides, **overrides}, self.notes, overrides,
-                              dict(self.actuators), self.law, self.density_profile)
+                              dict(self.actuators), self.law, self.density_profile, self.uncertainty,
+                              self.correlation)
 
     def with_hydrodynamics(self, law: str | None = None, *, source: str = "with_hydrodynamics",
                            **coefficients: float) -> Vehicle:
         """Return a new vehicle with another lift and drag law or new law and hull coefficients.
 
         Switching law drops the old law's coefficients (for the thesis law, ``K_L0, K_L, K_D0, K_D`` of
-        ``[parameters]``) and keeps the hull keys; the new law's required coefficients must then be given.
+        ``[parameters]``) and keeps the hull keys; the new law's required coefficients must then be given. The
+        ``[uncertainty]`` entries of dropped keys, and of keys whose new value their bounds exclude, are dropped.
 
         Parameters
         ----------
@@ -748,9 +788,10 @@ class Vehicle:
                 raise VehicleFileError(f"vehicle '{self.name}': {_unknown_key(key, self.kind, new_law)}")
             values[key] = _check_value(key, value, spec[key], f"vehicle '{self.name}'")
             sources[key] = source
+        table, corr = keep_contained(self.uncertainty, self.correlation, values)
         return Vehicle(name=self.name, kind=self.kind, title=self.title, params=values, sources=sources,
                        path=self.path, overrides=overrides, notes=self.notes, actuators=dict(self.actuators),
-                       law=new_law, density_profile=self.density_profile)
+                       law=new_law, density_profile=self.density_profile, uncertainty=table, correlation=corr)
 
     def with_actuators(self, **actuators: Mapping[str, Any] | Actuator | None) -> Vehicle:
         """Return a new vehicle with some actuator entries replaced, added or (with ``None``) removed.
@@ -768,7 +809,7 @@ class Vehicle:
         Raises
         ------
         VehicleFileError
-            An invalid entry (as in a vehicle file).
+            An invalid entry (as in a vehicle file), or an actuator on a key of the ``[uncertainty]`` table.
         """
         acts: dict[str, Actuator] = dict(self.actuators)
         for name, entry in actuators.items():
@@ -783,7 +824,172 @@ class Vehicle:
                                        f"{type(entry).__name__}")
         return Vehicle(name=self.name, kind=self.kind, title=self.title, params=self.params, sources=self.sources,
                        path=self.path, overrides=self.overrides, notes=self.notes, actuators=acts, law=self.law,
-                       density_profile=self.density_profile)
+                       density_profile=self.density_profile, uncertainty=self.uncertainty,
+                       correlation=self.correlation)
+
+    def with_uncertainty(self, uncertainty: Mapping[str, Any], correlation: Any = None) -> Vehicle:
+        """Return a new vehicle whose ``[uncertainty]`` table is ``uncertainty`` (replacing the whole table).
+
+        Parameters
+        ----------
+        uncertainty : Mapping
+            Key -> an entry in the vehicle file's form, e.g. ``{"K_M": {"rel": 0.3}, "K_L": {"std": 2.0}}``
+            (:mod:`glidectl.uncertainty`; ``source`` defaults to ``"Vehicle.with_uncertainty"``), or an
+            :class:`~glidectl.Uncertainty`. A ``"correlation"`` key may hold the correlations as in the file.
+            ``{}`` removes the table.
+        correlation : Mapping or sequence, optional
+            ``{"K_L,K_D": 0.6}``, ``{("K_L", "K_D"): 0.6}`` or ``((("K_D", "K_L"), 0.6), ...)``.
+
+        Returns
+        -------
+        Vehicle
+            The same parameters with the new table; relative entries are resolved against its values.
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``uncertainty`` is not a mapping.
+        VehicleFileError
+            An invalid entry or correlation, with the same checks and messages as a vehicle file.
+        """
+        if not isinstance(uncertainty, Mapping):
+            raise ArgumentTypeError(f"uncertainty must be a mapping of key -> entry, got {type(uncertainty).__name__}")
+        entries = dict(uncertainty)
+        if "correlation" in entries:
+            if correlation is not None:
+                raise VehicleFileError(f"vehicle '{self.name}': correlations are given twice (the 'correlation' "
+                                       "entry and the correlation argument)")
+            correlation = entries.pop("correlation")
+        table, corr = _check_uncertainty(entries, correlation, self.params, self.kind, self.law, self.actuators,
+                                         f"vehicle '{self.name}'", "Vehicle.with_uncertainty")
+        return Vehicle(name=self.name, kind=self.kind, title=self.title, params=self.params, sources=self.sources,
+                       path=self.path, overrides=self.overrides, notes=self.notes, actuators=dict(self.actuators),
+                       law=self.law, density_profile=self.density_profile, uncertainty=table, correlation=corr)
+
+    def _uncertain(self) -> None:
+        if not self.uncertainty:
+            raise ArgumentError(f"vehicle '{self.name}' has no [uncertainty] entries to sample: add an [uncertainty] "
+                                f"table to its file ({self.path}) or use Vehicle.with_uncertainty")
+
+    def sample_overrides(self, n: int, seed: int = 0) -> tuple[np.ndarray, tuple[str, ...]]:
+        """``n`` random draws of the uncertain coefficients, without building vehicles.
+
+        Intervals are uniform, normal entries Gaussian about the nominal value (correlated through the Cholesky
+        factor of their correlation matrix; truncated ones within their bounds). Sample ``i`` has its own random
+        stream, child ``i`` of ``numpy.random.SeedSequence(seed).spawn(n)``: the first ``m`` rows are the same
+        for every ``n >= m`` (:mod:`glidectl.uncertainty`).
+
+        Parameters
+        ----------
+        n : int
+            Number of samples, 1 to 10^7.
+        seed : int, optional
+            Seed, >= 0.
+
+        Returns
+        -------
+        (ndarray, tuple of str)
+            The ``(n, k)`` values (parameters' units) and the ``k`` keys of the columns (the table's order).
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` or ``seed`` is not an integer.
+        ArgumentError
+            If the vehicle has no ``[uncertainty]`` entry, ``n`` or ``seed`` is out of range, or a correlated
+            truncated normal cannot be drawn within its bounds.
+        """
+        n = integer("n", n, lo=1, hi=10**7)
+        seed = integer("seed", seed, lo=0)
+        self._uncertain()
+        keys, values = draw_values(self.uncertainty, self.correlation, self.params, n, seed)
+        return values, keys
+
+    def sample(self, n: int, seed: int = 0, on_invalid: Literal["record", "raise"] = "record") -> VehicleSample:
+        """``n`` vehicles drawn from the ``[uncertainty]`` table (:meth:`sample_overrides`), each
+        ``self.with_overrides(...)`` of its sampled coefficients (its ``overrides`` record them).
+
+        A draw that makes the vehicle invalid (a negative buoyancy mass, a negative lift slope in the tail of a
+        normal entry...) is kept as ``None`` in :attr:`VehicleSample.vehicles` with the reason in
+        :attr:`VehicleSample.errors`; iterating the result gives the valid vehicles.
+
+        Parameters
+        ----------
+        n : int
+            Number of samples, 1 to 10^7.
+        seed : int, optional
+            Seed, >= 0 (sample ``i`` is the same for every ``n > i``).
+        on_invalid : {"record", "raise"}, optional
+            ``"raise"``: raise at the first invalid sample instead.
+
+        Returns
+        -------
+        VehicleSample
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``n`` or ``seed`` is not an integer.
+        ArgumentError
+            As :meth:`sample_overrides`, or an unknown ``on_invalid``.
+        VehicleFileError
+            With ``on_invalid="raise"``, the first invalid sample (its index and the reason).
+        """
+        if on_invalid not in ("record", "raise"):
+            raise ArgumentError(f"on_invalid must be 'record' or 'raise', got {on_invalid!r}")
+        values, keys = self.sample_overrides(n, seed)
+        return self._sample_of(keys, values, "random", seed, on_invalid == "raise")
+
+    def vertices(self, max_vertices: int = 1024, seed: int = 0) -> VehicleSample:
+        """Vehicles at the corners of the box of the uncertain coefficients.
+
+        The box spans each interval, and each normal entry's truncation bounds where finite, else the nominal
+        value -+ 3 standard deviations (:data:`~glidectl.uncertainty.VERTEX_STDS`); correlations are ignored. With
+        ``k`` entries, all ``2^k`` corners when ``2^k <= max_vertices`` (binary order, the first key varying
+        slowest); otherwise ``max_vertices`` points: the nominal vehicle, the ``2k`` axis extremes (one coefficient
+        at its low, then its high bound, the others nominal), and distinct corners drawn with ``seed``
+        (:func:`glidectl.uncertainty.vertex_values`). Invalid corners are recorded as in :meth:`sample`.
+
+        Parameters
+        ----------
+        max_vertices : int, optional
+            Most points, 1 to 10^6.
+        seed : int, optional
+            Seed of the random corners, >= 0.
+
+        Returns
+        -------
+        VehicleSample
+
+        Raises
+        ------
+        ArgumentTypeError
+            If ``max_vertices`` or ``seed`` is not an integer.
+        ArgumentError
+            If the vehicle has no ``[uncertainty]`` entry, or not all corners fit and ``max_vertices < 2k + 1``.
+        """
+        max_vertices = integer("max_vertices", max_vertices, lo=1, hi=10**6)
+        seed = integer("seed", seed, lo=0)
+        self._uncertain()
+        keys, values = vertex_values(self.uncertainty, self.params, max_vertices, seed)
+        return self._sample_of(keys, values, "vertices", seed, False)
+
+    def _sample_of(self, keys: tuple[str, ...], values: np.ndarray, method: str, seed: int,
+                   raise_invalid: bool) -> VehicleSample:
+        vehicles: list[Vehicle | None] = []
+        errors: list[str | None] = []
+        for i, row in enumerate(values):
+            try:
+                vehicles.append(self.with_overrides(**dict(zip(keys, row.tolist(), strict=True))))
+                errors.append(None)
+            except VehicleFileError as exc:
+                if raise_invalid:
+                    raise VehicleFileError(f"sample {i} of vehicle '{self.name}' is invalid: {exc}") from None
+                vehicles.append(None)
+                errors.append(str(exc))
+        values.setflags(write=False)
+        return VehicleSample(vehicle=self, keys=keys, values=values, vehicles=tuple(vehicles), errors=tuple(errors),
+                             method=method, seed=seed)
 
     def to_toml(self) -> str:
         """The vehicle as the text of a vehicle file that :func:`load_vehicle` reads back to the same values.
@@ -792,8 +998,8 @@ class Vehicle:
         -------
         str
             TOML with ``[vehicle]``, ``[parameters]``, ``[hydrodynamics]`` (for a law other than the thesis's or
-            hull keys) and ``[actuators]``; every value written exactly (``repr`` of the float), with its unit and
-            source.
+            hull keys), ``[actuators]`` and ``[uncertainty]`` (in absolute form: ``min``/``max`` or ``std``); every
+            value written exactly (``repr`` of the float), with its unit and source.
         """
         spec = _key_specs(self.kind, self.law, self.name)
         hydro = set(HYDRO_SPECS[self.law]) if self.kind == "underwater_glider" else set()
@@ -830,6 +1036,14 @@ class Vehicle:
                 if a.note:
                     fields.append(f"note = {_toml_str(a.note)}")
                 lines.append(f"{name} = {{ {', '.join(fields)} }}")
+        if self.uncertainty:
+            lines += ["", "[uncertainty]"]
+            for key, u in self.uncertainty.items():
+                fields = [f"{f} = {_toml_str(v) if f == 'source' else _toml_float(v)}" for f, v in u.as_entry().items()]
+                lines.append(f"{key} = {{ {', '.join(fields)} }}")
+            if self.correlation:
+                lines += ["", "[uncertainty.correlation]"]
+                lines += [f"{_toml_str(f'{a},{b}')} = {_toml_float(r)}" for (a, b), r in self.correlation]
         return "\n".join(lines) + "\n"
 
     def actuator_bounds(self, name: str, default: tuple[float, float] = (-math.inf, math.inf)) -> tuple[float, float]:
@@ -875,7 +1089,94 @@ class Vehicle:
                          "; ".join(self.sources.get(f"density_profile.{k}", "") for k in ("depth", "density"))))
         for k, a in self.actuators.items():
             rows.append((f"[actuator] {k}", a.describe(), a.unit, a.source))
+        if self.uncertainty:
+            units = self.units
+            rows += [(f"[uncertainty] {k}", u.describe(), units[k], u.source) for k, u in self.uncertainty.items()]
+            rows += [(f"[uncertainty] correlation {a},{b}", f"{r:.6g}", "1", "") for (a, b), r in self.correlation]
         return rows
+
+
+@dataclass(frozen=True, eq=False)
+class VehicleSample:
+    """Vehicles drawn from a vehicle's ``[uncertainty]`` table (:meth:`Vehicle.sample`, :meth:`Vehicle.vertices`).
+
+    Row ``i`` of ``values`` gives the coefficients ``keys`` of sample ``i``; ``vehicles[i]`` is the nominal vehicle
+    with them as overrides, or ``None`` when they make it invalid, the reason then being ``errors[i]``. ``len``,
+    iteration and indexing go over the valid vehicles only, in sample order (``vehicles`` keeps every index).
+
+    Attributes
+    ----------
+    vehicle : Vehicle
+        The nominal vehicle sampled.
+    keys : tuple of str
+        The uncertain coefficients (columns of ``values``).
+    values : ndarray
+        ``(n, k)`` sampled values in the parameters' units (read-only).
+    vehicles : tuple
+        One :class:`Vehicle` per sample, ``None`` where invalid.
+    errors : tuple
+        ``None`` per valid sample, else why it is invalid (the vehicle file error's message).
+    method : str
+        ``"random"`` (:meth:`Vehicle.sample`) or ``"vertices"`` (:meth:`Vehicle.vertices`).
+    seed : int
+        The seed used.
+    """
+
+    vehicle: Vehicle = field(repr=False)
+    keys: tuple[str, ...]
+    values: np.ndarray = field(repr=False)
+    vehicles: tuple[Vehicle | None, ...] = field(repr=False)
+    errors: tuple[str | None, ...] = field(repr=False)
+    method: str
+    seed: int
+
+    @property
+    def valid(self) -> np.ndarray:
+        """Boolean array, True where the sample is a valid vehicle."""
+        return np.array([v is not None for v in self.vehicles], dtype=bool)
+
+    @property
+    def provenance(self) -> str:
+        """The nominal vehicle's parameter hash."""
+        return self.vehicle.provenance
+
+    def _valid(self) -> list[Vehicle]:
+        return [v for v in self.vehicles if v is not None]
+
+    def __len__(self) -> int:
+        return sum(v is not None for v in self.vehicles)
+
+    def __iter__(self) -> Iterator[Vehicle]:
+        return iter(self._valid())
+
+    def __getitem__(self, index: int | slice) -> Any:
+        return self._valid()[index]
+
+    def summary(self) -> str:
+        """The number of samples, how many are valid, and the first reason a sample is invalid."""
+        n = len(self.vehicles)
+        head = (f"{n} {'random samples' if self.method == 'random' else 'vertices'} of {', '.join(self.keys)} "
+                f"(vehicle '{self.vehicle.name}', seed {self.seed}): {len(self)} valid")
+        bad = [(i, e) for i, e in enumerate(self.errors) if e is not None]
+        return head if not bad else f"{head}; first invalid, sample {bad[0][0]}: {bad[0][1]}"
+
+
+def _check_uncertainty(entries: Any, correlation: Any, values: Mapping[str, float], kind: str, law: str,
+                       actuators: Mapping[str, Actuator], where: str,
+                       default_source: str | None) -> tuple[dict[str, Uncertainty], Any]:
+    """:func:`glidectl.uncertainty.check_uncertainty` for a vehicle of ``kind`` and ``law`` with ``actuators``."""
+    if not entries and not correlation:
+        return {}, ()
+    spec = _key_specs(kind, law, where)
+
+    def unknown(key: str) -> str:
+        if key in ACTUATOR_SPECS:
+            return f"'{key}' is an actuator: its range is in [actuators]; [uncertainty] takes coefficients"
+        return _unknown_key(key, kind, law)
+
+    return check_uncertainty(entries, correlation, values, {k: s.constraint for k, s in spec.items()},
+                             {n: "fixed" if a.fixed is not None else "actuated" for n, a in actuators.items()},
+                             where, unknown, default_source, VALUE_MAX)
 
 
 def _toml_str(text: str) -> str:
@@ -1180,17 +1481,21 @@ def _check_roll_and_rudder(acts: Mapping[str, Actuator], values: Mapping[str, fl
 def _vehicle_from_plain(name: str, kind: str, title: str, params: dict[str, float], sources: dict[str, str],
                         path: str, overrides: dict[str, float], notes: str,
                         actuators: dict[str, dict[str, Any]] | None = None, law: str = "thesis",
-                        density_profile: tuple[Any, ...] = ()) -> Vehicle:
+                        density_profile: tuple[Any, ...] = (), uncertainty: dict[str, dict[str, Any]] | None = None,
+                        correlation: tuple[Any, ...] = ()) -> Vehicle:
     acts = {k: Actuator(**a) for k, a in (actuators or {}).items()}
+    table = {k: Uncertainty(**u) for k, u in (uncertainty or {}).items()}
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(params),
                    sources=MappingProxyType(sources), path=path, overrides=MappingProxyType(overrides),
-                   notes=notes, actuators=MappingProxyType(acts), law=law, density_profile=density_profile)
+                   notes=notes, actuators=MappingProxyType(acts), law=law, density_profile=density_profile,
+                   uncertainty=MappingProxyType(table), correlation=correlation)
 
 
 def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], sources: dict[str, str],
                    path: str, all_overrides: dict[str, float], notes: str,
                    new_overrides: Mapping[str, float], actuators: dict[str, Actuator] | None = None,
-                   law: str = "thesis", density_profile: tuple[Any, ...] = ()) -> Vehicle:
+                   law: str = "thesis", density_profile: tuple[Any, ...] = (),
+                   uncertainty: Mapping[str, Uncertainty] | None = None, correlation: tuple[Any, ...] = ()) -> Vehicle:
     spec = _key_specs(kind, law, path)
     for key, val in new_overrides.items():
         if key in _MOVED_KEYS:
@@ -1202,10 +1507,13 @@ def _build_vehicle(name: str, kind: str, title: str, values: dict[str, float], s
         sources[key] = "override"
     all_overrides = {k: (values[k] if k in new_overrides else v) for k, v in all_overrides.items()}
     _check_consistency(kind, values, path, law)
+    table, corr = keep_contained(uncertainty or {}, correlation, values) if new_overrides else (uncertainty or {},
+                                                                                               correlation)
     return Vehicle(name=name, kind=kind, title=title, params=MappingProxyType(dict(values)),
                    sources=MappingProxyType(dict(sources)), path=path,
                    overrides=MappingProxyType(dict(all_overrides)), notes=notes,
-                   actuators=MappingProxyType(dict(actuators or {})), law=law, density_profile=density_profile)
+                   actuators=MappingProxyType(dict(actuators or {})), law=law, density_profile=density_profile,
+                   uncertainty=MappingProxyType(dict(table)), correlation=corr)
 
 
 def _line_of(text: str, key: str, table: str) -> str:
@@ -1294,20 +1602,22 @@ def _parse_law(doc: dict[str, Any], kind: str, where: str,
 
 
 def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float], dict[str, str],
-                                          dict[str, Actuator], str, tuple[Any, ...]]:
+                                          dict[str, Actuator], str, tuple[Any, ...], dict[str, Uncertainty],
+                                          tuple[Any, ...]]:
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise VehicleFileError(f"{where}: not valid TOML: {exc}") from None
     except RecursionError:
         raise VehicleFileError(f"{where}: not a usable TOML file (nested too deeply)") from None
-    tables = ("vehicle", "parameters", "actuators", "hydrodynamics")
+    tables = ("vehicle", "parameters", "actuators", "hydrodynamics", "uncertainty")
     unknown_top = set(doc) - set(tables)
     if unknown_top:
         near = [m for t in sorted(unknown_top) for m in difflib.get_close_matches(t, tables, n=1)]
         hint = f" (did you mean [{near[0]}]?)" if near else ""
         raise VehicleFileError(f"{where}: unknown top-level table(s) {sorted(unknown_top)}{hint}; "
-                               "expected [vehicle], [parameters] and optionally [actuators], [hydrodynamics]")
+                               "expected [vehicle], [parameters] and optionally [actuators], [hydrodynamics], "
+                               "[uncertainty]")
     head = doc.get("vehicle")
     if not isinstance(head, dict):
         raise VehicleFileError(f"{where}: missing [vehicle] table")
@@ -1345,8 +1655,23 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
     if not isinstance(acts_table, dict):
         raise VehicleFileError(f"{where}: [actuators] must be a table")
     actuators = {str(k): _actuator_from_entry(str(k), v, where) for k, v in acts_table.items()}
+    table, corr = _parse_uncertainty(doc, values, kind, law, actuators, where)
     return (head["name"], kind, str(head.get("title", head["name"])), str(head.get("notes", "")), values, sources,
-            actuators, law, profile)
+            actuators, law, profile, table, corr)
+
+
+def _parse_uncertainty(doc: dict[str, Any], values: Mapping[str, float], kind: str, law: str,
+                       actuators: Mapping[str, Actuator], where: str) -> tuple[dict[str, Uncertainty], Any]:
+    """The ``[uncertainty]`` table (with its ``correlation`` sub-table), resolved against the file's values."""
+    table = doc.get("uncertainty", {})
+    if not isinstance(table, dict):
+        raise VehicleFileError(f"{where}: [uncertainty] must be a table")
+    table = dict(table)
+    correlation = table.pop("correlation", None)
+    if correlation is not None and not isinstance(correlation, dict):
+        raise VehicleFileError(f"{where}: [uncertainty.correlation] must be a table such as \"K_L,K_D\" = 0.6")
+    nominal = {**(GLIDERFLIGHT_DEFAULTS if law == "gliderflight" else {}), **values}
+    return _check_uncertainty(table, correlation, nominal, kind, law, actuators, where, None)
 
 
 def _read_file(s: str) -> tuple[str, str]:
@@ -1402,7 +1727,7 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
         Unknown preset, a file that cannot be read, is not a regular file, is larger than :data:`MAX_FILE_BYTES`
         or is not UTF-8; invalid TOML; unknown/missing keys, wrong units, values that are not finite real numbers,
         out of their sign constraint or plausibility limits (:data:`VALUE_MAX`, :data:`POSITIVE_MIN`); the same for
-        the overrides.
+        the overrides; an invalid ``[uncertainty]`` table (:mod:`glidectl.uncertainty`).
     """
     if not isinstance(name_or_path, str | os.PathLike):
         raise ArgumentTypeError(f"name_or_path must be a preset name (str) or a path, got "
@@ -1416,6 +1741,6 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
         text, where = res.read_text(encoding="utf-8"), f"preset '{s}'"
     else:
         text, where = _read_file(s)
-    name, kind, title, notes, values, sources, actuators, law, profile = _parse(text, where)
+    name, kind, title, notes, values, sources, actuators, law, profile, table, corr = _parse(text, where)
     return _build_vehicle(name, kind, title, values, sources, where, dict(overrides), notes, overrides, actuators,
-                          law, profile)
+                          law, profile, table, corr)

@@ -50,6 +50,7 @@ _TYPICAL = {"compressibility": 5e-10, "thermal_expansion": 7e-5, "K_L0": 1.0, "C
 _SINGULAR_RCOND = 1e-7
 _VOLUME_SCAN = 9  # volumes scanned for the fit's start, within the pump's reach of the neutral estimate
 _CENTRAL_STEP = np.finfo(float).eps ** (1 / 3)
+_CORRELATION_MIN = 0.05  # smallest |correlation| between fitted coefficients FlightFit.to_toml writes
 
 
 def _match_data(veh: Vehicle) -> tuple[float, float, float]:
@@ -198,7 +199,13 @@ class FlightFit:
         return "\n".join(rows)
 
     def to_toml(self, path: str | Path) -> Path:
-        """Write the fitted vehicle as a complete vehicle file (:meth:`glidectl.Vehicle.to_toml`).
+        """Write the fitted vehicle as a complete vehicle file (:meth:`glidectl.Vehicle.to_toml`), with the fit's
+        standard errors in its ``[uncertainty]`` table.
+
+        Each fitted coefficient gets a normal entry, ``std`` its standard error and source "standard error of the
+        fit to <record>", and each pair of fitted coefficients whose correlation exceeds 0.05 in magnitude a
+        correlation (every pair where leaving the small ones out would make the correlation matrix indefinite). The
+        fitted vehicle's other entries are kept.
 
         Parameters
         ----------
@@ -215,10 +222,38 @@ class FlightFit:
         """
         p = Path(path)
         try:
-            p.write_text(self.vehicle.to_toml(), encoding="utf-8")
+            p.write_text(self.uncertain_vehicle().to_toml(), encoding="utf-8")
         except OSError as exc:
             raise OutputError(f"cannot write vehicle file '{p}': {exc.strerror or exc}") from None
         return p
+
+    def uncertain_vehicle(self) -> Vehicle:
+        """The fitted vehicle with the fit's standard errors (and correlations beyond 0.05) as normal entries of its
+        ``[uncertainty]`` table: what :meth:`to_toml` writes, and what :meth:`glidectl.Vehicle.sample` draws the
+        coefficients the fit does not pin down from (a Monte Carlo study of the fitted glider).
+
+        Returns
+        -------
+        Vehicle
+
+        Raises
+        ------
+        VehicleFileError
+            If the standard errors cannot form a valid table (not expected from a fit that succeeded).
+        """
+        veh = self.vehicle
+        names = list(self.params)
+        source = f"standard error of the fit to {self.record.source}"
+        fitted = {k: {"std": s, "source": source} for k, s in self.stderr.items() if np.isfinite(s) and s > 0}
+        table: dict[str, Any] = {**{k: u for k, u in veh.uncertainty.items() if k not in fitted}, **fitted}
+        kept = {pair: rho for pair, rho in veh.correlation if not set(pair) & set(fitted)}
+        pairs = {(a, b): float(np.clip(self.correlation[i, j], -1.0, 1.0)) for i, a in enumerate(names)
+                 for j, b in enumerate(names) if i < j and a in fitted and b in fitted}
+        large = {p: r for p, r in pairs.items() if abs(r) > _CORRELATION_MIN}
+        try:
+            return veh.with_uncertainty(table, {**kept, **large})
+        except VehicleFileError:  # leaving out the small correlations broke positive semidefiniteness: write all
+            return veh.with_uncertainty(table, {**kept, **pairs})
 
     def plot(self, ax: Any = None) -> Any:
         """Measured against modelled vertical speed over the record, and the residual against depth.

@@ -19,9 +19,10 @@ import numpy as np
 from .. import checks
 from ..analysis.closed_loop import StateFeedback
 from ..errors import ArgumentError, ArgumentTypeError, ModelError
+from ..models.actuated import ActuatedGlider
 from ..models.buoyancy_glider import actuator_limits
 from ..models.closed_loop import ClosedLoop
-from ..models.saturated_loop import SaturatedLoop, held_motion, held_points
+from ..models.saturated_loop import AffineLimit, SaturatedLoop, held_motion, held_points
 from ..roa.scaling import DEFAULT_HALF_WIDTH, validity_box
 from .buoyancy import BuoyancyController
 from .elevator import ElevatorBuoyancyController
@@ -58,7 +59,7 @@ def _check_truth(sl: SaturatedLoop, truth: Callable[[np.ndarray], Any], what: st
 
 
 def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | None = None,
-                   u_min: Any = None, u_max: Any = None) -> SaturatedLoop:
+                   u_min: Any = None, u_max: Any = None, actuator_limits: bool = True) -> SaturatedLoop:
     """Extract ``F``, ``K``, the saturation levels, the equilibrium and a box from a glidectl closed loop.
 
     Recognized forms:
@@ -70,8 +71,13 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
     * ``gc.closed_loop(LinearGlideController)`` (:func:`~glidectl.controllers.linear.lqr_glide`,
       :func:`~glidectl.controllers.linear.place_glide`): ``w = -K (x_r - x_r,e)``, saturated by ``u_min``/``u_max``
       or by default at the vehicle's rate limits where the units agree (``u4``/``w4`` at ``[actuators] m0.rate``,
-      kg/s; accelerations and forces have no limit in the vehicle file); the states locked by inputs left out of
-      ``actuate`` are held;
+      kg/s; accelerations and forces have no constant limit in the vehicle file); the states locked by inputs left
+      out of ``actuate`` are held. With ``actuator_limits`` (default) the actuators also obey the
+      :class:`~glidectl.models.actuated.ActuatedGlider` law, as state-dependent limits
+      (:class:`~glidectl.models.saturated_loop.AffineLimit`): the pump rate tapers onto the ends of the ``m0``
+      range (gain ``pump_gain``), and the battery acceleration ``w1`` is limited so that the battery velocity
+      stays within its rate limit and its taper onto the ends of the ``r_P1`` range (velocity servo of time
+      constant ``servo_time``, taper gain ``1 / (4 servo_time)``; ActuatedGlider's defaults);
     * a plant with ``feedback`` a :class:`~glidectl.analysis.closed_loop.StateFeedback`
       (:func:`~glidectl.analysis.closed_loop.lqr_state_feedback`): ``u = sat(u_e - K (x - x_e))`` at its
       ``u_min``/``u_max``.
@@ -93,6 +99,9 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
         ``(lo, hi)`` in the states' units; default the validity box above.
     u_min, u_max : array_like, optional
         Absolute input limits (one per plant input; a LinearGlideController loop only, overriding the defaults).
+    actuator_limits : bool
+        A LinearGlideController loop only: also limit the pump and battery by their ranges and the battery by its
+        rate, as the actuators do (above); False keeps the constant levels only.
 
     Returns
     -------
@@ -126,7 +135,8 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
         _check_truth(sl, system.rhs, system.name)
         return sl
     if isinstance(ctrl, LinearGlideController) and getattr(system.law, "__name__", "") == "path_input":
-        return _linear_glide_loop(system, ctrl, box, u_min, u_max)
+        return _linear_glide_loop(system, ctrl, box, u_min, u_max, checks.boolean("actuator_limits",
+                                                                                  actuator_limits))
     law = getattr(system.law, "__qualname__", type(system.law).__name__)
     raise ArgumentTypeError(
         f"saturated_loop() does not know the law '{law}' of {system.name!r} as a saturated linear state feedback "
@@ -194,9 +204,54 @@ def _chapter6_loop(system: ClosedLoop, ctrl: Any, box: Any, u_min: Any, u_max: A
                          provenance=system.provenance, vehicle=veh)
 
 
-def _linear_glide_loop(system: ClosedLoop, ctrl: Any, box: Any, u_min: Any, u_max: Any) -> SaturatedLoop:
+def actuator_affine_limits(names: tuple[str, ...], channels: tuple[str, ...], xe: np.ndarray, veh: Any,
+                           servo_time: float = ActuatedGlider.servo_time,
+                           pump_gain: float = ActuatedGlider.pump_gain) -> tuple[AffineLimit, ...]:
+    """The :class:`~glidectl.models.actuated.ActuatedGlider` actuator law as affine limits of the fed-back
+    ``channels`` of a loop on states ``names`` at equilibrium ``xe``.
+
+    The pump rate (``u4``/``w4``, kg/s) is limited by ``k_p (m0_max - m0)`` above and ``k_p (m0_min - m0)`` below;
+    the battery acceleration ``w1`` (m/s^2) by ``(R - rdot_P1) / tau`` and ``(k (r_max - r_P1) - rdot_P1) / tau``
+    above, ``(-R - rdot_P1) / tau`` and ``(k (r_min - r_P1) - rdot_P1) / tau`` below (``R`` the rate limit, ``tau``
+    the servo time, ``k = 1 / (4 tau)``): the requested rate ``rdot_P1 + tau w1`` clipped to the rate interval of
+    :func:`~glidectl.models.actuated.rate_interval`. Channels whose actuator, range or states are missing get no
+    limit (infinite ends give none)."""
+    acts = getattr(veh, "actuators", {}) or {}
+    out: list[AffineLimit] = []
+
+    def unit(state: str) -> np.ndarray:
+        e = np.zeros(len(names))
+        e[names.index(state)] = 1.0
+        return e
+
+    for ch, nm in enumerate(channels):
+        a = acts.get(ACTUATOR_OF_INPUT.get(nm, ""))
+        if a is None:
+            continue
+        if nm in ("u4", "w4") and "m0" in names:
+            m0 = xe[names.index("m0")]
+            for upper, end in ((True, a.max), (False, a.min)):
+                if math.isfinite(end):
+                    out.append(AffineLimit(ch, upper, -pump_gain * unit("m0"), pump_gain * (end - m0),
+                                           f"m0 {'max' if upper else 'min'} (pump taper)"))
+        if nm == "w1" and "r_P1" in names and "rdot_P1" in names:
+            p, v = xe[names.index("r_P1")], xe[names.index("rdot_P1")]
+            k, ev, ep = 0.25 / servo_time, unit("rdot_P1"), unit("r_P1")
+            for upper, sign, end in ((True, 1.0, a.max), (False, -1.0, a.min)):
+                if math.isfinite(a.rate):
+                    out.append(AffineLimit(ch, upper, -ev / servo_time, (sign * a.rate - v) / servo_time,
+                                           f"r_P1 rate {'+' if upper else '-'}{a.rate:g} m/s"))
+                if math.isfinite(end):
+                    out.append(AffineLimit(ch, upper, (-k * ep - ev) / servo_time, (k * (end - p) - v) / servo_time,
+                                           f"r_P1 {'max' if upper else 'min'} (rate taper)"))
+    return tuple(out)
+
+
+def _linear_glide_loop(system: ClosedLoop, ctrl: Any, box: Any, u_min: Any, u_max: Any,
+                       actuator_limits: bool) -> SaturatedLoop:
     """The loop of a :class:`~glidectl.controllers.linear.LinearGlideController`, saturated by ``u_min``/``u_max``
-    or at the vehicle's pump rate; checked unsaturated against the loop's own right-hand side."""
+    or at the vehicle's pump rate, with the actuators' range and rate limits when ``actuator_limits``; checked
+    unsaturated against the loop's own right-hand side."""
     plant, names = system.plant, tuple(system.state_names)
     xe = None if system.equilibrium is None else np.asarray(system.equilibrium, float)
     veh = getattr(plant, "vehicle", None)
@@ -229,8 +284,12 @@ def _linear_glide_loop(system: ClosedLoop, ctrl: Any, box: Any, u_min: Any, u_ma
     lin = SaturatedLoop(sl0.name, names, sl0.feedback_names, F, xe, sl0.K, np.full(len(ch), -np.inf),
                         np.full(len(ch), np.inf), sl0.box, held=held)
     _check_truth(lin, system.rhs, system.name)
-    what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch)
-    return SaturatedLoop(f"{system.name}, saturated ({what})", names, sl0.feedback_names, F, xe, sl0.K,
-                         sl0.u_lo, sl0.u_hi, sl0.box, held=held, provenance=prov, vehicle=veh)
+    limits = actuator_affine_limits(names, sl0.feedback_names, xe, veh) if actuator_limits else ()
+    what = ", ".join(f"{inputs[i]} in [{lo_d[i]:g}, {hi_d[i]:g}]" for i in ch if np.isfinite(lo_d[i])
+                     or np.isfinite(hi_d[i]))
+    if limits:
+        what = ", ".join(q for q in (what, "actuator ranges and battery rate") if q)
+    return SaturatedLoop(f"{system.name}, saturated ({what or 'no limit'})", names, sl0.feedback_names, F, xe,
+                         sl0.K, sl0.u_lo, sl0.u_hi, sl0.box, held=held, provenance=prov, vehicle=veh, limits=limits)
 
 

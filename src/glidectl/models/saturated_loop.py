@@ -10,6 +10,12 @@ take it. The fed-back channels are :attr:`SaturatedLoop.feedback_names` (they ar
 loop). :func:`glidectl.saturated_loop` extracts ``F``, ``K``, the levels, the equilibrium and a box from a glidectl
 closed loop.
 
+A fed-back channel may also have *state-dependent* limits, each affine in the state (:class:`AffineLimit`): the
+battery's acceleration is limited so that its velocity stays within the rate limit and tapers onto the range ends,
+the pump's rate tapers onto the ends of its range (the :class:`~glidectl.models.actuated.ActuatedGlider` law). The
+loop is then ``X' = F(X, clip(K (X - X_e), lo(X), hi(X)))`` with ``lo``/``hi`` the tightest of the constant levels
+and the affine limits; the LMI path takes each affine limit into its generalized sector condition.
+
 Also here: :func:`saturate` (a clip that carries a complex step) and the held-state helpers :func:`held_points`,
 :func:`at_held_values` and :func:`held_motion` (states a law never moves, used by :func:`glidectl.saturated_loop` and
 :func:`glidectl.certify_roa`).
@@ -29,7 +35,7 @@ from ..iosys import IOSysExport
 from ..params import Vehicle
 from ._validate import trailing_array
 
-__all__ = ["SaturatedLoop", "at_held_values", "held_motion", "held_points", "saturate"]
+__all__ = ["AffineLimit", "SaturatedLoop", "at_held_values", "held_motion", "held_points", "saturate"]
 
 
 def saturate(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
@@ -39,16 +45,49 @@ def saturate(v: Any, lo: np.ndarray, hi: np.ndarray) -> Any:
     ----------
     v : array_like
         Values (real or complex; the real part is compared with the levels), shape ``(..., m)``.
-    lo, hi : ndarray, shape (m,)
-        Levels (``-inf``/``inf``: none).
+    lo, hi : array_like, shape (m,) or broadcasting with ``v``
+        Levels (``-inf``/``inf``: none); state-dependent levels may be complex (their complex step is carried
+        where they act).
 
     Returns
     -------
     ndarray
-        ``v`` where ``lo <= Re v <= hi``, else the level (plus ``0 v``, so a complex step gives derivative 0).
+        ``v`` where ``Re lo <= Re v <= Re hi``, else the level (plus ``0 v``, so a complex step of a constant level
+        gives derivative 0).
     """
     re = np.real(v)
-    return np.where(re > hi, hi + 0.0 * v, np.where(re < lo, lo + 0.0 * v, v))
+    return np.where(re > np.real(hi), hi + 0.0 * v, np.where(re < np.real(lo), lo + 0.0 * v, v))
+
+
+@dataclass(frozen=True)
+class AffineLimit:
+    """A state-dependent limit of one fed-back channel, affine in the state deviation: ``w_i <= a . (X - X_e) + b``
+    (``upper``) or ``w_i >= a . (X - X_e) + b`` (lower).
+
+    Parameters
+    ----------
+    channel : int
+        Index of the fed-back channel (in ``feedback_names``).
+    upper : bool
+        An upper (True) or lower (False) limit.
+    a : array_like, shape (n,)
+        Gain on the state deviation (input units per state unit).
+    b : float
+        Value at the equilibrium (input units): > 0 for an upper limit, < 0 for a lower one (the equilibrium is
+        strictly inside every limit).
+    label : str
+        What the limit is (e.g. ``"r_P1 rate limit"``), for messages and reports.
+    """
+
+    channel: int
+    upper: bool
+    a: np.ndarray = field(repr=False)
+    b: float
+    label: str = ""
+
+    def level(self, dX: Any) -> Any:
+        """The limit's value ``a . dX + b`` at state deviations ``dX`` (..., n), complex-safe."""
+        return dX @ self.a + self.b
 
 
 # --------------------------------------------------------------------------------------------- the loop
@@ -80,8 +119,10 @@ class SaturatedLoop(IOSysExport):
         States held at their equilibrium value (actuators the law does not move: zero gain, zero rate); the
         certificate is on the others, with these fixed.
     truth : callable, optional
-        The loop's own right-hand side ``X (N, n) -> X'`` (default ``F(X, sat(K (X - X_e)))``); :meth:`rhs` and
+        The loop's own right-hand side ``X (N, n) -> X'`` (default ``F(X, feedback(X))``); :meth:`rhs` and
         verification use it.
+    limits : tuple of AffineLimit
+        State-dependent limits of the fed-back channels (module docstring), on top of ``u_lo``/``u_hi``.
     time_unit, provenance : str
         Unit of time of the right-hand side (default ``"s"``) and the vehicle's parameter hash.
     vehicle : Vehicle, optional
@@ -107,8 +148,9 @@ class SaturatedLoop(IOSysExport):
     ArgumentTypeError
         If a name is not a string or ``plant_rhs`` / ``truth`` is not callable.
     ArgumentError
-        If shapes disagree, values are not finite, ``K`` has a zero row, the levels do not bracket 0, or the box
-        does not contain the equilibrium strictly in the free states.
+        If shapes disagree, values are not finite, ``K`` has a zero row, the levels do not bracket 0, an affine
+        limit does not hold strictly at the equilibrium or names no channel, or the box does not contain the
+        equilibrium strictly in the free states.
     """
 
     name: str
@@ -125,6 +167,7 @@ class SaturatedLoop(IOSysExport):
     time_unit: str = "s"
     provenance: str = ""
     vehicle: Vehicle | None = field(default=None, repr=False)
+    limits: tuple[AffineLimit, ...] = ()
     input_names: tuple[str, ...] = field(default=(), init=False)
 
     def __post_init__(self) -> None:
@@ -164,9 +207,23 @@ class SaturatedLoop(IOSysExport):
         if bad:
             raise ArgumentError(f"the box must contain the equilibrium strictly; it does not in {bad}: lo = "
                                 f"{blo.tolist()}, x_e = {xe.tolist()}, hi = {bhi.tolist()}")
+        limits = tuple(self._checked_limit(q, n, m) for q in self.limits)
         for nm, val in (("equilibrium", xe), ("K", K), ("u_lo", lo), ("u_hi", hi), ("box", (blo, bhi)),
-                        ("held", held)):
+                        ("held", held), ("limits", limits)):
             object.__setattr__(self, nm, val)
+
+    def _checked_limit(self, q: Any, n: int, m: int) -> AffineLimit:
+        if not isinstance(q, AffineLimit):
+            raise ArgumentTypeError(f"limits must be AffineLimit objects, got {type(q).__name__}")
+        ch = checks.integer("limit channel", q.channel, lo=0, hi=m - 1)
+        a = checks.array(f"limit '{q.label}' a", q.a, shape=(n,)).copy()
+        a.setflags(write=False)
+        b = checks.real(f"limit '{q.label}' b", q.b)
+        if (b <= 0) if q.upper else (b >= 0):
+            raise ArgumentError(f"the {'upper' if q.upper else 'lower'} limit '{q.label}' of "
+                                f"{self.feedback_names[ch]} must hold strictly at the equilibrium (b "
+                                f"{'> 0' if q.upper else '< 0'}), got b = {b:g}")
+        return AffineLimit(ch, bool(q.upper), a, b, str(q.label))
 
     @property
     def n(self) -> int:
@@ -191,8 +248,8 @@ class SaturatedLoop(IOSysExport):
         return np.isfinite(self.u_lo) | np.isfinite(self.u_hi)
 
     def feedback(self, X: Any) -> Any:
-        """The saturated feedback deviation ``sat(K (X - X_e))`` (the plant's input units) at states ``X``
-        (..., n), complex-safe.
+        """The saturated feedback deviation ``clip(K (X - X_e), lo(X), hi(X))`` (the plant's input units) at
+        states ``X`` (..., n), complex-safe: the constant levels and the affine :attr:`limits`.
 
         Raises
         ------
@@ -202,11 +259,23 @@ class SaturatedLoop(IOSysExport):
             If ``X`` does not have the trailing dimension ``n``.
         """
         X = trailing_array("state", X, self.n, self.state_names)
-        return saturate((X - self.equilibrium) @ self.K.T, self.u_lo, self.u_hi)
+        dX = X - self.equilibrium
+        v = dX @ self.K.T
+        if not self.limits:
+            return saturate(v, self.u_lo, self.u_hi)
+        lo = np.broadcast_to(self.u_lo, v.shape).astype(v.dtype)
+        hi = np.broadcast_to(self.u_hi, v.shape).astype(v.dtype)
+        for q in self.limits:
+            lev = q.level(dX)
+            side = hi if q.upper else lo
+            tighter = (np.real(lev) < np.real(side[..., q.channel])) if q.upper else \
+                (np.real(lev) > np.real(side[..., q.channel]))
+            side[..., q.channel] = np.where(tighter, lev, side[..., q.channel])
+        return saturate(v, lo, hi)
 
     def rhs(self, X: Any, u: Any = None) -> np.ndarray:
         """The loop's ``X'`` at states ``X`` of shape ``(..., n)`` (``u`` is ignored: the loop is input-free): the
-        :attr:`truth` when given, else ``F(X, sat(K (X - X_e)))``. ``X`` may be complex (complex-step Jacobians).
+        :attr:`truth` when given, else ``F(X, feedback(X))``. ``X`` may be complex (complex-step Jacobians).
 
         Raises
         ------

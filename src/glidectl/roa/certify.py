@@ -51,6 +51,7 @@ from ..errors import ArgumentError, BudgetError, ModelError, SolverError
 from .alternation import Alternation, Clock
 from .blas_threads import pinned_blas
 from .certificate import HistoryRow, ROACertificate
+from .lmi import SaturatedLoop, certify_roa_lmi
 from .options import (
     BudgetOptions,
     SamplingOptions,
@@ -66,28 +67,42 @@ from .programs import (
     check_iterations,
     check_memory,
     default_memory_limit,
+    estimate_sos_size,
     linearization,
     lyapunov_quadratic,
     require_exponential_stability,
 )
 from .routes import HeldLoop, box_about, build_route, search_remainder_box, transport
-from .scaling import scaled_lyapunov
+from .scaling import resolve_box, scaled_lyapunov
 from .systems import PolySystem
 
-__all__ = ["certify_roa"]
+__all__ = ["AUTO_DEGREE_BYTES", "certify_roa"]
+
+#: bytes: ``certify_roa(system)`` without a degree takes the largest even degree <= 6 whose estimated SOS program
+#: (:func:`~glidectl.roa.programs.estimate_sos_size`) is within this (and the memory limit), else 2. On the roa
+#: design's systems this is degree 6 for Van der Pol and the reduced chapter-5 glider (0.02-0.4 GB), 2 for the
+#: 4-state chapter-5 glider (degree 4: 3.3 GB), the CTOL loop (degree 2 already 3.0 GB) and the 8-state slocum loop
+#: (degree 4: 1.6 TB): the degrees the design uses.
+AUTO_DEGREE_BYTES = 1.0e9
 
 
 @pinned_blas
-def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int] = 4,
+def certify_roa(system: Any, degree: int | None = None, *, iterations: int | Sequence[int] = 4,
                 initial: Poly | np.ndarray | None = None, box: Any = None, method: str = "auto",
                 sampling: SamplingOptions | dict | None = None, budget: BudgetOptions | dict | float | None = None,
                 surrogate: SurrogateOptions | dict | None = None,
-                solver: SolverOptions | dict | str | None = None) -> ROACertificate:
-    """Certify a region of attraction of the equilibrium of ``system`` with a polynomial Lyapunov function.
+                solver: SolverOptions | dict | str | None = None) -> Any:
+    """Certify a region of attraction of the equilibrium of ``system``: a polynomial Lyapunov function by SOS
+    programs, or for a saturated loop with state-dependent actuator limits a quadratic one by LMIs.
 
-    The V-lambda alternation (:class:`~glidectl.roa.alternation.Alternation`) raises the degree of ``V`` through
-    2, 4, ..., ``degree``; surrogate routes first search a smaller remainder box and then run remainder-box rounds
-    (:class:`SurrogateOptions`).
+    With ``method="auto"`` and no ``degree``, a saturated loop (:func:`glidectl.saturated_loop`) with state-dependent
+    limits (:class:`~glidectl.models.saturated_loop.AffineLimit`) goes to the LMI path
+    (:func:`~glidectl.roa.lmi.certify_roa_lmi`, whose generalized sector condition takes them; the SOS path models
+    constant levels only), and every other system, saturated loops with constant levels included, to the SOS path at
+    the degree of :data:`AUTO_DEGREE_BYTES` (on the saturated loops measured, its degree-2 set reaches 2-4 times
+    further per axis than the LMI ellipsoid, in 10-12 times the time). The V-lambda alternation
+    (:class:`~glidectl.roa.alternation.Alternation`) raises the degree of ``V`` through 2, 4, ..., ``degree``; surrogate
+    routes first search a smaller remainder box and then run remainder-box rounds (:class:`SurrogateOptions`).
 
     Parameters
     ----------
@@ -102,8 +117,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         once those are fixed; e.g. ``r_P3``, ``rdot_P3`` when the vehicle file fixes ``r_P3``) is certified on its
         other states with the locked ones held at their equilibrium values: ``cert.held`` names them, and the set
         is certified for them AT those values.
-    degree : int
-        Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``.
+    degree : int, optional
+        Final (even, >= 2) degree of ``V``; the search runs through 2, 4, ..., ``degree``. Default: the largest
+        degree <= 6 whose program fits :data:`AUTO_DEGREE_BYTES` (2 when none does); none for a saturated loop with
+        state-dependent limits and ``method="auto"`` (the LMI path). Given, it asks for the SOS path.
     iterations : int or sequence of int
         Alternations (V step + level problem) per degree, >= 1; the best ``V`` (largest sampled volume) is kept.
         One number for every degree, or one per degree 2, 4, ..., ``degree`` (the counts of degrees below that of
@@ -120,13 +137,15 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         (:func:`~glidectl.roa.scaling.resolve_box`); default the model's own box, else the validity box of its
         states (:func:`~glidectl.roa.scaling.validity_box`, the same default as :func:`glidectl.saturated_loop`);
         a state none of these knows is refused with a message asking for ``box=``. ``cert.box`` is the box used.
-    method : {"auto", "exact", "surrogate"}
-        Route: ``"exact"`` recasts the model exactly (:func:`~glidectl.roa.systems.recast`; a closed loop is
-        shifted to its equilibrium and sampled on the box widened 3x); ``"surrogate"`` certifies a polynomial
-        surrogate with a remainder bound on the box (:func:`~glidectl.roa.surrogate.surrogate_system`), for every
-        right-hand side within that bound, the true one included; ``"auto"`` (default) tries the exact recast
-        (closed loops: small monomial bases only) and falls back to the surrogate. ``cert.method`` says which. A
-        saturated loop takes the same choice for its plant.
+    method : {"auto", "exact", "surrogate", "lmi"}
+        Route: ``"lmi"`` (a saturated loop only) is the LMI path, whose sampling options are ``n_verify``,
+        ``n_simulate``, ``horizon`` and ``seed`` and whose solver option is the name (the other options and
+        ``iterations``, ``initial`` do not apply to it); ``"exact"`` recasts the model exactly
+        (:func:`~glidectl.roa.systems.recast`; a closed loop is shifted to its equilibrium and sampled on the box
+        widened 3x); ``"surrogate"`` certifies a polynomial surrogate with a remainder bound on the box
+        (:func:`~glidectl.roa.surrogate.surrogate_system`), for every right-hand side within that bound, the true one
+        included; ``"auto"`` (default) tries the exact recast (closed loops: small monomial bases only) and falls back
+        to the surrogate. ``cert.method`` says which. A saturated loop takes the same choice for its plant.
     sampling : SamplingOptions or mapping, optional
         Simulations that steer the V step and the a-posteriori checks (``n_truth``, ``n_verify``, ``n_simulate``,
         ``horizon``, ``seed``).
@@ -146,10 +165,10 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
 
     Returns
     -------
-    ROACertificate
-        With ``stopped_by`` saying what ended the alternation at the final degree, ``method`` the route, ``box``
-        and ``scale`` what was used, ``held`` the states held at their equilibrium values, ``history`` one
-        :class:`~glidectl.roa.certificate.HistoryRow` per step.
+    ROACertificate or EllipsoidCertificate
+        Both implement :class:`~glidectl.roa.extent.Certificate`. An ROACertificate has ``stopped_by`` saying what ended
+        the alternation at the final degree, ``method`` the route, ``box`` and ``scale`` what was used, ``held`` the
+        states held at their equilibrium values, ``history`` one :class:`~glidectl.roa.certificate.HistoryRow` per step.
 
     Raises
     ------
@@ -158,7 +177,8 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         included: degrees are integers).
     ArgumentError
         If an argument is out of range (an odd or too small ``degree``, an option outside its range, an unknown
-        option name, a bad ``initial``, an unknown ``method`` or ``"surrogate"`` for a saturated loop, a count of
+        option name, a bad ``initial``, an unknown ``method``, ``"lmi"`` for a system that is not a saturated loop, a
+        count of
         ``iterations`` below 1 or a sequence without one per degree), or a box that is invalid, misses limits for
         some states or does not contain the equilibrium.
     ModelError
@@ -174,7 +194,11 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
         If the first level problem fails (no certificate at all) or no simulated box point converges.
     """
     t_wall = time.perf_counter()
-    degree = check_degree(degree)
+    method = checks.choice("method", method, ("auto", "exact", "surrogate", "lmi"))
+    if method == "lmi" or (method == "auto" and degree is None and isinstance(system, SaturatedLoop)
+                           and system.limits):
+        return _certify_lmi(system, box, sampling, solver)
+    degree = _auto_degree(system, budget) if degree is None else check_degree(degree)
     smp = resolve_options(SamplingOptions, sampling, "sampling")
     bud = resolve_options(BudgetOptions, budget, "budget", "time_limit")
     sur = resolve_options(SurrogateOptions, surrogate, "surrogate")
@@ -182,7 +206,6 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
     its = check_iterations(iterations, degree)
     limit = default_memory_limit() if bud.memory_limit is None else bud.memory_limit
     clock = Clock(checks.Deadline(bud.time_limit, "certify_roa"), bud.on_budget, degree, its)
-    method = checks.choice("method", method, ("auto", "exact", "surrogate"))
     ps, full, rebuild = build_route(system, box=box, method=method, surrogate_degree=sur.degree, margin=sur.margin,
                                     speed_floor=sur.speed_floor, seed=smp.seed, degree=degree,
                                     max_degree=bud.max_degree, limit=limit, extra=sol.extra)
@@ -220,6 +243,40 @@ def certify_roa(system: Any, degree: int = 6, *, iterations: int | Sequence[int]
     # round was tried (under a time limit, or one kept before a round that was not) would otherwise report its own
     return dataclasses.replace(cert, history=tuple(history), solve_time=cert.solve_time + untaken,
                                wall_time=time.perf_counter() - t_wall)
+
+
+def _certify_lmi(system: Any, box: Any, sampling: Any, solver: Any) -> Any:
+    """The LMI path for :func:`certify_roa` (``method="lmi"``, or ``"auto"`` on a saturated loop with state-dependent
+    limits and no degree): :func:`~glidectl.roa.lmi.certify_roa_lmi` with the sampling options that apply to it and
+    the solver's name."""
+    if not isinstance(system, SaturatedLoop):
+        raise ArgumentError(f"method='lmi' needs a saturated loop (gc.saturated_loop(loop)), got "
+                            f"{type(system).__name__}: certify other systems by SOS (method 'auto')")
+    if box is not None:
+        system = dataclasses.replace(system, box=resolve_box(system, box, system.equilibrium))
+    kw: dict[str, Any] = {}
+    if sampling is not None:
+        smp = resolve_options(SamplingOptions, sampling, "sampling")
+        kw.update(n_verify=smp.n_verify, n_simulate=smp.n_simulate, horizon=smp.horizon, seed=smp.seed)
+    if solver is not None:
+        kw["solver"] = resolve_options(SolverOptions, solver, "solver", "name").name
+    return certify_roa_lmi(system, **kw)
+
+
+def _auto_degree(system: Any, budget: Any) -> int:
+    """The largest even degree <= 6 whose SOS program is within :data:`AUTO_DEGREE_BYTES` and the memory limit
+    (estimated before anything is built), else 2."""
+    bud = resolve_options(BudgetOptions, budget, "budget", "time_limit")
+    limit = min(AUTO_DEGREE_BYTES, default_memory_limit() if bud.memory_limit is None else bud.memory_limit)
+    best = 2
+    for d in (4, 6):
+        try:
+            if estimate_sos_size(system, d).bytes > limit:
+                break
+        except (ArgumentError, ModelError):
+            break
+        best = d
+    return best
 
 
 def _starting_V(ps: PolySystem, initial: Any) -> Poly:

@@ -32,7 +32,12 @@ min(a_i, b_i)``. *Remainder*: ``delta_j(x)^2 <= x' Q_j x`` on a box ``|x_k| <= b
 
     W_kk <= b_k^2 <= 1   (E inside the remainder box, itself inside the box),
 
-(Schur complements of ``sum_j W Q_j W / nu_j``). ``E`` is then contractive, hence invariant, inside the box and in
+(Schur complements of ``sum_j W Q_j W / nu_j``). *State-dependent limits*
+(:class:`~glidectl.models.saturated_loop.AffineLimit`, the actuators' range and rate): with ``w_i = clip(K_i x,
+max_l(a_l x + b_l), min_l(a_l x + b_l))`` and ``psi_i = K_i x - w_i``, ``psi_i (psi_i - G_i x) <= 0`` still holds
+where ``|(K_i - a_l - G_i) x| <= |b_l|`` for every limit ``l`` of channel ``i`` (the constant levels are limits with
+``a_l = 0``), so each limit adds a region block like the one above, with ``K_i - a_l`` and ``b_l^2``. ``E`` is then
+contractive, hence invariant, inside the box and in
 the region of attraction. For a fixed remainder box this is one SDP maximizing ``log det W`` (volume) or, with a
 given shape ``P0``, the largest ``c`` with ``W = c P0^-1``. The box is ``b = min(1, rho beta)``: ``rho`` is searched
 on a geometric grid refined by golden section, and ``beta`` (the box's shape) is the unit box in the first round
@@ -43,10 +48,13 @@ Remainder bound (what is and is not rigorous)
 ---------------------------------------------
 ``delta_j`` vanishes with its gradient at 0, so by Taylor's theorem (mean-value form) ``delta_j(xi) = (1/2) xi' H_j
 xi`` with the Hessian ``H_j`` of ``F_j`` at a point of the segment from 0 to ``xi = (x, w)``. On the convex set
-``C = {|x_k| <= b_k} x {w_i between its levels, |w_i| <= sum_k |K_ik| b_k}``, which contains those segments,
-``|delta_j| <= sum_l c_jl |xi_l|`` with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``Hmax`` the entrywise maximum of
-``|H_j|`` over ``C``, ``b`` extended by the input bounds); Cauchy-Schwarz and ``w_i^2 <= (K_i x)^2`` then give
-``delta_j^2 <= x' Q_j x`` with ``Q_j = |c_j|_1 (diag(c_j,x) + K' diag(c_j,w) K)``.
+``C = {|x_k| <= b_k} x {w_i between its levels, |w_i| <= r_i}`` (``r_i`` of :func:`_input_reach`), which contains those
+segments, ``|delta_j| <= sum_l c_jl |xi_l|`` with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``Hmax`` the entrywise maximum of
+``|H_j|`` over ``C``, ``b`` extended by the input bounds); Cauchy-Schwarz and ``w_i^2 <= (K_i x)^2 + sum_l (a_l x)^2``
+(a clipped input is either ``K_i x`` in magnitude or at most ``|a_l x|``, ``b_l`` having the sign of the side it limits;
+the sum runs over the limits whose level changes sign somewhere in the box, ``sum_k |a_lk| b_k > |b_l|``: the others
+clip towards 0) then give ``delta_j^2 <= x' Q_j x`` with ``Q_j = |c_j|_1 (diag(c_j,x) + K' diag(c_j,w) K + sum_l
+c_j,w(l) a_l a_l')``.
 
 ``Hmax`` is the maximum over dense samples of ``C`` (corners included; Hessians by central differences of
 complex-step Jacobians) times ``hessian_margin`` (default 1.5): a sampled bound with a safety factor, **not** an
@@ -100,6 +108,28 @@ class _Scaled:
     hi: np.ndarray
     F: Callable[[np.ndarray, np.ndarray], np.ndarray]      # scaled F(x, w) (free components)
     truth: Callable[[np.ndarray], np.ndarray]              # scaled true loop x -> x'
+    feedback: Callable[[np.ndarray], np.ndarray]           # scaled saturated inputs w(x), all limits
+    lim_ch: np.ndarray     # channel of each state-dependent limit, (L,)
+    lim_a: np.ndarray      # its gain (scaled), (L, nf)
+    lim_b: np.ndarray      # its value at the equilibrium (scaled, signed), (L,)
+
+    @property
+    def sat(self) -> np.ndarray:
+        """Channels with a finite constant level or a state-dependent limit (those with a sector condition)."""
+        has = np.isfinite(self.lo) | np.isfinite(self.hi)
+        has[self.lim_ch] = True
+        return np.flatnonzero(has)
+
+    def limits_of(self, i: int) -> list[tuple[np.ndarray, float]]:
+        """``(a_l, |b_l|)`` of channel ``i``'s region blocks: its constant level (``a = 0``, ``min(-lo, hi)``) when
+        finite, then its state-dependent limits."""
+        nf = self.A.shape[0]
+        out = []
+        u0 = float(min(-self.lo[i], self.hi[i]))
+        if math.isfinite(u0):
+            out.append((np.zeros(nf), u0))
+        out += [(self.lim_a[k], abs(float(self.lim_b[k]))) for k in np.flatnonzero(self.lim_ch == i)]
+        return out
 
 
 def _scale(sl: SaturatedLoop) -> _Scaled:
@@ -123,6 +153,9 @@ def _scale(sl: SaturatedLoop) -> _Scaled:
     def truth(x: np.ndarray) -> np.ndarray:
         return np.asarray(sl.rhs(X_of(x)))[..., f] / d
 
+    def feedback(x: np.ndarray) -> np.ndarray:
+        return np.asarray(sl.feedback(X_of(x))) / s
+
     nf, m = len(f), sl.n_feedback
     with np.errstate(all="ignore"):
         F0 = F(np.zeros((1, nf)), np.zeros((1, m)))
@@ -131,14 +164,18 @@ def _scale(sl: SaturatedLoop) -> _Scaled:
         raise ModelError(f"the linearization of '{sl.name}' at its equilibrium is not finite")
     if np.max(np.abs(F0)) > 1e-8 * max(1.0, float(np.max(np.abs(A)))):
         raise ModelError(f"the equilibrium of '{sl.name}' is not one: scaled |x'| = {np.max(np.abs(F0)):.3g} there")
-    return _Scaled(f, d, s, A, B, Kd / s[:, None], sl.u_lo / s, sl.u_hi / s, F, truth)
+    ch = np.array([q.channel for q in sl.limits], dtype=int)
+    la = np.array([q.a[f] * d / s[q.channel] for q in sl.limits]).reshape(len(ch), nf)
+    lb = np.array([q.b / s[q.channel] for q in sl.limits])
+    return _Scaled(f, d, s, A, B, Kd / s[:, None], sl.u_lo / s, sl.u_hi / s, F, truth, feedback, ch, la, lb)
 
 
 def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, seed: int,
               step: float = 1e-4) -> tuple[np.ndarray, np.ndarray]:
     """Sorted levels ``t`` and the running entrywise maximum over samples of ``|Hessian of F_j|`` (shape
     ``(N, nf, q, q)``, ``q = nf + m``): row ``k`` bounds ``|H_j|`` on the samples of ``C(t_k)``, the box
-    ``|x_i| <= min(1, t beta_i)`` times the inputs ``w_i`` within their levels and ``|w_i| <= t sum_k |K_ik| beta_k``
+    ``|x_i| <= min(1, t beta_i)`` times the inputs ``w_i`` within their levels and ``|w_i| <= t r_i``
+    (:func:`_input_reach`)
     (``t`` half uniform in ``[0, rho_max]``, half log-uniform in ``[1e-3, 1] rho_max``; a quarter at corners)."""
     nf, m = sc.A.shape[0], sc.B.shape[1]
     rng = np.random.default_rng(seed)
@@ -148,7 +185,7 @@ def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, see
     u = rng.uniform(-1.0, 1.0, (n_samples, nf))
     u[: n_samples // 4] = np.sign(u[: n_samples // 4])                     # a quarter at corners
     x = np.clip(t[:, None] * beta * u, -1.0, 1.0)
-    kb = np.abs(sc.K) @ beta
+    kb = _input_reach(sc, beta)
     wl = np.maximum(sc.lo, -kb * t[:, None]) * (1 - 1e-3)
     wh = np.minimum(sc.hi, kb * t[:, None]) * (1 - 1e-3)
     w = wl + (wh - wl) * rng.random((n_samples, m))
@@ -173,6 +210,23 @@ def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, see
     return t, np.maximum.accumulate(Habs, axis=0)
 
 
+def _crossing_limits(sc: _Scaled, b: np.ndarray) -> np.ndarray:
+    """Indices of the state-dependent limits whose level ``a_l x + b_l`` changes sign on the box ``|x_k| <= b_k``
+    (``sum_k |a_lk| b_k > |b_l|``): only they can clip an input to a value larger in magnitude than ``K_i x``."""
+    return np.flatnonzero(np.abs(sc.lim_a) @ b > np.abs(sc.lim_b)) if len(sc.lim_b) else np.zeros(0, dtype=int)
+
+
+def _input_reach(sc: _Scaled, b: np.ndarray) -> np.ndarray:
+    """``r_i = sum_k |K_ik| b_k`` plus, for a limit ``l`` of channel ``i`` that changes sign on the box
+    (:func:`_crossing_limits`), up to ``sum_k |a_lk| b_k``: ``|w_i| <= r_i`` on the box ``|x_k| <= b_k``, however the
+    inputs are clipped (module docstring)."""
+    r = np.abs(sc.K) @ b
+    for k in _crossing_limits(sc, b):
+        i = sc.lim_ch[k]
+        r[i] = max(r[i], float(np.abs(sc.K[i]) @ b + np.abs(sc.lim_a[k]) @ b))
+    return r
+
+
 @dataclass(frozen=True)
 class _Remainder:
     """Remainder bound on the box ``b`` (scaled): ``delta_j^2 <= x' Q_j x`` (``R_j' R_j = Q_j``)."""
@@ -186,19 +240,23 @@ def _remainder(t: np.ndarray, Hc: np.ndarray, sc: _Scaled, beta: np.ndarray, rho
                margin: float) -> _Remainder:
     """The bound of the module docstring on the box ``b = min(1, rho beta)``: ``|delta_j| <= sum_l c_jl |xi_l|``
     with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``b`` extended by the input bounds), then Cauchy-Schwarz
-    ``delta_j^2 <= |c_j|_1 sum_l c_jl xi_l^2`` and ``w_i^2 <= (K_i x)^2``."""
+    ``delta_j^2 <= |c_j|_1 sum_l c_jl xi_l^2`` and ``w_i^2 <= (K_i x)^2 + sum_l (a_l x)^2``."""
     nf = sc.A.shape[0]
     k = int(np.searchsorted(t, rho, side="right")) - 1
     Hm = margin * (Hc[k] if k >= 0 else np.zeros(Hc.shape[1:]))
     b = np.minimum(1.0, rho * beta)
     ub = np.maximum(-sc.lo, sc.hi)
-    bw = np.minimum(ub, np.abs(sc.K) @ b)
+    bw = np.minimum(ub, _input_reach(sc, b))
+    crossing = _crossing_limits(sc, b)
     bx = np.concatenate([b, bw])
     c = 0.5 * np.einsum("jkl,k->jl", Hm, bx)                      # (nf, q)
     Q = np.empty((nf, nf, nf))
     R = np.empty((nf, nf, nf))
     for j in range(nf):
-        Qj = np.sum(c[j]) * (np.diag(c[j, :nf]) + sc.K.T @ np.diag(c[j, nf:]) @ sc.K)
+        Qw = sc.K.T @ np.diag(c[j, nf:]) @ sc.K
+        for k in crossing:
+            Qw = Qw + c[j, nf + sc.lim_ch[k]] * np.outer(sc.lim_a[k], sc.lim_a[k])
+        Qj = np.sum(c[j]) * (np.diag(c[j, :nf]) + Qw)
         Qj = 0.5 * (Qj + Qj.T)
         lam, U = np.linalg.eigh(Qj)
         Q[j] = Qj
@@ -225,10 +283,12 @@ def _program(sc: _Scaled, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: 
     """The SDP of the module docstring for the remainder box ``b = min(1, rho beta)``, in ``Wt`` with
     ``W = rho^2 B Wt B``, ``B = diag(beta)`` (congruence by ``diag(B^-1, I, I) / rho``: the unknowns are of order 1
     whatever ``rho`` and however elongated the ellipsoid): ``A + BK``, ``B_s`` and ``K`` become ``B^-1 (A + BK) B``,
-    ``B^-1 B_s``, ``K B``; the box is ``Wt_ii <= b_i^2 / (rho beta_i)^2`` and the region blocks have ``u0^2 / rho^2``.
-    Parameters: ``R_j B`` (remainder factors), ``bb``, ``uu``."""
+    ``B^-1 B_s``, ``K B``; the box is ``Wt_ii <= b_i^2 / (rho beta_i)^2`` and the region blocks (one per level or
+    limit of a channel, :meth:`_Scaled.limits_of`) have ``u0^2 / rho^2``, written with their off-diagonal scaled by
+    ``rho / u0`` (the parameter ``uu``) so that every block is of order one. Parameters: ``R_j B`` (remainder
+    factors), ``bb``, ``uu``."""
     nf = sc.A.shape[0]
-    sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
+    sat = sc.sat
     ms, p = len(sat), len(p_idx)
     Bi = 1.0 / beta
     Acl = Bi[:, None] * (sc.A + sc.B @ sc.K) * beta[None, :]
@@ -245,7 +305,8 @@ def _program(sc: _Scaled, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: 
     nu = cp.Variable(p) if p else None
     Rp = [cp.Parameter((nf, nf)) for _ in range(p)]
     bb = cp.Parameter(nf, nonneg=True)
-    uu = cp.Parameter(ms, nonneg=True) if ms else None
+    blocks = [(a, i, al * beta) for a, i in enumerate(sat) for al, _ in sc.limits_of(i)]
+    uu = cp.Parameter(len(blocks), nonneg=True) if blocks else None
     eta = 1e-7 * max(1.0, float(np.linalg.norm(Acl, 2))) * cp.trace(W) / nf
     Nmat = 0
     if p:
@@ -272,9 +333,9 @@ def _program(sc: _Scaled, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: 
     L = cp.bmat(rows)
     size = nf + ms + nf * p
     cons = [0.5 * (L + L.T) + eta * np.eye(size) << 0, cp.diag(W) <= bb]
-    for a, i in enumerate(sat):
-        v = Kt[i:i + 1, :] @ W - Z[a:a + 1, :]
-        blk = cp.bmat([[W, v.T], [v, cp.reshape(uu[a], (1, 1), order="C")]])
+    for r, (a, i, alt) in enumerate(blocks):      # [W, v'; v, u0^2] >= 0, as [W, v'/u0; v/u0, 1] >= 0
+        v = uu[r] * ((Kt[i] - alt)[None, :] @ W - Z[a:a + 1, :])
+        blk = cp.bmat([[W, v.T], [v, np.ones((1, 1))]])
         cons.append(0.5 * (blk + blk.T) >> 0)
     if shape_W0 is None:
         cons.append(W >> 0)
@@ -288,7 +349,7 @@ def _lmi_numeric(sc: _Scaled, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: n
                  p_idx: np.ndarray) -> tuple[float, float]:
     """Largest eigenvalue of the assembled decrease LMI and smallest of the region blocks, in floating point."""
     nf = W.shape[0]
-    sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
+    sat = sc.sat
     ms, p = len(sat), len(p_idx)
     Acl = sc.A + sc.B @ sc.K
     size = nf + ms + nf * p
@@ -309,10 +370,10 @@ def _lmi_numeric(sc: _Scaled, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: n
     lmax = float(np.max(np.linalg.eigvalsh(0.5 * (L + L.T))))
     rmin = math.inf
     for a, i in enumerate(sat):
-        u0 = float(min(-sc.lo[i], sc.hi[i]))
-        v = sc.K[i] @ W - Z[a]
-        blk = np.block([[W, v[:, None]], [v[None, :], np.array([[u0**2]])]])
-        rmin = min(rmin, float(np.min(np.linalg.eigvalsh(blk))) / max(1.0, u0**2))
+        for al, u0 in sc.limits_of(i):
+            v = (sc.K[i] - al) @ W - Z[a]
+            blk = np.block([[W, v[:, None]], [v[None, :], np.array([[u0**2]])]])
+            rmin = min(rmin, float(np.min(np.linalg.eigvalsh(blk))) / max(1.0, u0**2))
     return lmax, rmin
 
 
@@ -721,7 +782,8 @@ class _Round:
             prog.R[k].value = rem.R[j] * beta[None, :]
         prog.bb.value = (rem.b / (rho * beta)) ** 2
         if prog.uu is not None:
-            prog.uu.value = np.minimum(-sc.lo, sc.hi)[prog.sat] ** 2 / rho**2
+            prog.uu.value = rho / np.array([u0 for i in prog.sat for _, u0 in sc.limits_of(i)])
+
         t0 = time.perf_counter()
         try:
             with inaccuracy_checked():      # an inaccurate solution is kept only if its LMIs hold (below)
@@ -950,7 +1012,7 @@ def _backed_off(sl: SaturatedLoop, sc: _Scaled, sol: dict[str, Any], p_idx: np.n
                   seed=seed)
     Dinv = np.diag(1.0 / sc.d)
     P = Dinv @ Ps @ Dinv
-    sat = np.flatnonzero(np.isfinite(sc.lo) | np.isfinite(sc.hi))
+    sat = sc.sat
     G = (sc.s[sat, None] * (Zc @ Ps)) @ Dinv if len(sat) else np.zeros((0, nf))
     return ver, 0.5 * (P + P.T), G, Q, rem
 
@@ -961,8 +1023,8 @@ def _verify(sl: SaturatedLoop, sc: _Scaled, Ps: np.ndarray, Wc: np.ndarray, Q: n
     rng = np.random.default_rng(seed + 11)
     nb = n_verify // 2
     x = np.concatenate([_ellipsoid_points(Wc, n_verify - nb, rng, False), _ellipsoid_points(Wc, nb, rng, True)])
-    w = saturate(x @ sc.K.T, sc.lo, sc.hi)
     with np.errstate(all="ignore"):
+        w = sc.feedback(x)
         xdot = sc.truth(x)
         Fw = sc.F(x, w)
     r2 = np.sum(x * x, axis=1)

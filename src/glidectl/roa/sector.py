@@ -129,8 +129,9 @@ def sector_system(system: Any, *, box_cuts: bool = True, max_degree: int = 4, se
     ModelError
         With ``method="exact"``, if the plant is not polynomial in ``(x, v)`` up to ``max_degree`` (the message of
         :func:`~glidectl.roa.systems.recast` names the derivatives that are not); with a surrogate, as
-        :func:`~glidectl.roa.surrogate.surrogate_system`; or if the loop has no saturating channel (certify the
-        closed loop itself with :func:`glidectl.certify_roa`).
+        :func:`~glidectl.roa.surrogate.surrogate_system`; if the loop has no saturating channel (certify the
+        closed loop itself with :func:`glidectl.certify_roa`); or if it has state-dependent limits (the graph of a
+        clip between state-dependent levels is not modelled here: the LMI path takes them).
     """
     if not isinstance(system, SaturatedLoop):
         raise ArgumentTypeError(f"sector_system() needs a SaturatedLoop (gc.saturated_loop(loop)), got "
@@ -140,6 +141,10 @@ def sector_system(system: Any, *, box_cuts: bool = True, max_degree: int = 4, se
     max_degree = checks.integer("max_degree", max_degree, lo=1, hi=8)
     seed = checks.integer("seed", seed, lo=0)
     method = checks.choice("method", method, ("auto", "exact", "surrogate"))
+    if sl.limits:
+        raise ModelError(f"'{sl.name}' has state-dependent actuator limits ({', '.join(q.label for q in sl.limits)})"
+                         ", which the SOS path does not model: certify it with gc.certify_roa(loop) (the LMI path) "
+                         "or build the loop with gc.saturated_loop(..., actuator_limits=False)")
     sat = np.flatnonzero(sl.saturating)
     if len(sat) == 0:
         raise ModelError(f"'{sl.name}' has no saturating channel: certify the closed loop itself with "
