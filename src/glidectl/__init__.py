@@ -197,6 +197,16 @@ from .roa import (
     validity_box,
 )
 from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
+from .robustness import (
+    LoopPoles,
+    MonteCarlo,
+    RobustStability,
+    WorstCase,
+    loop_poles,
+    monte_carlo,
+    robust_stability,
+    with_vehicle,
+)
 from .sim import ActuatedSimulation, Ensemble, Simulation, simulate, simulate_actuated, simulate_many
 from .stability.composite import CompositeCertificate, CompositeVerification, Domain, composite_lyapunov
 from .stability.ctol_lyapunov import CTOLLyapunovCertificate, CTOLVerification, ctol_lyapunov
@@ -294,6 +304,10 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "Coverage", "coverage_metric", "CurvePatrol", "drift_track", "DrifterTracking", "FleetRun", "fly_fleet",
         "FormationControl", "GradientClimbing",
     ),
+    "robustness": (
+        "LoopPoles", "loop_poles", "monte_carlo", "MonteCarlo", "robust_stability", "RobustStability", "with_vehicle",
+        "WorstCase",
+    ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
         "ModelError", "OutputError", "RecordError", "SolverError", "VehicleFileError", "VehicleMismatchError",
@@ -383,6 +397,7 @@ __all__ = [
     "LegMetrics",
     "LinearGlideController",
     "LongitudinalGlider",
+    "LoopPoles",
     "MaskSettings",
     "Mission",
     "MissionComparison",
@@ -390,6 +405,7 @@ __all__ = [
     "ModeStates",
     "ModelError",
     "Modes",
+    "MonteCarlo",
     "NondimensionalModel",
     "NondimensionalScaling",
     "OutputError",
@@ -408,6 +424,7 @@ __all__ = [
     "RecordError",
     "ReducedLongitudinalGlider",
     "RemainderBound",
+    "RobustStability",
     "SOSSize",
     "SampledGlideLQG",
     "SampledLQG",
@@ -437,6 +454,7 @@ __all__ = [
     "VehicleFileError",
     "VehicleMismatchError",
     "VehicleSample",
+    "WorstCase",
     "ZeroDynamics",
     "allowable_delta_m_ratio",
     "approximate_linearization_eigenvalues",
@@ -501,6 +519,7 @@ __all__ = [
     "linearize_glide",
     "list_presets",
     "load_vehicle",
+    "loop_poles",
     "lqg_filter_noise",
     "lqg_glide",
     "lqr_glide",
@@ -510,6 +529,7 @@ __all__ = [
     "max_level",
     "mbar_locus",
     "modes",
+    "monte_carlo",
     "observability",
     "orbit_period",
     "parameter_locus",
@@ -524,6 +544,7 @@ __all__ = [
     "read_dive_record",
     "recast",
     "resolved_crossing",
+    "robust_stability",
     "saturated_loop",
     "simulate",
     "simulate_actuated",
@@ -546,6 +567,7 @@ __all__ = [
     "uncontrolled_eigs",
     "unequal_mass_check",
     "validity_box",
+    "with_vehicle",
     "ypr_to_R",
     "ypr_to_quat",
     "zero_dynamics",

@@ -3,10 +3,16 @@
 A glidectl model has ``state_names``, ``input_names`` and a batch-capable ``rhs(x, u)``; :func:`to_iosys` wraps it,
 with the same names, so that :func:`control.input_output_response`, :func:`control.find_operating_point`,
 :func:`control.linearize` and interconnections work on it. The right-hand side is the model's own (never coded twice).
+
+A :class:`control.StateSpace` pickles here through its matrices, time base and signal names
+(:func:`copyreg.pickle`): python-control keeps a lambda in it, which the standard pickler refuses, and controllers
+that carry their design plant (:class:`~glidectl.controllers.linear.LinearGlideController`) must cross a process
+pool (:func:`glidectl.robust_stability`, :func:`glidectl.monte_carlo`).
 """
 
 from __future__ import annotations
 
+import copyreg
 from collections.abc import Sequence
 from typing import Any
 
@@ -16,6 +22,19 @@ import numpy as np
 from .errors import ArgumentError, ArgumentTypeError
 
 __all__ = ["IOSysExport", "to_iosys"]
+
+
+def _rebuilt_statespace(A: Any, B: Any, C: Any, D: Any, dt: Any, inputs: Any, outputs: Any, states: Any,
+                        name: str) -> control.StateSpace:
+    return control.ss(A, B, C, D, dt, inputs=inputs, outputs=outputs, states=states, name=name)
+
+
+def _reduce_statespace(sys: control.StateSpace) -> tuple[Any, tuple[Any, ...]]:
+    return _rebuilt_statespace, (sys.A, sys.B, sys.C, sys.D, sys.dt, sys.input_labels, sys.output_labels,
+                                 sys.state_labels, sys.name)
+
+
+copyreg.pickle(control.StateSpace, _reduce_statespace)
 
 
 def to_iosys(model: Any, *, name: str | None = None) -> control.NonlinearIOSystem:

@@ -1372,3 +1372,116 @@ def plot_fleet_run(run: Any, ax: Any = None, *, snapshots: int = 6) -> Any:
     s.set_ylabel("spacing [km]")
     s.legend(loc="best", fontsize=7)
     return axes
+
+
+# ------------------------------------------------------------------------------------------------ robustness
+def plot_monte_carlo(mc: Any, names: Any = None, ax: Any = None) -> Any:
+    """Histogram of each of a Monte Carlo study's numbers (5 %, median, 95 % marked), and its scatter against the
+    sampled coefficient with the largest rank correlation (``MonteCarlo.influence``).
+
+    Parameters
+    ----------
+    mc : MonteCarlo
+    names : sequence of str, optional
+        The numbers drawn (default all, at most 6).
+    ax : array of Axes, shape (len(names), 2), optional
+
+    Returns
+    -------
+    ndarray of Axes, shape (len(names), 2)
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` has the wrong number of axes, or a name is not one of the study's numbers.
+    """
+    names = list(mc.names[:6] if names is None else names)
+    if ax is None:
+        _, a = new_figure(len(names), 2, width=10.0, height=2.8 * len(names) + 0.6, squeeze=False)
+        axes = np.asarray(a)
+    else:
+        axes = _axes(ax, 2 * len(names), "MonteCarlo.plot").reshape(len(names), 2)
+    for row, name in enumerate(names):
+        y = mc.column(name)
+        good = np.isfinite(y)
+        h = axes[row, 0]
+        h.hist(y[good], bins=min(40, max(5, int(np.sqrt(good.sum())))), color="C0", alpha=0.8)
+        if good.any():
+            for q, ls in zip(mc.quantiles(name), (":", "-", ":"), strict=True):
+                h.axvline(q, color="k", ls=ls, lw=1)
+        h.set(xlabel=name, ylabel="samples", title=f"{name}: {int(good.sum())} of {mc.n} samples "
+                                                   "(median, 5-95 %)")
+        h.title.set_fontsize(9)
+        s = axes[row, 1]
+        infl = mc.influence(name) if good.sum() >= 3 else {}
+        key = next(iter(infl), None)
+        if key is None:
+            s.set_axis_off()
+            continue
+        x = mc.column(key)
+        s.plot(x[good], y[good], ".", ms=3, alpha=0.6)
+        s.set(xlabel=f"{key} (sampled)", ylabel=name, title=f"most influential: {key} (rank correlation "
+                                                            f"{infl[key]:+.2f})")
+        s.title.set_fontsize(9)
+    axes[0, 0].figure.suptitle(f"Monte Carlo of {mc.study} over {', '.join(mc.keys)} ({mc.vehicle.name}, seed "
+                               f"{mc.seed})", fontsize=10)
+    return axes
+
+
+def plot_robust_stability(rs: Any, ax: Any = None) -> Any:
+    """Three panels of a :class:`~glidectl.robustness.stability.RobustStability`: the histogram of the largest
+    closed-loop real part over the samples (0 and the worst case marked), the dominant pole's change per half-range
+    of each coefficient, and the largest real part against the most sensitive coefficient.
+
+    Parameters
+    ----------
+    rs : RobustStability
+    ax : three Axes, optional
+
+    Returns
+    -------
+    ndarray of 3 Axes
+
+    Raises
+    ------
+    GlidectlError
+        If ``ax`` is not 3 axes.
+    """
+    if ax is None:
+        _, a = new_figure(1, 3, width=14.0, height=4.4)
+        axes = np.asarray(a)
+    else:
+        axes = _axes(ax, 3, "RobustStability.plot")
+    mr = rs.max_real[np.isfinite(rs.max_real)]
+    h = axes[0]
+    h.hist(mr, bins=min(40, max(5, int(np.sqrt(mr.size)))), color="C0", alpha=0.8)
+    h.axvline(0.0, color="C3", lw=1.2, label="stability boundary")
+    if rs.worst_case is not None and math.isfinite(rs.worst_case.max_real):
+        h.axvline(rs.worst_case.max_real, color="k", ls="--", lw=1, label=f"worst case {rs.worst_case.max_real:.3g}")
+    h.set(xlabel="largest closed-loop real part [1/s]", ylabel="samples",
+          title=f"stable in {rs.probability:.1%} of {int(rs.valid.sum())} samples")
+    h.legend(fontsize=7)
+    keys = list(rs.sensitivities)
+    sv = np.array([rs.sensitivities[k] for k in keys])
+    b = axes[1]
+    y = np.arange(len(keys))
+    b.barh(y - 0.2, sv.real, 0.4, color="C0", label="real part")
+    b.barh(y + 0.2, sv.imag, 0.4, color="C1", label="imaginary part")
+    b.set_yticks(y, keys, fontsize=7)
+    b.axvline(0.0, color="k", lw=0.6)
+    b.set(xlabel="dominant pole change per half-range [1/s]", title="sensitivities at the nominal coefficients")
+    b.legend(fontsize=7)
+    s = axes[2]
+    if keys:
+        top = max(keys, key=lambda k: abs(rs.sensitivities[k].real))
+        j = rs.keys.index(top)
+        ok = np.isfinite(rs.max_real)
+        s.plot(rs.values[ok, j], rs.max_real[ok], ".", ms=3, alpha=0.6)
+        s.axhline(0.0, color="C3", lw=1.2)
+        s.set(xlabel=f"{top} (sampled)", ylabel="largest real part [1/s]", title=f"against {top}")
+    margin = ("" if rs.margin is None else
+              f"; margin {'' if rs.margin_bounded else '>= '}{rs.margin:.3g} x the box")
+    axes[0].figure.suptitle(textwrap.shorten(f"{rs.loop}{margin}", 160), fontsize=9)
+    for a_ in axes:
+        a_.title.set_fontsize(9)
+    return axes
