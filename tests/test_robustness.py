@@ -220,3 +220,35 @@ def test_a_controller_with_its_design_plant_pickles(lqr_two):
     assert back.plant.state_labels == ctrl.plant.state_labels and back.plant.input_labels == ctrl.plant.input_labels
     x = gc.closed_loop(ctrl).equilibrium + 0.01
     np.testing.assert_array_equal(gc.closed_loop(back).rhs(x), gc.closed_loop(ctrl).rhs(x))
+
+
+def test_dive_cycle_with_its_own_design_vehicle_is_the_plain_dive_cycle():
+    veh = gc.load_vehicle("slocum_shallow")
+    a = gc.dive_cycle(veh, "lqr", cycles=1)
+    b = gc.dive_cycle(veh, "lqr", cycles=1, design_vehicle=veh)
+    np.testing.assert_array_equal(a.x, b.x)
+    # another flying vehicle: same set points and gains, another flight
+    c = gc.dive_cycle(veh.with_overrides(K_D0=2.6), "lqr", cycles=1, design_vehicle=veh)
+    assert c.glides[0].speed == a.glides[0].speed and c.glides[0].m0 == a.glides[0].m0     # the design's glides
+    assert not np.allclose(c.x[-1], a.x[-1])
+    other = veh.with_actuators(m0={"min": -0.2, "max": 0.2, "rate": 0.01, "unit": "kg", "source": "a smaller pump"})
+    with pytest.raises(gc.ArgumentError, match="other actuators"):
+        gc.dive_cycle(veh, "lqr", cycles=1, design_vehicle=other)
+
+
+def test_dive_cycle_ensemble_is_a_monte_carlo_of_the_nominal_design(uncertain):
+    mc = gc.dive_cycle_ensemble(uncertain, n=4, seed=2, cycles=1)
+    assert set(mc.names) == set(gc.robustness.DIVE_METRICS) and mc.ok.all()
+    assert "designed on 'slocum_shallow'" in mc.study
+    veh1 = uncertain.sample(4, seed=2).vehicles[1]
+    run = gc.dive_cycle(veh1, "lqr", cycles=1, design_vehicle=uncertain)
+    d = run.as_dict()
+    j = mc.names.index("energy_per_km")
+    assert mc.results[1, j] == pytest.approx(1000.0 * d["energy_per_cycle"] / d["distance_per_cycle"], rel=1e-12)
+    with ProcessPoolExecutor(2) as ex:
+        par = gc.dive_cycle_ensemble(uncertain, n=4, seed=2, cycles=1, executor=ex)
+    np.testing.assert_array_equal(par.results, mc.results)
+    with pytest.raises(gc.ArgumentError, match="design_vehicle"):
+        gc.dive_cycle_ensemble(uncertain, n=2, design_vehicle=uncertain)
+    with pytest.raises(gc.ArgumentError):
+        gc.dive_cycle_ensemble(uncertain, n=2, controller="bangbang")

@@ -198,10 +198,12 @@ from .roa import (
 )
 from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
 from .robustness import (
+    DiveStudy,
     LoopPoles,
     MonteCarlo,
     RobustStability,
     WorstCase,
+    dive_cycle_ensemble,
     loop_poles,
     monte_carlo,
     robust_stability,
@@ -305,8 +307,8 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "FormationControl", "GradientClimbing",
     ),
     "robustness": (
-        "LoopPoles", "loop_poles", "monte_carlo", "MonteCarlo", "robust_stability", "RobustStability", "with_vehicle",
-        "WorstCase",
+        "dive_cycle_ensemble", "DiveStudy", "LoopPoles", "loop_poles", "monte_carlo", "MonteCarlo", "robust_stability",
+        "RobustStability", "with_vehicle", "WorstCase",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -361,6 +363,7 @@ __all__ = [
     "DiveMetrics",
     "DivePlan",
     "DiveRecord",
+    "DiveStudy",
     "Domain",
     "DrifterTracking",
     "ElevatorBuoyancyController",
@@ -490,6 +493,7 @@ __all__ = [
     "design_torque_control",
     "design_turn",
     "dive_cycle",
+    "dive_cycle_ensemble",
     "drift_track",
     "elevator_closed_loop_eigenvalues",
     "elevator_equilibrium",

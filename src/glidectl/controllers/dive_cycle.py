@@ -1158,7 +1158,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
                max_deviation: Mapping[str, float] | None = None, pump_work: str = "out",
                rho: float = RHO_SEAWATER, p_atm: float = P_ATM, servo_time: float = 0.5, pump_gain: float = 0.5,
                method: str | None = None, rtol: float = 1e-5, atol: float = 1e-7,
-               max_leg_time: float | None = None) -> DiveCycleRun:
+               max_leg_time: float | None = None, design_vehicle: Vehicle | None = None) -> DiveCycleRun:
     """Fly ``cycles`` sawtooth dive cycles between two depths on the actuated glider (module docstring).
 
     Parameters
@@ -1204,6 +1204,11 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         Water density (kg/m^3) and surface pressure (Pa) of the energy.
     servo_time, pump_gain : float
         Servo settings of :class:`~glidectl.ActuatedGlider` (s, 1/s).
+    design_vehicle : Vehicle, optional
+        The vehicle the named controller is designed on and whose glides are the legs' set points (default ``veh``):
+        ``veh`` is then the vehicle that flies, which the controller does not know exactly (a vehicle drawn from
+        the designer's ``[uncertainty]`` table, :func:`glidectl.dive_cycle_ensemble`). Its actuators must be
+        ``veh``'s.
     method, rtol, atol : integrator settings of :func:`~glidectl.sim.simulate_actuated`.
         ``method=None``: ``"RK23"`` for the sampled ``"lqg"``, ``"LSODA"`` otherwise. The sampled-data ``"lqg"``
         restarts the integrator at every sample; there a one-step method that carries its step over the sample
@@ -1245,6 +1250,7 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         checks.choice("controller", controller, CONTROLLER_NAMES)
     period = checks.nonnegative("sensor_period", sensor_period, unit="s")
     plant = ActuatedGlider(veh, servo_time=servo_time, pump_gain=pump_gain)
+    dv, design_plant = _design_side(veh, design_vehicle, plant, servo_time, pump_gain)
     if controller == "lqg":
         sens = tuple(LQG_SENSORS if sensors is None else sensors)
         if noise is None:
@@ -1261,10 +1267,10 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
                             "depth")
     iz = sens.index("z")
     i3 = ACTUATED_AXES.index("r_P3")
-    r_p3 = float(np.clip(veh.params.get("r_P3", 0.0), plant.lower[i3], plant.upper[i3]))
+    r_p3 = float(np.clip(dv.params.get("r_P3", 0.0), plant.lower[i3], plant.upper[i3]))
     glides = []
     for g in (-gamma, gamma):
-        gl = steady_glide(veh, speed, g, r_p3=r_p3)
+        gl = steady_glide(dv, speed, g, r_p3=r_p3)
         try:
             plant.check_state(gl.accel_state(), f"the {'down' if g < 0 else 'up'} glide")
         except InfeasibleGlideError as exc:
@@ -1274,8 +1280,8 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     g_down, g_up = glides
     nominal = (bottom - top) / (speed * math.sin(gamma))
     leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
-    make = _leg_factory(controller, veh, plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains, max_deviation,
-                        noise, measurement_noise, process_noise, period)
+    make = _leg_factory(controller, dv, design_plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains,
+                        max_deviation, noise, measurement_noise, process_noise, period)
     name = controller if isinstance(controller, str) else type(controller).__name__
 
     n_legs = 2 * cycles + 1
@@ -1353,6 +1359,19 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
                         plant.upper.copy(), plant.rate_limit.copy(), tuple(switch_t), tuple(switch_z), mets,
                         (top, bottom), gamma, speed, (g_down, g_up), eff, src, float(rho), float(p_atm), pump_work,
                         sens, used_seed, nfev, veh, veh.provenance)
+
+
+def _design_side(veh: Vehicle, design_vehicle: Vehicle | None, plant: ActuatedGlider, servo_time: float,
+                 pump_gain: float) -> tuple[Vehicle, ActuatedGlider]:
+    """The vehicle and actuated model the controller is designed on: ``veh``'s own, or ``design_vehicle``'s
+    (checked: a glider with the same actuators)."""
+    if design_vehicle is None:
+        return veh, plant
+    require_glider(design_vehicle, "design_vehicle")
+    if dict(design_vehicle.actuators) != dict(veh.actuators):
+        raise ArgumentError(f"design_vehicle '{design_vehicle.name}' has other actuators than the flying vehicle "
+                            f"'{veh.name}': the controller must command the actuators the vehicle has")
+    return design_vehicle, ActuatedGlider(design_vehicle, servo_time=servo_time, pump_gain=pump_gain)
 
 
 def _leg_factory(controller: Any, veh: Vehicle, plant: ActuatedGlider, sens: tuple[str, ...], g_down: SteadyGlide,

@@ -247,7 +247,7 @@ def monte_carlo(study: Callable[[Vehicle], Any], veh: Vehicle | VehicleSample, n
     ----------
     study : callable
         ``study(vehicle)`` returning numbers (module docstring). With a process pool or dask, a module-level
-        function (it is pickled).
+        function or a picklable object (it is pickled); its ``name`` attribute, when it has one, names the study.
     veh : Vehicle or VehicleSample
         A vehicle with an ``[uncertainty]`` table (:meth:`~glidectl.Vehicle.with_uncertainty` adds one), or an
         already drawn sample (:meth:`~glidectl.Vehicle.sample`, :meth:`~glidectl.Vehicle.vertices`; ``n`` and
@@ -309,5 +309,6 @@ def monte_carlo(study: Callable[[Vehicle], Any], veh: Vehicle | VehicleSample, n
     vals.setflags(write=False)
     ex = "none" if executor is None else type(executor).__module__ + "." + type(executor).__qualname__
     return MonteCarlo(tuple(sample.keys), vals, tuple(names), res, ok, tuple(errors),
-                      getattr(study, "__qualname__", type(study).__name__), int(sample.seed), ex, sample.vehicle,
+                      str(getattr(study, "name", getattr(study, "__qualname__", type(study).__name__))),
+                      int(sample.seed), ex, sample.vehicle,
                       sample.vehicle.provenance)

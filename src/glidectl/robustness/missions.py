@@ -1,0 +1,110 @@
+"""Missions under uncertainty: dive cycles flown by vehicles drawn from the ``[uncertainty]`` table while the
+controller keeps the nominal design (:func:`dive_cycle_ensemble`, :class:`DiveStudy`).
+
+Each sample flies :func:`glidectl.dive_cycle` with ``design_vehicle`` the nominal vehicle: the controller's gains and
+set points (the legs' glides) are those of the vehicle the engineer designed for, and the sampled vehicle is the one
+that flies. The samples run through :func:`~glidectl.robustness.monte_carlo.monte_carlo` (a process pool or a dask
+cluster's executor), so the result is a :class:`~glidectl.robustness.monte_carlo.MonteCarlo` with the per-sample
+metrics, their quantiles and ``plot()``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from typing import Any
+
+from .. import checks
+from ..controllers.dive_cycle import CONTROLLER_NAMES, dive_cycle
+from ..errors import ArgumentError
+from ..params import Vehicle
+from .monte_carlo import MonteCarlo, monte_carlo
+
+__all__ = ["DIVE_METRICS", "DiveStudy", "dive_cycle_ensemble"]
+
+#: The numbers of a dive-cycle sample (:meth:`DiveStudy.__call__`), with their units.
+DIVE_METRICS: Mapping[str, str] = {
+    "energy_per_km": "J/km", "cycle_time": "s", "saturated_time": "s", "max_overshoot": "m",
+    "distance_per_cycle": "m", "energy_per_cycle": "J"}
+
+
+@dataclass(frozen=True)
+class DiveStudy:
+    """Dive cycles of a sampled vehicle under the controller designed on ``design_vehicle`` (picklable: it crosses
+    process pools).
+
+    Parameters
+    ----------
+    design_vehicle : Vehicle
+        The nominal vehicle the controller is designed on.
+    controller : str
+        A named controller of :func:`glidectl.dive_cycle` (``"lqr"``, ``"lqg"``, ``"nonlinear"``, ``"pid"``).
+    cycles : int
+        Dive cycles per sample.
+    options : tuple of (str, Any)
+        Further keyword arguments of :func:`glidectl.dive_cycle` (depths, speed, gamma, ...).
+    """
+
+    design_vehicle: Vehicle = field(repr=False)
+    controller: str = "lqr"
+    cycles: int = 3
+    options: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def name(self) -> str:
+        """What the study flies, for tables and titles."""
+        return f"dive_cycle({self.controller}, {self.cycles} cycles, designed on '{self.design_vehicle.name}')"
+
+    def __call__(self, veh: Vehicle) -> dict[str, float]:
+        """The metrics of :data:`DIVE_METRICS` for ``veh``: per-cycle means of the pump energy per km of horizontal
+        distance, the cycle time, the saturated time, the distance and the energy, and the largest overshoot of a
+        depth limit."""
+        run = dive_cycle(veh, self.controller, cycles=self.cycles, design_vehicle=self.design_vehicle,
+                         **dict(self.options))
+        d = run.as_dict()
+        return {"energy_per_km": 1000.0 * d["energy_per_cycle"] / d["distance_per_cycle"],
+                "cycle_time": d["duration_per_cycle"], "saturated_time": d["saturated_time_per_cycle"],
+                "max_overshoot": d["max_overshoot"], "distance_per_cycle": d["distance_per_cycle"],
+                "energy_per_cycle": d["energy_per_cycle"]}
+
+
+def dive_cycle_ensemble(veh: Vehicle, n: int = 1000, seed: int = 0, controller: str = "lqr", cycles: int = 3, *,
+                        executor: Executor | None = None, chunks: int | None = None, **options: Any) -> MonteCarlo:
+    """Dive cycles of ``n`` vehicles drawn from ``veh``'s ``[uncertainty]`` table, each flown by the controller
+    designed on ``veh`` (module docstring).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The nominal vehicle, with an ``[uncertainty]`` table.
+    n, seed : int
+        Samples and their seed (the same samples whatever the executor).
+    controller : str
+        ``"lqr"``, ``"lqg"``, ``"nonlinear"`` or ``"pid"`` (:func:`glidectl.dive_cycle`).
+    cycles : int
+        Dive cycles per sample (>= 1).
+    executor, chunks :
+        As :func:`glidectl.monte_carlo` (a process pool, a dask cluster's executor).
+    **options
+        Further keyword arguments of :func:`glidectl.dive_cycle` (``depths``, ``speed``, ``gamma``, ...).
+
+    Returns
+    -------
+    MonteCarlo
+        One row per sample with :data:`DIVE_METRICS`; a sample whose glide does not exist, or whose legs do not
+        reach their depths, is a failure with its reason.
+
+    Raises
+    ------
+    ArgumentError
+        If ``controller`` is not a named controller, ``design_vehicle`` is given (it is ``veh``), or as
+        :func:`glidectl.monte_carlo`.
+    """
+    checks.choice("controller", controller, CONTROLLER_NAMES)
+    cycles = checks.integer("cycles", cycles, lo=1, hi=1000)
+    if "design_vehicle" in options:
+        raise ArgumentError("design_vehicle is veh itself in dive_cycle_ensemble: the samples fly, veh designs")
+    dive_cycle(veh, controller, cycles=1, **options)      # the nominal mission first: bad options fail here, once
+    study = DiveStudy(veh, controller, cycles, tuple(sorted(options.items())))
+    return monte_carlo(study, veh, n, seed, executor=executor, chunks=chunks)
