@@ -96,3 +96,23 @@ def test_readme_fleet_example_runs():
     times, spacing, fleet = ns["times"], ns["spacing"], ns["fleet"]
     late = times > 48 * 3600
     assert fleet.size == 3 and abs(np.mean(spacing[late]) - 3000.0) < 300.0
+
+
+def test_readme_robustness_example_runs(capsys):
+    """The README's robustness example: a Monte Carlo of a study, robust stability of the LQR loop and dive cycles
+    of sampled vehicles."""
+    import matplotlib
+
+    import glidectl as gc
+
+    matplotlib.use("Agg")
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
+    block = next(b for b in blocks if "robust_stability" in b)
+    ns: dict = {"gc": gc, "np": np}
+    exec(compile(block, str(README), "exec"), ns)
+    mc, rs, ens = ns["mc"], ns["rs"], ns["ens"]
+    assert len(ns["sample"].vehicles) == 1000 and mc.ok.all() and mc.names == ("m0",)
+    assert rs.probability == 1.0 and rs.worst_case.max_real >= rs.nominal_max_real and rs.margin > 1
+    q = ens.quantiles("energy_per_km")
+    assert q[0] <= q[1] <= q[2] and ens.ok.all()
+    assert "margin" in capsys.readouterr().out

@@ -1409,8 +1409,8 @@ def plot_monte_carlo(mc: Any, names: Any = None, ax: Any = None) -> Any:
         if good.any():
             for q, ls in zip(mc.quantiles(name), (":", "-", ":"), strict=True):
                 h.axvline(q, color="k", ls=ls, lw=1)
-        h.set(xlabel=name, ylabel="samples", title=f"{name}: {int(good.sum())} of {mc.n} samples "
-                                                   "(median, 5-95 %)")
+        h.set(xlabel=label(name, mc.unit(name) or None), ylabel="samples",
+              title=f"{name}: {int(good.sum())} of {mc.n} samples (median, 5-95 %)")
         h.title.set_fontsize(9)
         s = axes[row, 1]
         infl = mc.influence(name) if good.sum() >= 3 else {}
@@ -1420,11 +1420,11 @@ def plot_monte_carlo(mc: Any, names: Any = None, ax: Any = None) -> Any:
             continue
         x = mc.column(key)
         s.plot(x[good], y[good], ".", ms=3, alpha=0.6)
-        s.set(xlabel=f"{key} (sampled)", ylabel=name, title=f"most influential: {key} (rank correlation "
-                                                            f"{infl[key]:+.2f})")
+        s.set(xlabel=f"{label(key, mc.unit(key) or None)} (sampled)", ylabel=label(name, mc.unit(name) or None),
+              title=f"most influential: {key} (rank correlation {infl[key]:+.2f})")
         s.title.set_fontsize(9)
-    axes[0, 0].figure.suptitle(f"Monte Carlo of {mc.study} over {', '.join(mc.keys)} ({mc.vehicle.name}, seed "
-                               f"{mc.seed})", fontsize=10)
+    axes[0, 0].figure.suptitle(textwrap.fill(f"Monte Carlo of {mc.study} over {', '.join(mc.keys)} "
+                                             f"({mc.vehicle.name}, seed {mc.seed})", 110), fontsize=9)
     return axes
 
 

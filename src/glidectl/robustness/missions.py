@@ -52,6 +52,11 @@ class DiveStudy:
     options: tuple[tuple[str, Any], ...] = ()
 
     @property
+    def units(self) -> dict[str, str]:
+        """The unit of each metric (:data:`DIVE_METRICS`)."""
+        return dict(DIVE_METRICS)
+
+    @property
     def name(self) -> str:
         """What the study flies, for tables and titles."""
         return f"dive_cycle({self.controller}, {self.cycles} cycles, designed on '{self.design_vehicle.name}')"

@@ -128,6 +128,8 @@ class MonteCarlo:
         The nominal vehicle.
     provenance : str
         The nominal vehicle's parameter hash.
+    units : dict
+        Unit of each of the study's numbers it names (its ``units`` attribute, when it has one).
     """
 
     keys: tuple[str, ...]
@@ -141,6 +143,13 @@ class MonteCarlo:
     executor: str
     vehicle: Vehicle = field(repr=False)
     provenance: str
+    units: dict[str, str] = field(default_factory=dict, repr=False)
+
+    def unit(self, name: str) -> str:
+        """The unit of a study's number or of a sampled coefficient ("" when unknown)."""
+        if name in self.units:
+            return self.units[name]
+        return str(getattr(self.vehicle, "units", {}).get(name, ""))
 
     @property
     def n(self) -> int:
@@ -311,4 +320,4 @@ def monte_carlo(study: Callable[[Vehicle], Any], veh: Vehicle | VehicleSample, n
     return MonteCarlo(tuple(sample.keys), vals, tuple(names), res, ok, tuple(errors),
                       str(getattr(study, "name", getattr(study, "__qualname__", type(study).__name__))),
                       int(sample.seed), ex, sample.vehicle,
-                      sample.vehicle.provenance)
+                      sample.vehicle.provenance, dict(getattr(study, "units", {}) or {}))

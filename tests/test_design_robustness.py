@@ -1,0 +1,34 @@
+"""The robustness design (designs/robustness.py) end to end with its quick settings: slocum_shallow with +-30 %
+intervals on its hydrodynamic and damping coefficients, robust stability of two linear dive controllers kept at
+their nominal design, and dive cycles of sampled vehicles."""
+
+from __future__ import annotations
+
+DESIGN = "robustness"
+
+
+def test_settings_presets(design):
+    m = design.module
+    assert m.FULL == m.Settings() and m.Settings.__dataclass_params__.frozen
+    assert m.FULL.relative == m.QUICK.relative == 0.3 and m.FULL.n_stability == 1000
+    veh = m.uncertain_vehicle(m.FULL)
+    assert set(veh.uncertainty) == set(m.COEFFICIENTS)
+    for k, u in veh.uncertainty.items():
+        nominal = veh.params[k]
+        half = abs(nominal) * 0.3
+        assert u.kind == "interval" and abs(u.low - (nominal - half)) < 1e-12 and abs(u.high - (nominal + half)) < 1e-12
+
+
+def test_report_files_and_numbers(quick_build):
+    _, _, pdf, numbers = quick_build
+    assert pdf.exists() and pdf.stat().st_size > 30_000
+    assert {p.stem for p in pdf.parent.glob("*.png")} == {"stability_lqr", "stability_place", "missions"}
+    for key in ("lqr", "place"):
+        p = numbers[f"{key}_probability_stable"]["value"]
+        assert 0.0 <= p <= 1.0
+        # the worst case in the box is at least as bad as the nominal loop, and the margin says where it fails
+        assert numbers[f"{key}_worst_max_real"]["value"] >= numbers[f"{key}_nominal_max_real"]["value"]
+        margin = numbers[f"{key}_margin"]["value"]
+        assert (margin >= 1.0) == (numbers[f"{key}_worst_max_real"]["value"] < 0)
+    assert numbers["missions_failed"]["value"] == 0
+    assert numbers["missions_energy_per_km_p95"]["value"] >= numbers["missions_energy_per_km_median"]["value"] > 0
