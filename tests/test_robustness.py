@@ -252,3 +252,23 @@ def test_dive_cycle_ensemble_is_a_monte_carlo_of_the_nominal_design(uncertain):
         gc.dive_cycle_ensemble(uncertain, n=2, design_vehicle=uncertain)
     with pytest.raises(gc.ArgumentError):
         gc.dive_cycle_ensemble(uncertain, n=2, controller="bangbang")
+
+
+def test_mission_ensemble_flies_the_nominal_plan(uncertain):
+    mission = gc.Mission(waypoints=[(800, 0)], depths=(5, 40), gamma=0.44, speed=0.35, surface_time=300,
+                         arrival_radius=100)
+    veh = gc.load_vehicle("slocum_shallow")
+    plain = gc.fly_mission(veh, mission, model="fast")
+    own = gc.fly_mission(veh, mission, model="fast", design_vehicle=veh)
+    np.testing.assert_array_equal(own.states, plain.states)
+    mc = gc.mission_ensemble(uncertain, mission, n=3, seed=1)
+    assert set(mc.names) == set(gc.robustness.MISSION_METRICS) and mc.ok.all()
+    v0 = uncertain.sample(3, seed=1).vehicles[0]
+    run = gc.fly_mission(v0, mission, model="fast", design_vehicle=uncertain)
+    assert mc.results[0, mc.names.index("energy_per_km")] == pytest.approx(run.energy_per_km, rel=1e-12)
+    assert np.all(mc.column("waypoints_reached") == 1.0)
+    assert mc.unit("mission_time") == "h" and mc.unit("K_M") == uncertain.units["K_M"]
+    with pytest.raises(gc.ArgumentError, match="design_vehicle"):
+        gc.mission_ensemble(uncertain, mission, n=2, design_vehicle=uncertain)
+    with pytest.raises(gc.ArgumentTypeError, match="Mission"):
+        gc.mission_ensemble(uncertain, "box", n=2)

@@ -561,7 +561,7 @@ def _legs(f: _Flight, hotel_power: float) -> tuple[LegMetrics, ...]:
 
 def _setup(veh: Any, mission: Mission, controller: Any, current: Any, seed: int, steer: str, gps_noise: float,
            record_period: float, rtol: float, model: str, t_end: float,
-           profile: DiveProfile | None = None) -> tuple[_Flight, str]:
+           profile: DiveProfile | None = None, design_vehicle: Any = None) -> tuple[_Flight, str]:
     """The checked flight state of a mission (the arguments of :func:`fly_mission`)."""
     veh = require_glider(veh)
     if not isinstance(mission, Mission):
@@ -577,7 +577,7 @@ def _setup(veh: Any, mission: Mission, controller: Any, current: Any, seed: int,
     checks.choice("model", model, ("full", "fast"))
     law, name = _law(controller)
     plant = ActuatedGlider3D(veh, current)
-    plan = DivePlan(plant, mission.gamma, mission.speed, steer)
+    plan = DivePlan(_design_plant(plant, design_vehicle, current), mission.gamma, mission.speed, steer)
     if callable(getattr(law, "prepare", None)):
         law = law.prepare(plan)
     f = _Flight(plant, plan, law, mission, np.random.default_rng(seed), gps, period, rtol, t_end)
@@ -585,6 +585,18 @@ def _setup(veh: Any, mission: Mission, controller: Any, current: Any, seed: int,
         f.profile = profile if profile is not None else calibrate_dive(plant, plan, law, mission.depths, mission.yos,
                                                                        period, rtol)
     return f, name
+
+
+def _design_plant(plant: ActuatedGlider3D, design_vehicle: Any, current: Any) -> ActuatedGlider3D:
+    """The plant the dive plan (glides, set points, dead reckoning) is computed on: the flying one, or the
+    ``design_vehicle``'s (checked: a glider with the same actuators)."""
+    if design_vehicle is None:
+        return plant
+    dv = require_glider(design_vehicle, "design_vehicle")
+    if dict(dv.actuators) != dict(plant.vehicle.actuators):
+        raise ArgumentError(f"design_vehicle '{dv.name}' has other actuators than the flying vehicle "
+                            f"'{plant.vehicle.name}': the controller must command the actuators the vehicle has")
+    return ActuatedGlider3D(dv, current)
 
 
 class GliderFlight:
@@ -699,7 +711,8 @@ class GliderFlight:
 
 def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, current: Any = None, seed: int = 0,
                 steer: str = "auto", gps_noise: float = 0.0, hotel_power: float = 0.0, record_period: float = 2.0,
-                duration: float | None = None, rtol: float = 1e-6, model: str = "full") -> MissionRun:
+                duration: float | None = None, rtol: float = 1e-6, model: str = "full",
+                design_vehicle: Any = None) -> MissionRun:
     """Fly ``mission`` with vehicle ``veh`` (module docstring of :mod:`glidectl.missions.fly`).
 
     Parameters
@@ -735,6 +748,11 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
         still water, replayed along each dive's turning track through the current
         (:mod:`glidectl.missions.fast`); for long missions and fleets, its error against the full model is in
         ``bench/README.md``.
+    design_vehicle : Vehicle, optional
+        The vehicle the dive plan is computed on (the glides' pump and battery set points, the speeds of dead
+        reckoning; default ``veh``): ``veh`` then flies a plan made for another vehicle, as a glider whose
+        coefficients are not known exactly does (:func:`glidectl.mission_ensemble`). Its actuators must be
+        ``veh``'s.
 
     Returns
     -------
@@ -756,7 +774,8 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
     """
     hotel = checks.nonnegative("hotel_power", hotel_power, unit="W")
     t_end = math.inf if duration is None else checks.positive("duration", duration, unit="s")
-    f, name = _setup(veh, mission, controller, current, seed, steer, gps_noise, record_period, rtol, model, t_end)
+    f, name = _setup(veh, mission, controller, current, seed, steer, gps_noise, record_period, rtol, model, t_end,
+                     design_vehicle=design_vehicle)
     plant, plan = f.plant, f.plan
     start = np.asarray(mission.start, dtype=float)
     heading = float(current_corrected_heading(start, f.target(), f.c_est, plan.horizontal_speed(1)))

@@ -1,11 +1,19 @@
 """Robustness to what is not known about a vehicle: Monte Carlo of any study over its ``[uncertainty]`` table
-(:mod:`~glidectl.robustness.monte_carlo`), missions flown by sampled vehicles under the nominal design
-(:mod:`~glidectl.robustness.missions`) and the stability of a closed loop whose controller keeps its nominal
-design (:mod:`~glidectl.robustness.stability`)."""
+(:mod:`~glidectl.robustness.monte_carlo`), dive cycles and waypoint missions flown by sampled vehicles under the
+nominal design (:mod:`~glidectl.robustness.missions`) and the stability of a closed loop whose controller keeps its
+nominal design (:mod:`~glidectl.robustness.stability`)."""
 
-from .missions import DIVE_METRICS, DiveStudy, dive_cycle_ensemble
+from .missions import (
+    DIVE_METRICS,
+    MISSION_METRICS,
+    DiveStudy,
+    MissionStudy,
+    dive_cycle_ensemble,
+    mission_ensemble,
+)
 from .monte_carlo import MonteCarlo, monte_carlo, run_chunks
 from .stability import LoopPoles, RobustStability, WorstCase, loop_poles, robust_stability, with_vehicle
 
-__all__ = ["DIVE_METRICS", "DiveStudy", "LoopPoles", "MonteCarlo", "RobustStability", "WorstCase",
-           "dive_cycle_ensemble", "loop_poles", "monte_carlo", "robust_stability", "run_chunks", "with_vehicle"]
+__all__ = ["DIVE_METRICS", "MISSION_METRICS", "DiveStudy", "LoopPoles", "MissionStudy", "MonteCarlo",
+           "RobustStability", "WorstCase", "dive_cycle_ensemble", "loop_poles", "mission_ensemble", "monte_carlo",
+           "robust_stability", "run_chunks", "with_vehicle"]

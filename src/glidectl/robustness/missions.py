@@ -1,11 +1,13 @@
-"""Missions under uncertainty: dive cycles flown by vehicles drawn from the ``[uncertainty]`` table while the
-controller keeps the nominal design (:func:`dive_cycle_ensemble`, :class:`DiveStudy`).
+"""Missions under uncertainty: dive cycles and 3-D waypoint missions flown by vehicles drawn from the
+``[uncertainty]`` table while the controller keeps the nominal design (:func:`dive_cycle_ensemble`,
+:func:`mission_ensemble`, :class:`DiveStudy`, :class:`MissionStudy`).
 
-Each sample flies :func:`glidectl.dive_cycle` with ``design_vehicle`` the nominal vehicle: the controller's gains and
-set points (the legs' glides) are those of the vehicle the engineer designed for, and the sampled vehicle is the one
-that flies. The samples run through :func:`~glidectl.robustness.monte_carlo.monte_carlo` (a process pool or a dask
-cluster's executor), so the result is a :class:`~glidectl.robustness.monte_carlo.MonteCarlo` with the per-sample
-metrics, their quantiles and ``plot()``.
+Each sample flies :func:`glidectl.dive_cycle` or :func:`glidectl.fly_mission` with ``design_vehicle`` the nominal
+vehicle: the controller's gains and set points (the legs' glides, the speeds of dead reckoning) are those of the
+vehicle the engineer designed for, and the sampled vehicle is the one that flies. The samples run through
+:func:`~glidectl.robustness.monte_carlo.monte_carlo` (a process pool or a dask cluster's executor), so the result
+is a :class:`~glidectl.robustness.monte_carlo.MonteCarlo` with the per-sample metrics, their quantiles and
+``plot()``.
 """
 
 from __future__ import annotations
@@ -17,11 +19,12 @@ from typing import Any
 
 from .. import checks
 from ..controllers.dive_cycle import CONTROLLER_NAMES, dive_cycle
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ArgumentTypeError
+from ..missions import Mission, fly_mission
 from ..params import Vehicle
 from .monte_carlo import MonteCarlo, monte_carlo
 
-__all__ = ["DIVE_METRICS", "DiveStudy", "dive_cycle_ensemble"]
+__all__ = ["DIVE_METRICS", "MISSION_METRICS", "DiveStudy", "MissionStudy", "dive_cycle_ensemble", "mission_ensemble"]
 
 #: The numbers of a dive-cycle sample (:meth:`DiveStudy.__call__`), with their units.
 DIVE_METRICS: Mapping[str, str] = {
@@ -112,4 +115,103 @@ def dive_cycle_ensemble(veh: Vehicle, n: int = 1000, seed: int = 0, controller: 
         raise ArgumentError("design_vehicle is veh itself in dive_cycle_ensemble: the samples fly, veh designs")
     dive_cycle(veh, controller, cycles=1, **options)      # the nominal mission first: bad options fail here, once
     study = DiveStudy(veh, controller, cycles, tuple(sorted(options.items())))
+    return monte_carlo(study, veh, n, seed, executor=executor, chunks=chunks)
+
+
+#: The numbers of a waypoint-mission sample (:meth:`MissionStudy.__call__`), with their units.
+MISSION_METRICS: Mapping[str, str] = {
+    "mission_time": "h", "energy_per_km": "J/km", "max_arrival_error": "m", "max_dead_reckoning_error": "m",
+    "waypoints_reached": "-", "distance_made_good": "km"}
+
+
+@dataclass(frozen=True)
+class MissionStudy:
+    """A waypoint mission of a sampled vehicle whose dive plan is ``design_vehicle``'s (picklable).
+
+    Parameters
+    ----------
+    design_vehicle : Vehicle
+        The nominal vehicle the plan and the controller are made for.
+    mission : Mission
+    controller : str
+        ``"behaviours"`` or ``"lqr"`` (:func:`glidectl.fly_mission`).
+    options : tuple of (str, Any)
+        Further keyword arguments of :func:`glidectl.fly_mission` (``current``, ``model``, ``gps_noise``, ...).
+    """
+
+    design_vehicle: Vehicle = field(repr=False)
+    mission: Mission = field(repr=False)
+    controller: str = "behaviours"
+    options: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def units(self) -> dict[str, str]:
+        """The unit of each metric (:data:`MISSION_METRICS`)."""
+        return dict(MISSION_METRICS)
+
+    @property
+    def name(self) -> str:
+        """What the study flies, for tables and titles."""
+        return (f"fly_mission({self.controller}, {len(self.mission.waypoints)} waypoints, designed on "
+                f"'{self.design_vehicle.name}')")
+
+    def __call__(self, veh: Vehicle) -> dict[str, float]:
+        """The metrics of :data:`MISSION_METRICS` for ``veh``: mission time, pump energy per km made good, the
+        largest arrival and dead-reckoning errors over the legs, the fraction of waypoints reached and the distance
+        made good."""
+        run = fly_mission(veh, self.mission, self.controller, design_vehicle=self.design_vehicle,
+                          **dict(self.options))
+        legs = run.legs
+        return {"mission_time": run.duration / 3600.0, "energy_per_km": run.energy_per_km,
+                "max_arrival_error": max(leg.arrival_error for leg in legs),
+                "max_dead_reckoning_error": max(leg.dead_reckoning_error for leg in legs),
+                "waypoints_reached": sum(leg.arrived for leg in legs) / len(legs),
+                "distance_made_good": run.distance_made_good / 1000.0}
+
+
+def mission_ensemble(veh: Vehicle, mission: Mission, n: int = 200, seed: int = 0, controller: str = "behaviours", *,
+                     executor: Executor | None = None, chunks: int | None = None, model: str = "fast",
+                     **options: Any) -> MonteCarlo:
+    """The 3-D waypoint ``mission`` flown by ``n`` vehicles drawn from ``veh``'s ``[uncertainty]`` table, each
+    with the dive plan and controller made for ``veh`` (module docstring).
+
+    Parameters
+    ----------
+    veh : Vehicle
+        The nominal vehicle, with an ``[uncertainty]`` table.
+    mission : Mission
+    n, seed : int
+        Samples and their seed (the same samples whatever the executor).
+    controller : str
+        ``"behaviours"`` or ``"lqr"``.
+    executor, chunks :
+        As :func:`glidectl.monte_carlo`.
+    model : {"fast", "full"}
+        :func:`glidectl.fly_mission`'s model; ``"fast"`` (default) replays one full-model dive per sample along each
+        dive's track, 5-6 times faster.
+    **options
+        Further keyword arguments of :func:`glidectl.fly_mission` (``current``, ``gps_noise``, ...; the GPS noise
+        has fly_mission's seed 0 in every sample).
+
+    Returns
+    -------
+    MonteCarlo
+        One row per sample with :data:`MISSION_METRICS`.
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``mission`` is not a Mission.
+    ArgumentError
+        If ``controller`` is not ``"behaviours"`` or ``"lqr"``, ``design_vehicle`` is among ``options``, or as
+        :func:`glidectl.monte_carlo`.
+    """
+    if not isinstance(mission, Mission):
+        raise ArgumentTypeError(f"mission must be a glidectl.Mission, got {type(mission).__name__}")
+    checks.choice("controller", controller, ("behaviours", "lqr"))
+    if "design_vehicle" in options:
+        raise ArgumentError("design_vehicle is veh itself in mission_ensemble: the samples fly, veh plans")
+    options = {**options, "model": model}
+    study = MissionStudy(veh, mission, controller, tuple(sorted(options.items())))
+    study(veh)                                             # the nominal mission first: bad options fail here, once
     return monte_carlo(study, veh, n, seed, executor=executor, chunks=chunks)
