@@ -208,6 +208,11 @@ def test_robust_stability_bad_input(lqr_two):
         gc.robust_stability(ctrl, n=2, vehicle=veh.with_overrides(K_M=-90.0))
     with pytest.raises(gc.ArgumentTypeError):
         gc.robust_stability("lqr", n=2)
+    lqg = gc.lqg_glide(veh, ctrl.glide, ("theta", "Omega2", "m0", "r_P1"), {"theta": 1e-3, "Omega2": 1e-3,
+                                                                          "m0": 1e-3, "r_P1": 1e-4},
+                       inputs="acceleration")
+    with pytest.raises(gc.ArgumentTypeError, match="state-feedback"):
+        gc.robust_stability(lqg, n=2)
 
 
 def test_a_controller_with_its_design_plant_pickles(lqr_two):

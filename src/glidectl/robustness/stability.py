@@ -27,6 +27,8 @@ import scipy.optimize as so
 
 from .. import checks
 from ..analysis.continuation import chunk_bounds
+from ..controllers.closed_loop import closed_loop
+from ..controllers.output_feedback import PlantWithEstimator
 from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, GlidectlError, ModelError, VehicleFileError
 from ..models.closed_loop import ClosedLoop
@@ -372,9 +374,11 @@ class RobustStability:
 
 def _problem(controller: Any, vehicle: Vehicle | None) -> _Problem:
     """The nominal loop, its vehicle with the uncertainty table, the held states and the box."""
-    from ..controllers.closed_loop import closed_loop
-
     loop = controller if isinstance(controller, ClosedLoop) else closed_loop(controller)
+    if isinstance(loop.plant, PlantWithEstimator):
+        raise ArgumentTypeError("robust_stability takes state-feedback loops: in an output-feedback loop the "
+                                "estimator must keep the nominal vehicle while the plant changes, which "
+                                "with_vehicle does not separate yet")
     if loop.equilibrium is None:
         raise ArgumentError(f"{loop.name} has no equilibrium: give a closed loop with one (gc.closed_loop(controller) "
                             "or gc.closed_loop(plant, law, equilibrium=...))")
