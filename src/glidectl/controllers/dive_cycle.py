@@ -1265,80 +1265,19 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     if "z" not in sens:
         raise ArgumentError(f"sensors {sens} must include the depth 'z': the supervisor switches on the measured "
                             "depth")
-    iz = sens.index("z")
     i3 = ACTUATED_AXES.index("r_P3")
     r_p3 = float(np.clip(dv.params.get("r_P3", 0.0), plant.lower[i3], plant.upper[i3]))
-    glides = []
-    for g in (-gamma, gamma):
-        gl = steady_glide(dv, speed, g, r_p3=r_p3)
-        try:
-            plant.check_state(gl.accel_state(), f"the {'down' if g < 0 else 'up'} glide")
-        except InfeasibleGlideError as exc:
-            raise InfeasibleGlideError(f"{exc} (glide at {speed:g} m/s, gamma = {math.degrees(g):+.2f} deg)") \
-                from None
-        glides.append(gl)
-    g_down, g_up = glides
+    g_down, g_up = _leg_glides(dv, plant, speed, gamma, r_p3)
     nominal = (bottom - top) / (speed * math.sin(gamma))
     leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
     make = _leg_factory(controller, dv, design_plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains,
                         max_deviation, noise, measurement_noise, process_noise, period)
     name = controller if isinstance(controller, str) else type(controller).__name__
-
     n_legs = 2 * cycles + 1
-    leg_seeds: list[int | None] = [None] * n_legs
-    used_seed = None
-    if noise and any(float(v) > 0 for v in dict(noise).values()):
-        used_seed = int(np.random.SeedSequence().entropy % (2**63)) if seed is None else checks.integer(
-            "seed", seed, lo=0)
-        leg_seeds = [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(used_seed).spawn(n_legs)]
-
-    x = g_up.accel_state(0.0, top)
-    t = 0.0
-    prev = g_up
-    runs: list[ActuatedSimulation] = []
-    switch_t, switch_z = [0.0], [top]
-    nfev = 0
-
-    def zdot(xx: np.ndarray) -> float:
-        th, v1, v3 = xx[2], xx[4], xx[5]
-        return float(-v1 * math.sin(th) + v3 * math.cos(th))
-
-    for leg in range(n_legs):
-        down = leg % 2 == 0
-        glide = g_down if down else g_up
-        ctrl = make(glide, prev, t, down)
-        if runs and callable(getattr(ctrl, "with_estimate", None)) and \
-                runs[-1].controller_states == tuple(getattr(ctrl, "controller_states", ())):
-            ctrl = ctrl.with_estimate(runs[-1].xc[-1])  # the estimate carries over the inflection
-        tail = leg == n_legs - 1
-        if tail:
-            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
-                return -zdot(xx)  # climb has stopped: the top overshoot is over
-            if stop(t, x, x) <= 0:
-                break
-        elif down:
-            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
-                return bottom - float(yy[iz])
-        else:
-            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
-                return float(yy[iz]) - top
-        te = np.append(np.arange(t, t + leg_cap, step), t + leg_cap)
-        run = simulate_actuated(plant, x, leg_cap, ctrl, sensors=sens, noise=noise, seed=leg_seeds[leg],
-                                sensor_period=period or 1.0, t0=t, t_eval=te, method=method, rtol=rtol, atol=atol,
-                                stop=stop, max_steps=200_000, on_budget="stop")
-        nfev += run.nfev
-        if run.stopped_by not in ("stop",) and not tail:
-            raise BudgetError(f"the {'down' if down else 'up'} leg {leg} of the mission did not reach "
-                              f"{bottom if down else top:g} m within {leg_cap:g} s (it ended at depth "
-                              f"{run.x[-1, _IZ]:.2f} m, by {run.stopped_by}): controller {name!r} does not fly the "
-                              f"{math.degrees(glide.gamma):+.1f} deg glide of vehicle '{veh.name}'; raise "
-                              "max_leg_time or change the controller")
-        runs.append(run)
-        t, x = float(run.t[-1]), run.x[-1].copy()
-        if not tail:
-            switch_t.append(t)
-            switch_z.append(float(x[_IZ]))
-        prev = glide
+    used_seed, leg_seeds = _leg_seeds(noise, seed, n_legs)
+    runs, switch_t, switch_z, nfev = _fly_legs(
+        plant, make, (g_down, g_up), leg_seeds, (top, bottom), leg_cap, name,
+        dict(sensors=sens, noise=noise, sensor_period=period or 1.0, method=method, rtol=rtol, atol=atol), step)
 
     def cat(get: Any) -> np.ndarray:
         parts = [get(r) if k == 0 else get(r)[1:] for k, r in enumerate(runs)]
@@ -1359,6 +1298,86 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
                         plant.upper.copy(), plant.rate_limit.copy(), tuple(switch_t), tuple(switch_z), mets,
                         (top, bottom), gamma, speed, (g_down, g_up), eff, src, float(rho), float(p_atm), pump_work,
                         sens, used_seed, nfev, veh, veh.provenance)
+
+
+def _leg_glides(veh: Vehicle, plant: ActuatedGlider, speed: float, gamma: float,
+                r_p3: float) -> tuple[SteadyGlide, SteadyGlide]:
+    """The down and up glides of the legs (``veh``'s, at ``-gamma`` and ``gamma``), checked inside ``plant``'s
+    actuator ranges and rates."""
+    glides = []
+    for g in (-gamma, gamma):
+        gl = steady_glide(veh, speed, g, r_p3=r_p3)
+        try:
+            plant.check_state(gl.accel_state(), f"the {'down' if g < 0 else 'up'} glide")
+        except InfeasibleGlideError as exc:
+            raise InfeasibleGlideError(f"{exc} (glide at {speed:g} m/s, gamma = {math.degrees(g):+.2f} deg)") \
+                from None
+        glides.append(gl)
+    return glides[0], glides[1]
+
+
+def _leg_seeds(noise: Any, seed: int | None, n_legs: int) -> tuple[int | None, list[int | None]]:
+    """The seed used and one noise seed per leg, spawned from it (None without noise)."""
+    if not (noise and any(float(v) > 0 for v in dict(noise).values())):
+        return None, [None] * n_legs
+    used = int(np.random.SeedSequence().entropy % (2**63)) if seed is None else checks.integer("seed", seed, lo=0)
+    return used, [int(s.generate_state(1)[0]) for s in np.random.SeedSequence(used).spawn(n_legs)]
+
+
+def _zdot(xx: np.ndarray) -> float:
+    """Depth rate (m/s) of an actuated-glider state."""
+    th, v1, v3 = xx[2], xx[4], xx[5]
+    return float(-v1 * math.sin(th) + v3 * math.cos(th))
+
+
+def _fly_legs(plant: ActuatedGlider, make: Any, glides: tuple[SteadyGlide, SteadyGlide], leg_seeds: list[Any],
+              depths: tuple[float, float], leg_cap: float, name: str, sim: dict[str, Any],
+              step: float) -> tuple[list[ActuatedSimulation], list[float], list[float], int]:
+    """Fly the legs down, up, ..., down and the last climb's top overshoot, each until its depth limit (the
+    supervisor), from the up glide's state at the top depth. Returns the leg runs, the switch times and depths
+    (from 0 s at the top) and the right-hand-side evaluations."""
+    g_down, g_up = glides
+    top, bottom = depths
+    iz = sim["sensors"].index("z")
+    x, t, prev = g_up.accel_state(0.0, top), 0.0, g_up
+    runs: list[ActuatedSimulation] = []
+    switch_t, switch_z, nfev = [0.0], [top], 0
+    for leg, seed in enumerate(leg_seeds):
+        down = leg % 2 == 0
+        glide = g_down if down else g_up
+        ctrl = make(glide, prev, t, down)
+        if runs and callable(getattr(ctrl, "with_estimate", None)) and \
+                runs[-1].controller_states == tuple(getattr(ctrl, "controller_states", ())):
+            ctrl = ctrl.with_estimate(runs[-1].xc[-1])  # the estimate carries over the inflection
+        tail = leg == len(leg_seeds) - 1
+        if tail:
+            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
+                return -_zdot(xx)  # climb has stopped: the top overshoot is over
+            if stop(t, x, x) <= 0:
+                break
+        elif down:
+            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
+                return bottom - float(yy[iz])
+        else:
+            def stop(tt: float, xx: np.ndarray, yy: np.ndarray) -> float:
+                return float(yy[iz]) - top
+        te = np.append(np.arange(t, t + leg_cap, step), t + leg_cap)
+        run = simulate_actuated(plant, x, leg_cap, ctrl, seed=seed, t0=t, t_eval=te, stop=stop, max_steps=200_000,
+                                on_budget="stop", **sim)
+        nfev += run.nfev
+        if run.stopped_by not in ("stop",) and not tail:
+            raise BudgetError(f"the {'down' if down else 'up'} leg {leg} of the mission did not reach "
+                              f"{bottom if down else top:g} m within {leg_cap:g} s (it ended at depth "
+                              f"{run.x[-1, _IZ]:.2f} m, by {run.stopped_by}): controller {name!r} does not fly the "
+                              f"{math.degrees(glide.gamma):+.1f} deg glide of vehicle '{plant.vehicle.name}'; raise "
+                              "max_leg_time or change the controller")
+        runs.append(run)
+        t, x = float(run.t[-1]), run.x[-1].copy()
+        if not tail:
+            switch_t.append(t)
+            switch_z.append(float(x[_IZ]))
+        prev = glide
+    return runs, switch_t, switch_z, nfev
 
 
 def _design_side(veh: Vehicle, design_vehicle: Vehicle | None, plant: ActuatedGlider, servo_time: float,

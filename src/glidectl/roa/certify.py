@@ -206,25 +206,9 @@ def certify_roa(system: Any, degree: int | None = None, *, iterations: int | Seq
     its = check_iterations(iterations, degree)
     limit = default_memory_limit() if bud.memory_limit is None else bud.memory_limit
     clock = Clock(checks.Deadline(bud.time_limit, "certify_roa"), bud.on_budget, degree, its)
-    ps, full, rebuild = build_route(system, box=box, method=method, surrogate_degree=sur.degree, margin=sur.margin,
-                                    speed_floor=sur.speed_floor, seed=smp.seed, degree=degree,
-                                    max_degree=bud.max_degree, limit=limit, extra=sol.extra)
-    t_route = clock.deadline.elapsed
-    box0 = (np.array(ps.box[0], dtype=float), np.array(ps.box[1], dtype=float))     # the route's (free states)
-    if bud.on_budget == "raise":
-        clock.deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)"
-                             + ("" if full is None else f", {', '.join(full.names[i] for i in full.held)} held"))
-    V0 = _starting_V(ps, initial)
-    ex = auto_extra(ps, sol.extra)
-    require_exponential_stability(ps, linearization(ps))
-    check_memory(ps, degree, ex, bud.max_degree, limit, f"certify_roa(degree={degree})")
     history: list = []
-    if rebuild is not None and sur.box_search > 0 and V0.degree == 2:
-        t_stage = time.perf_counter()
-        ps, V0 = search_remainder_box(ps, rebuild, V0, n_boxes=sur.box_search, solver=sol.name, extra=sol.extra,
-                                      history=history, out_of_time=clock.out_of_time)
-        clock.spent["remainder-box search"] = time.perf_counter() - t_stage
-        full = full.with_free_box(ps.box) if full is not None else None
+    ps, full, rebuild, box0, V0, ex, t_route = _route(system, box, method, degree, initial, (smp, bud, sur, sol),
+                                                      clock, limit, history)
 
     def alternation(ps: PolySystem, V0: Poly, full: HeldLoop | None, t_solve: float) -> Alternation:
         return Alternation(ps, V0, full, sol, smp, degree, its, ex, clock, history, t_route, t_solve)
@@ -243,6 +227,35 @@ def certify_roa(system: Any, degree: int | None = None, *, iterations: int | Seq
     # round was tried (under a time limit, or one kept before a round that was not) would otherwise report its own
     return dataclasses.replace(cert, history=tuple(history), solve_time=cert.solve_time + untaken,
                                wall_time=time.perf_counter() - t_wall)
+
+
+def _route(system: Any, box: Any, method: str, degree: int, initial: Any, options: tuple[Any, Any, Any, Any],
+           clock: Clock, limit: float, history: list) -> tuple[PolySystem, HeldLoop | None, Any,
+                                                               tuple[np.ndarray, np.ndarray], Poly, int, float]:
+    """The polynomial system certified (:func:`~glidectl.roa.routes.build_route`), checked (budget, exponential
+    stability, memory), with its starting ``V``, and for a surrogate route the smaller remainder box searched first.
+    Returns the system, the held-state loop, the rebuild function, the route's box (free states), ``V0``, the
+    extra multiplier degree and the time the route took (s)."""
+    smp, bud, sur, sol = options
+    ps, full, rebuild = build_route(system, box=box, method=method, surrogate_degree=sur.degree, margin=sur.margin,
+                                    speed_floor=sur.speed_floor, seed=smp.seed, degree=degree,
+                                    max_degree=bud.max_degree, limit=limit, extra=sol.extra)
+    t_route = clock.deadline.elapsed
+    box0 = (np.array(ps.box[0], dtype=float), np.array(ps.box[1], dtype=float))     # the route's (free states)
+    if bud.on_budget == "raise":
+        clock.deadline.check(f"after building the {ps.method} system of {ps.n} states ({t_route:.1f} s)"
+                             + ("" if full is None else f", {', '.join(full.names[i] for i in full.held)} held"))
+    V0 = _starting_V(ps, initial)
+    ex = auto_extra(ps, sol.extra)
+    require_exponential_stability(ps, linearization(ps))
+    check_memory(ps, degree, ex, bud.max_degree, limit, f"certify_roa(degree={degree})")
+    if rebuild is not None and sur.box_search > 0 and V0.degree == 2:
+        t_stage = time.perf_counter()
+        ps, V0 = search_remainder_box(ps, rebuild, V0, n_boxes=sur.box_search, solver=sol.name, extra=sol.extra,
+                                      history=history, out_of_time=clock.out_of_time)
+        clock.spent["remainder-box search"] = time.perf_counter() - t_stage
+        full = full.with_free_box(ps.box) if full is not None else None
+    return ps, full, rebuild, box0, V0, ex, t_route
 
 
 def _certify_lmi(system: Any, box: Any, sampling: Any, solver: Any) -> Any:
