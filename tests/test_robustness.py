@@ -277,3 +277,19 @@ def test_mission_ensemble_flies_the_nominal_plan(uncertain):
         gc.mission_ensemble(uncertain, mission, n=2, design_vehicle=uncertain)
     with pytest.raises(gc.ArgumentTypeError, match="Mission"):
         gc.mission_ensemble(uncertain, "box", n=2)
+
+
+def test_robust_stability_of_a_nonlinear_chapter6_law():
+    """The chapter-6 buoyancy controller keeps its nominal law (equilibrium, gain) over +-30 % on the sphere's lift,
+    drag and moment coefficients: every sample stays stable, and the worst case is no better than the nominal loop."""
+    sph = gc.load_vehicle("sphere_ch5").with_uncertainty({k: {"rel": 0.3} for k in ("K_M", "K_D", "K_L")})
+    ctrl = gc.BuoyancyController(gc.buoyancy_equilibrium(sph, 1.5), sph, 5.0)
+    rs = gc.robust_stability(ctrl, n=30, seed=2, margin=False)
+    assert rs.probability == 1.0 and rs.worst_case.max_real >= rs.nominal_max_real
+    assert set(rs.sensitivities) == {"K_M", "K_D", "K_L"}
+    # the sampled loops really are the sphere's at those coefficients, under the nominal law
+    loop = gc.closed_loop(ctrl)
+    v = sph.with_overrides(**dict(zip(rs.keys, map(float, rs.values[0]), strict=True)))
+    lp = loop_poles(gc.with_vehicle(loop, v), loop.equilibrium)
+    assert lp.max_real == pytest.approx(rs.max_real[0], abs=1e-12)
+    assert np.max(np.abs(gc.with_vehicle(loop, v).rhs(lp.equilibrium))) < 1e-9
