@@ -293,3 +293,16 @@ def test_robust_stability_of_a_nonlinear_chapter6_law():
     lp = loop_poles(gc.with_vehicle(loop, v), loop.equilibrium)
     assert lp.max_real == pytest.approx(rs.max_real[0], abs=1e-12)
     assert np.max(np.abs(gc.with_vehicle(loop, v).rhs(lp.equilibrium))) < 1e-9
+
+
+def test_a_box_with_no_equilibrium_at_a_corner_is_unstable_there():
+    """With -80 % lift and +90 % parasitic drag the glide the LQR regulates to no longer exists near the nominal
+    one: the worst case is that corner, reported as inf (no equilibrium), and the margin falls below the box."""
+    veh = gc.load_vehicle("slocum_shallow").with_uncertainty({"K_D0": {"rel": 0.9}, "K_L": {"rel": 0.8}})
+    glide = gc.steady_glide(veh, 0.35, math.radians(-25.0), r_p3=veh.actuators["r_P3"].fixed)
+    rs = gc.robust_stability(gc.lqr_glide(veh, glide, inputs="acceleration"), n=20, seed=0)
+    assert rs.worst_case.max_real == math.inf and math.isnan(rs.worst_case.pole.real)
+    assert rs.margin_bounded and 0.0 < rs.margin < 1.0
+    with pytest.raises(gc.ModelError, match="no closed-loop equilibrium"):
+        loop = gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
+        loop_poles(gc.with_vehicle(loop, veh.with_overrides(**rs.worst_case.coefficients)), loop.equilibrium)

@@ -501,7 +501,9 @@ def robust_stability(controller: Any, n: int = 1000, seed: int = 0, executor: Ex
         worst = U[np.argsort(-np.where(valid, mr, -np.inf))[:starts]]
         u, v = _worst_in_box(problem, 1.0, worst, corner_limit, starts, maxfev, seed, count)
         r = problem.evaluate(problem.at(u))
-        wc = WorstCase(dict(zip(problem.keys, map(float, problem.at(u)), strict=True)), float(v), r[1], count[0])
+        # the loop's own number there: inf when it has no equilibrium (the search ranks that case as 1e6)
+        wc = WorstCase(dict(zip(problem.keys, map(float, problem.at(u)), strict=True)),
+                       float(r[0]) if not math.isnan(r[0]) else float(v), r[1], count[0])
         times["worst case"] = time.perf_counter() - t1
         if margin:
             t2 = time.perf_counter()
