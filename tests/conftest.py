@@ -99,3 +99,13 @@ def moment_policy(monkeypatch: pytest.MonkeyPatch) -> Callable[..., None]:
         monkeypatch.setattr(moment, "MOMENT_POLICY", dataclasses.replace(moment.MOMENT_POLICY, **fields))
 
     return change
+
+
+@pytest.fixture(autouse=True)
+def _close_figures() -> Any:
+    """Close every pyplot figure a test opened: figures are kept until closed, and more than 20 open in one worker
+    turn matplotlib's warning into an error in whichever test comes next."""
+    yield
+    import matplotlib.pyplot as plt
+
+    plt.close("all")

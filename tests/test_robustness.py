@@ -149,7 +149,7 @@ def test_margin_holds_below_and_fails_above(lqr_two):
         return worst
 
     assert worst_corner(0.95 * rs.margin) < 0
-    assert worst_corner(1.1 * rs.margin) >= 0 or rs.worst_case is not None
+    assert worst_corner(1.05 * rs.margin) >= 0          # here the first unstable vehicle is a corner
 
 
 def test_sensitivities_are_the_slopes_of_the_dominant_pole(lqr_two):

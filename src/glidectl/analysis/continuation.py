@@ -34,13 +34,13 @@ Determinism: cold solves use ``seed``; nothing depends on timing or on which wor
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from .. import checks
-from ..errors import BudgetError, InfeasibleGlideError
+from ..errors import ArgumentTypeError, BudgetError, InfeasibleGlideError
 from ..models.glider3d import FixedMassGlider3D
 from ..params import Vehicle
 from ..trim.helix import Helix, helix_newton, helix_trim
@@ -55,12 +55,14 @@ __all__ = [
     "PARAMETERS",
     "ContinuationOptions",
     "ContinuationPoint",
+    "check_executor",
     "check_options",
     "check_solve_budget",
     "check_sweep_inputs",
     "chunk_bounds",
     "readonly_array",
     "reconcile_chunks",
+    "run_chunks",
     "sweep_controls",
     "walk_chunk",
 ]
@@ -488,6 +490,49 @@ def check_sweep_inputs(veh: Vehicle, parameter: str, values: Any, r_p: Any, m0: 
     for x in {float(np.min(vals)), float(np.max(vals))}:
         FixedMassGlider3D(veh, *sweep_controls(parameter, x, rp, m))
     return vals, rp, m
+
+
+def check_executor(executor: Any) -> Any:
+    """``executor`` if it is None or has ``submit`` (a ``concurrent.futures.Executor``, a dask client's
+    ``get_executor()``).
+
+    Raises
+    ------
+    ArgumentTypeError
+        If it has no ``submit``.
+    """
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise ArgumentTypeError(f"executor must be a concurrent.futures.Executor (with submit), e.g. "
+                                f"ProcessPoolExecutor(2) or a dask Client's get_executor(), got "
+                                f"{type(executor).__name__}")
+    return executor
+
+
+def run_chunks(fn: Callable[..., Any], args: list[tuple[Any, ...]], executor: Any) -> list[Any]:
+    """``[fn(*a) for a in args]``, in this process or as futures of ``executor`` (results in the order of ``args``).
+
+    Parameters
+    ----------
+    fn : callable
+        A module-level function (a process pool pickles it).
+    args : list of tuple
+        One argument tuple per call.
+    executor : concurrent.futures.Executor, optional
+        ``ProcessPoolExecutor(k)``, ``dask.distributed.Client(...).get_executor()``, ...; None: in this process.
+
+    Returns
+    -------
+    list
+
+    Raises
+    ------
+    ArgumentTypeError
+        If ``executor`` has no ``submit``.
+    """
+    if check_executor(executor) is None:
+        return [fn(*a) for a in args]
+    futures = [executor.submit(fn, *a) for a in args]
+    return [f.result() for f in futures]
 
 
 def chunk_bounds(n: int, chunks: int) -> list[tuple[int, int]]:

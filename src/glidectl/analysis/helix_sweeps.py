@@ -28,12 +28,14 @@ from .continuation import (
     COLUMN_UNITS,
     COLUMNS,
     PARAMETERS,
+    check_executor,
     check_options,
     check_solve_budget,
     check_sweep_inputs,
     chunk_bounds,
     readonly_array,
     reconcile_chunks,
+    run_chunks,
     sweep_controls,
     walk_chunk,
 )
@@ -366,9 +368,7 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
     """
     vals, rp, m = check_sweep_inputs(veh, parameter, values, r_p, m0)
     n = vals.size
-    if executor is not None and not callable(getattr(executor, "submit", None)):
-        raise ArgumentTypeError(f"executor must be a concurrent.futures.Executor (with submit), got "
-                                f"{type(executor).__name__}")
+    check_executor(executor)
     if chunks is None:
         chunks = 1 if executor is None else min(n, os.cpu_count() or 1)
     chunks = checks.integer("chunks", chunks, lo=1)
@@ -377,11 +377,7 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
     check_solve_budget(f"helix_sweep over {n} values", n * (2 + opts.continuation_steps + opts.n_random))
     bounds = chunk_bounds(n, min(int(chunks), n))
     args = [(veh, parameter, [float(x) for x in vals[a:b]], rp, m, opts, bool(continuation)) for a, b in bounds]
-    if executor is None:
-        results = [walk_chunk(*a) for a in args]
-    else:
-        futures = [executor.submit(walk_chunk, *a) for a in args]
-        results = [f.result() for f in futures]
+    results = run_chunks(walk_chunk, args, executor)
     pts, log = reconcile_chunks(veh, parameter, vals, rp, m, opts, bool(continuation), bounds, results)
     prov = {"vehicle": veh.name, "vehicle_provenance": veh.provenance, "parameter": parameter,
             "fixed_r_p": rp, "fixed_m0": m, "continuation": bool(continuation), "chunks": len(bounds),

@@ -11,9 +11,9 @@ from .missions import (
     dive_cycle_ensemble,
     mission_ensemble,
 )
-from .monte_carlo import MonteCarlo, monte_carlo, run_chunks
+from .monte_carlo import MonteCarlo, monte_carlo
 from .stability import LoopPoles, RobustStability, WorstCase, loop_poles, robust_stability, with_vehicle
 
 __all__ = ["DIVE_METRICS", "MISSION_METRICS", "DiveStudy", "LoopPoles", "MissionStudy", "MonteCarlo",
            "RobustStability", "WorstCase", "dive_cycle_ensemble", "loop_poles", "mission_ensemble", "monte_carlo",
-           "robust_stability", "run_chunks", "with_vehicle"]
+           "robust_stability", "with_vehicle"]

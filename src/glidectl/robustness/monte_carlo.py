@@ -24,42 +24,11 @@ from typing import Any
 import numpy as np
 
 from .. import checks
-from ..analysis.continuation import chunk_bounds
+from ..analysis.continuation import chunk_bounds, run_chunks
 from ..errors import ArgumentError, ArgumentTypeError, GlidectlError
 from ..params import Vehicle, VehicleSample
 
-__all__ = ["MonteCarlo", "monte_carlo", "run_chunks"]
-
-
-def run_chunks(fn: Callable[..., Any], args: list[tuple[Any, ...]], executor: Executor | None) -> list[Any]:
-    """``[fn(*a) for a in args]``, in this process or as futures of ``executor`` (results in the order of ``args``).
-
-    Parameters
-    ----------
-    fn : callable
-        A module-level function (a process pool pickles it).
-    args : list of tuple
-        One argument tuple per call.
-    executor : concurrent.futures.Executor, optional
-        ``ProcessPoolExecutor(k)``, ``dask.distributed.Client(...).get_executor()``, ...; None: in this process.
-
-    Returns
-    -------
-    list
-
-    Raises
-    ------
-    ArgumentTypeError
-        If ``executor`` has no ``submit``.
-    """
-    if executor is None:
-        return [fn(*a) for a in args]
-    if not callable(getattr(executor, "submit", None)):
-        raise ArgumentTypeError(f"executor must be a concurrent.futures.Executor (with submit), e.g. "
-                                f"ProcessPoolExecutor(2) or a dask Client's get_executor(), got "
-                                f"{type(executor).__name__}")
-    futures = [executor.submit(fn, *a) for a in args]
-    return [f.result() for f in futures]
+__all__ = ["MonteCarlo", "monte_carlo", "study_numbers"]
 
 
 def study_numbers(out: Any) -> dict[str, float]:

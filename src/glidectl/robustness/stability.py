@@ -26,14 +26,14 @@ import numpy as np
 import scipy.optimize as so
 
 from .. import checks
-from ..analysis.continuation import chunk_bounds
+from ..analysis.continuation import chunk_bounds, run_chunks
 from ..controllers.closed_loop import closed_loop
 from ..controllers.output_feedback import PlantWithEstimator
 from ..derivatives import jacobians
 from ..errors import ArgumentError, ArgumentTypeError, GlidectlError, ModelError, VehicleFileError
 from ..models.closed_loop import ClosedLoop
 from ..params import Vehicle
-from .monte_carlo import run_chunks
+from ..uncertainty import vertex_values
 
 __all__ = ["LoopPoles", "RobustStability", "WorstCase", "loop_poles", "robust_stability", "with_vehicle"]
 
@@ -218,6 +218,11 @@ class _Problem:
         """Coefficients at box coordinates ``u`` in [-1, 1] (0: nominal; -1, 1: the box's ends, per side)."""
         return np.where(u < 0, self.nominal + u * (self.nominal - self.lo), self.nominal + u * (self.hi - self.nominal))
 
+    def coordinates(self, values: np.ndarray) -> np.ndarray:
+        """Box coordinates of coefficients ``values`` (the inverse of :meth:`at`)."""
+        span = np.where(values < self.nominal, self.nominal - self.lo, self.hi - self.nominal)
+        return (values - self.nominal) / np.where(span > 0, span, 1.0)
+
 
 def _evaluate_chunk(problem: _Problem, values: np.ndarray) -> list[tuple[float, complex, str | None]]:
     return [problem.evaluate(v) for v in values]
@@ -253,21 +258,14 @@ def _search(problem: _Problem, starts: np.ndarray, scale: float, maxfev: int, co
     return best_u, best
 
 
-def _corners(k: int, scale: float, limit: int, seed: int) -> np.ndarray:
-    """Box coordinates of the corners of the box scaled by ``scale``: all ``2^k`` when at most ``limit``, else the
-    ``2k`` axis extremes and random corners up to ``limit``."""
-    if 2**k <= limit:
-        return scale * (2.0 * ((np.arange(2**k)[:, None] >> np.arange(k)[::-1]) & 1) - 1.0)
-    axes = np.concatenate([np.eye(k), -np.eye(k)]) * scale
-    rnd = scale * np.where(np.random.default_rng(seed).random((max(0, limit - 2 * k), k)) < 0.5, -1.0, 1.0)
-    return np.concatenate([axes, rnd])
-
-
 def _worst_in_box(problem: _Problem, scale: float, extra: np.ndarray, corner_limit: int, starts: int, maxfev: int,
                   seed: int, count: list[int]) -> tuple[np.ndarray, float]:
-    """Worst case in the box scaled by ``scale``: its corners and ``extra`` points (box coordinates) evaluated, then
-    the local search from the ``starts`` worst of them."""
-    pts = np.concatenate([_corners(len(problem.keys), scale, corner_limit, seed), np.clip(extra, -scale, scale)])
+    """Worst case in the box scaled by ``scale``: its corners (those of :meth:`glidectl.Vehicle.vertices`: all when
+    ``2^k <= corner_limit``, else the nominal point, the axis extremes and random corners) and ``extra`` points (box
+    coordinates) evaluated, then the local search from the ``starts`` worst of them."""
+    veh = problem.vehicle
+    _, corners = vertex_values(veh.uncertainty, veh.params, max(corner_limit, 2 * len(problem.keys) + 1), seed)
+    pts = np.concatenate([scale * problem.coordinates(corners), np.clip(extra, -scale, scale)])
     vals = np.array([-_objective(u, problem, count) for u in pts])
     order = np.argsort(-vals)[:starts]
     u, v = _search(problem, pts[order], scale, maxfev, count)
@@ -457,7 +455,8 @@ def robust_stability(controller: Any, n: int = 1000, seed: int = 0, executor: Ex
         among the corners and the samples, ``maxfev`` evaluations each), and the margin (bisection on the box
         scaling, :data:`MARGIN_MAX` at most).
     corner_limit : int
-        Most corners evaluated per box (all ``2^k`` when fewer; else the axis extremes and random corners).
+        Most corners evaluated per box (all ``2^k`` when fewer; else the nominal point, the axis extremes and random
+        corners, at least ``2k + 1``).
     starts, maxfev : int
         Local searches and their evaluation budget.
 
@@ -496,8 +495,7 @@ def robust_stability(controller: Any, n: int = 1000, seed: int = 0, executor: Ex
     if worst_case or margin:
         t1 = time.perf_counter()
         # the worst samples, in box coordinates, start the local search beside the corners
-        span = np.where(vals < problem.nominal, problem.nominal - problem.lo, problem.hi - problem.nominal)
-        U = np.clip((vals - problem.nominal) / np.where(span > 0, span, 1.0), -1.0, 1.0)
+        U = np.clip(problem.coordinates(vals), -1.0, 1.0)
         worst = U[np.argsort(-np.where(valid, mr, -np.inf))[:starts]]
         u, v = _worst_in_box(problem, 1.0, worst, corner_limit, starts, maxfev, seed, count)
         r = problem.evaluate(problem.at(u))
