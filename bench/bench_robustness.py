@@ -1,11 +1,14 @@
 """Robustness layer speed: the worst-case search over ten coefficients, dive-cycle missions over sampled vehicles
 (serial and on a process pool), and a dask LocalCluster with 1 against 2 workers.
 
-    python bench/bench_robustness.py [--missions 1000] [--dask-missions 60] [--out bench/results/robustness.json]
+    python bench/bench_robustness.py [--missions 1000] [--dask-missions 400] [--skip-unbatched]
+                                     [--out bench/results/robustness.json]
 
 The vehicle is slocum_shallow with +-30 % on its lift, drag, moment and damping coefficients and added masses
 (:data:`COEFFICIENTS`), the loop its LQR dive-cycle loop (0.35 m/s, -25 deg, acceleration inputs). Times are wall
-times of one run each (the searches are deterministic; a mission ensemble is long enough to average itself).
+times of one run each (the searches are deterministic; a mission ensemble is long enough to average itself). The
+missions fly batched (``dive_cycle_ensemble``'s default: the samples of a chunk together), against the one-by-one
+baseline (``batched=False``) in the same run; the dask comparison gives both clusters the same 4 chunks.
 """
 
 from __future__ import annotations
@@ -41,21 +44,22 @@ def worst_case() -> dict:
             "probability": rs.probability, "nominal_max_real": rs.nominal_max_real}
 
 
-def missions(n: int, workers: int) -> dict:
+def missions(n: int, workers: int, batched: bool = True) -> dict:
     import glidectl as gc
 
     veh = _vehicle()
     t = time.perf_counter()
     if workers == 0:
-        mc = gc.dive_cycle_ensemble(veh, n=n, seed=0, cycles=3)
+        mc = gc.dive_cycle_ensemble(veh, n=n, seed=0, cycles=3, batched=batched)
     else:
         with ProcessPoolExecutor(workers) as ex:
-            mc = gc.dive_cycle_ensemble(veh, n=n, seed=0, cycles=3, executor=ex)
-    return {"n": n, "workers": workers, "wall_s": time.perf_counter() - t, "ran": int(mc.ok.sum()),
-            "energy_per_km_median": float(mc.quantiles("energy_per_km", 0.5))}
+            mc = gc.dive_cycle_ensemble(veh, n=n, seed=0, cycles=3, executor=ex, batched=batched)
+    return {"n": n, "workers": workers, "batched": batched, "wall_s": time.perf_counter() - t,
+            "ran": int(mc.ok.sum()), "energy_per_km_median": float(mc.quantiles("energy_per_km", 0.5)),
+            "cycle_time_median": float(mc.quantiles("cycle_time", 0.5))}
 
 
-def dask_missions(n: int, workers: int) -> dict:
+def dask_missions(n: int, workers: int, chunks: int = 4) -> dict:
     from dask.distributed import Client, LocalCluster
 
     import glidectl as gc
@@ -64,9 +68,9 @@ def dask_missions(n: int, workers: int) -> dict:
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
         ex = client.get_executor()
-        gc.dive_cycle_ensemble(veh, n=2, seed=99, cycles=1, executor=ex)      # warm the workers (imports)
+        gc.dive_cycle_ensemble(veh, n=2 * workers, seed=99, cycles=1, executor=ex)    # warm the workers (imports)
         t = time.perf_counter()
-        mc = gc.dive_cycle_ensemble(veh, n=n, seed=0, cycles=3, executor=ex, chunks=4 * workers)
+        mc = gc.dive_cycle_ensemble(veh, n=n, seed=0, cycles=3, executor=ex, chunks=chunks)
         wall = time.perf_counter() - t
     return {"n": n, "dask_workers": workers, "wall_s": wall, "ran": int(mc.ok.sum())}
 
@@ -74,15 +78,23 @@ def dask_missions(n: int, workers: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--missions", type=int, default=1000)
-    ap.add_argument("--dask-missions", type=int, default=60)
+    ap.add_argument("--dask-missions", type=int, default=400)
+    ap.add_argument("--skip-unbatched", action="store_true", help="leave out the one-by-one baseline (157 s)")
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "results" / "robustness.json")
     args = ap.parse_args()
     out = {"worst_case": worst_case()}
     print("worst case over 10 coefficients:", out["worst_case"], flush=True)
-    out["missions_serial_50"] = missions(50, 0)
-    print("50 missions, serial:", out["missions_serial_50"], flush=True)
+    out["missions_serial_50"] = missions(50, 0, batched=False)
+    print("50 missions, one by one, one process:", out["missions_serial_50"], flush=True)
+    out["missions_batched_1"] = missions(args.missions, 0)
+    print(f"{args.missions} missions, batched, one process:", out["missions_batched_1"], flush=True)
     out["missions_pool"] = missions(args.missions, 2)
-    print(f"{args.missions} missions, 2 processes:", out["missions_pool"], flush=True)
+    print(f"{args.missions} missions, batched, 2 processes:", out["missions_pool"], flush=True)
+    if not args.skip_unbatched:
+        out["missions_pool_unbatched"] = missions(args.missions, 2, batched=False)
+        out["batched_speedup"] = out["missions_pool_unbatched"]["wall_s"] / out["missions_pool"]["wall_s"]
+        print(f"{args.missions} missions, one by one, 2 processes:", out["missions_pool_unbatched"],
+              f"batched speedup {out['batched_speedup']:.2f}", flush=True)
     out["dask_1"] = dask_missions(args.dask_missions, 1)
     out["dask_2"] = dask_missions(args.dask_missions, 2)
     out["dask_speedup"] = out["dask_1"]["wall_s"] / out["dask_2"]["wall_s"]

@@ -1,6 +1,6 @@
 """The robustness design (designs/robustness.py) end to end with its quick settings: slocum_shallow with +-30 %
-intervals on its hydrodynamic and damping coefficients, robust stability of two linear dive controllers kept at
-their nominal design, and dive cycles of sampled vehicles."""
+intervals on its hydrodynamic and damping coefficients, robust stability of two linear dive controllers and the
+pitch behaviour kept at their nominal design, and dive cycles of sampled vehicles."""
 
 from __future__ import annotations
 
@@ -22,8 +22,9 @@ def test_settings_presets(design):
 def test_report_files_and_numbers(quick_build):
     _, _, pdf, numbers = quick_build
     assert pdf.exists() and pdf.stat().st_size > 30_000
-    assert {p.stem for p in pdf.parent.glob("*.png")} == {"stability_lqr", "stability_place", "missions"}
-    for key in ("lqr", "place"):
+    assert {p.stem for p in pdf.parent.glob("*.png")} == {"stability_lqr", "stability_place", "stability_behaviours",
+                                                         "missions"}
+    for key in ("lqr", "place", "behaviours"):
         p = numbers[f"{key}_probability_stable"]["value"]
         assert 0.0 <= p <= 1.0
         # the worst case in the box is at least as bad as the nominal loop, and the margin says where it fails

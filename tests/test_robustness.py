@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import glidectl as gc
+from glidectl.missions.behaviours import dead_zone
 from glidectl.robustness.stability import MARGIN_MAX, loop_poles
 
 
@@ -249,10 +250,16 @@ def test_dive_cycle_ensemble_is_a_monte_carlo_of_the_nominal_design(uncertain):
     run = gc.dive_cycle(veh1, "lqr", cycles=1, design_vehicle=uncertain)
     d = run.as_dict()
     j = mc.names.index("energy_per_km")
-    assert mc.results[1, j] == pytest.approx(1000.0 * d["energy_per_cycle"] / d["distance_per_cycle"], rel=1e-12)
+    serial = gc.dive_cycle_ensemble(uncertain, n=4, seed=2, cycles=1, batched=False)
+    assert serial.results[1, j] == pytest.approx(1000.0 * d["energy_per_cycle"] / d["distance_per_cycle"],
+                                                 rel=1e-12)
+    # flown together (Dormand-Prince) or one by one (LSODA): the same metrics to the integration tolerance
+    np.testing.assert_allclose(mc.results, serial.results, rtol=1e-3)
+    k = mc.names.index("cycle_time")
+    np.testing.assert_allclose(mc.results[:, k], serial.results[:, k], rtol=1e-4)
     with ProcessPoolExecutor(2) as ex:
         par = gc.dive_cycle_ensemble(uncertain, n=4, seed=2, cycles=1, executor=ex)
-    np.testing.assert_array_equal(par.results, mc.results)
+    np.testing.assert_array_equal(par.results, mc.results)      # each sample's flight is its own, in any batch
     with pytest.raises(gc.ArgumentError, match="design_vehicle"):
         gc.dive_cycle_ensemble(uncertain, n=2, design_vehicle=uncertain)
     with pytest.raises(gc.ArgumentError):
@@ -306,3 +313,36 @@ def test_a_box_with_no_equilibrium_at_a_corner_is_unstable_there():
     with pytest.raises(gc.ModelError, match="no closed-loop equilibrium"):
         loop = gc.closed_loop(gc.lqr_glide(veh, glide, inputs="acceleration"))
         loop_poles(gc.with_vehicle(loop, veh.with_overrides(**rs.worst_case.coefficients)), loop.equilibrium)
+
+
+def test_the_pitch_behaviour_loop_converges_and_its_positions_are_held_out():
+    veh = gc.load_vehicle("slocum_shallow").with_uncertainty({"K_M": {"rel": 0.3}, "K_D0": {"rel": 0.3}})
+    glide = gc.steady_glide(veh, 0.35, math.radians(-25.0), r_p3=veh.actuators["r_P3"].fixed)
+    beh = gc.GliderBehaviours(pitch_time=20.0)
+    loop = beh.pitch_loop(veh, glide)
+    xe = loop.equilibrium
+    d = np.asarray(loop.rhs(xe))
+    assert np.max(np.abs(d[2:])) < 1e-12 and d[0] > 0 and d[1] > 0          # gliding down and forward
+    # the battery law: rate r_P3 (theta - theta_ref) / pitch_time, the dead zone's slope-1 branch
+    x = xe.copy()
+    x[2] += 0.01
+    assert loop.law(x)[0] == pytest.approx(xe[8] * 0.01 / 20.0, rel=1e-12)
+    assert loop.law(x)[0] == pytest.approx(xe[8] / 20.0 * dead_zone(0.01, 0.0), rel=1e-12)
+    # from 3 deg of pitch error the loop returns to the glide's pitch and battery position
+    x0 = xe.copy()
+    x0[2] += math.radians(3.0)
+    run = gc.simulate(loop, x0, 600.0, rtol=1e-8, atol=1e-10)
+    assert abs(run.x[-1, 2] - xe[2]) < math.radians(0.05) and abs(run.x[-1, 6] - xe[6]) < 1e-4
+    rs = gc.robust_stability(loop, n=40, seed=1, margin=False, corner_limit=4, starts=1, maxfev=40)
+    assert rs.probability == 1.0 and rs.nominal_max_real < 0
+    # x and z drift along the glide and nothing depends on them: held, with the fixed r_P3 and its rate
+    A = gc.jacobians(lambda x, u: np.asarray(loop.rhs(x)), xe, np.zeros(0))[0]
+    assert np.all(A[:, :2] == 0) and np.any(A[:2] != 0)
+    kept = [2, 3, 4, 5, 6, 7, 10]
+    assert rs.nominal_max_real == pytest.approx(np.max(np.linalg.eigvals(A[np.ix_(kept, kept)]).real), rel=1e-9)
+    small_pump = veh.with_actuators(m0={"min": -0.05, "max": 0.05, "rate": 0.01, "unit": "kg", "source": "test"})
+    with pytest.raises(gc.InfeasibleGlideError, match="m0"):
+        beh.pitch_loop(small_pump, glide)                     # the glide needs more buoyancy than this pump has
+    with pytest.raises(gc.ArgumentTypeError, match="SteadyGlide"):
+        beh.pitch_loop(veh, "glide")
+

@@ -167,9 +167,9 @@ def _damping(p: Any, V2: Any, Om: Any, axis: int) -> Any:
     kq, k1, k2 = DAMPING_KEYS[axis]
     out = p.get(kq, 0.0) * Om * V2
     c1, c2 = p.get(k1, 0.0), p.get(k2, 0.0)
-    if c1 != 0.0:
+    if np.any(c1 != 0.0):                       # arrays: a stacked vehicle (VehicleSample.stacked)
         out = out + c1 * Om
-    if c2 != 0.0:
+    if np.any(c2 != 0.0):
         out = out + c2 * Om * np.sqrt(Om * Om)  # Omega_i |Omega_i|, analytic in a complex step
     return out
 

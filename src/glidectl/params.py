@@ -69,8 +69,8 @@ from .uncertainty import Uncertainty, check_uncertainty, draw_values, keep_conta
 
 __all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HULL_MASS_RATIO",
            "HYDRO_SPECS", "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX",
-           "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "Vehicle", "VehicleSample",
-           "list_presets", "load_vehicle"]
+           "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "StackedVehicle", "Vehicle",
+           "VehicleSample", "list_presets", "load_vehicle", "stack_vehicles"]
 
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
 MAX_FILE_BYTES = 1 << 20
@@ -1152,6 +1152,16 @@ class VehicleSample:
     def __getitem__(self, index: int | slice) -> Any:
         return self._valid()[index]
 
+    def stacked(self) -> StackedVehicle:
+        """The valid samples as one :class:`StackedVehicle` (rows in sample order), for batched right-hand sides.
+
+        Raises
+        ------
+        ArgumentError
+            If no sample is valid.
+        """
+        return stack_vehicles(self._valid())
+
     def summary(self) -> str:
         """The number of samples, how many are valid, and the first reason a sample is invalid."""
         n = len(self.vehicles)
@@ -1159,6 +1169,86 @@ class VehicleSample:
                 f"(vehicle '{self.vehicle.name}', seed {self.seed}): {len(self)} valid")
         bad = [(i, e) for i, e in enumerate(self.errors) if e is not None]
         return head if not bad else f"{head}; first invalid, sample {bad[0][0]}: {bad[0][1]}"
+
+
+class StackedVehicle(Vehicle):
+    """Several vehicles that differ only in parameter values, as one vehicle whose differing parameters are arrays
+    (one entry per member, in order): :func:`stack_vehicles`.
+
+    The models' right-hand sides broadcast over such parameters, so one call on states of shape ``(N, n)``
+    evaluates each member on its own row, to the bit what the member gives alone. Each member was validated as a
+    :class:`Vehicle`; the stack is not validated again, and what needs scalar parameters (trims, designs,
+    :meth:`with_overrides`) is for the members, not the stack.
+
+    Attributes
+    ----------
+    members : tuple of Vehicle
+        The stacked vehicles.
+    """
+
+    members: tuple[Vehicle, ...]
+
+    @property
+    def size(self) -> int:
+        """Number of members (the length of every array parameter)."""
+        return len(self.members)
+
+    @property
+    def provenance(self) -> str:
+        """SHA-256 (first 16 hex digits) of the members' provenances."""
+        blob = json.dumps([v.provenance for v in self.members])
+        return hashlib.sha256(blob.encode()).hexdigest()[:16]
+
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]:
+        return (stack_vehicles, (list(self.members),))
+
+
+def stack_vehicles(vehicles: Any) -> StackedVehicle:
+    """One :class:`StackedVehicle` of ``vehicles``: a parameter equal in every member stays a number, one that
+    differs becomes an array of shape ``(N,)``.
+
+    Parameters
+    ----------
+    vehicles : sequence of Vehicle
+        Vehicles of the same kind, law, name, parameter keys, actuators and density profile (samples of one
+        vehicle file, :meth:`VehicleSample.stacked`).
+
+    Returns
+    -------
+    StackedVehicle
+
+    Raises
+    ------
+    ArgumentTypeError
+        If an element is not a Vehicle.
+    ArgumentError
+        If the sequence is empty or the vehicles differ in more than parameter values.
+    """
+    members = tuple(vehicles)
+    if not members:
+        raise ArgumentError("stack_vehicles needs at least one vehicle")
+    for v in members:
+        if not isinstance(v, Vehicle) or isinstance(v, StackedVehicle):
+            raise ArgumentTypeError(f"stack_vehicles takes Vehicles, got {type(v).__name__}")
+    first = members[0]
+    for v in members[1:]:
+        same = (v.kind == first.kind and v.law == first.law and v.name == first.name and
+                set(v.params) == set(first.params) and dict(v.actuators) == dict(first.actuators) and
+                v.density_profile == first.density_profile)
+        if not same:
+            raise ArgumentError(f"stack_vehicles: vehicle '{v.name}' differs from '{first.name}' in more than "
+                                "parameter values (kind, law, keys, actuators or density profile)")
+    params: dict[str, Any] = {}
+    for key, value in first.params.items():
+        column = np.array([v.params[key] for v in members], dtype=float)
+        params[key] = value if np.all(column == value) else column
+    out = object.__new__(StackedVehicle)
+    for f in Vehicle.__dataclass_fields__:
+        object.__setattr__(out, f, getattr(first, f))
+    object.__setattr__(out, "params", MappingProxyType(params))
+    object.__setattr__(out, "overrides", MappingProxyType({}))
+    object.__setattr__(out, "members", members)
+    return out
 
 
 def _check_uncertainty(entries: Any, correlation: Any, values: Mapping[str, float], kind: str, law: str,

@@ -33,6 +33,7 @@ __all__ = [
     "Model",
     "Simulation",
     "actuator_trace",
+    "saturated_mask",
     "simulate",
     "simulate_actuated",
     "simulate_many",
@@ -829,15 +830,34 @@ class ActuatedSimulation(Simulation):
     def saturated(self) -> np.ndarray:
         """Per output time, whether an actuated axis is at a limit: its requested rate was cut by more than 1e-6 of
         the rate limit, or it is within 1e-3 of its range width from an end (bool, shape (N,))."""
-        lo, hi, R = self.lower, self.upper, self.rate_limit
-        act = R > 0  # type: ignore[operator]
-        scale = np.where(np.isfinite(R), R, 1.0)  # type: ignore[arg-type]
-        cut = np.abs(self.u - self.rates) > 1e-6 * scale  # type: ignore[operator]
         p = np.stack([self.state(n) for n in self.actuator_names], axis=1)
-        width = np.where(np.isfinite(hi - lo), hi - lo, np.inf)  # type: ignore[operator]
-        with np.errstate(invalid="ignore"):
-            end = (p - lo <= 1e-3 * width) | (hi - p <= 1e-3 * width)  # type: ignore[operator]
-        return np.any((cut | end) & act, axis=1)
+        return saturated_mask(self.u, self.rates, p, self.lower, self.upper, self.rate_limit)
+
+
+def saturated_mask(requested: np.ndarray, rates: np.ndarray, positions: np.ndarray, lower: Any, upper: Any,
+                   rate_limit: Any) -> np.ndarray:
+    """Per row, whether an actuated axis is at a limit (:attr:`ActuatedSimulation.saturated`): its requested rate
+    was cut by more than 1e-6 of the rate limit, or its position is within 1e-3 of its range width from an end.
+
+    Parameters
+    ----------
+    requested, rates, positions : ndarray, shape (N, k)
+        Requested and limited rates (unit/s) and positions (unit) of the ``k`` actuators.
+    lower, upper, rate_limit : array_like, shape (k,)
+        Their ranges and rate limits (a rate limit of 0 marks a fixed part, never saturated).
+
+    Returns
+    -------
+    ndarray of bool, shape (N,)
+    """
+    lo, hi, R = (np.asarray(a, dtype=float) for a in (lower, upper, rate_limit))
+    act = R > 0
+    scale = np.where(np.isfinite(R), R, 1.0)
+    cut = np.abs(requested - rates) > 1e-6 * scale
+    width = np.where(np.isfinite(hi - lo), hi - lo, np.inf)
+    with np.errstate(invalid="ignore"):
+        end = (positions - lo <= 1e-3 * width) | (hi - positions <= 1e-3 * width)
+    return np.any((cut | end) & act, axis=1)
 
 
 def _command_kind(controller: Any, command: Any) -> str:

@@ -111,7 +111,9 @@ __all__ = [
     "ScheduledGlideLQG",
     "ScheduledGlideLQR",
     "compare_missions",
+    "cycle_summary",
     "dive_cycle",
+    "dive_cycles_batched",
     "lqg_filter_noise",
     "pump_energy",
     "pump_power",
@@ -974,19 +976,13 @@ class DiveCycleRun:
 
     def as_dict(self) -> dict[str, Any]:
         """Comparison row: per-cycle means of distance (m), duration (s), saturated time (s) and energy (J), and the
-        largest overshoot (m).
+        largest overshoot (m) (:func:`cycle_summary`).
 
         Returns
         -------
         dict
         """
-        c = self.cycles
-        return {"controller": self.controller, "cycles": len(c),
-                "distance_per_cycle": float(np.mean([k.distance for k in c])),
-                "duration_per_cycle": float(np.mean([k.duration for k in c])),
-                "max_overshoot": float(max(k.max_overshoot for k in c)),
-                "saturated_time_per_cycle": float(np.mean([k.saturated_time for k in c])),
-                "energy_per_cycle": float(np.mean([k.energy for k in c]))}
+        return {"controller": self.controller, "cycles": len(self.cycles), **cycle_summary(self.cycles)}
 
     def summary(self) -> str:
         """A few lines: mission, controller and per-cycle metrics.
@@ -1609,3 +1605,216 @@ def compare_missions(veh: Vehicle, controllers: Sequence[Any] = CONTROLLER_NAMES
         runs[name] = run
         rows.append({**run.as_dict(), "error": ""})
     return MissionComparison(tuple(rows), runs, veh, veh.provenance)
+
+
+# ------------------------------------------------------------------------------------------------ batched
+def cycle_summary(cycles: Sequence[CycleMetrics]) -> dict[str, float]:
+    """Per-cycle means of distance (m), duration (s), saturated time (s) and energy (J), and the largest overshoot
+    (m): the numbers of :meth:`DiveCycleRun.as_dict`."""
+    return {"distance_per_cycle": float(np.mean([k.distance for k in cycles])),
+            "duration_per_cycle": float(np.mean([k.duration for k in cycles])),
+            "max_overshoot": float(max(k.max_overshoot for k in cycles)),
+            "saturated_time_per_cycle": float(np.mean([k.saturated_time for k in cycles])),
+            "energy_per_cycle": float(np.mean([k.energy for k in cycles]))}
+
+
+def _ramp_rows(tau: np.ndarray, x_from: np.ndarray, x_to: np.ndarray,
+               ramp_time: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_ramp_reference` at the times ``tau`` (shape (N,), from the transition's start) of N runs: reference
+    states (N, 11) and feedforwards (N, 3), row by row the same numbers."""
+    if ramp_time <= 0:
+        s, sd = np.ones_like(tau), np.zeros_like(tau)
+    else:
+        q = tau / ramp_time
+        inside = (q > 0) & (q < 1)
+        s = np.where(q <= 0, 0.0, np.where(q >= 1, 1.0, q))
+        sd = np.where(inside, 1.0 / ramp_time, 0.0)
+    d = x_to - x_from
+    x_ref = x_from + s[:, None] * d
+    x_ref[:, 7], x_ref[:, 9] = sd * d[6], sd * d[8]
+    w_ff = np.zeros((tau.size, 3))
+    w_ff[:, 2] = sd * d[10]
+    return x_ref, w_ff
+
+
+@dataclass(frozen=True)
+class _BatchLeg:
+    """One leg of the batched LQR dive cycle: gain, transition and the depth event that ends it."""
+
+    K: np.ndarray
+    x_from: np.ndarray
+    x_to: np.ndarray
+    ramp_time: float
+    kind: str                      # "down", "up" or "tail"
+    depths: tuple[float, float]
+
+    def command(self, tau: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """``(w1, w3, w4)`` of :class:`ScheduledGlideLQR` for N runs at their leg times ``tau``."""
+        x_ref, w_ff = _ramp_rows(tau, self.x_from, self.x_to, self.ramp_time)
+        return w_ff - (X - x_ref) @ self.K.T
+
+    def event(self, tau: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """The supervisor's stop function of :func:`_fly_legs`, row by row."""
+        if self.kind == "down":
+            return self.depths[1] - X[:, _IZ]
+        if self.kind == "up":
+            return X[:, _IZ] - self.depths[0]
+        th, v1, v3 = X[:, 2], X[:, 4], X[:, 5]
+        return v1 * np.sin(th) - v3 * np.cos(th)            # -zdot: the climb has stopped
+
+
+def _batch_legs(dv: Vehicle, plant: ActuatedGlider, depths: tuple[float, float], gamma: float, speed: float,
+                cycles: int, max_deviation: Any) -> tuple[list[_BatchLeg], SteadyGlide]:
+    """The legs of :func:`dive_cycle`'s ``"lqr"`` mission designed on ``dv`` (its gains, glides and ramps, the
+    transition starting at each leg's own time 0), and the up glide whose state starts the mission."""
+    i3 = ACTUATED_AXES.index("r_P3")
+    r_p3 = float(np.clip(dv.params.get("r_P3", 0.0), plant.lower[i3], plant.upper[i3]))
+    g_down, g_up = _leg_glides(dv, plant, speed, gamma, r_p3)
+    gains = {id(g): _lqr_gain(dv, plant, g, max_deviation)[0] for g in (g_down, g_up)}
+    legs = []
+    for leg in range(2 * cycles + 1):
+        glide, prev = (g_down, g_up) if leg % 2 == 0 else (g_up, g_down)
+        xf, xt = prev.accel_state(), glide.accel_state()
+        kind = "tail" if leg == 2 * cycles else "down" if leg % 2 == 0 else "up"
+        legs.append(_BatchLeg(gains[id(glide)], xf, xt, _ramp_time(plant, xf, xt), kind, depths))
+    return legs, g_up
+
+
+def _leg_records(legs: list[_BatchLeg], members: list[Vehicle], plant0: ActuatedGlider, x0: np.ndarray,
+                 leg_cap: float, step: float, rtol: float,
+                 atol: float) -> tuple[list[list[tuple]], list[GlidectlError | None]]:
+    """Fly every member through the legs together (:func:`~glidectl.batch_events.integrate_batch_events`, one leg
+    at a time, each member from its own end of the previous leg). Returns per member its legs' samples
+    ``(t, X, rates, saturated)`` on absolute times, and what stopped it (None if it flew every leg)."""
+    from ..batch_events import integrate_batch_events
+    from ..params import stack_vehicles
+    from ..sim import saturated_mask
+
+    N = len(members)
+    records: list[list[tuple]] = [[] for _ in range(N)]
+    errors: list[GlidectlError | None] = [None] * N
+    X, t_abs = np.tile(x0, (N, 1)), np.zeros(N)
+    for number, leg in enumerate(legs):
+        alive = np.flatnonzero([e is None for e in errors])
+        if leg.kind == "tail":
+            alive = alive[leg.event(np.zeros(alive.size), X[alive]) > 0]
+        if alive.size == 0:
+            break
+        plant = ActuatedGlider(stack_vehicles([members[i] for i in alive]), servo_time=plant0.servo_time,
+                               pump_gain=plant0.pump_gain)
+
+        def rhs(tau: np.ndarray, Z: np.ndarray, plant: ActuatedGlider = plant, leg: _BatchLeg = leg) -> np.ndarray:
+            return plant.rhs(Z, plant.acceleration_rates(Z, leg.command(tau, Z)))
+
+        res = integrate_batch_events(rhs, X[alive], leg_cap, event=leg.event, t_step=step, rtol=rtol, atol=atol,
+                                     max_steps=200_000)
+        for j, i in enumerate(alive):
+            if leg.kind != "tail" and not res.stopped[j]:
+                target = leg.depths[1] if leg.kind == "down" else leg.depths[0]
+                errors[i] = BudgetError(f"the {leg.kind} leg {number} of the mission did not reach {target:g} m "
+                                        f"within {leg_cap:g} s (it ended at depth {res.x[j, _IZ]:.2f} m, by "
+                                        f"{res.reason(j)})")
+                continue
+            k = int(res.n_samples[j])
+            tau = np.arange(k) * step
+            Xs = res.samples[j, :k]
+            if not tau.size or tau[-1] < res.t[j]:
+                tau, Xs = np.append(tau, res.t[j]), np.vstack([Xs, res.x[j]])
+            records[i].append((t_abs[i] + tau, Xs, tau))
+            X[i], t_abs[i] = res.x[j], t_abs[i] + res.t[j]
+        # rates and saturation at the samples, every member of the leg at once (the actuators are common)
+        rows = [i for i in alive if errors[i] is None and len(records[i]) == number + 1]
+        if rows:
+            Xs = np.concatenate([records[i][-1][1] for i in rows])
+            tau = np.concatenate([records[i][-1][2] for i in rows])
+            U = plant0.acceleration_rates(Xs, leg.command(tau, Xs))
+            S = plant0.limited_rates(Xs, U)
+            sat = saturated_mask(U, S, plant0.positions(Xs), plant0.lower, plant0.upper, plant0.rate_limit)
+            cut = np.cumsum([0] + [len(records[i][-1][2]) for i in rows])
+            for r, i in enumerate(rows):
+                t_i, X_i, _ = records[i][-1]
+                records[i][-1] = (t_i, X_i, S[cut[r]:cut[r + 1]], sat[cut[r]:cut[r + 1]])
+    return records, errors
+
+
+def dive_cycles_batched(vehicles: Sequence[Vehicle], design_vehicle: Vehicle, *,
+                        depths: Sequence[float] = (5.0, 100.0), gamma: float = math.radians(25.0),
+                        speed: float = 0.35, cycles: int = 3, output_step: float = 1.0,
+                        max_deviation: Mapping[str, float] | None = None, pump_work: str = "out",
+                        rho: float = RHO_SEAWATER, p_atm: float = P_ATM, servo_time: float = 0.5,
+                        pump_gain: float = 0.5, rtol: float = 1e-5, atol: float = 1e-7,
+                        max_leg_time: float | None = None) -> list[tuple[CycleMetrics, ...] | GlidectlError]:
+    """The ``"lqr"`` dive cycles of :func:`dive_cycle` flown by many vehicles at once, every one under the
+    controller designed on ``design_vehicle``: the cycle metrics of each.
+
+    Every vehicle flies the same two leg controllers (the gains, glides and ramps of ``design_vehicle``), and a
+    leg is autonomous in its own time (the reference ramp starts at the leg's start), so the vehicles fly each leg
+    together as one stacked state (:func:`~glidectl.params.stack_vehicles`, one right-hand-side call for all),
+    each with its own step size and its own depth switch, located on the integrator's continuous extension as
+    :func:`dive_cycle`'s supervisor locates it (:func:`~glidectl.batch_events.integrate_batch_events`,
+    Dormand-Prince 5(4)). The metrics are :func:`dive_cycle`'s, from the same output grid; they agree with
+    :func:`dive_cycle` ``(veh, "lqr", design_vehicle=design_vehicle)`` to the integration tolerance (the serial
+    run uses LSODA).
+
+    Parameters
+    ----------
+    vehicles : sequence of Vehicle
+        The flying vehicles (e.g. :meth:`~glidectl.Vehicle.sample` of ``design_vehicle``).
+    design_vehicle : Vehicle
+        The vehicle the controller is designed on; the flying vehicles need its actuators.
+    depths, gamma, speed, cycles, output_step, max_deviation, pump_work, rho, p_atm, servo_time, pump_gain, rtol, \
+atol, max_leg_time :
+        As :func:`dive_cycle`.
+
+    Returns
+    -------
+    list
+        Per vehicle, its :class:`CycleMetrics` (one per cycle), or the :class:`~glidectl.errors.GlidectlError` that
+        stopped it (a vehicle the actuated model refuses, a leg that does not reach its depth).
+
+    Raises
+    ------
+    ArgumentError, ArgumentTypeError
+        Bad arguments, as :func:`dive_cycle`.
+    InfeasibleGlideError, ModelError, SolverError
+        The design on ``design_vehicle`` fails (common to every vehicle).
+    """
+    require_glider(design_vehicle, "design_vehicle")
+    top, bottom = _check_depths(depths)
+    speed = checks.positive("speed", speed, unit="m/s")
+    gamma = checks.real("gamma", gamma, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
+    cycles = checks.integer("cycles", cycles, lo=1, hi=1000)
+    step = checks.positive("output_step", output_step, unit="s")
+    checks.choice("pump_work", pump_work, _PUMP_WORK)
+    plant0 = ActuatedGlider(design_vehicle, servo_time=servo_time, pump_gain=pump_gain)
+    legs, g_up = _batch_legs(design_vehicle, plant0, (top, bottom), gamma, speed, cycles, max_deviation)
+    nominal = (bottom - top) / (speed * math.sin(gamma))
+    leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
+    out: list[Any] = [None] * len(vehicles)
+    members, where = [], []
+    for i, v in enumerate(vehicles):
+        try:
+            require_instance(f"vehicles[{i}]", v, Vehicle)
+            _design_side(v, design_vehicle, ActuatedGlider(v, servo_time=servo_time, pump_gain=pump_gain),
+                         servo_time, pump_gain)
+        except GlidectlError as exc:
+            out[i] = exc
+            continue
+        members.append(v)
+        where.append(i)
+    if not members:
+        return out
+    records, errors = _leg_records(legs, members, plant0, g_up.accel_state(0.0, top), leg_cap, step, rtol, atol)
+    for i, v, rec, why in zip(where, members, records, errors, strict=True):
+        if why is not None:
+            out[i] = why
+            continue
+        T = np.concatenate([r[0] if k == 0 else r[0][1:] for k, r in enumerate(rec)])
+        X = np.concatenate([r[1] if k == 0 else r[1][1:] for k, r in enumerate(rec)])
+        S = np.concatenate([r[2] if k == 0 else r[2][1:] for k, r in enumerate(rec)])
+        SAT = np.concatenate([r[3] if k == 0 else r[3][1:] for k, r in enumerate(rec)])
+        switch = [0.0] + [float(r[0][-1]) for r, leg in zip(rec, legs, strict=False) if leg.kind != "tail"]
+        eff = float(v.params.get("pump_efficiency", 1.0))
+        out[i] = _cycle_metrics(T, X[:, 0], X[:, _IZ], S[:, 2], SAT.astype(float), switch, (top, bottom),
+                                efficiency=eff, rho=rho, p_atm=p_atm, g=v.g, pump_work=pump_work)
+    return out

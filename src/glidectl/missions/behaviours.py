@@ -40,8 +40,8 @@ from ..params import Vehicle
 from ..trim.glide import SteadyGlide, steady_glide
 from ..trim.turn import TurnDesign, steering_axis, turn_helix
 
-__all__ = ["LQR_DESIGN_SENSORS", "LQR_STATES", "STEER_PROBE", "DiveLQR", "DivePlan", "GliderBehaviours", "dead_zone",
-           "pitch_heading", "wrap_angle"]
+__all__ = ["LQR_DESIGN_SENSORS", "LQR_STATES", "STEER_PROBE", "DiveLQR", "DivePlan", "GliderBehaviours",
+           "PitchBehaviourLaw", "dead_zone", "pitch_heading", "wrap_angle"]
 
 #: Settings (rad) of the steering actuators at which :class:`DivePlan` measures the turn-rate sensitivity: small
 #: enough to stay linear, large enough to stand out of the trim's residual.
@@ -221,6 +221,53 @@ class GliderBehaviours:
         rates[..., 0] = battery
         return rates
 
+    def pitch_loop(self, veh: Vehicle, glide: SteadyGlide, *, servo_time: float = 0.5,
+                   pump_gain: float = 0.5) -> Any:
+        """The longitudinal closed loop of the pitch behaviour once the pitch error is out of its deadband: the
+        battery rate ``(rho / pitch_time) (theta - theta_ref)`` (the dead zone's slope-1 branch, ``rho`` the battery
+        offset ``r_P3``) and the pump held at the glide's ``m0`` by its servo, on the actuated glider
+        (:class:`~glidectl.ActuatedGlider`) at the glide ``glide``.
+
+        This is the loop whose poles say whether the behaviour's correction converges (for eigen-analysis and
+        :func:`~glidectl.robust_stability`); inside the deadband the battery holds and the glider flies open loop.
+        The horizontal position and the depth drift along the glide; nothing in the loop depends on them.
+
+        Parameters
+        ----------
+        veh : Vehicle
+            The glider (with its ``[uncertainty]`` table for :func:`~glidectl.robust_stability`).
+        glide : SteadyGlide
+            The glide flown: the pitch reference ``theta_ref`` and the pump setting ``m0``.
+        servo_time, pump_gain : float
+            The actuated glider's servo time (s) and pump gain (1/s).
+
+        Returns
+        -------
+        ClosedLoop
+            With the glide's actuated state at 0 m as its equilibrium.
+
+        Raises
+        ------
+        ModelError
+            If the vehicle has no actuators or no battery offset (``r_P3 = 0``: the behaviour's gain is zero).
+        InfeasibleGlideError
+            If the glide is outside the actuator ranges.
+        """
+        from ..controllers.closed_loop import closed_loop
+        from ..models.actuated import ActuatedGlider
+
+        if not isinstance(glide, SteadyGlide):
+            raise ArgumentTypeError(f"glide must be a SteadyGlide (glidectl.steady_glide), got {type(glide).__name__}")
+        plant = ActuatedGlider(veh, servo_time=servo_time, pump_gain=pump_gain)
+        x_eq = glide.accel_state(0.0, 0.0)
+        plant.check_state(x_eq, "the glide of the pitch loop")
+        rho = float(x_eq[8])
+        if rho == 0.0:
+            raise ModelError(f"vehicle '{veh.name}' has its battery on the axis (r_P3 = 0): the pitch behaviour's "
+                             "gain rho / pitch_time is zero")
+        law = PitchBehaviourLaw(plant, rho / self.pitch_time, float(x_eq[2]), plant.positions(x_eq))
+        return closed_loop(plant, law, equilibrium=x_eq)
+
     def steering(self, plan: DivePlan, x: Any, phase: int, heading_ref: Any) -> Any:
         """Steering setpoint (rad) of the heading actuator: the dead-zone heading law, or the held turn."""
         if self.turn is not None:
@@ -228,6 +275,34 @@ class GliderBehaviours:
         _, psi = pitch_heading(np.asarray(x))
         return dead_zone(wrap_angle(heading_ref - psi), self.heading_deadband) / (
             self.heading_time * plan.turn_gain[phase])
+
+
+@dataclass(frozen=True)
+class PitchBehaviourLaw:
+    """Requested rates of :meth:`GliderBehaviours.pitch_loop` on the actuated glider's states (picklable).
+
+    Attributes
+    ----------
+    plant : ActuatedGlider
+    k_theta : float
+        Battery rate per rad of pitch error (m/(s rad)).
+    theta_ref : float
+        Pitch reference (rad).
+    setpoints : ndarray, shape (3,)
+        Actuator setpoints ``(r_P1, r_P3, m0)`` of the glide (the battery's entry is not used).
+    """
+
+    plant: Any = field(repr=False)
+    k_theta: float
+    theta_ref: float
+    setpoints: np.ndarray = field(repr=False)
+
+    def __call__(self, x: Any) -> np.ndarray:
+        """``(r_P1_rate, r_P3_rate, m0_rate)`` at states ``x`` (shape ``(..., 11)``)."""
+        x = np.asarray(x)
+        rates = self.plant.setpoint_rates(x, np.broadcast_to(self.setpoints, (*x.shape[:-1], 3)))
+        rates[..., 0] = self.k_theta * (x[..., 2] - self.theta_ref)
+        return rates
 
 
 #: Sensors and noise (m, rad, rad/s) of the longitudinal LQG design whose regulator :class:`DiveLQR` flies (the

@@ -12,19 +12,24 @@ is a :class:`~glidectl.robustness.monte_carlo.MonteCarlo` with the per-sample me
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Mapping
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
 
 from .. import checks
-from ..controllers.dive_cycle import CONTROLLER_NAMES, dive_cycle
-from ..errors import ArgumentError, ArgumentTypeError
+from ..controllers.dive_cycle import CONTROLLER_NAMES, cycle_summary, dive_cycle, dive_cycles_batched
+from ..errors import ArgumentError, ArgumentTypeError, GlidectlError
 from ..missions import Mission, fly_mission
 from ..params import Vehicle
 from .monte_carlo import MonteCarlo, monte_carlo
 
 __all__ = ["DIVE_METRICS", "MISSION_METRICS", "DiveStudy", "MissionStudy", "dive_cycle_ensemble", "mission_ensemble"]
+
+#: Keyword arguments of :func:`glidectl.dive_cycle` that the batched flight takes
+#: (:func:`~glidectl.controllers.dive_cycle.dive_cycles_batched`).
+BATCH_OPTIONS = frozenset(inspect.signature(dive_cycles_batched).parameters) - {"vehicles", "design_vehicle", "cycles"}
 
 #: The numbers of a dive-cycle sample (:meth:`DiveStudy.__call__`), with their units.
 DIVE_METRICS: Mapping[str, str] = {
@@ -53,6 +58,7 @@ class DiveStudy:
     controller: str = "lqr"
     cycles: int = 3
     options: tuple[tuple[str, Any], ...] = ()
+    batched: bool = True
 
     @property
     def units(self) -> dict[str, str]:
@@ -70,17 +76,51 @@ class DiveStudy:
         depth limit."""
         run = dive_cycle(veh, self.controller, cycles=self.cycles, design_vehicle=self.design_vehicle,
                          **dict(self.options))
-        d = run.as_dict()
-        return {"energy_per_km": 1000.0 * d["energy_per_cycle"] / d["distance_per_cycle"],
-                "cycle_time": d["duration_per_cycle"], "saturated_time": d["saturated_time_per_cycle"],
-                "max_overshoot": d["max_overshoot"], "distance_per_cycle": d["distance_per_cycle"],
-                "energy_per_cycle": d["energy_per_cycle"]}
+        return _dive_numbers(run.as_dict())
+
+    @property
+    def can_batch(self) -> bool:
+        """Whether :meth:`batch` flies the vehicles together: the ``"lqr"`` controller, with options
+        :func:`~glidectl.controllers.dive_cycle.dive_cycles_batched` takes (no sensors, noise or integrator
+        choice)."""
+        return self.batched and self.controller == "lqr" and all(k in BATCH_OPTIONS for k, _ in self.options)
+
+    def batch(self, vehicles: list[Vehicle]) -> list[dict[str, float] | GlidectlError]:
+        """:meth:`__call__` on each vehicle: flown together when :attr:`can_batch`
+        (:func:`~glidectl.controllers.dive_cycle.dive_cycles_batched`), else one by one; per vehicle its metrics or
+        the GlidectlError that stopped it."""
+        if not self.can_batch:
+            out: list[dict[str, float] | GlidectlError] = []
+            for veh in vehicles:
+                try:
+                    out.append(self(veh))
+                except GlidectlError as exc:
+                    out.append(exc)
+            return out
+        runs = dive_cycles_batched(vehicles, self.design_vehicle, cycles=self.cycles, **dict(self.options))
+        return [r if isinstance(r, GlidectlError) else _dive_numbers(cycle_summary(r)) for r in runs]
+
+
+def _dive_numbers(d: Mapping[str, float]) -> dict[str, float]:
+    """:data:`DIVE_METRICS` from a dive cycle's per-cycle means
+    (:func:`~glidectl.controllers.dive_cycle.cycle_summary`)."""
+    return {"energy_per_km": 1000.0 * d["energy_per_cycle"] / d["distance_per_cycle"],
+            "cycle_time": d["duration_per_cycle"], "saturated_time": d["saturated_time_per_cycle"],
+            "max_overshoot": d["max_overshoot"], "distance_per_cycle": d["distance_per_cycle"],
+            "energy_per_cycle": d["energy_per_cycle"]}
 
 
 def dive_cycle_ensemble(veh: Vehicle, n: int = 1000, seed: int = 0, controller: str = "lqr", cycles: int = 3, *,
-                        executor: Executor | None = None, chunks: int | None = None, **options: Any) -> MonteCarlo:
+                        executor: Executor | None = None, chunks: int | None = None, batched: bool = True,
+                        **options: Any) -> MonteCarlo:
     """Dive cycles of ``n`` vehicles drawn from ``veh``'s ``[uncertainty]`` table, each flown by the controller
     designed on ``veh`` (module docstring).
+
+    The ``"lqr"`` samples of a chunk fly together (``batched``,
+    :func:`~glidectl.controllers.dive_cycle.dive_cycles_batched`): one stacked state, each sample with its own step
+    size and depth switches, about 7 times faster than one by one; their metrics agree with
+    :func:`glidectl.dive_cycle` to its integration tolerance (about 1e-5 on times and distances, 3e-4 on
+    energies and overshoots), not to the bit (Dormand-Prince against LSODA).
 
     Parameters
     ----------
@@ -93,7 +133,11 @@ def dive_cycle_ensemble(veh: Vehicle, n: int = 1000, seed: int = 0, controller: 
     cycles : int
         Dive cycles per sample (>= 1).
     executor, chunks :
-        As :func:`glidectl.monte_carlo` (a process pool, a dask cluster's executor).
+        As :func:`glidectl.monte_carlo` (a process pool, a dask cluster's executor; batched, the default chunks
+        are one per CPU).
+    batched : bool
+        Fly the ``"lqr"`` samples of a chunk together (ignored for the other controllers, and for options the
+        batched flight does not take: ``sensors``, ``noise``, ``method``...).
     **options
         Further keyword arguments of :func:`glidectl.dive_cycle` (``depths``, ``speed``, ``gamma``, ...).
 
@@ -114,7 +158,7 @@ def dive_cycle_ensemble(veh: Vehicle, n: int = 1000, seed: int = 0, controller: 
     if "design_vehicle" in options:
         raise ArgumentError("design_vehicle is veh itself in dive_cycle_ensemble: the samples fly, veh designs")
     dive_cycle(veh, controller, cycles=1, **options)      # the nominal mission first: bad options fail here, once
-    study = DiveStudy(veh, controller, cycles, tuple(sorted(options.items())))
+    study = DiveStudy(veh, controller, cycles, tuple(sorted(options.items())), checks.boolean("batched", batched))
     return monte_carlo(study, veh, n, seed, executor=executor, chunks=chunks)
 
 

@@ -55,8 +55,24 @@ def study_numbers(out: Any) -> dict[str, float]:
 
 def _run(study: Callable[[Vehicle], Any], vehicles: list[Vehicle | None]) -> list[tuple[dict[str, float] | None,
                                                                                       str | None]]:
-    """The study on each vehicle: its numbers, or None and the reason of a GlidectlError (None: invalid sample)."""
+    """The study on each vehicle: its numbers, or None and the reason of a GlidectlError (None: invalid sample).
+    A study with ``batch`` runs the valid vehicles in one call."""
     out: list[tuple[dict[str, float] | None, str | None]] = []
+    batch = getattr(study, "batch", None)
+    if callable(batch):
+        valid = [v for v in vehicles if v is not None]
+        values = list(batch(valid)) if valid else []
+        if len(values) != len(valid):
+            raise ArgumentTypeError(f"the study's batch(vehicles) returned {len(values)} results for {len(valid)} "
+                                    "vehicles; it must return one per vehicle")
+        got = iter(values)
+        for veh in vehicles:
+            value = None if veh is None else next(got)
+            if isinstance(value, GlidectlError):
+                out.append((None, f"{type(value).__name__}: {value}"))
+            else:
+                out.append((None, None) if veh is None else (study_numbers(value), None))
+        return out
     for veh in vehicles:
         if veh is None:
             out.append((None, None))
@@ -226,6 +242,8 @@ def monte_carlo(study: Callable[[Vehicle], Any], veh: Vehicle | VehicleSample, n
     study : callable
         ``study(vehicle)`` returning numbers (module docstring). With a process pool or dask, a module-level
         function or a picklable object (it is pickled); its ``name`` attribute, when it has one, names the study.
+        A study that can run many vehicles at once has ``batch(vehicles)``, returning per vehicle its numbers or
+        the :class:`~glidectl.errors.GlidectlError` that stopped it; each chunk is then one call.
     veh : Vehicle or VehicleSample
         A vehicle with an ``[uncertainty]`` table (:meth:`~glidectl.Vehicle.with_uncertainty` adds one), or an
         already drawn sample (:meth:`~glidectl.Vehicle.sample`, :meth:`~glidectl.Vehicle.vertices`; ``n`` and
@@ -237,7 +255,8 @@ def monte_carlo(study: Callable[[Vehicle], Any], veh: Vehicle | VehicleSample, n
     executor : concurrent.futures.Executor, optional
         Runs the chunks (``ProcessPoolExecutor(2)``, ``dask.distributed.Client(...).get_executor()``); None: here.
     chunks : int, optional
-        Contiguous pieces of the samples, one task each; default 1 without an executor, else ``4 x cpu_count``.
+        Contiguous pieces of the samples, one task each; default 1 without an executor, else ``4 x cpu_count``
+        (``cpu_count`` for a study with ``batch``: fewer, larger batches).
 
     Returns
     -------
@@ -264,7 +283,8 @@ def monte_carlo(study: Callable[[Vehicle], Any], veh: Vehicle | VehicleSample, n
     vehicles = list(sample.vehicles)
     m = len(vehicles)
     if chunks is None:
-        chunks = 1 if executor is None else 4 * (os.cpu_count() or 1)
+        per_cpu = 1 if callable(getattr(study, "batch", None)) else 4
+        chunks = 1 if executor is None else per_cpu * (os.cpu_count() or 1)
     chunks = checks.integer("chunks", chunks, lo=1)
     bounds = chunk_bounds(m, min(chunks, m))
     parts = run_chunks(_run, [(study, vehicles[a:b]) for a, b in bounds], executor)

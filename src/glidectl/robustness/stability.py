@@ -4,8 +4,11 @@
 A controller designed on the nominal vehicle keeps its law (gain, set point, the model it was built on) while the
 plant takes a sampled vehicle's coefficients (:func:`with_vehicle`). The loop then has another equilibrium: it is
 found by Newton's method from the nominal one (``scipy.optimize.root`` with the complex-step Jacobian), and the
-loop is locally exponentially stable there iff every eigenvalue of its Jacobian has a negative real part (the
-states the loop never moves, rows of zeros in the nominal Jacobian such as a fixed actuator's, are held). The
+loop is locally exponentially stable there iff every eigenvalue of its Jacobian has a negative real part. Two kinds
+of states are held out of the analysis: those the loop never moves (rows of zeros in the nominal Jacobian, such as a
+fixed actuator's) and those nothing depends on (columns of zeros, such as the horizontal position and, without a
+density profile, the depth of a loop that does not feed them back: they drift along the glide and have no
+equilibrium, and the rest of the loop is stable or not whatever they are). The
 largest real part is the number studied: its distribution over the ``[uncertainty]`` table (probability of
 stability), its maximum over the box of the table (worst case: sampled, then a bounded local search from the worst
 samples and the box's corners), the largest scaling of that box about the nominal coefficients that keeps it
@@ -391,7 +394,7 @@ def _problem(controller: Any, vehicle: Vehicle | None) -> _Problem:
         raise ArgumentError(f"vehicle '{veh.name}' has no [uncertainty] table: add one to its file, or pass "
                             "vehicle=veh.with_uncertainty({...})")
     A = jacobians(lambda x, u: np.asarray(loop.rhs(x)), np.asarray(loop.equilibrium, float), np.zeros(0))[0]
-    free = tuple(int(i) for i in np.flatnonzero(np.any(A != 0, axis=1)))
+    free = tuple(int(i) for i in np.flatnonzero(np.any(A != 0, axis=1) & np.any(A != 0, axis=0)))
     keys = tuple(veh.uncertainty)
     nominal = np.array([veh.params[k] for k in keys], dtype=float)
     box = np.array([veh.uncertainty[k].box(veh.params[k]) for k in keys], dtype=float)
