@@ -18,10 +18,9 @@ hold back the next design. The slots are handed out in the order they were asked
 part worker that gives its slot back and asks again for its next part won it again before the woken waiter ran, 18
 of 20 tries). Processes are still started as before (a waiting part worker costs memory, not CPU).
 
-What it changes (cold ``glidectl report all`` on 2 cores, 2026-12-03, same numbers to the last digit): the CPU of
-a build drops by 5-15 % (four single-threaded processes time-sliced on two cores evict each other's caches), and a
-design's own time now includes its waits for slots (ch7_ctol: 285-379 s instead of 107-119 s, behind
-roa_certification's parts), which does not lengthen the build.
+What it changes (measured in ``bench/README.md``, report-all builds): the numbers stay the same to the last digit;
+a build spends less CPU (single-threaded processes time-sliced on the same cores evict each other's caches), and a
+design's own time now includes its waits for slots, which does not lengthen the build.
 
 Outside a pool build (a serial build, one design, a dask cluster, a plain script) no semaphore is installed and
 every function here does nothing: dask schedules its own workers' threads.

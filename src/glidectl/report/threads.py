@@ -2,10 +2,9 @@
 
 numpy's OpenBLAS, CVXOPT's BLAS and Clarabel's supernodal solver (faer, on a rayon thread pool) each start one
 thread per core in every process. On a pool of one worker per core that oversubscribes the machine, and the idle
-threads spin: one Clarabel solve of the user glider's saturated V step (2-core machine, nothing else running) took
-6.3 s of wall time and 9.4 s of CPU with the libraries' defaults, 6.4 s and 6.4 s with one thread each
-(2026-12-03). :func:`worker_threads` gives the workers of a pool ``cores // jobs`` threads each (at least one) by the
-environment variables these libraries read when they load, which spawned workers inherit. (The ROA layer holds BLAS
+threads spin: a Clarabel solve then costs about half again as much CPU as its wall time, for no gain (measured in
+``bench/README.md``). :func:`worker_threads` gives the workers of a pool ``cores // jobs`` threads each (at least
+one) by the environment variables these libraries read when they load, which spawned workers inherit. (The ROA layer holds BLAS
 and Clarabel to one thread while it certifies, whatever these variables say: their thread counts change its results;
 see ``glidectl.roa.blas_threads``.)
 """

@@ -118,7 +118,7 @@ def dive_cycle_ensemble(veh: Vehicle, n: int = 1000, seed: int = 0, controller: 
 
     The ``"lqr"`` samples of a chunk fly together (``batched``,
     :func:`~glidectl.controllers.dive_cycle.dive_cycles_batched`): one stacked state, each sample with its own step
-    size and depth switches, about 7 times faster than one by one; their metrics agree with
+    size and depth switches, many times faster than one by one (``bench/README.md``); their metrics agree with
     :func:`glidectl.dive_cycle` to its integration tolerance (about 1e-5 on times and distances, 3e-4 on
     energies and overshoots), not to the bit (Dormand-Prince against LSODA).
 
