@@ -4,9 +4,9 @@ numpy's OpenBLAS, CVXOPT's BLAS and Clarabel's supernodal solver (faer, on a ray
 thread per core in every process. On a pool of one worker per core that oversubscribes the machine, and the idle
 threads spin: a Clarabel solve then costs about half again as much CPU as its wall time, for no gain (measured in
 ``bench/README.md``). :func:`worker_threads` gives the workers of a pool ``cores // jobs`` threads each (at least
-one) by the environment variables these libraries read when they load, which spawned workers inherit. (The ROA layer holds BLAS
-and Clarabel to one thread while it certifies, whatever these variables say: their thread counts change its results;
-see ``glidectl.roa.blas_threads``.)
+one) by the environment variables these libraries read when they load, which spawned workers inherit. (The ROA
+layer holds BLAS and Clarabel to one thread while it certifies, whatever these variables say: their thread counts
+change its results; see ``glidectl.roa.blas_threads``.)
 """
 from __future__ import annotations
 
