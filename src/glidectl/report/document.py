@@ -1,5 +1,11 @@
-"""Report writer: a multi-page PDF (title, vehicle parameters, a results table or a published-vs-glidectl ledger,
-tables, figures with captions, notes), one PNG per figure, and ``numbers.json``.
+"""Report writer: a multi-page PDF (title, vehicle sections, a results table or a published-vs-glidectl ledger,
+tables, figures with captions, text sections), one PNG per figure, and ``numbers.json``.
+
+The PDF's tables flow one under the other on A4-landscape pages: a table goes under the previous one while it
+fits, a long one continues on the next pages under its repeated caption and header, and every cell wraps inside
+its column (nothing is cut). A vehicle section shows where the vehicle comes from (title, name, file, kind, law,
+provenance hash, notes), its parameters and actuators with value, unit and source, and its ``[uncertainty]``
+table. Each figure takes a page of its own; the text sections flow after the figures.
 
 ``numbers.json`` is a list of entries ``{name, value, unit, published, rel_err, reproduced, tolerance, source,
 note}``: ``published`` is the value a publication prints (or null), ``rel_err`` is ``|value - published| /
@@ -11,6 +17,8 @@ objects (no pyplot) and saves the figures it is given with ``Figure.savefig``.
 
 from __future__ import annotations
 
+import dataclasses
+import functools
 import json
 import math
 import textwrap
@@ -18,10 +26,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from matplotlib.backends.backend_pdf import PdfPages
 from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties, findfont, get_font
+from matplotlib.lines import Line2D
+from matplotlib.patches import Rectangle
 
 from ..errors import ArgumentError, ArgumentTypeError, OutputError
 from ..params import Vehicle
@@ -107,20 +118,20 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
-def _clip(text: str, width: float) -> str:
-    """Cut a ledger cell to what fits a column of ``width`` (fraction of the A4-landscape table) at 7 pt; the full
-    text goes to the ledger notes."""
-    n = max(int(width * 150), 6)
-    return text if len(text) <= n else text[:n - 1] + "\u2026"
-
-
 def _fmt(v: Any) -> str:
+    """A value as a table cell: floats to 5 digits, complex numbers as ``a+bi``, lists and arrays to their first 8
+    entries (``numbers.json`` has all)."""
+    import numpy as np
+
+    if isinstance(v, np.ndarray | np.generic):
+        v = v.tolist()
     if v is None:
         return "-"
     if isinstance(v, float):
         return f"{v:.5g}"
     if isinstance(v, list | tuple):
-        return ", ".join(_fmt(x) for x in v[:4]) + (" ..." if len(v) > 4 else "")
+        more = f" ... ({len(v)} entries in numbers.json)" if len(v) > 8 else ""
+        return ", ".join(_fmt(x) for x in v[:8]) + more
     if isinstance(v, complex):
         return f"{v.real:.4g}{v.imag:+.4g}i"
     return str(v)
@@ -259,7 +270,7 @@ class Report:
         self.figures.append((stem, fig, caption))
 
     def text(self, heading: str, body: str) -> None:
-        """Add a text section (paragraphs separated by blank lines) at the end of the PDF.
+        """Add a text section (paragraphs separated by blank lines) at the end of the PDF, after the figures.
 
         Parameters
         ----------
@@ -279,7 +290,8 @@ class Report:
         self.sections.append((heading, body))
 
     def table(self, caption: str, header: Sequence[str], rows: Sequence[Sequence[Any]]) -> None:
-        """Add a table page (long tables continue on further pages).
+        """Add a table, placed under the previous table while it fits the page (long tables continue on further
+        pages; cells wrap inside their column).
 
         Parameters
         ----------
@@ -316,83 +328,6 @@ class Report:
         return any(n.published is not None or n.verdict is not None for n in self.numbers)
 
     # ------------------------------------------------------------------ writing
-    def _text_pages(self, pdf: PdfPages, heading: str, paragraphs: list[str]) -> None:
-        lines: list[str] = []
-        for p in paragraphs:
-            lines.extend(textwrap.wrap(p, 100) or [""])
-            lines.append("")
-        per = 52
-        for k in range(0, max(len(lines), 1), per):
-            fig = Figure(figsize=(8.27, 11.69))
-            fig.text(0.07, 0.95, heading + (" (cont.)" if k else ""), fontsize=14, weight="bold", va="top")
-            fig.text(0.07, 0.91, "\n".join(lines[k:k + per]), fontsize=8.5, va="top", family="monospace")
-            pdf.savefig(fig)
-
-    def _table_pages(self, pdf: PdfPages, caption: str, header: list[str], rows: list[list[str]],
-                     widths: list[float] | None = None) -> None:
-        per = 34
-        if widths is None:  # proportional to the longest entry of each column
-            lens = [max([len(str(h))] + [len(str(r[i])) for r in rows if i < len(r)]) + 2
-                    for i, h in enumerate(header)]
-            widths = [x / sum(lens) for x in lens]
-        for k in range(0, max(len(rows), 1), per):
-            fig = Figure(figsize=(11.69, 8.27))
-            # a long caption wraps (about 110 characters of 12 pt bold across the landscape page), the table below it
-            lines = textwrap.wrap(caption + (" (cont.)" if k else ""), 110) or [""]
-            fig.text(0.04, 0.95, "\n".join(lines), fontsize=12, weight="bold", va="top")
-            ax = fig.add_axes((0.03, 0.04, 0.94, 0.86 - 0.025 * (len(lines) - 1)))
-            ax.axis("off")
-            chunk = rows[k:k + per] or [["-"] * len(header)]
-            t = ax.table(cellText=chunk, colLabels=header, loc="upper left", cellLoc="left",
-                         colWidths=widths)
-            t.auto_set_font_size(False)
-            t.set_fontsize(7)
-            t.scale(1, 1.25)
-            pdf.savefig(fig)
-
-    def _title_page(self, pdf: PdfPages, label: str) -> None:
-        fig = Figure(figsize=(8.27, 11.69))
-        fig.text(0.5, 0.75, "\n".join(textwrap.wrap(self.title, 60)), ha="center", va="center", fontsize=18,
-                 weight="bold")
-        fig.text(0.5, 0.66, f"glidectl {_version()} report '{label}'", ha="center", fontsize=12)
-        stamp = datetime.now(UTC).strftime("%Y-%m-%d %H:%M UTC")
-        vtxt = "\n".join(f"{v.title}  [{v.name}, provenance {v.provenance}]" for v in self.vehicles)
-        fig.text(0.5, 0.6, f"generated {stamp}\n\n{vtxt}", ha="center", va="top", fontsize=9)
-        if self.reference:
-            fig.text(0.5, 0.4, "Reference: " + "\n".join(textwrap.wrap(self.reference, 90)), ha="center",
-                     fontsize=9, style="italic")
-        pdf.savefig(fig)
-
-    def _number_rows(self) -> tuple[str, list[str], list[list[str]], list[float]]:
-        if self.has_ledger:
-            widths = [0.2, 0.22, 0.16, 0.07, 0.07, 0.07, 0.21]
-            cells = [[n.name, _fmt(_jsonable(n.value)), _fmt(_jsonable(n.published)), n.unit,
-                      "-" if n.rel_err is None else f"{n.rel_err:.2%}",
-                      {True: "yes", False: "NO", None: "-"}[n.reproduced], n.source] for n in self.numbers]
-            header = ["name", "glidectl", "published", "unit", "rel. err", "reproduced", "source"]
-            caption = "Ledger: published value vs glidectl value"
-        else:
-            widths = [0.28, 0.3, 0.1, 0.32]
-            cells = [[n.name, _fmt(_jsonable(n.value)), n.unit, n.source] for n in self.numbers]
-            header = ["name", "value", "unit", "source"]
-            caption = "Results"
-        rows = [[_clip(c, w) for c, w in zip(r, widths, strict=True)] for r in cells]
-        return caption, header, rows, widths
-
-    def _notes(self, rows: list[list[str]]) -> list[str]:
-        notes = []
-        for n, row in zip(self.numbers, rows, strict=True):
-            full = [("glidectl", _fmt(_jsonable(n.value)), row[1])]
-            if self.has_ledger:
-                full += [("published", _fmt(_jsonable(n.published)), row[2]), ("unit", n.unit, row[3])]
-            else:
-                full += [("unit", n.unit, row[2])]
-            clipped = "; ".join(f"{k}: {v}" for k, v, shown in full if v != shown)
-            text = " ".join(t for t in (clipped + "." if clipped else "", n.note) if t)
-            if text:
-                notes.append(f"{n.name}: {text}")
-        return notes
-
     def write(self, outdir: str | Path) -> Path:
         """Write ``report.pdf``, ``<stem>.png`` per figure and ``numbers.json`` into ``outdir``.
 
@@ -431,29 +366,563 @@ class Report:
             fig.savefig(out / f"{stem}.png", dpi=130)
         pdf_path = out / "report.pdf"
         with PdfPages(pdf_path) as pdf:
-            self._title_page(pdf, out.name)
-            for v in self.vehicles:
-                rows = [[k, val, u, s[:70]] for k, val, u, s in v.summary_rows()]
-                self._table_pages(pdf, f"Vehicle parameters: {v.title}", ["key", "value", "unit", "source"],
-                                  rows, [0.12, 0.12, 0.14, 0.62])
-            if self.numbers:
-                caption, header, rows, widths = self._number_rows()
-                self._table_pages(pdf, caption, header, rows, widths)
-                notes = self._notes(rows)
-                if notes:
-                    self._text_pages(pdf, "Notes on the numbers", notes)
-            for caption, header, trows in self.tables:
-                self._table_pages(pdf, caption, header, trows)
-            for stem, fig, caption in self.figures:
-                _figure_page(pdf, stem, fig, caption)
-            for heading, body in self.sections:
-                self._text_pages(pdf, heading, body.split("\n\n"))
+            self._render(pdf, out.name)
         for _, fig, _ in self.figures:
             _close(fig)
         return pdf_path
 
+    def _render(self, sink: _Sink, label: str) -> int:
+        """Draw the report's pages into ``sink`` (a :class:`PdfPages`, or anything with ``savefig(fig)``).
 
-def _figure_page(pdf: PdfPages, stem: str, fig: Any, caption: str) -> None:
+        The title, the vehicle sections, the number table with its notes and the tables flow one under the other
+        on landscape pages; each figure takes a page of its own; the text sections flow after the figures (after
+        the tables when there are none).
+
+        Parameters
+        ----------
+        sink : PdfPages or object with a ``savefig(fig)`` method
+            Receives one :class:`~matplotlib.figure.Figure` per page, in order.
+        label : str
+            Name of the report (its folder), printed under the title.
+
+        Returns
+        -------
+        int
+            Number of pages drawn.
+        """
+        pages = _Pages(sink)
+        pages.title(self.title, f"glidectl {_version()} report '{label}', generated "
+                    f"{datetime.now(UTC).strftime('%Y-%m-%d %H:%M UTC')}",
+                    "Reference: " + self.reference if self.reference else "")
+        for v in self.vehicles:
+            for table in _vehicle_tables(v):
+                pages.table(table)
+        if self.numbers:
+            pages.table(self._number_table())
+            notes = [[n.name, n.note] for n in self.numbers if n.note]
+            if notes:
+                pages.table(_layout_table("Notes on the numbers", None, notes))
+        for caption, header, rows in self.tables:
+            pages.table(_layout_table(caption, header, rows))
+        if self.figures:
+            pages.close()
+        for stem, fig, caption in self.figures:
+            _figure_page(sink, stem, fig, caption)
+        for heading, body in self.sections:
+            pages.text(heading, body.split("\n\n"))
+        pages.close()
+        return pages.count + len(self.figures)
+
+    def _number_table(self) -> _Table:
+        """The ledger (published value vs glidectl value) when the report has one, else the results table."""
+        if self.has_ledger:
+            cells = [[n.name, _fmt(n.value), _fmt(n.published), n.unit,
+                      "-" if n.rel_err is None else f"{n.rel_err:.2%}",
+                      {True: "yes", False: "NO", None: "-"}[n.reproduced], n.source] for n in self.numbers]
+            header = ["name", "glidectl", "published", "unit", "rel. err", "reproduced", "source"]
+            return _layout_table("Ledger: published value vs glidectl value", header, cells)
+        cells = [[n.name, _fmt(n.value), n.unit, n.source] for n in self.numbers]
+        return _layout_table("Results", ["name", "value", "unit", "source"], cells)
+
+
+def _vehicle_tables(v: Vehicle) -> list[_Table]:
+    """The tables of a vehicle's section: where it comes from, its parameters and its uncertainty.
+
+    The first table is a key-value block (title, name, file, kind, law, provenance hash, overrides, the file's
+    notes); the second lists :meth:`Vehicle.summary_rows` (parameters, the law, the density profile, actuators
+    with their notes) with value, unit and source; a vehicle with an ``[uncertainty]`` table adds its entries
+    (kind, nominal value, absolute bounds, standard deviation, source) and, when it has them, the correlations.
+
+    Parameters
+    ----------
+    v : Vehicle
+        The vehicle.
+
+    Returns
+    -------
+    list of _Table
+        The laid-out tables, in reading order.
+    """
+    facts = [["title", v.title], ["name", v.name], ["file", v.path or "none: built in Python"],
+             ["kind", v.kind], ["law", v.law], ["provenance", v.provenance]]
+    if v.overrides:
+        facts.append(["overrides", ", ".join(f"{k} = {x:.6g}" for k, x in v.overrides.items())])
+    facts.append(["notes", _prose(v.notes) or "none"])
+    tables = [_layout_table(f"Vehicle '{v.name}'", None, facts)]
+    rows = [list(r) for r in v.summary_rows() if not r[0].startswith("[uncertainty]")]
+    for r in rows:  # an actuator's note (the file's ``note``) goes with its source
+        act = v.actuators.get(r[0].removeprefix("[actuator] ")) if r[0].startswith("[actuator] ") else None
+        if act is not None and act.note:
+            r[3] = f"{r[3]}; note: {act.note}" if r[3] else f"note: {act.note}"
+    tables.append(_layout_table(f"Parameters of vehicle '{v.name}'", ["key", "value", "unit", "source"], rows))
+    if v.uncertainty:
+        units = v.units
+        rows = [[k, u.kind, f"{v.params[k]:.6g}", _bound(u.low), _bound(u.high), _bound(u.std), units.get(k, ""),
+                 u.source] for k, u in v.uncertainty.items()]
+        tables.append(_layout_table(f"Uncertainty of vehicle '{v.name}' ([uncertainty] table, absolute values)",
+                                   ["key", "kind", "nominal", "low", "high", "std", "unit", "source"], rows))
+        if v.correlation:
+            tables.append(_layout_table(f"Correlations of vehicle '{v.name}' ([uncertainty.correlation])",
+                                       ["keys", "correlation"], [[f"{a}, {b}", f"{r:.6g}"]
+                                                                 for (a, b), r in v.correlation]))
+    return tables
+
+
+def _bound(x: float) -> str:
+    """An uncertainty bound or standard deviation: ``"-"`` for an interval's missing ``std``."""
+    return "-" if math.isnan(x) else f"{x:.6g}"
+
+
+def _prose(text: str) -> str:
+    """``text`` with the line breaks of a hard-wrapped file (single newlines) joined; blank lines stay breaks."""
+    paragraphs = (" ".join(p.split()) for p in text.split("\n\n"))
+    return "\n".join(p for p in paragraphs if p)
+
+
+# ---------------------------------------------------------------------------------------------------- page layout
+# Tables and text flow on A4-landscape pages, measured in points from the top-left corner of the page. Text is
+# wrapped with textwrap to a character capacity, width / (em x font size): em starts at the text's mean character
+# width and shrinks while the widest line, measured with the glyph advances of the font the text is drawn in, is
+# wider than its column; lines fill their column without running out of it.
+
+_PAGE_IN = (11.69, 8.27)            # A4 landscape (inches)
+_PAGE_W, _PAGE_H = 72 * _PAGE_IN[0], 72 * _PAGE_IN[1]
+_MARGIN = 36.0                       # page margin on every side (pt)
+_CONTENT_W = _PAGE_W - 2 * _MARGIN
+_CONTENT_H = _PAGE_H - 2 * _MARGIN
+_GAP = 16.0                          # space between two blocks (pt)
+_TITLE_PT = 17.0                     # font size of the report's title
+_CAPTION_PT = 10.5                   # table captions and section headings
+_CELL_PT = 8.0                       # table cells
+_BODY_PT = 9.5                       # text sections
+_BODY_W = 660.0                      # width of their lines (pt): about 130 characters, still easy to read
+_LEADING = 1.3                       # line height, in font sizes
+_PAD = 3.0                           # cell padding on every side (pt)
+_KEEP_ROWS = 10                      # a table of at most this many rows is not split while it fits a page
+_MIN_ROWS = 4                        # rows of a split table on either page, at least
+_HEADER_FILL, _SHADE_FILL, _RULE, _THIN = "#dde3ea", "#f1f3f6", "#555555", "#bbbbbb"
+
+
+class _Sink(Protocol):
+    """Where pages go: :class:`PdfPages`, or a test's collector."""
+
+    def savefig(self, figure: Figure) -> None: ...
+
+
+@functools.lru_cache(maxsize=8192)
+def _advance(char: str, font_file: str) -> float:
+    """Advance width of ``char`` in the font ``font_file``, in font sizes (cached: a report measures thousands
+    of lines made of a few dozen characters)."""
+    font = get_font(font_file)
+    font.set_size(100.0, 72.0)
+    return font.load_char(ord(char)).linearHoriAdvance / 65536 / 100.0
+
+
+def _text_width(text: str, size: float, bold: bool = False) -> float:
+    """Width (pt) of one line of ``text`` in matplotlib's current default font (without kerning, which only
+    narrows a line).
+
+    Parameters
+    ----------
+    text : str
+        One line.
+    size : float
+        Font size (pt).
+    bold : bool
+        Bold weight.
+
+    Returns
+    -------
+    float
+        The width in points.
+    """
+    font_file = findfont(FontProperties(weight="bold" if bold else "normal"))
+    return size * sum(_advance(c, font_file) for c in text)
+
+
+def _capacity(width: float, size: float, em: float) -> int:
+    """How many characters of ``em`` font sizes each fit ``width`` points at ``size`` points (at least one)."""
+    return max(int(width / (em * size)), 1)
+
+
+def _wrap(text: str, width: int) -> list[str]:
+    """Lines of at most ``width`` characters holding all of ``text``.
+
+    Line breaks of ``text`` are kept, lines break at spaces (not at hyphens, which would split ``5-95``), and a
+    word longer than a line is broken across lines, so nothing is dropped.
+
+    Parameters
+    ----------
+    text : str
+        The text.
+    width : int
+        Characters per line (at least 1).
+
+    Returns
+    -------
+    list of str
+        At least one line (``[""]`` for an empty text).
+    """
+    lines: list[str] = []
+    for part in text.split("\n"):
+        lines.extend(textwrap.wrap(part, max(width, 1), break_on_hyphens=False) or [""])
+    return lines
+
+
+def _fit(text: str, width: float, size: float, bold: bool = False) -> list[str]:
+    """``text`` wrapped so that every line fits ``width`` points at ``size`` points.
+
+    The character capacity starts from the text's mean character width (a text that fits stays on one line) and
+    shrinks in proportion to the widest line until every line fits.
+
+    Parameters
+    ----------
+    text : str
+        The text (its line breaks are kept).
+    width : float
+        Available width (pt).
+    size : float
+        Font size (pt).
+    bold : bool
+        Bold weight.
+
+    Returns
+    -------
+    list of str
+        The lines (all of ``text``; a single character wider than ``width`` stays on a line of its own).
+    """
+    flat = text.replace("\n", "")
+    chars = _capacity(width, size, max(_text_width(flat, size, bold) / (size * max(len(flat), 1)), 0.1))
+    while True:
+        lines = _wrap(text, chars)
+        widest = max(_text_width(line, size, bold) for line in lines)
+        if widest <= width or chars == 1:
+            return lines
+        chars = max(min(chars - 1, int(chars * width / widest)), 1)
+
+
+def _column_widths(natural: Sequence[float], total: float) -> list[float]:
+    """Widths of a table's columns: their natural widths when these fit ``total``, else a water filling.
+
+    The narrow columns (keys, units) keep their natural width and the wide ones share what is left equally, so a
+    long source column wraps while the short ones stay on one line.
+
+    Parameters
+    ----------
+    natural : sequence of float
+        Width each column needs for its longest line (pt).
+    total : float
+        Available width (pt).
+
+    Returns
+    -------
+    list of float
+        Column widths (pt): the natural widths when they fit, else widths summing to ``total``.
+    """
+    if sum(natural) <= total:
+        return list(natural)
+    widths = list(natural)
+    order = sorted(range(len(natural)), key=natural.__getitem__)
+    left = total
+    for k, j in enumerate(order):
+        share = left / (len(order) - k)
+        if natural[j] > share:
+            for i in order[k:]:
+                widths[i] = share
+            break
+        left -= natural[j]
+    return widths
+
+
+@dataclass(frozen=True)
+class _Row:
+    """One row of a laid-out table: the wrapped lines of each cell.
+
+    Attributes
+    ----------
+    cells : tuple of tuple of str
+        Lines of each cell.
+    shaded : bool
+        Whether the row is drawn on a shaded background (every other row of the source table; the parts of a
+        split row keep their row's shade).
+    """
+
+    cells: tuple[tuple[str, ...], ...]
+    shaded: bool = False
+
+    @property
+    def lines(self) -> int:
+        """Lines of the tallest cell (at least one)."""
+        return max(1, max((len(c) for c in self.cells), default=1))
+
+    @property
+    def height(self) -> float:
+        """Height of the row (pt): its tallest cell's lines plus the padding."""
+        return self.lines * _LEADING * _CELL_PT + 2 * _PAD
+
+    def split(self, max_lines: int) -> list[_Row]:
+        """The row cut into consecutive rows of at most ``max_lines`` lines (a row taller than a page)."""
+        if self.lines <= max_lines:
+            return [self]
+        return [_Row(tuple(c[k:k + max_lines] for c in self.cells), self.shaded)
+                for k in range(0, self.lines, max_lines)]
+
+
+@dataclass(frozen=True)
+class _Table:
+    """A table laid out for the page: wrapped caption and cells, column widths, rows no taller than a page.
+
+    Attributes
+    ----------
+    caption, continued : tuple of str
+        Lines of the caption, and of the caption repeated on a continuation page.
+    widths : tuple of float
+        Column widths (pt).
+    header : _Row or None
+        The header row, repeated on every page of the table; None for a key-value block (first column bold).
+    rows : tuple of _Row
+        The body rows.
+    """
+
+    caption: tuple[str, ...]
+    continued: tuple[str, ...]
+    widths: tuple[float, ...]
+    header: _Row | None
+    rows: tuple[_Row, ...]
+
+    def top(self, caption: Sequence[str]) -> float:
+        """Height (pt) of a caption of ``caption``'s lines and the header row, above the body rows."""
+        return len(caption) * _LEADING * _CAPTION_PT + 3.0 + (0.0 if self.header is None else self.header.height)
+
+    @property
+    def height(self) -> float:
+        """Height of the whole table on one page (pt)."""
+        return self.top(self.caption) + sum(r.height for r in self.rows)
+
+    def take(self, start: int, room: float, caption: Sequence[str], fresh: bool) -> int:
+        """How many body rows from ``start`` go on a page with ``room`` points left under ``caption`` and the header.
+
+        A fresh page takes at least one row (no row is taller than a page), and a page leaves the next one at least
+        :data:`_MIN_ROWS` rows when it can keep as many itself (no lone last row on a page of its own).
+        """
+        left, n = room - self.top(caption), 0
+        while start + n < len(self.rows) and self.rows[start + n].height <= left:
+            left -= self.rows[start + n].height
+            n += 1
+        n = max(n, 1) if fresh else n
+        rest = len(self.rows) - start - n
+        if 0 < rest < _MIN_ROWS <= n - (_MIN_ROWS - rest):
+            n -= _MIN_ROWS - rest
+        return n
+
+
+def _layout_table(caption: str, header: Sequence[str] | None, rows: Sequence[Sequence[str]]) -> _Table:
+    """Lay out a table: column widths from the content, every cell wrapped in its column, tall rows split.
+
+    Each column's natural width is its widest line (its bold header's included); when the columns do not fit the
+    page, :func:`_column_widths` narrows the widest. Each cell is wrapped to its column (:func:`_fit`); a row
+    taller than a page (a very long cell) is split into rows that fit one.
+
+    Parameters
+    ----------
+    caption : str
+        Caption printed above the table (wrapped).
+    header : sequence of str or None
+        Column headings; None for a key-value block (the keys, first column, in bold).
+    rows : sequence of sequence of str
+        The cells; an empty table gets one row of ``"-"``.
+
+    Returns
+    -------
+    _Table
+        The laid-out table.
+    """
+    ncol = len(header) if header is not None else max((len(r) for r in rows), default=2)
+    cells = [[str(c) for c in r] for r in rows] or [["-"] * ncol]
+    bold = [header is None and j == 0 for j in range(ncol)]
+    widths = _column_widths(_natural_widths(header, cells, bold), _CONTENT_W)
+    head = None if header is None else _Row(tuple(
+        tuple(_fit(h, w - 2 * _PAD, _CELL_PT, True)) for h, w in zip(header, widths, strict=True)))
+    frame = _Table(tuple(_fit(caption, _CONTENT_W, _CAPTION_PT, True)),
+                   tuple(_fit(caption + " (continued)", _CONTENT_W, _CAPTION_PT, True)), tuple(widths), head, ())
+    max_lines = max(int((_CONTENT_H - frame.top(frame.continued) - 2 * _PAD) / (_LEADING * _CELL_PT)), 1)
+    body = []
+    for i, r in enumerate(cells):
+        row = _Row(tuple(tuple(_fit(c, w - 2 * _PAD, _CELL_PT, b)) for c, w, b in zip(r, widths, bold, strict=True)),
+                   shaded=i % 2 == 1)
+        body.extend(row.split(max_lines))
+    return dataclasses.replace(frame, rows=tuple(body))
+
+
+def _natural_widths(header: Sequence[str] | None, cells: list[list[str]], bold: list[bool]) -> list[float]:
+    """Width (pt) each column needs for its widest line, its bold header's included, and the padding."""
+    natural = []
+    for j, heavy in enumerate(bold):
+        lines = [line for r in cells for line in r[j].split("\n")]
+        widest = max((_text_width(line, _CELL_PT, heavy) for line in lines), default=0.0)
+        if header is not None:
+            widest = max(widest, _text_width(header[j], _CELL_PT, True))
+        natural.append(widest + 2 * _PAD + 1.0)
+    return natural
+
+
+class _Pages:
+    """The flow of landscape pages: blocks go one under the other, a new page begins when the next does not fit.
+
+    Parameters
+    ----------
+    sink : PdfPages or object with ``savefig(fig)``
+        Receives each finished page.
+
+    Attributes
+    ----------
+    count : int
+        Pages handed to ``sink`` so far.
+    """
+
+    def __init__(self, sink: _Sink) -> None:
+        self.sink = sink
+        self.count = 0
+        self.fig: Figure | None = None
+        self.y = _MARGIN                 # top of the free space of the page (pt from the page's top)
+
+    @property
+    def room(self) -> float:
+        """Free height left on the page (pt); a whole page when none is open."""
+        return _CONTENT_H if self.fig is None else _PAGE_H - _MARGIN - self.y
+
+    @property
+    def fresh(self) -> bool:
+        """True when nothing is drawn on the page yet."""
+        return self.fig is None or self.y == _MARGIN
+
+    def close(self) -> None:
+        """Hand the open page, if any, to the sink."""
+        if self.fig is not None:
+            self.sink.savefig(self.fig)
+            self.count += 1
+            self.fig = None
+
+    def _page(self) -> Figure:
+        """The open page, opening one when needed."""
+        if self.fig is None:
+            self.fig = Figure(figsize=_PAGE_IN)
+            self.y = _MARGIN
+        return self.fig
+
+    def _start(self, needed: float) -> None:
+        """Begin a block whose first part is ``needed`` points tall: under a gap when it fits, else on a new page."""
+        if not self.fresh and needed + _GAP > self.room:
+            self.close()
+        self._page()
+        if not self.fresh:
+            self.y += _GAP
+
+    def _text(self, x: float, s: str, size: float, **kw: Any) -> None:
+        """Draw ``s`` (literally: no mathtext) with its top at the current line, ``x`` points from the left edge."""
+        fig = self._page()
+        fig.text(x / 72, (_PAGE_H - self.y) / 72, s, transform=fig.dpi_scale_trans, fontsize=size, va="top",
+                 parse_math=False, **kw)
+
+    def _box(self, top: float, width: float, height: float, color: str) -> None:
+        fig = self._page()
+        fig.add_artist(Rectangle((_MARGIN / 72, (_PAGE_H - top - height) / 72), width / 72, height / 72,
+                                 facecolor=color, edgecolor="none", transform=fig.dpi_scale_trans))
+
+    def _rule(self, y: float, width: float, lw: float = 0.6, color: str = _RULE) -> None:
+        fig = self._page()
+        fig.add_artist(Line2D([_MARGIN / 72, (_MARGIN + width) / 72], [(_PAGE_H - y) / 72] * 2, linewidth=lw,
+                              color=color, transform=fig.dpi_scale_trans))
+
+    def _lines(self, lines: Sequence[str], size: float, x: float = _MARGIN, **kw: Any) -> None:
+        """Draw ``lines`` one under the other from the current line and move below them."""
+        for line in lines:
+            if line:
+                self._text(x, line, size, **kw)
+            self.y += _LEADING * size
+
+    def title(self, title: str, subtitle: str, reference: str) -> None:
+        """The report's title block, centred at the top of the first page, and a rule under it."""
+        self._page()
+        self.y += 8.0
+        centre: dict[str, Any] = {"x": _PAGE_W / 2, "ha": "center"}
+        self._lines(_fit(title, 0.8 * _CONTENT_W, _TITLE_PT, True), _TITLE_PT, weight="bold", **centre)
+        self.y += 4.0
+        self._lines([subtitle], 9.5, **centre)
+        if reference:
+            self._lines(_fit(reference, 0.8 * _CONTENT_W, 9.0), 9.0, style="italic", **centre)
+        self.y += 6.0
+        self._rule(self.y, _CONTENT_W)
+        self.y += 1.0
+
+    def table(self, t: _Table) -> None:
+        """Place a table under the previous block when it fits there, else from the top of a new page.
+
+        A table that does not fit the room left is split there only when it is long (more than
+        :data:`_KEEP_ROWS` rows, or taller than a page) and at least :data:`_MIN_ROWS` rows go on either side;
+        its continuation pages repeat the caption (marked continued) and the header.
+        """
+        if not self.fresh and t.height + _GAP > self.room:
+            here = t.take(0, self.room - _GAP, t.caption, fresh=False)
+            long = len(t.rows) > _KEEP_ROWS or t.height > _CONTENT_H
+            if not (long and here >= _MIN_ROWS and len(t.rows) - here >= _MIN_ROWS):
+                self.close()
+        i, caption = 0, t.caption
+        while True:
+            self._start(t.top(caption) + t.rows[i].height)
+            n = t.take(i, self.room, caption, self.fresh)
+            self._lines(caption, _CAPTION_PT, weight="bold")
+            self.y += 3.0
+            if t.header is not None:
+                self._row(t, t.header, _HEADER_FILL, bold=True)
+            else:
+                self._rule(self.y, sum(t.widths), 0.3, _THIN)
+            for row in t.rows[i:i + n]:
+                self._row(t, row, _SHADE_FILL if row.shaded and t.header is not None else None)
+            if t.header is not None:
+                self._rule(self.y, sum(t.widths))
+            i += n
+            if i >= len(t.rows):
+                return
+            self.close()
+            caption = t.continued
+
+    def _row(self, t: _Table, row: _Row, fill: str | None, bold: bool = False) -> None:
+        """Draw one row at the current line (shaded, or ruled below in a key-value block) and move below it."""
+        top, x = self.y, _MARGIN
+        if fill is not None:
+            self._box(top, sum(t.widths), row.height, fill)
+        elif t.header is None:
+            self._rule(top + row.height, sum(t.widths), 0.3, _THIN)
+        for j, (lines, w) in enumerate(zip(row.cells, t.widths, strict=True)):
+            self.y = top + _PAD
+            heavy = bold or (t.header is None and j == 0)
+            self._lines(lines, _CELL_PT, x + _PAD, weight="bold" if heavy else "normal")
+            x += w
+        self.y = top + row.height
+
+    def text(self, heading: str, paragraphs: Sequence[str]) -> None:
+        """Place a text section: its heading, then its paragraphs (blank line between), flowing over pages."""
+        lines: list[str] = []
+        for p in paragraphs:
+            lines.extend([*_fit(" ".join(p.split()), _BODY_W, _BODY_PT), ""])
+        lines.pop()
+        step = _LEADING * _BODY_PT
+        i, head = 0, _fit(heading, _CONTENT_W, _CAPTION_PT, True)
+        while True:
+            self._start(len(head) * _LEADING * _CAPTION_PT + 3.0 + 3 * step)
+            self._lines(head, _CAPTION_PT, weight="bold")
+            self.y += 3.0
+            while i < len(lines) and step <= self.room:
+                self._lines([lines[i]], _BODY_PT)
+                i += 1
+            if i >= len(lines):
+                return
+            self.close()
+            head = _fit(heading + " (continued)", _CONTENT_W, _CAPTION_PT, True)
+
+
+def _figure_page(pdf: _Sink, stem: str, fig: Any, caption: str) -> None:
     """One PDF page: the figure with its caption below (the figure is restored afterwards)."""
     fig.suptitle("")
     w, h = fig.get_size_inches()
