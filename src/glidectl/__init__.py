@@ -197,6 +197,7 @@ from .roa import (
     validity_box,
 )
 from .roa.lmi import EllipsoidCertificate, EllipsoidVerification, SaturatedLoop, certify_roa_lmi
+from .roa.robust import RobustEllipsoidCertificate, RobustVerification, certify_roa_family
 from .robustness import (
     DiveStudy,
     LoopPoles,
@@ -204,6 +205,7 @@ from .robustness import (
     MonteCarlo,
     RobustStability,
     WorstCase,
+    certify_roa_robust,
     dive_cycle_ensemble,
     loop_poles,
     mission_ensemble,
@@ -292,6 +294,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "AffineLimit",
         "RemainderBound", "surrogate_error", "surrogate_system",
         "validity_box",
+        "certify_roa_family", "RobustEllipsoidCertificate", "RobustVerification",
     ),
     "simulation": (
         "BatchComparison", "BatchResult", "compare_controllers", "ControllerRecord", "Ensemble",
@@ -311,6 +314,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
     "robustness": (
         "dive_cycle_ensemble", "DiveStudy", "LoopPoles", "loop_poles", "mission_ensemble", "MissionStudy",
         "monte_carlo", "MonteCarlo", "robust_stability", "RobustStability", "with_vehicle", "WorstCase",
+        "certify_roa_robust",
     ),
     "errors": (
         "ArgumentError", "ArgumentTypeError", "BudgetError", "DesignError", "GlidectlError", "InfeasibleGlideError",
@@ -430,7 +434,9 @@ __all__ = [
     "RecordError",
     "ReducedLongitudinalGlider",
     "RemainderBound",
+    "RobustEllipsoidCertificate",
     "RobustStability",
+    "RobustVerification",
     "SOSSize",
     "SampledGlideLQG",
     "SampledLQG",
@@ -470,7 +476,9 @@ __all__ = [
     "buoyancy_equilibrium",
     "buoyancy_lyapunov_check",
     "certify_roa",
+    "certify_roa_family",
     "certify_roa_lmi",
+    "certify_roa_robust",
     "classify_C",
     "classify_motion",
     "climb_trajectory",

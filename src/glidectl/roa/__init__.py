@@ -9,6 +9,7 @@ from .moment import MOMENT_POLICY, MomentPolicy, solve_moment
 from .options import BudgetOptions, SamplingOptions, SolverOptions, SurrogateOptions
 from .polynomial import Poly, monomial_matrix, monomials
 from .programs import LevelResult, SOSSize, estimate_sos_size, lyapunov_matrix, lyapunov_quadratic, max_level
+from .robust import RobustEllipsoidCertificate, RobustVerification, certify_roa_family
 from .scaling import DEFAULT_HALF_WIDTH, box_scale, resolve_box, scaled_lyapunov, validity_box
 from .sdp_solvers import SDP_SOLVERS, installed_sdp_solvers
 from .sector import sector_system
@@ -35,6 +36,8 @@ __all__ = [
     "ROACertificate",
     "ROAVerification",
     "RemainderBound",
+    "RobustEllipsoidCertificate",
+    "RobustVerification",
     "SOSProgram",
     "SOSSize",
     "SamplingOptions",
@@ -42,6 +45,7 @@ __all__ = [
     "SurrogateOptions",
     "box_scale",
     "certify_roa",
+    "certify_roa_family",
     "convergent_extent",
     "convergent_slice",
     "dVdt",

@@ -62,13 +62,21 @@ interval enclosure. The certificate is therefore sound up to that bound, and eve
 posteriori on the true saturated loop (:class:`EllipsoidVerification`): the assembled LMI's eigenvalues in floating
 point, the region blocks, the remainder bound on dense samples of ``E``, sampled true ``dV/dt < 0`` in ``E`` and on
 its boundary, and simulated convergence from boundary points. ``certified`` reports those checks.
+
+Shared with the robust certificate
+----------------------------------
+The scaling with a given ``D`` (:func:`scale_loop`), the search over remainder boxes (:func:`ellipsoid_search`), the
+back-off (:func:`back_off`) and the verification (:func:`verify_ellipsoid`) also serve
+:func:`glidectl.roa.robust.certify_roa_family`, whose program has one decrease LMI per corner of a box of uncertain
+coefficients, with common multipliers and one common slack for the remainder terms (:func:`_vertex_program`), and
+a remainder bound with a term linear in ``(x, w)``.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -90,28 +98,61 @@ from ..models.saturated_loop import (  # noqa: F401 (held_motion, held_points: r
 )
 from .blas_threads import pinned_blas
 from .extent import Extent
-from .sdp_solvers import DEFAULT_SOLVER, check_solver, inaccuracy_checked, solver_argument, solver_options
+from .sdp_solvers import DEFAULT_SOLVER, MOMENT, check_solver, inaccuracy_checked, solver_argument, solver_options
 
-__all__ = ["EllipsoidCertificate", "EllipsoidVerification", "SaturatedLoop", "certify_roa_lmi"]
+__all__ = ["EllipsoidCertificate", "EllipsoidSearch", "EllipsoidSolution", "EllipsoidVerification", "Remainder",
+           "SaturatedLoop", "ScaledLoop", "back_off", "certify_roa_lmi", "ellipsoid_search", "scale_loop",
+           "search_options", "verify_ellipsoid"]
 
 
 # --------------------------------------------------------------------------------------------- scaled problem
 @dataclass(frozen=True)
-class _Scaled:
-    f: np.ndarray          # free state indices
-    d: np.ndarray          # state half-widths (free)
-    s: np.ndarray          # input scales
+class ScaledLoop:
+    """A :class:`SaturatedLoop` in the scaled deviation ``x = D^-1 (X - X_e)_f`` and scaled inputs ``w = v / s``
+    (module docstring), what the programs and the checks of this module work on (:func:`scale_loop`).
+
+    Attributes
+    ----------
+    f : ndarray of int
+        The free states' indices.
+    d : ndarray, shape (nf,)
+        Their half-widths ``D`` (state units).
+    s : ndarray, shape (m,)
+        Input scales (the fed-back channels' units).
+    A, B : ndarray
+        Exact Jacobians of the scaled ``F`` at the equilibrium, ``(nf, nf)`` and ``(nf, m)`` (per time unit).
+    K : ndarray, shape (m, nf)
+        The scaled gain.
+    lo, hi : ndarray, shape (m,)
+        The scaled constant levels.
+    F : callable
+        Scaled ``F(x, w)`` (free components), batch-capable and complex-safe.
+    truth : callable
+        The scaled true loop ``x -> x'``.
+    feedback : callable
+        The scaled saturated inputs ``w(x)``, every limit applied.
+    lim_ch : ndarray of int, shape (L,)
+        The channel of each state-dependent limit.
+    lim_a : ndarray, shape (L, nf)
+        Its scaled gain.
+    lim_b : ndarray, shape (L,)
+        Its scaled, signed value at the equilibrium.
+    """
+
+    f: np.ndarray
+    d: np.ndarray
+    s: np.ndarray
     A: np.ndarray
     B: np.ndarray
     K: np.ndarray
-    lo: np.ndarray         # scaled levels
+    lo: np.ndarray
     hi: np.ndarray
-    F: Callable[[np.ndarray, np.ndarray], np.ndarray]      # scaled F(x, w) (free components)
-    truth: Callable[[np.ndarray], np.ndarray]              # scaled true loop x -> x'
-    feedback: Callable[[np.ndarray], np.ndarray]           # scaled saturated inputs w(x), all limits
-    lim_ch: np.ndarray     # channel of each state-dependent limit, (L,)
-    lim_a: np.ndarray      # its gain (scaled), (L, nf)
-    lim_b: np.ndarray      # its value at the equilibrium (scaled, signed), (L,)
+    F: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    truth: Callable[[np.ndarray], np.ndarray]
+    feedback: Callable[[np.ndarray], np.ndarray]
+    lim_ch: np.ndarray
+    lim_a: np.ndarray
+    lim_b: np.ndarray
 
     @property
     def sat(self) -> np.ndarray:
@@ -132,11 +173,39 @@ class _Scaled:
         return out
 
 
-def _scale(sl: SaturatedLoop) -> _Scaled:
+def scale_loop(sl: SaturatedLoop, d: Any = None) -> ScaledLoop:
+    """The loop in the scaled deviation and inputs of the module docstring, with its exact linearization.
+
+    Parameters
+    ----------
+    sl : SaturatedLoop
+        The loop, at its equilibrium.
+    d : array_like, shape (nf,), optional
+        Half-widths ``D`` of the free states (state units, > 0, ``X_e +- D`` inside the loop's box). Default: those
+        of the largest box centred on the equilibrium inside the loop's box. A family of loops scaled alike (the
+        robust certificate, :mod:`glidectl.roa.robust`) gives one ``D`` to every member.
+
+    Returns
+    -------
+    ScaledLoop
+
+    Raises
+    ------
+    ArgumentError
+        If ``d`` has the wrong shape, is not positive, or ``X_e +- D`` leaves the box.
+    ModelError
+        If the linearization is not finite, or the equilibrium is not one (``F(X_e, 0) != 0``).
+    """
     f = np.array(sl.free)
     xe = sl.equilibrium
     lo, hi = sl.box
-    d = np.minimum(xe - lo, hi - xe)[f]
+    if d is None:
+        d = np.minimum(xe - lo, hi - xe)[f]
+    else:
+        d = checks.array("d", d, shape=(len(f),))
+        if not (np.all(d > 0) and np.all(xe[f] - d >= lo[f]) and np.all(xe[f] + d <= hi[f])):
+            raise ArgumentError(f"the half-widths d = {d.tolist()} must be positive with x_e +- d inside the box of "
+                                f"'{sl.name}'")
     Kd = sl.K[:, f] * d
     u0 = np.minimum(-sl.u_lo, sl.u_hi)
     s = np.minimum(u0, np.sum(np.abs(Kd), axis=1))
@@ -167,10 +236,10 @@ def _scale(sl: SaturatedLoop) -> _Scaled:
     ch = np.array([q.channel for q in sl.limits], dtype=int)
     la = np.array([q.a[f] * d / s[q.channel] for q in sl.limits]).reshape(len(ch), nf)
     lb = np.array([q.b / s[q.channel] for q in sl.limits])
-    return _Scaled(f, d, s, A, B, Kd / s[:, None], sl.u_lo / s, sl.u_hi / s, F, truth, feedback, ch, la, lb)
+    return ScaledLoop(f, d, s, A, B, Kd / s[:, None], sl.u_lo / s, sl.u_hi / s, F, truth, feedback, ch, la, lb)
 
 
-def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, seed: int,
+def _hessians(sc: ScaledLoop, beta: np.ndarray, n_samples: int, rho_max: float, seed: int,
               step: float = 1e-4) -> tuple[np.ndarray, np.ndarray]:
     """Sorted levels ``t`` and the running entrywise maximum over samples of ``|Hessian of F_j|`` (shape
     ``(N, nf, q, q)``, ``q = nf + m``): row ``k`` bounds ``|H_j|`` on the samples of ``C(t_k)``, the box
@@ -210,13 +279,13 @@ def _hessians(sc: _Scaled, beta: np.ndarray, n_samples: int, rho_max: float, see
     return t, np.maximum.accumulate(Habs, axis=0)
 
 
-def _crossing_limits(sc: _Scaled, b: np.ndarray) -> np.ndarray:
+def _crossing_limits(sc: ScaledLoop, b: np.ndarray) -> np.ndarray:
     """Indices of the state-dependent limits whose level ``a_l x + b_l`` changes sign on the box ``|x_k| <= b_k``
     (``sum_k |a_lk| b_k > |b_l|``): only they can clip an input to a value larger in magnitude than ``K_i x``."""
     return np.flatnonzero(np.abs(sc.lim_a) @ b > np.abs(sc.lim_b)) if len(sc.lim_b) else np.zeros(0, dtype=int)
 
 
-def _input_reach(sc: _Scaled, b: np.ndarray) -> np.ndarray:
+def _input_reach(sc: ScaledLoop, b: np.ndarray) -> np.ndarray:
     """``r_i = sum_k |K_ik| b_k`` plus, for a limit ``l`` of channel ``i`` that changes sign on the box
     (:func:`_crossing_limits`), up to ``sum_k |a_lk| b_k``: ``|w_i| <= r_i`` on the box ``|x_k| <= b_k``, however the
     inputs are clipped (module docstring)."""
@@ -228,19 +297,29 @@ def _input_reach(sc: _Scaled, b: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class _Remainder:
-    """Remainder bound on the box ``b`` (scaled): ``delta_j^2 <= x' Q_j x`` (``R_j' R_j = Q_j``)."""
+class Remainder:
+    """Remainder bound on the box ``|x_k| <= b_k`` (scaled): ``delta_j^2 <= x' Q_j x``, ``R_j' R_j = Q_j``.
 
-    b: np.ndarray          # half-widths of the box where it holds (scaled), (nf,)
-    Q: np.ndarray          # (nf, nf, nf)
-    R: np.ndarray          # (nf, nf, nf)
+    Attributes
+    ----------
+    b : ndarray, shape (nf,)
+        Half-widths of the box where it holds (scaled).
+    Q, R : ndarray, shape (nf, nf, nf)
+        The forms ``Q_j`` and their symmetric square roots ``R_j``.
+    """
+
+    b: np.ndarray
+    Q: np.ndarray
+    R: np.ndarray
 
 
-def _remainder(t: np.ndarray, Hc: np.ndarray, sc: _Scaled, beta: np.ndarray, rho: float,
-               margin: float) -> _Remainder:
+def _remainder(t: np.ndarray, Hc: np.ndarray, sc: ScaledLoop, beta: np.ndarray, rho: float,
+               margin: float, linear: np.ndarray | None = None) -> Remainder:
     """The bound of the module docstring on the box ``b = min(1, rho beta)``: ``|delta_j| <= sum_l c_jl |xi_l|``
-    with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``b`` extended by the input bounds), then Cauchy-Schwarz
-    ``delta_j^2 <= |c_j|_1 sum_l c_jl xi_l^2`` and ``w_i^2 <= (K_i x)^2 + sum_l (a_l x)^2``."""
+    with ``c_jl = (1/2) sum_k Hmax_jkl b_k`` (``b`` extended by the input bounds) plus ``linear_jl`` when given (a
+    term linear in ``xi = (x, w)``: the robust certificate's bound on how far ``[A B]`` is from the interpolation of
+    its vertex values), then Cauchy-Schwarz ``delta_j^2 <= |c_j|_1 sum_l c_jl xi_l^2`` and ``w_i^2 <= (K_i x)^2 +
+    sum_l (a_l x)^2``."""
     nf = sc.A.shape[0]
     k = int(np.searchsorted(t, rho, side="right")) - 1
     Hm = margin * (Hc[k] if k >= 0 else np.zeros(Hc.shape[1:]))
@@ -250,6 +329,8 @@ def _remainder(t: np.ndarray, Hc: np.ndarray, sc: _Scaled, beta: np.ndarray, rho
     crossing = _crossing_limits(sc, b)
     bx = np.concatenate([b, bw])
     c = 0.5 * np.einsum("jkl,k->jl", Hm, bx)                      # (nf, q)
+    if linear is not None:
+        c = c + linear
     Q = np.empty((nf, nf, nf))
     R = np.empty((nf, nf, nf))
     for j in range(nf):
@@ -261,7 +342,7 @@ def _remainder(t: np.ndarray, Hc: np.ndarray, sc: _Scaled, beta: np.ndarray, rho
         lam, U = np.linalg.eigh(Qj)
         Q[j] = Qj
         R[j] = (U * np.sqrt(np.maximum(lam, 0.0))) @ U.T
-    return _Remainder(b, Q, R)
+    return Remainder(b, Q, R)
 
 
 @dataclass
@@ -279,12 +360,12 @@ class _Program:
     sat: np.ndarray
 
 
-def _program(sc: _Scaled, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: np.ndarray) -> _Program:
+def _program(sc: ScaledLoop, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: np.ndarray) -> _Program:
     """The SDP of the module docstring for the remainder box ``b = min(1, rho beta)``, in ``Wt`` with
     ``W = rho^2 B Wt B``, ``B = diag(beta)`` (congruence by ``diag(B^-1, I, I) / rho``: the unknowns are of order 1
     whatever ``rho`` and however elongated the ellipsoid): ``A + BK``, ``B_s`` and ``K`` become ``B^-1 (A + BK) B``,
     ``B^-1 B_s``, ``K B``; the box is ``Wt_ii <= b_i^2 / (rho beta_i)^2`` and the region blocks (one per level or
-    limit of a channel, :meth:`_Scaled.limits_of`) have ``u0^2 / rho^2``, written with their off-diagonal scaled by
+    limit of a channel, :meth:`ScaledLoop.limits_of`) have ``u0^2 / rho^2``, written with their off-diagonal scaled by
     ``rho / u0`` (the parameter ``uu``) so that every block is of order one. Parameters: ``R_j B`` (remainder
     factors), ``bb``, ``uu``."""
     nf = sc.A.shape[0]
@@ -345,20 +426,84 @@ def _program(sc: _Scaled, p_idx: np.ndarray, shape_W0: np.ndarray | None, beta: 
     return _Program(cp.Problem(obj, cons), W, c, s_var, Z, nu, Rp, bb, uu, p_idx, sat)
 
 
-def _lmi_numeric(sc: _Scaled, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: np.ndarray, R: np.ndarray,
-                 p_idx: np.ndarray) -> tuple[float, float]:
-    """Largest eigenvalue of the assembled decrease LMI and smallest of the region blocks, in floating point."""
-    nf = W.shape[0]
+def _vertex_program(sc: ScaledLoop, vertices: Sequence[ScaledLoop], p_idx: np.ndarray,
+                    beta: np.ndarray) -> _Program:
+    """The SDP of :func:`_program` (free shape) with one decrease LMI per vertex system ``(A_v, B_v)`` and the gain,
+    levels, limits and remainder of ``sc``, in the slack form: one common ``Y >= sum_j W R_j' R_j W / nu_j``
+    (``[Y, (R_j W)'; R_j W, nu_j I] >= 0``, a single block) and per vertex the small block ``[sym((A_v + B_v K) W) +
+    N + Y, -B_v,s S + Z'; *, -2 S] < 0``. By Schur complements each vertex block with the slack implies the vertex's
+    decrease LMI of :func:`_program`; the per-vertex remainder columns are not repeated (stacking them per vertex,
+    even for one vertex listed twice, stops Clarabel with a numerical error). The same scaling ``W = rho^2 B Wt B``
+    and parameters as :func:`_program`."""
+    nf = sc.A.shape[0]
     sat = sc.sat
     ms, p = len(sat), len(p_idx)
-    Acl = sc.A + sc.B @ sc.K
+    Bi = 1.0 / beta
+    Kt = sc.K * beta[None, :]
+    W = cp.Variable((nf, nf), symmetric=True)
+    s_var = cp.Variable(ms) if ms else None
+    Z = cp.Variable((ms, nf)) if ms else None
+    nu = cp.Variable(p) if p else None
+    Rp = [cp.Parameter((nf, nf)) for _ in range(p)]
+    bb = cp.Parameter(nf, nonneg=True)
+    blocks = [(a, i, al * beta) for a, i in enumerate(sat) for al, _ in sc.limits_of(i)]
+    uu = cp.Parameter(len(blocks), nonneg=True) if blocks else None
+    cons = [cp.diag(W) <= bb, W >> 0]
+    common: Any = 0
+    if p:
+        E = np.zeros((nf, p))
+        E[p_idx, np.arange(p)] = Bi[p_idx]
+        Y = cp.Variable((nf, nf), symmetric=True)
+        common = E @ cp.diag(nu) @ E.T + Y
+        rows = [[Y] + [(Rp[j] @ W).T for j in range(p)]]
+        rows += [[Rp[j] @ W] + [(nu[k] * np.eye(nf) if k == j else np.zeros((nf, nf))) for k in range(p)]
+                 for j in range(p)]
+        Ly = cp.bmat(rows)
+        cons.append(0.5 * (Ly + Ly.T) >> 0)
+    for v in vertices:
+        Acl = Bi[:, None] * (v.A + v.B @ sc.K) * beta[None, :]
+        eta = 1e-7 * max(1.0, float(np.linalg.norm(Acl, 2))) * cp.trace(W) / nf
+        top = Acl @ W + W @ Acl.T + common
+        if ms:
+            off = -(Bi[:, None] * v.B[:, sat]) @ cp.diag(s_var) + Z.T
+            top = cp.bmat([[top, off], [off.T, -2 * cp.diag(s_var)]])
+        cons.append(0.5 * (top + top.T) + eta * np.eye(nf + ms) << 0)
+    for r, (a, i, alt) in enumerate(blocks):
+        v_r = uu[r] * ((Kt[i] - alt)[None, :] @ W - Z[a:a + 1, :])
+        blk = cp.bmat([[W, v_r.T], [v_r, np.ones((1, 1))]])
+        cons.append(0.5 * (blk + blk.T) >> 0)
+    return _Program(cp.Problem(cp.Maximize(cp.log_det(W)), cons), W, None, s_var, Z, nu, Rp, bb, uu, p_idx, sat)
+
+
+def _lmi_numeric(sc: ScaledLoop, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: np.ndarray, R: np.ndarray,
+                 p_idx: np.ndarray, vertices: Sequence[ScaledLoop] | None = None) -> tuple[float, float]:
+    """Largest eigenvalue of the assembled decrease LMI (of each vertex system, with ``sc``'s gain, when
+    ``vertices`` are given) and smallest of the region blocks, in floating point."""
+    sat = sc.sat
+    lmax = max(_decrease_max_eig(v.A, v.B, sc.K, sat, W, s, Z, nu, R, p_idx) for v in (vertices or [sc]))
+    rmin = math.inf
+    for a, i in enumerate(sat):
+        for al, u0 in sc.limits_of(i):
+            v = (sc.K[i] - al) @ W - Z[a]
+            blk = np.block([[W, v[:, None]], [v[None, :], np.array([[u0**2]])]])
+            rmin = min(rmin, float(np.min(np.linalg.eigvalsh(blk))) / max(1.0, u0**2))
+    return lmax, rmin
+
+
+def _decrease_max_eig(A: np.ndarray, B: np.ndarray, K: np.ndarray, sat: np.ndarray, W: np.ndarray, s: np.ndarray,
+                      Z: np.ndarray, nu: np.ndarray, R: np.ndarray, p_idx: np.ndarray) -> float:
+    """Largest eigenvalue of the decrease LMI of the module docstring for ``(A, B, K)``, assembled in floating
+    point."""
+    nf = W.shape[0]
+    ms, p = len(sat), len(p_idx)
+    Acl = A + B @ K
     size = nf + ms + nf * p
     L = np.zeros((size, size))
     N = np.zeros((nf, nf))
     N[p_idx, p_idx] = nu
     L[:nf, :nf] = Acl @ W + W @ Acl.T + N
     if ms:
-        off = -sc.B[:, sat] @ np.diag(s) + Z.T
+        off = -B[:, sat] @ np.diag(s) + Z.T
         L[:nf, nf:nf + ms] = off
         L[nf:nf + ms, :nf] = off.T
         L[nf:nf + ms, nf:nf + ms] = -2 * np.diag(s)
@@ -367,14 +512,7 @@ def _lmi_numeric(sc: _Scaled, W: np.ndarray, s: np.ndarray, Z: np.ndarray, nu: n
         L[a:a + nf, :nf] = R[j] @ W
         L[:nf, a:a + nf] = (R[j] @ W).T
         L[a:a + nf, a:a + nf] = -nu[k] * np.eye(nf)
-    lmax = float(np.max(np.linalg.eigvalsh(0.5 * (L + L.T))))
-    rmin = math.inf
-    for a, i in enumerate(sat):
-        for al, u0 in sc.limits_of(i):
-            v = (sc.K[i] - al) @ W - Z[a]
-            blk = np.block([[W, v[:, None]], [v[None, :], np.array([[u0**2]])]])
-            rmin = min(rmin, float(np.min(np.linalg.eigvalsh(blk))) / max(1.0, u0**2))
-    return lmax, rmin
+    return float(np.max(np.linalg.eigvalsh(0.5 * (L + L.T))))
 
 
 # --------------------------------------------------------------------------------------------- certificate
@@ -603,7 +741,7 @@ class EllipsoidCertificate:
         In another box, ``method="sobol"`` counts the scrambled Sobol points inside (0 when none falls in a thin
         ellipsoid); ``method="directed"`` averages over ``n`` directions ``u = z / |z|``, ``z ~ N(0, P^-1)`` (angular
         central Gaussian, density ``det(P)^(1/2) (u' P u)^(-nf/2)`` relative to the uniform law on the sphere) the
-        exact ray integral of the ellipsoid cut by the box:
+        exact ray integral of the ellipsoid cut by the box::
 
             vol = |B^nf| / sqrt(det P) E[min(1, t(u)^2 u' P u)^(nf/2)],
 
@@ -759,7 +897,7 @@ class _Round:
     ``history``)."""
 
     prog: _Program
-    sc: _Scaled
+    sc: ScaledLoop
     t: np.ndarray
     Hc: np.ndarray
     beta: np.ndarray
@@ -771,13 +909,31 @@ class _Round:
     history: list[dict[str, Any]]
     backoff: float = 0.0
     t_solve: float = 0.0
+    vertices: Sequence[ScaledLoop] | None = None
+    linear: np.ndarray | None = None
+    clarabel_settings: dict[str, Any] | None = None
+
+    def _solve_program(self) -> str:
+        """Solve the program (by Clarabel with :attr:`clarabel_settings` added to its options, when given and the
+        solver is Clarabel or its moment route); the status, or the solver error."""
+        prog = self.prog
+        if self.clarabel_settings is not None and self.solver in ("CLARABEL", MOMENT):
+            solver, opts = "CLARABEL", {**solver_options("CLARABEL"), **self.clarabel_settings}
+        else:
+            solver, opts = solver_argument(self.solver), solver_options(self.solver)
+        try:
+            with inaccuracy_checked():      # an inaccurate solution is kept only if its LMIs hold (below)
+                prog.prob.solve(solver=solver, **opts)
+            return str(prog.prob.status)
+        except cp.SolverError as exc:
+            return f"solver error: {str(exc)[:60]}"
 
     def solve(self, rho: float) -> float:
         if rho in self.sols:
             return self.sols[rho][0]
         prog, sc, beta = self.prog, self.sc, self.beta
         nf = sc.A.shape[0]
-        rem = _remainder(self.t, self.Hc, sc, beta, rho, self.margin)
+        rem = _remainder(self.t, self.Hc, sc, beta, rho, self.margin, self.linear)
         for k, j in enumerate(prog.p_idx):
             prog.R[k].value = rem.R[j] * beta[None, :]
         prog.bb.value = (rem.b / (rho * beta)) ** 2
@@ -785,12 +941,7 @@ class _Round:
             prog.uu.value = rho / np.array([u0 for i in prog.sat for _, u0 in sc.limits_of(i)])
 
         t0 = time.perf_counter()
-        try:
-            with inaccuracy_checked():      # an inaccurate solution is kept only if its LMIs hold (below)
-                prog.prob.solve(solver=solver_argument(self.solver), **solver_options(self.solver))
-            status = prog.prob.status
-        except cp.SolverError as exc:
-            status = f"solver error: {str(exc)[:60]}"
+        status = self._solve_program()
         dt = time.perf_counter() - t0
         self.t_solve += dt
         ok = status in (cp.OPTIMAL, cp.OPTIMAL_INACCURATE) and prog.prob.value is not None \
@@ -812,7 +963,8 @@ class _Round:
                 # keep only solutions whose LMIs hold in floating point after the backoff (an inaccurate solve
                 # may not)
                 q = 1.0 - self.backoff
-                lmax, rmin = _lmi_numeric(sc, q * W, q * sol["s"], q * sol["Z"], q * sol["nu"], rem.R, prog.p_idx)
+                lmax, rmin = _lmi_numeric(sc, q * W, q * sol["s"], q * sol["Z"], q * sol["nu"], rem.R, prog.p_idx,
+                                          self.vertices)
                 if not (lmax < 0 and rmin >= -1e-9 and np.max(np.diag(q * W) - rem.b**2) <= 1e-9):
                     status, obj, sol = f"{status} (rejected: LMI fails in floating point)", -math.inf, {}
         self.history.append({"round": self.rnd, "rho": rho, "box": np.minimum(1.0, rho * beta) * sc.d,
@@ -893,19 +1045,13 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
                                 "levels, and refuses loops of another form); polynomial loops without saturation "
                                 "also go to gc.certify_roa (SOS path)")
     sl = system
-    hessian_margin = checks.real("hessian_margin", hessian_margin, lo=1.0)
-    n_hessian = checks.integer("n_hessian", n_hessian, lo=16, hi=2**20)
-    n_radii = checks.integer("n_radii", n_radii, lo=2, hi=200)
-    refine = checks.integer("refine", refine, lo=0, hi=50)
-    rounds = checks.integer("rounds", rounds, lo=1, hi=20)
-    round_gain = checks.real("round_gain", round_gain, lo=0.0)
-    backoff = checks.real("backoff", backoff, lo=0.0, hi=0.5)
+    opts = search_options(hessian_margin=hessian_margin, n_hessian=n_hessian, n_radii=n_radii, refine=refine,
+                          rounds=rounds, round_gain=round_gain, backoff=backoff, solver=solver, seed=seed)
+    backoff, seed = opts["backoff"], opts["seed"]
     n_verify = checks.integer("n_verify", n_verify, lo=1, hi=2**22)
     n_simulate = checks.integer("n_simulate", n_simulate, lo=0, hi=2**16)
     horizon = None if horizon is None else checks.positive("horizon", horizon)
-    check_solver(solver)
-    seed = checks.integer("seed", seed, lo=0)
-    sc = _scale(sl)
+    sc = scale_loop(sl)
     nf = len(sc.f)
     W0 = None
     if shape is not None:
@@ -920,24 +1066,155 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
         raise ModelError(f"the linearized loop A + BK of '{sl.name}' is not exponentially stable (eigenvalues "
                          f"{np.round(lam, 6).tolist()}, per {sl.time_unit} in scaled states): no region of "
                          "attraction to certify; change the gain")
+    search = ellipsoid_search(sc, shape_W0=W0, **opts)
+    if not search.found:
+        what = "of the given shape " if W0 is not None else ""
+        raise SolverError(f"no ellipsoid {what}is certified for '{sl.name}': every SDP was infeasible or failed "
+                          f"(statuses {sorted({h['status'] for h in search.history})}). "
+                          + ("The shape P0 may not be a Lyapunov matrix of the linearized loop A + BK"
+                             if W0 is not None else "The remainder bound leaves no feasible ellipsoid"))
+    sol = back_off(sc, search.solution, search.p_idx, backoff)
+    ver = verify_ellipsoid(sl, sc, sol, n_verify=n_verify, n_simulate=n_simulate, horizon=horizon, seed=seed)
+    return EllipsoidCertificate(sl, sol.P, sol.G, sol.Q, sol.remainder.b * sc.d, sc.d.copy(), sl.box, ver,
+                                search.history, search.solve_time, search.hessian_time,
+                                time.perf_counter() - t_wall, "lmi", sl.provenance)
+
+
+# --------------------------------------------------------------------------------------------- search, back-off
+def search_options(*, hessian_margin: Any, n_hessian: Any, n_radii: Any, refine: Any, rounds: Any, round_gain: Any,
+                   backoff: Any, solver: Any, seed: Any) -> dict[str, Any]:
+    """The options of :func:`ellipsoid_search`, validated (their meaning: :func:`certify_roa_lmi`).
+
+    Parameters
+    ----------
+    hessian_margin, n_hessian, n_radii, refine, rounds, round_gain, backoff, solver, seed
+        As :func:`certify_roa_lmi`.
+
+    Returns
+    -------
+    dict
+        The keyword arguments of :func:`ellipsoid_search` (numbers as Python ``int``/``float``).
+
+    Raises
+    ------
+    ArgumentTypeError, ArgumentError
+        If an option has the wrong type or is out of range, or the solver is not installed.
+    """
+    check_solver(solver)
+    return {"hessian_margin": checks.real("hessian_margin", hessian_margin, lo=1.0),
+            "n_hessian": checks.integer("n_hessian", n_hessian, lo=16, hi=2**20),
+            "n_radii": checks.integer("n_radii", n_radii, lo=2, hi=200),
+            "refine": checks.integer("refine", refine, lo=0, hi=50),
+            "rounds": checks.integer("rounds", rounds, lo=1, hi=20),
+            "round_gain": checks.real("round_gain", round_gain, lo=0.0),
+            "backoff": checks.real("backoff", backoff, lo=0.0, hi=0.5),
+            "solver": solver, "seed": checks.integer("seed", seed, lo=0)}
+
+
+@dataclass(frozen=True)
+class EllipsoidSearch:
+    """The best solution of the remainder-box search of :func:`ellipsoid_search`.
+
+    Attributes
+    ----------
+    objective : float
+        Its objective (``log sqrt det W``, or the level of a fixed shape; ``-inf`` when no SDP was feasible).
+    solution : dict
+        ``W`` (scaled), the remainder bound used (``rem``, a :class:`Remainder`), and the multipliers ``s``, ``Z``,
+        ``nu`` (empty when nothing was feasible).
+    p_idx : ndarray of int
+        The components with a remainder term.
+    history : tuple of dict
+        Per SDP: search round, ``rho``, remainder box (state units), status, objective and solver time (s).
+    solve_time, hessian_time : float
+        Total SDP solver time and Hessian sampling time (s).
+    """
+
+    objective: float
+    solution: dict[str, Any] = field(repr=False)
+    p_idx: np.ndarray = field(repr=False)
+    history: tuple[dict[str, Any], ...] = field(repr=False)
+    solve_time: float
+    hessian_time: float
+
+    @property
+    def found(self) -> bool:
+        """Whether some SDP gave an ellipsoid."""
+        return bool(np.isfinite(self.objective))
+
+
+def ellipsoid_search(sc: ScaledLoop, *, shape_W0: np.ndarray | None = None,
+                     vertices: Sequence[ScaledLoop] | None = None,
+                     hessian_systems: Sequence[ScaledLoop] | None = None, linear: np.ndarray | None = None,
+                     clarabel_settings: dict[str, Any] | None = None, hessian_margin: float, n_hessian: int,
+                     n_radii: int, refine: int, rounds: int, round_gain: float, backoff: float, solver: str,
+                     seed: int) -> EllipsoidSearch:
+    """The search of :func:`certify_roa_lmi` for the largest ellipsoid: per round, the Hessian bound sampled on
+    remainder boxes shaped by ``beta``, one SDP per remainder-box size ``rho`` (a geometric grid refined by golden
+    section), then the next round's boxes shaped like the best ellipsoid, until a round gains less than
+    ``round_gain``.
+
+    Parameters
+    ----------
+    sc : ScaledLoop
+        The scaled loop: its gain, levels, limits and remainder geometry; its ``(A, B)`` is the decrease LMI's unless
+        ``vertices`` are given.
+    shape_W0 : ndarray (nf, nf), optional
+        A fixed shape (scaled ``W``): the largest multiple is searched (only without ``vertices``).
+    vertices : sequence of ScaledLoop, optional
+        Vertex systems: one decrease LMI per vertex ``(A_v, B_v)`` with ``sc``'s gain, a common ``W`` and
+        multipliers, in the slack form (:func:`_vertex_program`); they must be scaled like ``sc`` (the same ``d``
+        and ``s``).
+    hessian_systems : sequence of ScaledLoop, optional
+        The systems whose sampled Hessians are bounded together (entrywise maximum; default ``[sc]``).
+    linear : ndarray (nf, nf + m), optional
+        A term of the remainder bound linear in ``(x, w)`` (scaled, >= 0): ``|delta_j| <= sum_l (c_jl + linear_jl)
+        |xi_l|``.
+    clarabel_settings : dict, optional
+        Clarabel settings (e.g. ``static_regularization_constant``) with which every program is solved by Clarabel
+        when the solver is Clarabel or its moment route (every solution's LMIs are checked in floating point
+        whatever solved it); default the solver's own settings.
+    hessian_margin, n_hessian, n_radii, refine, rounds, round_gain, backoff, solver, seed
+        As :func:`certify_roa_lmi` (validated by :func:`search_options`).
+
+    Returns
+    -------
+    EllipsoidSearch
+
+    Raises
+    ------
+    ArgumentError
+        If both ``shape_W0`` and ``vertices`` are given.
+    ModelError
+        If a sampled Hessian is not finite.
+    """
+    if shape_W0 is not None and vertices is not None:
+        raise ArgumentError("a fixed shape and vertex systems cannot be combined in one search")
+    nf = len(sc.f)
+    systems = [sc] if hessian_systems is None else list(hessian_systems)
     t_hess = t_solve = 0.0
     history: list[dict[str, Any]] = []
     best: tuple[float, dict[str, Any]] = (-math.inf, {})
     beta, rho0 = np.ones(nf), 1.0
-    prog: _Program | None = None
-    p_idx = np.zeros(0, dtype=int)
+    p_idx: np.ndarray | None = None
     for rnd in range(rounds):
         th = time.perf_counter()
         rho_max = min(1.0 / float(np.min(beta)), 50.0)       # beyond 1/min(beta) the remainder box is the box
-        t, Hc = _hessians(sc, beta, n_hessian, rho_max, seed + rnd)
+        t, Hc = _hessians(systems[0], beta, n_hessian, rho_max, seed + rnd)
+        for other in systems[1:]:                            # the same levels t: the same seed and rho_max
+            Hc = np.maximum(Hc, _hessians(other, beta, n_hessian, rho_max, seed + rnd)[1])
         t_hess += time.perf_counter() - th
-        if prog is None:
+        if p_idx is None:
             # components with a remainder (the Hessian is rounding noise for exactly linear components)
             tiny = 1e-7 * max(1.0, float(np.max(np.abs(np.concatenate([sc.A, sc.B], axis=1)))))
-            p_idx = np.flatnonzero(np.max(Hc[-1], axis=(1, 2)) > tiny)
-        prog = _program(sc, p_idx, W0, beta)
+            has = np.max(Hc[-1], axis=(1, 2)) > tiny
+            if linear is not None:
+                has |= np.max(linear, axis=1) > 0
+            p_idx = np.flatnonzero(has)
+        prog = _program(sc, p_idx, shape_W0, beta) if vertices is None else _vertex_program(sc, vertices, p_idx, beta)
         sols: dict[float, tuple[float, dict[str, Any]]] = {}
-        ctx = _Round(prog, sc, t, Hc, beta, hessian_margin, solver, W0, rnd, sols, history, backoff)
+        ctx = _Round(prog, sc, t, Hc, beta, hessian_margin, solver, shape_W0, rnd, sols, history, backoff,
+                     vertices=vertices, linear=linear, clarabel_settings=clarabel_settings)
 
         def solve(rho: float, ctx: _Round = ctx) -> float:
             return ctx.solve(rho)
@@ -959,16 +1236,8 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
         # next round: remainder boxes shaped like the best ellipsoid's extents (largest extent 1: rho is it)
         ext = np.sqrt(np.diag(best[1]["W"]))
         beta, rho0 = ext / np.max(ext), float(np.max(ext))
-    if not np.isfinite(best[0]):
-        what = "of the given shape " if W0 is not None else ""
-        raise SolverError(f"no ellipsoid {what}is certified for '{sl.name}': every SDP was infeasible or failed "
-                          f"(statuses {sorted({h['status'] for h in history})}). "
-                          + ("The shape P0 may not be a Lyapunov matrix of the linearized loop A + BK"
-                             if W0 is not None else "The remainder bound leaves no feasible ellipsoid"))
-    ver, P, G, Q, rem = _backed_off(sl, sc, best[1], p_idx, backoff, n_verify=n_verify, n_simulate=n_simulate,
-                                    horizon=horizon, seed=seed)
-    return EllipsoidCertificate(sl, P, G, Q, rem.b * sc.d, sc.d.copy(), sl.box, ver, tuple(history),
-                                t_solve, t_hess, time.perf_counter() - t_wall, "lmi", sl.provenance)
+    return EllipsoidSearch(best[0], best[1], p_idx if p_idx is not None else np.zeros(0, dtype=int),
+                           tuple(history), t_solve, t_hess)
 
 
 def _search_radius(solve: Callable[[float], float], radii: list[float], refine: int) -> None:
@@ -994,32 +1263,108 @@ def _search_radius(solve: Callable[[float], float], radii: list[float], refine: 
             f2 = solve(math.exp(c2))
 
 
-def _backed_off(sl: SaturatedLoop, sc: _Scaled, sol: dict[str, Any], p_idx: np.ndarray, backoff: float, *,
-                n_verify: int, n_simulate: int, horizon: float | None, seed: int
-                ) -> tuple[EllipsoidVerification, np.ndarray, np.ndarray, np.ndarray, _Remainder]:
-    """The best solution scaled by ``1 - backoff``, checked in floating point and verified on the true loop: the
-    verification, ``P`` and ``G`` in state units, the remainder forms ``Q`` and the remainder used."""
+@dataclass(frozen=True)
+class EllipsoidSolution:
+    """A solution of the search scaled by ``1 - backoff`` and its LMIs checked in floating point
+    (:func:`back_off`).
+
+    Attributes
+    ----------
+    W, s, Z, nu : ndarray
+        The backed-off ``W`` (scaled, ``(nf, nf)``) and multipliers.
+    remainder : Remainder
+        The remainder bound the LMIs use.
+    p_idx : ndarray of int
+        Its components.
+    Ps : ndarray, shape (nf, nf)
+        ``W^-1`` (scaled ``P``).
+    Q : ndarray, shape (nf, nf, nf)
+        The remainder forms, zero outside ``p_idx``.
+    P : ndarray, shape (nf, nf)
+        ``P`` in the free states' units.
+    G : ndarray, shape (ms, nf)
+        The sector condition's gain (input units per state unit).
+    lmi_max_eig, region_min_eig : float
+        Largest eigenvalue of the decrease LMI (of every system checked) and smallest of the region blocks.
+    """
+
+    W: np.ndarray = field(repr=False)
+    s: np.ndarray = field(repr=False)
+    Z: np.ndarray = field(repr=False)
+    nu: np.ndarray = field(repr=False)
+    remainder: Remainder = field(repr=False)
+    p_idx: np.ndarray = field(repr=False)
+    Ps: np.ndarray = field(repr=False)
+    Q: np.ndarray = field(repr=False)
+    P: np.ndarray = field(repr=False)
+    G: np.ndarray = field(repr=False)
+    lmi_max_eig: float
+    region_min_eig: float
+
+
+def back_off(sc: ScaledLoop, sol: dict[str, Any], p_idx: np.ndarray, backoff: float,
+             vertices: Sequence[ScaledLoop] | None = None) -> EllipsoidSolution:
+    """A solution of :func:`ellipsoid_search` scaled by ``1 - backoff``, its LMIs (at ``sc``'s ``(A, B)``, or at
+    every vertex system) checked in floating point, with ``P`` and ``G`` in state units.
+
+    Parameters
+    ----------
+    sc : ScaledLoop
+        The loop whose decrease LMI and region blocks are checked.
+    sol : dict
+        :attr:`EllipsoidSearch.solution`.
+    p_idx : ndarray of int
+        :attr:`EllipsoidSearch.p_idx`.
+    backoff : float
+        In ``[0, 0.5]``.
+    vertices : sequence of ScaledLoop, optional
+        Check the decrease LMI at each of these systems instead (largest eigenvalue over them).
+
+    Returns
+    -------
+    EllipsoidSolution
+    """
     nf = len(sc.f)
     q = 1.0 - backoff
     Wc, s_c, Zc, nuc = q * sol["W"], q * sol["s"], q * sol["Z"], q * sol["nu"]
-    rem: _Remainder = sol["rem"]
-    lmax, rmin = _lmi_numeric(sc, Wc, s_c, Zc, nuc, rem.R, p_idx)
+    rem: Remainder = sol["rem"]
+    lmax, rmin = _lmi_numeric(sc, Wc, s_c, Zc, nuc, rem.R, p_idx, vertices)
     Ps = np.linalg.inv(Wc)
     Ps = 0.5 * (Ps + Ps.T)
     Q = np.zeros((nf, nf, nf))
     Q[p_idx] = rem.Q[p_idx]
-    ver = _verify(sl, sc, Ps, Wc, Q, lmax, rmin, n_verify=n_verify, n_simulate=n_simulate, horizon=horizon,
-                  seed=seed)
     Dinv = np.diag(1.0 / sc.d)
     P = Dinv @ Ps @ Dinv
     sat = sc.sat
     G = (sc.s[sat, None] * (Zc @ Ps)) @ Dinv if len(sat) else np.zeros((0, nf))
-    return ver, 0.5 * (P + P.T), G, Q, rem
+    return EllipsoidSolution(Wc, s_c, Zc, nuc, rem, p_idx, Ps, Q, 0.5 * (P + P.T), G, lmax, rmin)
 
 
-def _verify(sl: SaturatedLoop, sc: _Scaled, Ps: np.ndarray, Wc: np.ndarray, Q: np.ndarray, lmax: float,
-            rmin: float, *, n_verify: int, n_simulate: int, horizon: float | None,
-            seed: int) -> EllipsoidVerification:
+def verify_ellipsoid(sl: SaturatedLoop, sc: ScaledLoop, sol: EllipsoidSolution, *, n_verify: int, n_simulate: int,
+                     horizon: float | None, seed: int) -> EllipsoidVerification:
+    """The a-posteriori checks of an ellipsoid on the true loop (:class:`EllipsoidVerification`): ``dV/dt`` and the
+    remainder bound (against ``sc``'s ``(A, B)``) on points of the ellipsoid, simulations from its boundary.
+
+    Parameters
+    ----------
+    sl : SaturatedLoop
+        The loop, at its equilibrium.
+    sc : ScaledLoop
+        It scaled (:func:`scale_loop`).
+    sol : EllipsoidSolution
+        The ellipsoid and the LMI checks already made (:func:`back_off`).
+    n_verify, n_simulate : int
+        Points (half on the boundary) and simulations (at most ``n_verify // 2``).
+    horizon : float or None
+        Length of the simulations (default 25 slowest time constants of ``A + B K``).
+    seed : int
+        Seed of the points.
+
+    Returns
+    -------
+    EllipsoidVerification
+    """
+    Ps, Wc, Q = sol.Ps, sol.W, sol.Q
     rng = np.random.default_rng(seed + 11)
     nb = n_verify // 2
     x = np.concatenate([_ellipsoid_points(Wc, n_verify - nb, rng, False), _ellipsoid_points(Wc, nb, rng, True)])
@@ -1046,8 +1391,8 @@ def _verify(sl: SaturatedLoop, sc: _Scaled, Ps: np.ndarray, Wc: np.ndarray, Q: n
         res = integrate_batch(lambda Z: _free_rhs(sl, Z, f), X0, hz, rtol=1e-7, atol=1e-10 * sc.d,
                               max_steps=200_000)
         conv = int(np.sum(res.converged_to(sl.equilibrium[f], 1e-3 * float(np.linalg.norm(sc.d)))))
-    return EllipsoidVerification(lmax, rmin, float(np.max(np.diag(Wc))), ratio_max, int(x.shape[0]),
-                                 float(np.max(vd)), nsim, conv, float(hz))
+    return EllipsoidVerification(sol.lmi_max_eig, sol.region_min_eig, float(np.max(np.diag(Wc))), ratio_max,
+                                 int(x.shape[0]), float(np.max(vd)), nsim, conv, float(hz))
 
 
 def _free_rhs(sl: SaturatedLoop, Z: np.ndarray, f: list[int]) -> np.ndarray:
