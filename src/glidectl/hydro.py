@@ -451,8 +451,8 @@ def loads_3d(veh: Vehicle, v: Any, Omega: Any, rudder: Any = 0.0) -> tuple[Any, 
         ``e_V = v/V = (ca cb, sb, sa cb)``, ``e_2 = (-ca sb, cb, -sa sb)``, ``e_3 = (-sa, 0, ca)``. The side force
         ``SF = (K_beta beta + K_SF_rudder delta_r) V^2`` opposes sideslip (docs/conventions.md); with ``beta = 0``
         and no rudder this is (2.18)-(2.19)'s ``(L sin a - D cos a, 0, -L cos a - D sin a)``.
-    T : (..., 3) body-frame moment (N m): ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, (K_MY beta + K_MY_rudder
-        delta_r) V^2)`` plus damping
+    T : (..., 3) body-frame moment (N m):
+        ``(K_MR beta V^2, (K_M0 + K_M alpha) V^2, (K_MY beta + K_MY_rudder delta_r) V^2)`` plus damping
         ``K_qi Omega_i V^2 + K_Omega1_i Omega_i + K_Omega2_i Omega_i |Omega_i|`` about each body axis, from
         :func:`damping_moment` (the pitch row is :func:`loads_at`'s ``M_DL2``, the same as the 2-D models').
     alpha, beta, V : angle of attack ``atan2(v3, v1)``, sideslip ``asin(v2/V)`` (rad) and speed (m/s); at rest

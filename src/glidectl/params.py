@@ -31,7 +31,7 @@ Uncertainty
 -----------
 An optional ``[uncertainty]`` table says how well some coefficients are known, one inline table per key of
 ``veh.params``: an interval ``K_M = { min = -60.0, max = -40.0, source = "..." }`` or ``{ rel = 0.3, source = "..." }``
-(nominal -+ |nominal| * 0.3), a normal ``{ std = 2.0, source = "..." }`` or ``{ rel_std = 0.3, source = "..." }``
+(``nominal -+ |nominal| * 0.3``), a normal ``{ std = 2.0, source = "..." }`` or ``{ rel_std = 0.3, source = "..." }``
 (optionally truncated with ``min``/``max``), and correlations between normal entries in
 ``[uncertainty.correlation]`` (``"K_L,K_D" = 0.6``). :mod:`glidectl.uncertainty` describes the rules;
 :meth:`Vehicle.sample` and :meth:`Vehicle.vertices` draw vehicles from it.

@@ -891,8 +891,8 @@ def simulate_actuated(plant: Any, x0: Any, t_final: float, controller: Any = Non
     integrator restarts at each sample). Without noise and without a sampled-data controller there are no samples
     and the controller acts continuously.
 
-    Controllers
-    -----------
+    Controllers:
+
     * static: ``controller(t, y) -> command``;
     * dynamic (e.g. a PID's integrator, an estimator): an object with ``controller_states`` (tuple of names),
       ``initial_state(t, y) -> xc0``, ``derivative(t, xc, y) -> xc'`` and ``controller(t, y, xc) -> command``;

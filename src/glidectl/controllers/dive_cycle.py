@@ -39,9 +39,9 @@ for its anti-windup, and setpoints are clipped to the ranges by the servo loops)
   The estimate is predicted with the actuated model between samples, integrated with the plant, and carried over
   each inflection. (:class:`ScheduledGlideLQG` is the continuous-time version, for ``controller=`` objects.)
 * ``"nonlinear"``: the chapter-6 steady-glide controller, the torque law (6.5) realized by the moving mass
-  (:class:`~glidectl.MovingMassTorque`) plus the buoyancy law (6.9); applies only to vehicles that meet its
-  chapter-5 assumptions (``K_q < 0``, ``K_M < 0``, equal added masses, a nominal ``m0``); refused otherwise, naming
-  the assumption.
+  (:class:`~glidectl.controllers.moving_mass.MovingMassTorque`) plus the buoyancy law (6.9); applies only to vehicles
+  that meet its chapter-5 assumptions (``K_q < 0``, ``K_M < 0``, equal added masses, a nominal ``m0``); refused
+  otherwise, naming the assumption.
 * ``"pid"``: the operational baseline of Slocum/Seaglider flight software: :class:`PitchPID`, PID on the pitch
   angle through the battery position ``r_P1`` (feedforward from the glide family), and the pump run to the end of
   its range at each inflection (``m0 = max`` down, ``min`` up), so the speed is whatever the full pump gives.

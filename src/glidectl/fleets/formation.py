@@ -4,7 +4,7 @@ Fiorelli 2001; Fiorelli et al. 2006, as flown by Slocum gliders in AOSN-II).
 The **virtual body** moves along ``leader_path`` (a polyline of (east, north) points, m) at ``leader_speed`` (m/s)
 and carries the formation: glider ``i``'s slot is ``c_i(t) = p_vb(t) + R(t) o_i(d(t))``, the offsets ``o_i`` of the
 shape with side ``d(t)`` (the spacing schedule) turned to the path's direction. When glider ``i`` surfaces at time
-``t`` it gets the waypoint for its next surfacing, ``h`` seconds later (its dive time):
+``t`` it gets the waypoint for its next surfacing, ``h`` seconds later (its dive time)::
 
     w_i = c_i(t + h) - k_spacing sum_j (|c_i - xhat_j| - d) (c_i - xhat_j) / |c_i - xhat_j|,
 

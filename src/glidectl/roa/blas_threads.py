@@ -4,7 +4,7 @@ numpy's and SciPy's OpenBLAS start one thread per core (or ``OPENBLAS_NUM_THREAD
 of their routines add in another order. The SOS alternation carries that rounding along its path, so that the
 certified volume of the same program changes with the thread count (in its second digit for the saturated user
 glider's SOS certificate of designs/roa_certification.py; measurements: ``bench/README.md``). The certifying entry
-points of :mod:`glidectl.roa` (:func:`~glidectl.roa.certify_roa`, :func:`~glidectl.roa.certify_roa_lmi`,
+points of :mod:`glidectl.roa` (:func:`~glidectl.roa.certify_roa`, :func:`~glidectl.certify_roa_lmi`,
 :func:`~glidectl.roa.max_level`, the surrogate and sector systems, :meth:`~glidectl.roa.SOSProgram.resolve`)
 therefore run with :data:`BLAS_THREADS` BLAS threads (``threadpoolctl``), and Clarabel with
 :data:`glidectl.roa.sdp_solvers.CLARABEL_THREADS`. Together they make a certificate a function of its arguments:

@@ -461,7 +461,7 @@ class ROACertificate:
         about it): in the box-scaled free states ``y = (x - x_e) / w`` (``w`` the largest distance from ``x_e`` to a
         face of the system's box), with ``R(u)`` the largest radius inside the set and the box along the unit
         direction ``u`` (40 bisection steps on :meth:`contains`) and ``H`` the Hessian of ``V(lift(x))`` at the
-        equilibrium in those coordinates,
+        equilibrium in those coordinates, ::
 
             vol = prod(w_free) |S^(nf-1)| / (nf sqrt(det H)) E[W(u)],   W(u) = (R(u)^2 u' H u)^(nf/2),
 

@@ -22,7 +22,7 @@ kept, and the degree of ``V`` is raised 2 -> 4 -> 6 with the previous ``V`` as t
 
 **Speed** (exact, no certificate is weakened): every SOS constraint's half basis is reduced by the Newton polytope,
 diagonal consistency and sign symmetry (:func:`~glidectl.roa.sos.reduce_basis`), and when the system has sign
-symmetries (odd Van der Pol: ``x -> -x``) every unknown is restricted to the matching monomials (:func:`_symmetry`);
+symmetries (odd Van der Pol: ``x -> -x``) every unknown is restricted to the matching monomials (``_symmetry``);
 in the large programs, the angle equalities ``s^2 + c^2 - 2 c = 0`` of a recast are not multiplied by free ``psi_j``,
 ``phi_kj``: every coefficient is matched modulo them instead (:mod:`glidectl.roa.quotient`,
 :attr:`~glidectl.roa.moment.MomentPolicy.quotient_min_block`; the same feasible set);

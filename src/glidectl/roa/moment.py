@@ -81,7 +81,7 @@ class MomentPolicy:
     eliminate_diagonal_min : int or None
         Fewest diagonal columns of the moment form's Schur complement (the V step's sample equations, each in its
         own nonnegative rows) that are eliminated first, exactly (block elimination, Woodbury for the diagonal
-        block plus ``A'A``, :class:`_SparseKKT`), so that the dense factorization is of the other equations only.
+        block plus ``A'A``, ``_SparseKKT``), so that the dense factorization is of the other equations only.
         None: never.
     """
 

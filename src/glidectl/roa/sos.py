@@ -557,7 +557,7 @@ class SOSProgram:
 
     @pinned_blas
     def resolve(self, *, solver: str = DEFAULT_SOLVER, **kw: Any) -> float:
-        """Solve :attr:`problem` again (after changing the values of its cvxpy ``Parameter``s): cvxpy reuses its
+        """Solve :attr:`problem` again (after changing the values of its cvxpy ``Parameter``\\ s): cvxpy reuses its
         compilation, so only the solver runs. Returns and raises as :meth:`solve`."""
         prob = self.problem
         if prob is None:

@@ -10,10 +10,10 @@ terms of degree 3 to ``d`` are a least-squares fit over the box. With it,
 
 where ``a_i`` covers the finite-difference error of ``D^2 g(0)`` (a relative allowance of ``1e-6``) and ``b_i``
 is the third-order Taylor bound below. The SOS programs of :func:`glidectl.certify_roa` then certify every field
-``p + delta`` with ``|delta_i| <= r_i`` on the box, the true ``g`` included: for a fixed ``V``,
+``p + delta`` with ``|delta_i| <= r_i`` on the box, the true ``g`` included: for a fixed ``V``, ::
 
-    ``dV/dt <= grad V . p + sum_i r_i |dV/dy_i|
-            <= grad V . p + sum_i |y|^2 [a_i (k_i + (dV/dy_i)^2 / k_i) + b_i (k_i |y|^2 + (dV/dy_i)^2 / k_i)] / 2``
+    dV/dt <= grad V . p + sum_i r_i |dV/dy_i|
+          <= grad V . p + sum_i |y|^2 [a_i (k_i + (dV/dy_i)^2 / k_i) + b_i (k_i |y|^2 + (dV/dy_i)^2 / k_i)] / 2
 
 for any ``k_i > 0`` (Young's inequality, ``|y| |dV/dy_i| <= (k_i |y|^2 + (dV/dy_i)^2 / k_i) / 2``, and
 ``|dV/dy_i| <= (k_i + (dV/dy_i)^2 / k_i) / 2``): a polynomial bound (:func:`robust_decrease_bound`). Its quadratic

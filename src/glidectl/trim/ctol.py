@@ -119,7 +119,7 @@ class CTOLGlide:
     alpha_roots : tuple of float
         Every root of (7.25) on (-pi, pi] (rad), sorted; ``alpha`` is the one of smallest magnitude.
     residual : float
-        max |(7.21), (7.22), (7.23)| at the solution (N).
+        max ``|(7.21), (7.22), (7.23)|`` at the solution (N).
     vehicle : Vehicle
         The aircraft.
     provenance : str

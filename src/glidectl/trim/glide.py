@@ -146,7 +146,7 @@ class SteadyGlide:
     v1, v3 : float
         Body velocities (m/s).
     residual : float
-        max |f(x_e, 0)| over the relative-equilibrium states (SI units), evaluated on the force model.
+        max ``|f(x_e, 0)|`` over the relative-equilibrium states (SI units), evaluated on the force model.
     vehicle : Vehicle
         The vehicle (``vehicle.name`` for its name).
     provenance : str
@@ -391,7 +391,7 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
         ``veh`` is not an underwater glider or has no moving mass (``mbar = 0``).
     InfeasibleGlideError
         gamma outside the permissible set (the message states the set), or a mass position that cannot realize
-        the moment balance (r_p3 given at |theta| = 90 deg, or a moment balance that needs the moving mass more
+        the moment balance (r_p3 given at ``|theta| = 90 deg``, or a moment balance that needs the moving mass more
         than R_P_MAX = 10 m from the centre, as near-vertical glides do). Also when the vehicle's ``[actuators]``
         table limits ``m0``, ``r_P1`` or ``r_P3`` and the trim needs a setting outside that range (or off a fixed
         setting); the message names the actuator and the limit. Vehicles without the table are not limited.

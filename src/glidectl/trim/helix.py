@@ -259,7 +259,7 @@ class Helix:
 
     @property
     def vertical_speed(self) -> float:
-        """Sink rate ``zeta . v`` (m/s, positive downwards)."""
+        """Sink rate ``zeta·v`` (m/s, positive downwards)."""
         return float(np.dot(self.zeta, self.v))
 
     @property

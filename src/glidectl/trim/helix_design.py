@@ -44,7 +44,7 @@ __all__ = ["DEFAULT_M0_BOUNDS", "DEFAULT_R_P_BOUNDS", "LENGTH_MAX", "MAX_STARTS"
 #: default moving-mass travel (m) per body axis and buoyancy range (kg); ours (the thesis gives none)
 DEFAULT_R_P_BOUNDS = ((-0.05, 0.05), (-0.05, 0.05), (0.0, 0.08))
 DEFAULT_M0_BOUNDS = (-0.5, 0.5)
-#: Plausibility limit on the requested radius and |pitch| (m).
+#: Plausibility limit on the requested radius and ``|pitch|`` (m).
 LENGTH_MAX = 1e4
 #: Budget: largest number of starting points of the multistart search.
 MAX_STARTS = 64
