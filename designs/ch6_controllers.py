@@ -193,7 +193,7 @@ def figures(res: Ch6Results) -> dict[str, tuple[Any, str]]:
     ax[0, 0].set_ylabel("-z (up) [m]")
     ax[0, 0].set_title("path in the vertical plane", fontsize=9)
     labels = [("V [m/s]", 0, 1.0), (r"$\gamma$ [deg]", 1, 180 / math.pi), (r"$\alpha$ [deg]", 2, 180 / math.pi),
-              (r"$\Omega_2$ [rad/s]", 3, 1.0), ("$m_0$ [kg]", 4, 1.0)]
+              (r"$\Omega_2$ [deg/s]", 3, 180 / math.pi), ("$m_0$ [kg]", 4, 1.0)]
     for a, (lab, i, f) in zip(ax.flat[1:], labels, strict=True):
         a.plot(sim.t, sim.x[:, i] * f, "C0")
         a.axhline(res.elev_eq.state[i] * f, color="k", ls=":", lw=1)

@@ -263,8 +263,8 @@ def report(res: SlocumResults) -> Report:
                "note"], comp_rows)
 
     # ---------------------------------------------------------------- figures
-    fig = env.plot()
-    ax = fig.axes[0]
+    ax = env.plot()
+    fig = ax.figure
     for g, mk in zip(res.glides, ("v", "^"), strict=True):
         ax.plot(g.speed * math.cos(g.gamma), -g.speed * math.sin(g.gamma), mk, color="k", ms=9,
                 label=f"mission glide {math.degrees(g.gamma):+.0f} deg")
@@ -272,7 +272,7 @@ def report(res: SlocumResults) -> Report:
     rep.figure("glide_envelope", fig, f"Glide envelope of {veh.name} (glide polar; colour: the limit that binds). "
                f"Black triangles: the mission's down and up glides at {s.speed:g} m/s.")
     for name, run in res.comparison.runs.items():
-        rep.figure(f"mission_{name}", run.plot(),
+        rep.figure(f"mission_{name}", run.plot()[0].figure,
                    f"Dive cycles under '{name}': depth with the limits and inflections, pitch, and commanded versus "
                    f"achieved pump and battery. {run.summary().splitlines()[0]}.")
 

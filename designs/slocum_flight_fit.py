@@ -261,11 +261,11 @@ def report(res: FitResults) -> Report:
     rep.figure("glide_polars", _polar_axes(res).figure,
                "Steady glide polars of the three fitted laws at the record's dive and climb oil volumes, with the "
                "record's samples (horizontal speed estimated without angle of attack).")
-    fig = res.envelope.plot()
+    fig = res.envelope.plot().figure
     rep.figure("fitted_envelope", fig, f"Glide envelope of the glider with the fitted {res.best} law (lowest "
                "cross-validated RMS), slocum_shallow's actuators.")
     if res.dive is not None:
-        rep.figure("fitted_dive_cycles", res.dive.plot(),
+        rep.figure("fitted_dive_cycles", res.dive.plot()[0].figure,
                    f"{s.cycles} LQR dive cycles of the fitted glider, {s.depths[0]:g}-{s.depths[1]:g} m.")
     rep.text("What is fitted and how",
              "Each sample's steady glide balances weight, lift and drag at the recorded pitch and the net "

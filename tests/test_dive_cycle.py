@@ -134,8 +134,9 @@ def test_lqr_mission_switches_at_the_depth_limits(lqr_run):
 def test_mission_plot_and_summary(lqr_run):
     import matplotlib.pyplot as plt
 
-    fig = lqr_run.plot()
-    assert len(fig.axes) == 4
+    axes = lqr_run.plot()
+    fig = axes[0].figure
+    assert len(axes) == 4 and len(fig.axes) == 4 and axes[1].get_ylabel().endswith("[deg]")
     plt.close(fig)
     assert "cycle 0" in lqr_run.summary()
     row = lqr_run.as_dict()

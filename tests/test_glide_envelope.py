@@ -207,9 +207,9 @@ def test_plot_shows_the_polar_with_a_legend_of_binding_limits():
 
     matplotlib.use("Agg", force=False)
     env = gc.glide_envelope(SLOCUM_ACT, np.linspace(0.1, 1.0, 12), np.radians(np.linspace(-60, 60, 13)))
-    fig = env.plot()
+    ax = env.plot()
+    fig = ax.figure
     try:
-        ax = fig.axes[0]
         labels = [t.get_text() for t in ax.get_legend().get_texts()]
         assert any(lab.startswith("feasible") for lab in labels)
         assert any("binds" in lab for lab in labels)

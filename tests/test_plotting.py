@@ -118,7 +118,8 @@ def test_simulation_plot():
     sim = gc.simulate(model, sp.equilibrium + np.array([0.1, 0.05, 0.02, 0.2]), 2.0, t_eval=np.linspace(0, 2, 201))
     axes = sim.plot(names=["V", "gamma", "Omega2"])
     assert len(axes) == 3 and all(len(a.lines) == 1 for a in axes)
-    assert [a.get_ylabel() for a in axes] == ["$V$ [m/s]", r"$\gamma$ [rad]", r"$\Omega_2$ [rad/s]"]
+    assert [a.get_ylabel() for a in axes] == ["$V$ [m/s]", r"$\gamma$ [deg]", r"$\Omega_2$ [deg/s]"]  # degrees
+    np.testing.assert_allclose(axes[1].lines[0].get_ydata(), np.degrees(sim.state("gamma")), rtol=1e-15)
     assert axes[-1].get_xlabel() == "t [s]" and "ReducedLongitudinalGlider" in axes[0].get_title()
     np.testing.assert_array_equal(axes[0].lines[0].get_ydata(), sim.state("V"))
     # the former argument order (names first) and a display scale
@@ -143,9 +144,9 @@ def test_ensemble_plot():
     groups = [conv, ~conv & ~ens.frozen, ens.frozen]
     assert len(ax.lines) == sum(bool(g.any()) for g in groups) + 1  # one line per outcome, the equilibrium
     assert sum(len(line.get_xdata()) for line in ax.lines[:-1]) == len(X0)
-    assert ax.get_xlabel() == "$V$ [m/s]" and ax.get_ylabel() == r"$\gamma$ [rad]"
+    assert ax.get_xlabel() == "$V$ [m/s]" and ax.get_ylabel() == r"$\gamma$ [deg]"
     ax = ens.plot(dims=(2, 3))  # without an equilibrium: frozen or not
-    assert len(ax.lines) == 2 and ax.get_xlabel() == r"$\alpha$ [rad]" and ax.get_ylabel() == r"$\Omega_2$ [rad/s]"
+    assert len(ax.lines) == 2 and ax.get_xlabel() == r"$\alpha$ [deg]" and ax.get_ylabel() == r"$\Omega_2$ [deg/s]"
     with pytest.raises(gc.GlidectlError, match="two different"):
         ens.plot(dims=("V", 0))
 
@@ -172,10 +173,10 @@ def test_batch_comparison_plot():
     assert len(ax.lines) == 2 * 2 + 1  # converges / does not per controller, the equilibrium
     n_fail = int(np.sum(~out.records["saturated"].converged))
     assert len(ax.lines[3].get_xdata()) == n_fail > 0
-    assert ax.get_xlabel() == r"$\theta$ [rad]" and ax.get_ylabel() == r"$\Omega_2$ [rad/s]"
+    assert ax.get_xlabel() == r"$\theta$ [deg]" and ax.get_ylabel() == r"$\Omega_2$ [deg/s]"
     assert any("saturated: converges" in t.get_text() for t in ax.get_legend().get_texts())
     ax = out.plot(dims=("Omega2", "theta"))
-    assert ax.get_xlabel() == r"$\Omega_2$ [rad/s]"
+    assert ax.get_xlabel() == r"$\Omega_2$ [deg/s]"
 
 
 # ------------------------------------------------------------------------------------------------ helices
@@ -240,7 +241,9 @@ def test_composite_certificate_plot():
     ax = cl.plot(n=81)
     assert len(ax.collections) == 3  # L* filled and its boundary, Phi = v0
     assert len(ax.lines) == 2  # the box B_p, the steady glide
-    assert ax.get_xlabel() == r"$\bar V$ [-]" and ax.get_ylabel() == r"$\bar\gamma$ [rad]"
+    assert ax.get_xlabel() == r"$\bar V$ [-]" and ax.get_ylabel() == r"$\bar\gamma$ [deg]"
+    box = ax.lines[0].get_ydata()                                   # the box B_p, drawn in degrees
+    np.testing.assert_allclose([box.min(), box.max()], np.degrees(cl.domain.gammabar), rtol=1e-12)
     assert ("NOT certified" in ax.get_title()) == (not cl.certified)
     assert len(ax.get_legend().get_texts()) == 4
 

@@ -25,8 +25,7 @@ print(env.summary())
 lo, hi = gc.permissible_gamma(veh)
 print(f"no steady glide for {np.degrees(lo):.1f} deg < gamma < {np.degrees(hi):.1f} deg")
 
-fig = env.plot()  # GlideEnvelope.plot returns the Figure
-ax = fig.axes[0]
+ax = env.plot()
 for gamma, marker in ((-np.radians(25.0), "v"), (np.radians(25.0), "^")):
     ax.plot(0.35 * np.cos(gamma), -0.35 * np.sin(gamma), marker, color="k", ms=9,
             label=f"0.35 m/s, {np.degrees(gamma):+.0f} deg")

@@ -21,7 +21,7 @@ print(run.summary())
 # position (dashed red: the actuator ranges). At each inflection the commands ask for more than the actuators can
 # give; the rate limits (10 g/s of pump, 5 mm/s of battery) hold them back for about a minute per cycle, and the
 # glider overshoots the depth limits by about 1.3 m.
-fig = run.plot()  # DiveCycleRun.plot returns the Figure
+axes = run.plot()  # depth, pitch, pump, battery
 plt.show()
 
 # %%

@@ -100,7 +100,7 @@ print(f"no steady glide between {math.degrees(lo):.2f} and {math.degrees(hi):.2f
 
 envelope = gc.glide_envelope(veh, np.linspace(0.05, 0.8, 46), np.radians(np.linspace(-60.0, 60.0, 61)))
 print(envelope.summary())
-fig = envelope.plot()
+ax = envelope.plot()
 plt.show()
 
 # %%
@@ -170,7 +170,7 @@ plt.show()
 # ``pump_efficiency``) per cycle.
 run = gc.dive_cycle(veh, "lqr", depths=(5.0, 60.0), cycles=2, speed=0.35, gamma=math.radians(25.0))
 print(run.summary())
-fig = run.plot()
+axes = run.plot()
 plt.show()
 
 # %%
@@ -227,7 +227,7 @@ plt.show()
 #         rep = Report(TITLE, vehicle=veh)
 #         glide = gc.steady_glide(veh, 0.35, math.radians(-25), r_p3=veh.actuators["r_P3"].fixed)
 #         rep.number("pump_mass_down", glide.m0, "kg", source="gc.steady_glide")
-#         rep.figure("envelope", gc.glide_envelope(veh, [0.2, 0.35, 0.5], [-0.6, -0.44, 0.44, 0.6]).plot(),
+#         rep.figure("envelope", gc.glide_envelope(veh, [0.2, 0.35, 0.5], [-0.6, -0.44, 0.44, 0.6]).plot().figure,
 #                    "Glide envelope.")
 #         return rep
 #

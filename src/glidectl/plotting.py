@@ -351,7 +351,8 @@ def plot_simulation(sim: Simulation, names: Sequence[str] | None = None, ax: Any
     ax : axes or array of axes, optional
         One axes per name; default a new figure.
     scale : dict, optional
-        ``scale[name] = (factor, unit)`` converts units for display (e.g. ``{"theta": (180 / pi, "deg")}``).
+        ``scale[name] = (factor, unit)`` converts units for display (e.g. ``{"x": (1e-3, "km")}``); by default
+        angles and angular rates are drawn in degrees (:func:`display_unit`), other quantities in their units.
     **line
         Passed to :meth:`matplotlib.axes.Axes.plot`.
 
@@ -365,7 +366,8 @@ def plot_simulation(sim: Simulation, names: Sequence[str] | None = None, ax: Any
     scale = scale or {}
     units = _model_units(sim.model_name)
     for a, n in zip(axes, names, strict=True):
-        f, u = scale.get(n, (1.0, units.get(n)))
+        shown, factor = display_unit(units.get(n))
+        f, u = scale.get(n, (factor, shown))
         a.plot(sim.t, f * sim.state(n), **line)
         if sim.stopped_at is not None:
             a.axvline(sim.stopped_at, color="C3", ls=":", lw=1)
@@ -443,14 +445,15 @@ def plot_ensemble(ens: Ensemble, ax: Any = None, *, dims: Sequence[Any] = (0, 1)
         groups.append((~frozen, f"runs to t = {ens.t_final:g} s", {"marker": "o", "color": "C0", "ms": 3.5}))
     groups.append((frozen, "frozen (left the model's domain)", {"marker": "^", "color": "C1", "ms": 4}))
     units = _model_units(ens.model_name)
+    (ux, fx), (uy, fy) = display_unit(units.get(sn[i])), display_unit(units.get(sn[j]))     # angles in degrees
     for mask, what, kw in groups:
         if np.any(mask):
-            ax.plot(ens.x0[mask, i], ens.x0[mask, j], ls="", label=f"{what} ({np.sum(mask)})", **kw)
+            ax.plot(fx * ens.x0[mask, i], fy * ens.x0[mask, j], ls="", label=f"{what} ({np.sum(mask)})", **kw)
     if x_e is not None:
         xe = np.asarray(x_e, dtype=float)
-        ax.plot(xe[i], xe[j], "k+", ms=11, mew=2, label="equilibrium")
-    ax.set_xlabel(label(sn[i], units.get(sn[i])))
-    ax.set_ylabel(label(sn[j], units.get(sn[j])))
+        ax.plot(fx * xe[i], fy * xe[j], "k+", ms=11, mew=2, label="equilibrium")
+    ax.set_xlabel(label(sn[i], ux))
+    ax.set_ylabel(label(sn[j], uy))
     ax.set_title(f"{ens.model_name}: outcome of {ens.x0.shape[0]} runs of {ens.t_final:g} s\nby initial state"
                  + (" (projection on two states)" if n > 2 else ""))
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=7)
@@ -479,16 +482,18 @@ def plot_batch_comparison(cmp: BatchComparison, ax: Any = None, *, dims: Sequenc
     if ax is None:
         _, ax = new_figure(width=6.5, height=4.8)
     nc = len(cmp.records)
+    (xl, fx), (yl, fy) = state_axis(sn, i), state_axis(sn, j)                    # angles in degrees
     for k, (name, rec) in enumerate(cmp.records.items()):
         ok = np.asarray(rec.converged, dtype=bool)
         big = k == 0  # the first controller as large open circles, the others filled on top of them
-        ax.plot(cmp.x0[ok, i], cmp.x0[ok, j], "o", ms=6 if big else 3, mfc="none" if big else f"C{k % 10}",
-                color=f"C{k % 10}", label=f"{name}: converges ({rec.fraction:.0%})")
-        ax.plot(cmp.x0[~ok, i], cmp.x0[~ok, j], "x", ms=6, mew=1.5, color=f"C{(nc + k) % 10}",
+        ax.plot(fx * cmp.x0[ok, i], fy * cmp.x0[ok, j], "o", ms=6 if big else 3,
+                mfc="none" if big else f"C{k % 10}", color=f"C{k % 10}",
+                label=f"{name}: converges ({rec.fraction:.0%})")
+        ax.plot(fx * cmp.x0[~ok, i], fy * cmp.x0[~ok, j], "x", ms=6, mew=1.5, color=f"C{(nc + k) % 10}",
                 label=f"{name}: does not ({np.sum(~ok)})")
-    ax.plot(cmp.x_e[i], cmp.x_e[j], "k*", ms=11, label="equilibrium")
-    ax.set_xlabel(label(sn[i]))
-    ax.set_ylabel(label(sn[j]))
+    ax.plot(fx * cmp.x_e[i], fy * cmp.x_e[j], "k*", ms=11, label="equilibrium")
+    ax.set_xlabel(xl)
+    ax.set_ylabel(yl)
     ax.set_title(f"simulated region of attraction: {cmp.x0.shape[0]} initial states, {cmp.t_final:g} s"
                  + (" (projection on two states)" if n > 2 else ""))
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=7)
@@ -717,8 +722,8 @@ def plot_roa_certificate(cert: ROACertificate, ax: Any = None, *, dims: Sequence
     ax.set_ylim(fy * lo[j], fy * hi[j])
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    rest = [f"{_LATEX.get(ps.state_names[k], ps.state_names[k])} = {base[k]:.3g}" for k in range(ps.n)
-            if k not in (i, j)]
+    rest = [f"{lab} = {fk * base[k]:.3g}" for k in range(ps.n) if k not in (i, j)
+            for lab, fk in [_roa_axis(ps, k)]]                    # the slice's other states, angles in degrees
     status = "verified" if cert.verification.passed else "NOT verified"
     route = f", {cert.method}" if getattr(cert, "method", "exact recast") != "exact recast" else ""
     width = max(40, int(14 * ax.figure.get_figwidth()))     # a long loop name wraps to the figure's width
@@ -747,6 +752,7 @@ def plot_composite_certificate(cert: CompositeCertificate, ax: Any = None, *, n:
         ``Phi = v0`` as a dashed line, ``B_p`` as a dotted rectangle.
     """
     dom = cert.domain
+    deg = 180.0 / math.pi                                      # gammabar (rad) is drawn in degrees
     (vlo, vhi), (glo, ghi) = dom.Vbar, dom.gammabar
     pad = 0.25 * (vhi - vlo)
     V = np.linspace(max(vlo - pad, -0.99), vhi + pad, n)
@@ -758,19 +764,20 @@ def plot_composite_certificate(cert: CompositeCertificate, ax: Any = None, *, n:
         _, ax = new_figure(width=6.5, height=4.8)
     handles: list[Any] = []
     if ins.any():
-        ax.contourf(VV, GG, ins, levels=[0.5, 1.5], colors=["C0"], alpha=0.4)
-        ax.contour(VV, GG, ins, levels=[0.5], colors="C0", linewidths=1.2)
+        ax.contourf(VV, deg * GG, ins, levels=[0.5, 1.5], colors=["C0"], alpha=0.4)
+        ax.contour(VV, deg * GG, ins, levels=[0.5], colors="C0", linewidths=1.2)
     handles.append(Patch(color="C0", alpha=0.4,
                          label=f"$L^*$ (5.85): $\\nu \\leq$ {cert.level:.3g} (d = {cert.d:.3g})"))
-    ax.contour(VV, GG, cert.Phi(np.stack([VV, GG], axis=-1)), levels=[cert.v0], colors="C3", linestyles="--")
+    ax.contour(VV, deg * GG, cert.Phi(np.stack([VV, GG], axis=-1)), levels=[cert.v0], colors="C3",
+               linestyles="--")
     handles.append(Line2D([], [], color="C3", ls="--",
                           label=f"$\\Phi$ = $v_0$ = {cert.v0:.3g} (5.35); at q = 0, $L^*$ = {{$\\Phi \\leq v_0$}}"))
-    ax.plot([vlo, vhi, vhi, vlo, vlo], [glo, glo, ghi, ghi, glo], "k:", lw=1)
+    ax.plot([vlo, vhi, vhi, vlo, vlo], [deg * glo, deg * glo, deg * ghi, deg * ghi, deg * glo], "k:", lw=1)
     handles.append(Line2D([], [], color="k", ls=":", label="domain $B_p$"))
     (h,) = ax.plot(0.0, 0.0, "k+", ms=12, mew=2, label="steady glide")
     handles.append(h)
     ax.set_xlabel(r"$\bar V$ [-]")
-    ax.set_ylabel(r"$\bar\gamma$ [rad]")
+    ax.set_ylabel(r"$\bar\gamma$ [deg]")
     verdict = (f"certified: $\\mu$ = {cert.mu:.3g} < $\\mu_d$ = {cert.mu_d:.3g}" if cert.certified
                else f"NOT certified: $\\mu$ = {cert.mu:.3g} ≥ $\\mu_d$ = {cert.mu_d:.3g}")
     ax.set_title(f"{cert.vehicle.name}: composite Lyapunov estimate, slice $\\bar\\alpha$ = $\\bar\\Omega_2$ = 0\n"
@@ -947,7 +954,8 @@ def plot_dive_cycle(run: DiveCycleRun, ax: Any = None) -> Any:
 
     Returns
     -------
-    matplotlib.figure.Figure
+    ndarray of 4 matplotlib.axes.Axes
+        Depth, pitch, pump mass and battery position (``axes[0].figure`` is the figure).
 
     Raises
     ------
@@ -985,7 +993,7 @@ def plot_dive_cycle(run: DiveCycleRun, ax: Any = None) -> Any:
             a.axvline(ts, color="C3", lw=0.5, alpha=0.4)
     axes[-1].set_xlabel("t [s]")
     axes[0].set_title(f"{run.vehicle.name}: {len(run.cycles)} dive cycles, controller {run.controller}")
-    return axes[0].figure
+    return axes
 
 
 def plot_ellipsoid_certificate(cert: Any, ax: Any = None, *, dims: Sequence[Any] = (0, 1), n: int = 200) -> Any:

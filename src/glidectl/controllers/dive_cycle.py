@@ -1009,7 +1009,8 @@ class DiveCycleRun:
 
         Returns
         -------
-        matplotlib.figure.Figure
+        ndarray of 4 matplotlib.axes.Axes
+            Depth, pitch, pump mass and battery position (``axes[0].figure`` is the figure).
 
         Raises
         ------

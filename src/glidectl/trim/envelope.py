@@ -160,13 +160,13 @@ class GlideEnvelope:
 
         Returns
         -------
-        matplotlib.figure.Figure
-            The figure drawn into (see :func:`glidectl.plotting.plot_glide_envelope`).
+        matplotlib.axes.Axes
+            The axes drawn into (see :func:`glidectl.plotting.plot_glide_envelope`; ``ax.figure`` is the figure).
         """
         from ..plotting import plot_glide_envelope, style
 
         with style():
-            return plot_glide_envelope(self, ax).figure
+            return plot_glide_envelope(self, ax)
 
 
 def _default_r_p3(veh: Vehicle) -> float:
@@ -229,6 +229,18 @@ def glide_envelope(veh: Vehicle, speeds: Any, gammas: Any, *, r_p3: float | None
         ``veh`` is not an underwater glider (e.g. the CTOL aircraft) or has no moving mass (``mbar = 0``).
     InfeasibleGlideError
         ``K_D = 0`` (no permissible set), or ``r_p3`` outside the vehicle's ``r_P3`` actuator range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("slocum_shallow")  # its [actuators] table limits m0 and r_P1
+    >>> env = gc.glide_envelope(veh, [0.2, 0.5], np.radians([-45.0, -25.0, -10.0]))
+    >>> print(env.binding_labels)  # rows: speeds, columns: flight-path angles
+    [['r_P1 max' 'none' 'none']
+     ['r_P1 max' 'none' 'm0 max']]
+    >>> int(env.feasible.sum())
+    3
     """
     checks.vehicle("veh", veh)
     if veh.kind != "underwater_glider":
