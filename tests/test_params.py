@@ -511,3 +511,13 @@ def test_mass_and_has_check_their_arguments():
     with pytest.raises(gc_errors.ArgumentTypeError):
         slocum.has(3)
     assert slocum.has("m", "m0") and not slocum.has("m1")
+
+
+def test_the_file_source_is_kept_written_back_and_outside_the_hash():
+    import tomllib
+
+    veh = load_vehicle("slocum_shallow")
+    assert veh.source.startswith("Graver 2005") and veh.source == veh.sources[glidectl.params.FILE_SOURCE_KEY]
+    assert tomllib.loads(veh.to_toml())["vehicle"]["source"] == veh.source
+    assert veh.provenance == "04e92c2da1639da3"           # the file source is provenance of the text, not the values
+    assert load_vehicle("slocum_shallow", K_M=-90.0).source == veh.source

@@ -175,8 +175,8 @@ def test_the_whole_source_and_the_vehicle_provenance_are_in_the_pdf(long_source_
     figs = _render(Report("provenance", vehicle=veh))
     text = _all_text(figs)
     assert _flat(LONG_SOURCE) in text
-    for s in (veh.title, veh.name, veh.path, veh.kind, veh.law, veh.provenance, veh.notes):
-        assert s and _flat(s) in text, s
+    for s in (veh.title, veh.source, veh.name, veh.path, veh.kind, veh.law, veh.provenance, veh.notes):
+        assert s and _flat(s) in text, s                      # the file's own [vehicle] source too
     for k, u in veh.uncertainty.items():
         assert _flat(f"{k}{u.kind}{veh.params[k]:.6g}") in text
         assert _flat(u.source) in text

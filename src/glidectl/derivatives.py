@@ -433,6 +433,16 @@ def jacobians(f: Callable[[Any, Any], Any], x: Any, u: Any) -> tuple[np.ndarray,
         silently zero), or its value or derivative is not finite at ``(x, u)``.
     Exception
         Whatever ``f`` raises on the complex batch passes through unchanged.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> def pendulum(x, u):  # batch-capable: x (..., 2), u (..., 1)
+    ...     return np.stack([x[..., 1], -np.sin(x[..., 0]) - 0.5 * x[..., 1] + u[..., 0]], axis=-1)
+    >>> A, B = gc.jacobians(pendulum, [0.0, 0.0], [0.0])
+    >>> A.tolist(), B.tolist()
+    ([[0.0, 1.0], [-1.0, -0.5]], [[0.0], [1.0]])
     """
     function("f", f)
     x = _point("x", x, min_size=1)
@@ -540,6 +550,14 @@ def hessian(fun: Callable[[Any], Any], x: Any, h: float = 1e-5) -> np.ndarray:
         If ``fun`` is not complex-safe or its value or gradient is not finite near ``x``.
     Exception
         Whatever ``fun`` raises passes through unchanged.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> H = gc.hessian(lambda X: X[:, 0] ** 2 * X[:, 1], [1.0, 2.0])  # f = x0^2 x1, one point per row
+    >>> np.round(H, 6).tolist()
+    [[4.0, 2.0], [2.0, 0.0]]
     """
     function("fun", fun)
     x = _point("x", x, min_size=1)

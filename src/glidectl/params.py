@@ -67,11 +67,33 @@ from .checks import integer
 from .errors import ArgumentError, ArgumentTypeError, ModelError, VehicleFileError
 from .uncertainty import Uncertainty, check_uncertainty, draw_values, keep_contained, vertex_values
 
-__all__ = ["ACTUATOR_SPECS", "DEFAULT_DENSITY", "DENSITY_RANGE", "GLIDERFLIGHT_DEFAULTS", "HULL_MASS_RATIO",
-           "HYDRO_SPECS", "MAX_FILE_BYTES", "PARAMETER_SPECS", "POSITIVE_MIN", "PUMP_FRACTION_MAX",
-           "THESIS_LIFT_DRAG_KEYS", "VALUE_MAX", "Actuator", "ActuatorSpec", "ParamSpec", "StackedVehicle", "Vehicle",
-           "VehicleSample", "list_presets", "load_vehicle", "stack_vehicles"]
+__all__ = [
+    "ACTUATOR_SPECS",
+    "DEFAULT_DENSITY",
+    "DENSITY_RANGE",
+    "FILE_SOURCE_KEY",
+    "GLIDERFLIGHT_DEFAULTS",
+    "HULL_MASS_RATIO",
+    "HYDRO_SPECS",
+    "MAX_FILE_BYTES",
+    "PARAMETER_SPECS",
+    "POSITIVE_MIN",
+    "PUMP_FRACTION_MAX",
+    "THESIS_LIFT_DRAG_KEYS",
+    "VALUE_MAX",
+    "Actuator",
+    "ActuatorSpec",
+    "ParamSpec",
+    "StackedVehicle",
+    "Vehicle",
+    "VehicleSample",
+    "list_presets",
+    "load_vehicle",
+    "stack_vehicles",
+]
 
+#: Key of :attr:`Vehicle.sources` holding the file's ``[vehicle] source`` (not a parameter name).
+FILE_SOURCE_KEY = "[vehicle]"
 #: Largest vehicle file read (bytes): vehicle files are a few kB; anything larger is refused before parsing.
 MAX_FILE_BYTES = 1 << 20
 #: Plausibility limit on the magnitude of every parameter value (SI units).
@@ -1010,6 +1032,8 @@ class Vehicle:
 
         lines = ["[vehicle]", f"name = {_toml_str(self.name)}", f"kind = {_toml_str(self.kind)}",
                  f"title = {_toml_str(self.title)}"]
+        if self.source:
+            lines.append(f"source = {_toml_str(self.source)}")
         if self.notes:
             lines.append(f"notes = {_toml_str(self.notes)}")
         fixed = {k for k, a in self.actuators.items() if a.fixed is not None}
@@ -1069,6 +1093,12 @@ class Vehicle:
             raise ArgumentError(f"unknown actuator {name!r}; known: {', '.join(ACTUATOR_SPECS)}")
         a = self.actuators.get(name)
         return a.bounds if a is not None else (float(default[0]), float(default[1]))
+
+    @property
+    def source(self) -> str:
+        """The vehicle file's own ``[vehicle] source`` (where the vehicle as a whole comes from; "" when the file
+        gives none); kept in :attr:`sources` under :data:`FILE_SOURCE_KEY`."""
+        return str(self.sources.get(FILE_SOURCE_KEY, ""))
 
     def summary_rows(self) -> list[tuple[str, str, str, str]]:
         """(key, value, unit, source) rows for reports.
@@ -1299,6 +1329,12 @@ def list_presets() -> list[str]:
     ------
     OSError
         If the package's ``vehicles`` folder cannot be listed (a broken installation).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> gc.list_presets()
+    ['dc8_ctol', 'elevator_ch6', 'rogue', 'slocum_ch8', 'slocum_shallow', 'sphere_ch5']
     """
     return sorted(p.name[:-5] for p in _presets_dir().iterdir() if p.name.endswith(".toml"))
 
@@ -1741,6 +1777,8 @@ def _parse(text: str, where: str) -> tuple[str, str, str, str, dict[str, float],
     sources.update(hyd_sources)
     for key, src in zip(("depth", "density"), profile_source, strict=False):
         sources[f"density_profile.{key}"] = src
+    if str(head.get("source", "")).strip():
+        sources[FILE_SOURCE_KEY] = str(head["source"])      # the file's own source, beside the values' sources
     acts_table = doc.get("actuators", {})
     if not isinstance(acts_table, dict):
         raise VehicleFileError(f"{where}: [actuators] must be a table")
@@ -1818,6 +1856,15 @@ def load_vehicle(name_or_path: str | Path, **overrides: float) -> Vehicle:
         or is not UTF-8; invalid TOML; unknown/missing keys, wrong units, values that are not finite real numbers,
         out of their sign constraint or plausibility limits (:data:`VALUE_MAX`, :data:`POSITIVE_MIN`); the same for
         the overrides; an invalid ``[uncertainty]`` table (:mod:`glidectl.uncertainty`).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> veh.name, veh.kind, veh.params["mbar"]
+    ('rogue', 'underwater_glider', 2.0)
+    >>> gc.load_vehicle("rogue", K_M=-40.0).params["K_M"]  # an override, validated like the file
+    -40.0
     """
     if not isinstance(name_or_path, str | os.PathLike):
         raise ArgumentTypeError(f"name_or_path must be a preset name (str) or a path, got "

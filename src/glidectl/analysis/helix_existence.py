@@ -286,6 +286,17 @@ def existence_scan(veh: Vehicle, r_P1_values: Sequence[float], m0_values: Sequen
     InfeasibleGlideError
         If a helix trim warm-started from a converged multi-start Newton solution fails (only the cold solve's
         failure is absorbed as "no motion").
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> scan = gc.existence_scan(slo, [-0.02, 0.02], [-0.25, 0.25], n_starts=4)  # r_P1 (m) x m0 (kg)
+    >>> scan.reproduced  # a stable upright helix exists where section 8.2.2 found none
+    False
+    >>> print(scan.n_stable_upright)
+    [[1 1]
+     [1 1]]
     """
     checks.vehicle("veh", veh, "underwater_glider")
     r1 = checks.array("r_P1_values (m)", r_P1_values, ndim=1, min_size=1)

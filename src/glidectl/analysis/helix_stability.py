@@ -171,6 +171,17 @@ def helix_rbh_locus(veh: Vehicle, r_p: Sequence[float], m0: float, rbh_values: S
         As in :func:`~glidectl.analysis.locus.parameter_locus`.
     BudgetError
         If ``time_limit`` is reached.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> hl = gc.helix_rbh_locus(slo, (0.02, -0.02, 0.04), 0.25, np.linspace(-0.02, 0.05, 15))
+    >>> hl.nominal.stable, hl.locus.branches.shape
+    (True, (15, 8))
+    >>> print(f"frozen locus crosses at r_bh = {hl.locus.crossings[0] * 1000:.2f} mm")
+    frozen locus crosses at r_bh = -7.01 mm
     """
     r_p, m0 = _helix_args(veh, r_p, m0)
     frozen = checks.boolean("frozen", frozen)
@@ -264,6 +275,14 @@ def resolved_crossing(veh: Vehicle, r_p: Sequence[float], m0: float, *, step: fl
         ``step``).
     BudgetError
         If the walk would take more than ``max_steps`` steps.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> r_bh, h = gc.resolved_crossing(slo, (0.02, -0.02, 0.04), 0.25)
+    >>> print(f"stability lost at r_bh = {r_bh * 1000:.2f} mm; helix above it stable: {h.stable}")
+    stability lost at r_bh = -27.31 mm; helix above it stable: True
     """
     r_p, m0 = _helix_args(veh, r_p, m0)
     step = checks.positive("step", step, unit="m")

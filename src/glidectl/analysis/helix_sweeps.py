@@ -365,6 +365,17 @@ def helix_sweep(veh: Vehicle, parameter: str, values: Sequence[float] | np.ndarr
     BudgetError
         If the sweep could need more than :data:`~glidectl.analysis.continuation.MAX_NEWTON_SOLVES` Newton
         solves (values x (1 + continuation_steps + n_random)).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> sw = gc.helix_sweep(slo, "r_P1", [0.01, 0.02, 0.03, 0.04], r_p=(0.02, 0.02, 0.04), m0=0.25)
+    >>> sw.how
+    ('cold', 'warm', 'warm', 'warm')
+    >>> print(np.round(sw.radius, 1))
+    [ 35.8  66.6 187.8 113.3]
     """
     vals, rp, m = check_sweep_inputs(veh, parameter, values, r_p, m0)
     n = vals.size
@@ -428,6 +439,16 @@ def straight_glides(veh: Vehicle, sweep: HelixSweep, *, xtol: float = 1e-10) -> 
     SolverError
         If the re-solved ``psidot`` has the same sign at both ends of a bracket, or Brent's method does not
         converge (at most 100 iterations per bracket).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> sw = gc.helix_sweep(slo, "r_P3", np.linspace(0.0, 0.08, 9), r_p=(0.02, 0.02, 0.04), m0=0.25)
+    >>> (h,) = gc.straight_glides(slo, sw)  # psidot changes sign once along the sweep
+    >>> print(f"r_P3 = {h.r_p[2] * 100:.2f} cm, |psidot| < 1e-9 rad/s: {abs(h.psidot) < 1e-9}")
+    r_P3 = 2.15 cm, |psidot| < 1e-9 rad/s: True
     """
     from scipy.optimize import brentq
 

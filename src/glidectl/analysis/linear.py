@@ -93,6 +93,16 @@ def glide_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force") -
         If ``glide`` was trimmed for another vehicle (different provenance).
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> g = gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05)
+    >>> model, xe = gc.glide_model(veh, g)
+    >>> model.state_names[:3], model.input_names, xe.shape
+    (('z_prime', 'theta', 'Omega2'), ('u1', 'u3', 'u4'), (10,))
     """
     _check_glide(veh, glide)
     checks.choice("inputs", inputs, ("force", "acceleration"))
@@ -196,6 +206,14 @@ def fixed_actuators(veh: Vehicle) -> tuple[str, ...]:
     ------
     ArgumentTypeError
         If ``veh`` is not a Vehicle.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> gc.fixed_actuators(gc.load_vehicle("slocum_shallow"))
+    ('r_P3',)
+    >>> gc.fixed_actuators(gc.load_vehicle("rogue"))  # no [actuators] table
+    ()
     """
     acts = checks.vehicle("veh", veh).actuators
     return tuple(a for a in ("r_P1", "r_P3", "m0") if getattr(acts.get(a), "fixed", None) is not None)
@@ -397,6 +415,16 @@ def design_model(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force", 
     ------
     ArgumentTypeError, ArgumentError, VehicleMismatchError, ModelError
         As :func:`glide_model`, or if a flag is not a bool.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("slocum_shallow")  # its vehicle file fixes r_P3
+    >>> g = gc.steady_glide(veh, speed=0.35, gamma=np.radians(-25.0), r_p3=0.05)
+    >>> model, xe = gc.design_model(veh, g)
+    >>> type(model).__name__, model.input_names, xe.shape
+    ('FixedActuatorModel', ('u1', 'u4'), (8,))
     """
     checks.boolean("depth", depth)
     checks.boolean("reduce_fixed", reduce_fixed)
@@ -576,6 +604,16 @@ def linearize_glide(veh: Vehicle, glide: SteadyGlide, inputs: InputKind = "force
         If ``glide`` was trimmed for another vehicle (different provenance).
     ModelError
         If ``veh`` is not an underwater glider or has ``mbar <= 0``, or the linearization is not finite at the glide.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> g = gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05)
+    >>> sys = gc.linearize_glide(veh, g, inputs="force", outputs=("z", "theta"))
+    >>> sys.nstates, sys.input_labels, sys.output_labels  # the depth z appended as an 11th state
+    (11, ['u1', 'u3', 'u4'], ['z', 'theta'])
     """
     checks.boolean("reduce_fixed", reduce_fixed)
     model, _ = glide_model(veh, glide, inputs)
@@ -750,6 +788,16 @@ def modes(sys: control.StateSpace) -> Modes:
         If ``sys`` has no states or ``sys.A`` is not finite.
     SolverError
         If the eigenvalue, Schur or Sylvester computation fails.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> sys = gc.linearize_glide(veh, gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05))
+    >>> m = gc.modes(sys)
+    >>> print(f"{m.eigenvalues[-1].real:.4f} 1/s: {m.labels[-1]}")  # the fastest mode
+    -2.9181 1/s: v3 34% + r_P3 23% + theta 20%
     """
     A = _state_matrix(sys)
     try:
@@ -964,6 +1012,18 @@ def controllability(sys: control.StateSpace, inputs: Sequence[str] | None = None
         a tolerance is not positive and finite; ``sys`` has no states or non-finite matrices.
     SolverError
         If the balancing, SVD or eigenvalue computation fails.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> sys = gc.linearize_glide(veh, gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05))
+    >>> c = gc.controllability(sys)
+    >>> c.rank, c.n
+    (10, 10)
+    >>> gc.controllability(sys, inputs=("u1", "u3")).mode_states[0].states  # without the pump u4
+    ('m0',)
     """
     A = _state_matrix(sys)
     B = np.asarray(sys.B)
@@ -1029,6 +1089,16 @@ def observability(sys: control.StateSpace, outputs: Sequence[str], states: Seque
         states or a non-finite ``A`` or ``C``.
     SolverError
         If the balancing, SVD or eigenvalue computation fails.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> g = gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05)
+    >>> o = gc.observability(gc.linearize_glide(veh, g, outputs=("z", "theta")), ["z", "theta"])
+    >>> o.rank, o.n, o.mode_states[0].states
+    (8, 11, ('z_prime', 'r_P3', 'r_P1'))
     """
     A = _state_matrix(sys)
     olabels = list(sys.output_labels)

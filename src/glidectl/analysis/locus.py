@@ -209,6 +209,15 @@ def parameter_locus(eig_fn: Callable[[float], np.ndarray], values: Sequence[floa
         If ``time_limit`` is reached.
     Exception
         Whatever ``eig_fn`` raises passes through unchanged.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> loc = gc.parameter_locus(lambda k: np.linalg.eigvals([[0.0, 1.0], [-1.0, 1.0 - k]]),
+    ...                          np.linspace(0.0, 4.0, 41), "k", "1/s")  # s^2 + (k - 1) s + 1
+    >>> [round(c, 6) for c in loc.crossings], [(b.kind, round(b.parameter, 6)) for b in loc.breakpoints]
+    ([1.0], [('break-in', 3.0)])
     """
     checks.function("eig_fn", eig_fn)
     vals = _grid("values", values)
@@ -419,6 +428,17 @@ def rbh_locus(veh: Vehicle, speed: float, gamma: float, rbh_values: Sequence[flo
         If a steady glide's residual check fails, or as in :func:`parameter_locus`.
     BudgetError
         If ``time_limit`` is reached.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> loc = gc.rbh_locus(veh, 0.3, -np.pi / 4, np.linspace(-0.02, 0.10, 25))
+    >>> loc.branches.shape
+    (25, 4)
+    >>> print(f"stable for r_bh > {loc.crossings[0] * 1000:.2f} mm")
+    stable for r_bh > -6.04 mm
     """
     speed, gamma, _ = _glide_args(veh, speed, gamma, None)
     vals = _grid("rbh_values", rbh_values)
@@ -460,6 +480,14 @@ def uncontrolled_eigs(veh: Vehicle, speed: float, gamma: float, **family: float)
     ArgumentTypeError, ArgumentError, ModelError, InfeasibleGlideError, SolverError
         For the arguments and cases of :func:`eta_r_eigenvalues` (this function linearizes the uncontrolled force
         model instead of the acceleration-controlled glider).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> lam = gc.uncontrolled_eigs(gc.load_vehicle("rogue"), 0.3, -np.pi / 4, r_p3=0.05)
+    >>> print(np.sort_complex(np.round(lam, 3)))
+    [-2.918+0.j    -0.505-2.493j -0.505+2.493j -0.493-2.014j -0.493+2.014j]
     """
     speed, gamma, family = _glide_args(veh, speed, gamma, family)
     model = LongitudinalGlider(veh)
@@ -510,6 +538,15 @@ def mbar_locus(veh: Vehicle, speed: float, gamma: float, mbar_values: Sequence[f
         If a steady glide's residual check fails, or as in :func:`parameter_locus`.
     BudgetError
         If ``time_limit`` is reached.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> loc = gc.mbar_locus(veh, 0.3, -np.pi / 4, np.linspace(0.1, 0.5, 9), r_p3=0.05)
+    >>> print(f"unstable above mbar = {loc.crossings[0]:.4f} kg")
+    unstable above mbar = 0.2564 kg
     """
     speed, gamma, family = _glide_args(veh, speed, gamma, family)
     vals = _grid("mbar_values", mbar_values)

@@ -771,6 +771,16 @@ def fly_mission(veh: Any, mission: Mission, controller: Any = "behaviours", *, c
     InfeasibleGlideError
         If the mission's glides are outside the flight envelope or the actuator ranges, or its bottom depth is below
         the vehicle's ``depth_rating``.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("slocum_shallow")
+    >>> mission = gc.Mission(waypoints=[(150.0, 0.0)], depths=(5.0, 20.0), surface_time=60.0, arrival_radius=50.0)
+    >>> run = gc.fly_mission(veh, mission, model="fast")
+    >>> leg = run.legs[0]
+    >>> print(f"{leg.reason} after {leg.dives} dive, {run.duration / 60:.1f} min")
+    arrived after 1 dive, 13.5 min
     """
     hotel = checks.nonnegative("hotel_power", hotel_power, unit="W")
     t_end = math.inf if duration is None else checks.positive("duration", duration, unit="s")

@@ -444,7 +444,7 @@ def _vehicle_tables(v: Vehicle) -> list[_Table]:
         The laid-out tables, in reading order.
     """
     facts = [["title", v.title], ["name", v.name], ["file", v.path or "none: built in Python"],
-             ["kind", v.kind], ["law", v.law], ["provenance", v.provenance]]
+             ["source", v.source or "not given"], ["kind", v.kind], ["law", v.law], ["provenance", v.provenance]]
     if v.overrides:
         facts.append(["overrides", ", ".join(f"{k} = {x:.6g}" for k, x in v.overrides.items())])
     facts.append(["notes", _prose(v.notes) or "none"])

@@ -238,6 +238,15 @@ def ctol_glide(veh: Vehicle, speed: float, gamma: float, *, alpha_max: float = A
         No root of (7.25) with ``|alpha_e| <= alpha_max`` (the message lists the roots that exist).
     SolverError
         The root finder failed or the residual of (7.21)-(7.23) is not small relative to the forces.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> dc8 = gc.load_vehicle("dc8_ctol")  # normalized units of section 7.1
+    >>> level = gc.ctol_glide(dc8, speed=0.155, gamma=0.0)
+    >>> print(f"alpha_e = {np.degrees(level.alpha):.3f} deg, thrust = {level.thrust:.4f}")
+    alpha_e = 3.658 deg, thrust = 0.0491
     """
     require_ctol(veh)
     speed, gamma = _speed_gamma(veh, speed, gamma)

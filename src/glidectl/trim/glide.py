@@ -121,6 +121,14 @@ def permissible_gamma(veh: Vehicle, speed: float | None = None) -> tuple[float, 
         If ``K_D = 0`` (the glide ratio has no minimum, so the permissible set is not defined).
     ArgumentError
         For the seaglider law without ``speed``, or a speed that is not positive and finite.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> lo, hi = gc.permissible_gamma(gc.load_vehicle("rogue"))
+    >>> print(f"glides for gamma < {np.degrees(lo):.2f} deg or gamma > {np.degrees(hi):.2f} deg")
+    glides for gamma < -16.15 deg or gamma > 16.15 deg
     """
     _check_glider(veh)
     if speed is not None:
@@ -397,6 +405,15 @@ def steady_glide(veh: Vehicle, speed: float, gamma: float, *, r_p3: float | None
         setting); the message names the actuator and the limit. Vehicles without the table are not limited.
     SolverError
         The relative residual check fails (please report the vehicle file).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> g = gc.steady_glide(veh, speed=0.3, gamma=-np.pi / 4, r_p3=0.05)
+    >>> print(f"m0 = {g.m0:.4f} kg, alpha = {np.degrees(g.alpha):.2f} deg, r_p1 = {g.r_p1:.4f} m")
+    m0 = 0.2386 kg, alpha = 3.44 deg, r_p1 = 0.0353 m
     """
     _check_glider(veh)
     LongitudinalGlider(veh)  # validates mbar > 0

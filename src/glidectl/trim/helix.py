@@ -128,6 +128,15 @@ def classify_motion(v: Any, Omega: Any, tol: float = 1e-9) -> dict[str, Any]:
         If ``v`` or ``Omega`` is not an array of real numbers, or ``tol`` not a real number.
     ArgumentError
         If ``v`` or ``Omega`` is not three finite numbers, or ``tol`` is negative or not finite.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> c = gc.classify_motion([1.0, 0.0, 0.2], [0.0, 0.0, 0.1])  # v (m/s), Omega (rad/s)
+    >>> print(c["kind"], round(c["curvature"], 4), round(c["torsion"], 4))
+    helix 0.0962 0.0192
+    >>> gc.classify_motion([1.0, 0.0, 0.0], [0.0, 0.0, 0.0])["kind"]
+    'straight line'
     """
     v = checks.array("v (body velocity, m/s)", v, shape=(3,))
     Om = checks.array("Omega (body angular velocity, rad/s)", Omega, shape=(3,))
@@ -596,6 +605,14 @@ def helix_trim(veh: Vehicle, r_p: Any = None, m0: float | None = None, *, guess:
         the message names the actuator.
     SolverError
         The linearization at the solution is not finite or its eigenvalues cannot be computed.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> h = gc.helix_trim(slo, r_p=(0.02, 0.02, 0.04), m0=0.25)
+    >>> print(f"radius {h.radius:.1f} m, drop per turn {h.pitch:.1f} m, period {h.period:.0f} s, stable {h.stable}")
+    radius 66.6 m, drop per turn 206.2 m, period 640 s, stable True
     """
     checks.vehicle("veh", veh)
     if veh.kind != "underwater_glider":

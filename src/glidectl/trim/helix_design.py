@@ -221,6 +221,16 @@ def design_helix(veh: Vehicle, *, radius: float, pitch: float | None = None, spe
         the best attempt. Also when the ``m0`` bounds exclude the sign a pitch needs.
     BudgetError
         If ``time_limit`` ran out.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> slo = gc.load_vehicle("slocum_ch8")
+    >>> d = gc.design_helix(slo, radius=80.0, pitch=185.0)  # pitch: drop per turn (m)
+    >>> print(f"radius {d.helix.radius:.1f} m, pitch {d.helix.pitch:.1f} m, stable {d.helix.stable}")
+    radius 80.0 m, pitch 185.0 m, stable True
+    >>> print(f"m0 = {d.m0:.3f} kg")
+    m0 = 0.256 kg
     """
     checks.vehicle("veh", veh)
     if veh.kind != "underwater_glider":

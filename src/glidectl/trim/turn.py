@@ -188,6 +188,16 @@ def design_turn(veh: Vehicle, radius: float, *, gamma: float = math.radians(25.0
     InfeasibleGlideError
         If no setting in the actuator's range gives the radius (the message gives the tightest turn), or a glide is
         outside the flight envelope.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("slocum_shallow")  # steered by its rudder
+    >>> turn = gc.design_turn(veh, radius=120.0, gamma=np.radians(25.0), speed=0.35)
+    >>> dive, climb = np.degrees(turn.settings[1]), np.degrees(turn.settings[-1])  # keys: +1 dive, -1 climb
+    >>> print(f"{turn.steer}: dive {dive:+.1f} deg, climb {climb:+.1f} deg")
+    rudder: dive +13.4 deg, climb -1.7 deg
     """
     checks.vehicle("veh", veh, "underwater_glider")
     radius = checks.positive("radius", radius, unit="m")
