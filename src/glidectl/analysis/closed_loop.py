@@ -172,6 +172,16 @@ def lqr_state_feedback(model: Any, x_e: Any, u_e: Any, *, Q: Any = None, R: Any 
         is not complex-safe).
     SolverError
         The LQR problem has no stabilizing solution (python-control's message is included).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5")
+    >>> eq = gc.buoyancy_equilibrium(veh, 1.5)              # steady glide at 1.5 m/s, pump at rest
+    >>> rate = veh.actuators["m0"].rate                     # pump rate limit (kg/s)
+    >>> fb = gc.lqr_state_feedback(gc.BuoyancyGlider(veh), eq.state, [0.0], u_min=[-rate], u_max=[rate])
+    >>> fb.K.shape, bool(fb.closed_loop_poles.real.max() < 0)
+    ((1, 5), True)
     """
     n, m = _check_model(model)
     if m == 0:

@@ -71,6 +71,14 @@ def box_points(box: Any, n: int = 2**16, seed: int = 0, *, dim: int | None = Non
     ArgumentError
         If ``lo`` and ``hi`` differ in shape (or do not have ``dim`` values) or are not finite, ``lo >= hi``
         somewhere, or ``n`` or ``seed`` is out of range.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> volume, X = gc.box_points(([0.0, -1.0], [2.0, 1.0]), n=8)
+    >>> volume, X.shape, bool(np.all((X >= [0.0, -1.0]) & (X <= [2.0, 1.0])))
+    (4.0, (8, 2), True)
     """
     what = "arrays" if dim is None else f"arrays of shape ({dim},)"
     if not isinstance(box, tuple | list) or len(box) != 2:
@@ -119,6 +127,14 @@ def box_measure(indicator: Callable[[np.ndarray], Any], box: Any, n: int = 2**16
         As :func:`box_points`.
     ModelError
         If ``indicator`` does not return one boolean per point.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> area = gc.box_measure(lambda X: np.sum(X**2, axis=1) <= 1.0, ([-1.0, -1.0], [1.0, 1.0]), n=2**12)
+    >>> print(f"{area:.2f}")                                # the unit disc
+    3.14
     """
     if not callable(indicator):
         raise ArgumentTypeError(f"indicator must be a function of the points X (n, d), got {type(indicator).__name__}")

@@ -142,6 +142,15 @@ def buoyancy_equilibrium(veh: Vehicle, speed: float, *, descending: bool = True)
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
     SolverError
         If the equilibrium residual is not small relative to the forces at the glide (a loss of accuracy).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> sph = gc.load_vehicle("sphere_ch5")
+    >>> eq = gc.buoyancy_equilibrium(sph, 1.5)  # the m0 that glides at 1.5 m/s
+    >>> print(f"m0e = {eq.m0e:.4f} kg, gamma_e = {np.degrees(eq.gamma):.2f} deg")
+    m0e = 0.5799 kg, gamma_e = -53.57 deg
     """
     require_glider(veh, "veh")
     speed = speed_arg("speed", speed)
@@ -483,6 +492,17 @@ def buoyancy_lyapunov_check(eq: BuoyancyEquilibrium, veh: Vehicle, *, K_b: float
         If ``veh`` is not an underwater glider, or (default ``cert``) the vehicle at ``m0e`` has no singularly
         perturbed chapter-5 glide or has unequal added masses (from
         :func:`~glidectl.stability.composite.composite_lyapunov`).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5", K_M=-100.0)      # the certified variant of section 5.3.1
+    >>> eq = gc.buoyancy_equilibrium(veh, 1.79)
+    >>> chk = gc.buoyancy_lyapunov_check(eq, veh, K_b=1.0, n=2000)
+    >>> chk.passed, f"K_b* = {chk.K_b_star:.0f}"
+    (False, 'K_b* = 191')
+    >>> gc.buoyancy_lyapunov_check(eq, veh, K_b=400.0, n=2000).passed
+    True
     """
     _check_lyapunov_args(eq, veh, cert)
     K_b = checks.positive("K_b", K_b)

@@ -88,6 +88,18 @@ def closed_loop(controller_or_model: Any, law: Callable[[Any], Any] | None = Non
         ``equilibrium`` given with a controller, or (with ``law``) not a finite state of the plant.
     ModelError
         A :class:`LinearGlideController` built without its vehicle, or a controller whose plant refuses its vehicle.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5")
+    >>> loop = gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(veh, 1.5), veh, 5.0))
+    >>> loop.state_names, loop.input_names
+    (('V', 'gamma', 'alpha', 'Omega2', 'm0'), ())
+    >>> sim = gc.simulate(loop, loop.equilibrium + [0.1, 0.0, 0.0, 0.0, 0.0], 100.0)
+    >>> bool(np.abs(sim.x[-1] - loop.equilibrium).max() < 1e-6)
+    True
     """
     if law is not None:
         checks.function("law", law)

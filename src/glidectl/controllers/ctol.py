@@ -127,6 +127,16 @@ def closed_loop_eigenvalues(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float
         If ``glide`` was computed for another vehicle.
     SolverError
         If the Jacobian is not finite or the eigenvalue computation fails.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> glide = gc.ctol_glide(veh, 0.155, 0.0)              # level flight
+    >>> ev = gc.ctol_closed_loop_eigenvalues(veh, glide, k3=10.0, k4=5.0)
+    >>> print(np.round(ev.real, 2))
+    [-24.82  -4.02  -2.5   -2.5 ]
     """
     J = ClosedLoopCTOL(veh, glide, k3, k4, T).jacobian()
     try:

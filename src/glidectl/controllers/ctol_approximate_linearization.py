@@ -187,6 +187,17 @@ def track_approximate_linearization(veh: Vehicle, traj: ClimbTrajectory | None =
     SolverError
         If the zero dynamics have no level-flight equilibrium at the trajectory speed (the start), the decoupling
         matrix becomes singular during the run, or the integration fails.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> bad = gc.track_approximate_linearization(veh, t_final=2.0)          # epsilon = 0.3: diverges
+    >>> bad.completed, f"stopped at {bad.stopped_at:.2f} s"
+    (False, 'stopped at 1.58 s')
+    >>> ok = gc.track_approximate_linearization(veh.with_overrides(epsilon=0.0), t_final=2.0)
+    >>> ok.completed, bool(ok.max_error < 1e-6)
+    (True, True)
     """
     require_inversion_vehicle(veh, need_eps=False)
     traj = climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,
@@ -258,6 +269,18 @@ def approximate_linearization_eigenvalues(veh: Vehicle, speed: float, *, pole: f
     SolverError
         If the zero dynamics have no level-flight equilibrium at ``speed``, the decoupling matrix is singular
         there, or the Jacobian is not finite.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")                    # epsilon = 0.3
+    >>> speed = gc.climb_trajectory(veh).speed
+    >>> ev = gc.approximate_linearization_eigenvalues(veh, speed)
+    >>> ev.shape, bool(ev.real.max() > 0)                    # the eps = 0 design destabilizes the true aircraft
+    ((8,), True)
+    >>> ev0 = gc.approximate_linearization_eigenvalues(veh.with_overrides(epsilon=0.0), speed)
+    >>> print(f"{ev0.real.min():.1f} {ev0.real.max():.1f}")  # exact design: every eigenvalue at -pole
+    -1.0 -1.0
     """
     require_inversion_vehicle(veh, need_eps=False)
     V = speed_arg("speed", speed)

@@ -179,6 +179,13 @@ def feedback_linearization_blowup(veh: Vehicle, traj: ClimbTrajectory | None = N
         If the stable inversion (when computed here) does not converge, the zero dynamics have no level-flight
         equilibrium, the integration fails, or the pitch deviation never grows through the fit band (fewer than 3
         samples in it).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> b = gc.feedback_linearization_blowup(gc.load_vehicle("dc8_ctol"), t_final=10.0)
+    >>> print(f"stopped at {b.blowup_time:.2f} s, growth {b.growth_rate:.1f} 1/s (frozen {b.frozen_rate:.1f} 1/s)")
+    stopped at 1.19 s, growth 3.8 1/s (frozen 3.8 1/s)
     """
     require_inversion_vehicle(veh)
     traj = _trajectory(veh, traj)

@@ -110,6 +110,16 @@ def ctol_glide_map(veh: Vehicle, speeds: Sequence[float], gammas: Sequence[float
         If the grid has more than :data:`MAX_MAP_POINTS` points.
     ModelError, SolverError
         As :func:`glidectl.trim.ctol.ctol_glide` and :func:`glidectl.controllers.ctol.closed_loop_eigenvalues`.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> m = gc.ctol_glide_map(veh, speeds=[0.15, 0.2], gammas=[-0.1, 0.0, 0.1], gains=[(10.0, 5.0)])
+    >>> m.thrust.shape, bool(m.feasible.all())
+    ((2, 3), True)
+    >>> print(f"{m.max_real_eig[(10.0, 5.0)]:.3f}")          # stable over the whole map
+    -2.241
     """
     veh = require_ctol_vehicle(veh, "veh")
     V = checks.array("speeds", speeds, ndim=1, min_size=1)

@@ -218,6 +218,13 @@ def stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *, t0: f
     SolverError
         ``solve_bvp`` did not converge (within 100000 mesh nodes), the boundary equilibria are not saddles, or the
         residual check failed.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> inv = gc.stable_inversion(gc.load_vehicle("dc8_ctol"), t1=25.0)
+    >>> bool(inv.max_residual < 1e-6), f"pitch {inv.start.theta:.4f} -> {inv.end.theta:.4f} rad"
+    (True, 'pitch 0.0633 -> 0.0706 rad')
     """
     require_inversion_vehicle(veh)
     traj = climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,
@@ -460,6 +467,15 @@ def track_stable_inversion(veh: Vehicle, traj: ClimbTrajectory | None = None, *,
     SolverError
         If the stable inversion (when computed here) does not converge, the tracker's LQR or Riccati equation
         fails, the zero dynamics have no level-flight equilibrium (``start="level"``), or the integration fails.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> inv = gc.stable_inversion(veh, t0=-10.0, t1=20.0)
+    >>> run = gc.track_stable_inversion(veh, inversion=inv, t_final=10.0)
+    >>> run.completed, bool(run.max_error < 1e-6)             # exact tracking, with pre-action before t = 0
+    (True, True)
     """
     require_inversion_vehicle(veh)
     traj = climb_trajectory(veh) if traj is None else require_instance("traj", traj, ClimbTrajectory,

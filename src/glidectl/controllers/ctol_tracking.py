@@ -163,6 +163,14 @@ def track_with_steady_glides(veh: Vehicle, traj: ClimbTrajectory, *, dt: float =
         If the run spends ``max_nfev`` right-hand-side evaluations or ``time_limit`` seconds.
     SolverError
         If the very first replanning interval fails (no steady glide or failed integration), so there is no run.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> run = gc.track_with_steady_glides(veh, gc.climb_trajectory(veh), dt=1.0, k3=10.0, k4=10.0, t_final=10.0)
+    >>> run.completed, f"max error {run.max_error:.3f} m"
+    (True, 'max error 0.159 m')
     """
     require_ctol_vehicle(veh, "veh")
     require_instance("traj", traj, ClimbTrajectory, " (from gc.climb_trajectory)")
@@ -382,6 +390,12 @@ def pareto_front(points: Sequence[tuple[float, float]]) -> list[int]:
         If ``points`` is not real numbers.
     ArgumentError
         If the points are not finite pairs (an array of shape ``(N, 2)``; ``N = 0`` gives ``[]``).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> gc.pareto_front([(1.0, 5.0), (2.0, 2.0), (3.0, 3.0), (4.0, 1.0)])    # (3, 3) is dominated by (2, 2)
+    [3, 1, 0]
     """
     pts = checks.array("points", points)
     if pts.size == 0:
@@ -447,6 +461,15 @@ def tracking_grid(veh: Vehicle, traj: ClimbTrajectory, dts: Sequence[float], gai
         If a run spends its evaluation budget (see :func:`track_with_steady_glides`).
     SolverError
         If a run fails in its first replanning interval (one such run aborts the whole grid).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> study = gc.tracking_grid(veh, gc.climb_trajectory(veh), dts=[0.5, 1.0], gains=[(10.0, 10.0), (10.0, 5.0)],
+    ...                          t_final=10.0)
+    >>> len(study.records), [(r["dt"], r["k3"], r["k4"]) for r in study.front_records()]    # the Pareto front
+    (4, [(0.5, 10.0, 10.0)])
     """
     require_ctol_vehicle(veh, "veh")
     require_instance("traj", traj, ClimbTrajectory, " (from gc.climb_trajectory)")

@@ -169,6 +169,15 @@ def climb_trajectory(veh: Vehicle, mach_like: float = 0.85) -> ClimbTrajectory:
         If ``mach_like`` is not a positive finite number, or the speed it gives exceeds 100.
     ModelError
         If ``veh`` is not a CTOL aircraft.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> traj = gc.climb_trajectory(gc.load_vehicle("dc8_ctol"))
+    >>> print(f"{traj.speed:.4f}")                          # 0.85 / sqrt(a_L), a_L = 30 (normalized units)
+    0.1552
+    >>> print(f"{traj.derivatives(60.0, 0)[0, 1]:.3f}")      # altitude (m) once the climb has settled
+    10.000
     """
     require_ctol(veh)
     mach_like = checks.positive("mach_like", mach_like)

@@ -326,6 +326,14 @@ def zero_dynamics(veh: Vehicle, speed: float) -> ZeroDynamics:
         If ``veh`` is not a CTOL aircraft or has ``epsilon = 0``.
     SolverError
         No equilibrium on ``(-pi/2, pi/2)``, or the root finder fails.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> zd = gc.zero_dynamics(veh, gc.climb_trajectory(veh).speed)
+    >>> zd.is_saddle, f"theta* = {zd.theta:.4f} rad", f"rate {zd.rate:.2f} 1/s"
+    (True, 'theta* = 0.0633 rad', 'rate 3.82 1/s')
     """
     require_inversion_vehicle(veh)
     V = speed_arg("speed", speed)

@@ -746,6 +746,16 @@ def tune_pitch_pid(plant: ActuatedGlider, glide: SteadyGlide) -> tuple[float, fl
         If the glide was trimmed for another vehicle.
     ModelError
         If the right-hand side is not finite at the glide.
+
+    Examples
+    --------
+    >>> import math
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("slocum_shallow")
+    >>> glide = gc.steady_glide(veh, 0.35, math.radians(-25), r_p3=veh.actuators["r_P3"].fixed)
+    >>> kp, ki, kd, max_real = gc.tune_pitch_pid(gc.ActuatedGlider(veh), glide)
+    >>> print(kp, ki, kd, max_real < 0)
+    0.2 0.01 0.5 True
     """
     require_instance("plant", plant, ActuatedGlider)
     require_instance("glide", glide, SteadyGlide, " (from gc.steady_glide)")
@@ -1510,6 +1520,15 @@ def lqg_filter_noise(sensors: Sequence[str], noise: Mapping[str, float] | None =
     ArgumentError
         If ``measurement_noise`` names a state that is not a sensor, ``process_noise`` a name that is not a state
         of the actuated glider, or a level is not positive and finite.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> measurement, process = gc.lqg_filter_noise(("theta", "m0"), noise={"theta": 0.01})
+    >>> measurement
+    {'theta': 0.01, 'm0': 0.0001}
+    >>> process["theta"], process["m0"]                       # intensities (state unit per sqrt(s))
+    (0.0001, 0.0002)
     """
     sens = tuple(sensors)
     meas = _named_levels("measurement_noise", measurement_noise, sens, "sensor")

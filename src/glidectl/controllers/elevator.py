@@ -174,6 +174,15 @@ def elevator_equilibrium(veh: Vehicle, speed: float, gamma: float, *,
         ``K_M = 0``.
     SolverError
         If the root finder fails, or the equilibrium residual is not small relative to the forces at the glide.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> ev = gc.load_vehicle("elevator_ch6")
+    >>> eq = gc.elevator_equilibrium(ev, speed=1.0, gamma=-np.pi / 4)
+    >>> print(f"alpha_e = {np.degrees(eq.alpha):.3f} deg, m0e = {eq.m0e:.4f} kg, u2e = {np.degrees(eq.u2e):.3f} deg")
+    alpha_e = 3.519 deg, m0e = 2.6546 kg, u2e = -2.087 deg
     """
     require_glider(veh, "veh")
     speed = speed_arg("speed V_e", speed)
@@ -278,6 +287,14 @@ def infer_J2(veh: Vehicle, eps2: float, speed: float, gamma: float) -> float:
         If no steady glide exists at ``(speed, gamma)`` (see :func:`elevator_equilibrium`).
     SolverError
         If the equilibrium computation fails (see :func:`elevator_equilibrium`).
+
+    Examples
+    --------
+    >>> import math
+    >>> import glidectl as gc
+    >>> J2 = gc.infer_J2(gc.load_vehicle("elevator_ch6"), eps2=0.012, speed=1.0, gamma=-math.pi / 4)
+    >>> print(f"{J2:.4f} kg m^2")
+    0.0999 kg m^2
     """
     eps2 = checks.positive("eps2", eps2)
     eq = elevator_equilibrium(veh, speed, gamma)
@@ -375,6 +392,16 @@ def closed_loop_eigenvalues(eq: ElevatorEquilibrium, veh: Vehicle, K: float = 1.
         If ``veh`` is not an underwater glider or has no ``delta``.
     SolverError
         If the Jacobian is not finite or the eigenvalue computation fails.
+
+    Examples
+    --------
+    >>> import math
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("elevator_ch6")
+    >>> eq = gc.elevator_equilibrium(veh, 1.0, -math.pi / 4)
+    >>> ev = gc.elevator_closed_loop_eigenvalues(eq, veh, K=1.0)
+    >>> ev.shape, f"{ev.real.max():.3f}"                     # Theorem 3: locally asymptotically stable
+    ((5,), '-0.601')
     """
     ctrl = ElevatorBuoyancyController(eq, veh, K)
     model = ElevatorBuoyancyGlider(veh)
@@ -474,6 +501,17 @@ def elevator_example(veh: Vehicle, speed: float, gamma: float, *, t_final: float
         If the integration hits its step or evaluation budget (:func:`glidectl.sim.simulate`).
     SolverError
         If the equilibrium computation or the integration fails.
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> ex = gc.elevator_example(gc.load_vehicle("elevator_ch6"), 1.0, -math.pi / 4)    # Fig 6.2
+    >>> print(f"m0e = {ex.eq.m0e:.3f} kg, pump rate up to {ex.max_abs_m0dot:.3f} kg/s")
+    m0e = 2.655 kg, pump rate up to 0.050 kg/s
+    >>> bool(np.abs(ex.final_error).max() < 1e-3)            # at the target glide after 10 s
+    True
     """
     t_final = checks.real("t_final", t_final, lo=0.0, hi=1e5, lo_open=True, unit="s")
     if x0 is not None:

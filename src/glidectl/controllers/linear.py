@@ -254,6 +254,14 @@ def default_actuate(veh: Vehicle, inputs: Literal["force", "acceleration"] = "fo
     ------
     ArgumentError
         If ``inputs`` is not ``"force"`` or ``"acceleration"``.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> gc.default_actuate(gc.load_vehicle("rogue"))
+    ('u1', 'u3', 'u4')
+    >>> gc.default_actuate(gc.load_vehicle("slocum_shallow"), "acceleration")   # its file fixes r_P3
+    ('w1', 'w4')
     """
     checks.choice("inputs", inputs, ("force", "acceleration"))
     names = ("u1", "u3", "u4") if inputs == "force" else ("w1", "w3", "w4")
@@ -405,6 +413,16 @@ def lqr_glide(veh: Vehicle, glide: SteadyGlide, *, inputs: Literal["force", "acc
     SolverError
         If the LQR design fails (python-control's message is included; e.g. no stabilizing solution) or returns a
         gain that is not finite or does not stabilize the linearization.
+
+    Examples
+    --------
+    >>> import math
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> glide = gc.steady_glide(veh, 0.3, math.radians(-45), r_p3=0.05)
+    >>> ctrl = gc.lqr_glide(veh, glide)
+    >>> ctrl.K.shape, ctrl.state_names[:3], bool(ctrl.closed_loop_poles.real.max() < 0)
+    ((3, 10), ('z_prime', 'theta', 'Omega2'), True)
     """
     check_glide_design(veh, glide, inputs)
     if max_deviation is not None and not isinstance(max_deviation, Mapping):
@@ -522,6 +540,18 @@ def place_glide(veh: Vehicle, glide: SteadyGlide, poles: Sequence[complex], *,
     SolverError
         If :func:`control.place` fails or the achieved poles differ from the requested ones by more than 1e-6
         (relative).
+
+    Examples
+    --------
+    >>> import math
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> glide = gc.steady_glide(veh, 0.3, math.radians(-45), r_p3=0.05)
+    >>> poles = -0.1 * np.arange(1, 11)                      # 1/s, one per state
+    >>> ctrl = gc.place_glide(veh, glide, poles)
+    >>> ctrl.K.shape, bool(np.allclose(np.sort(ctrl.closed_loop_poles.real), np.sort(poles)))
+    ((3, 10), True)
     """
     check_glide_design(veh, glide, inputs)
     p = numeric_array("poles", poles).astype(complex).ravel()
@@ -597,6 +627,14 @@ def decoupled_gain_matrix(kp1: float, kd1: float, kp3: float, kd3: float, k4: fl
     ArgumentError
         If a gain is not finite. The sign is not checked (the thesis's printed gains, with the sign error, are a
         case of interest): non-positive gains give an unstable ``zeta`` subsystem.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> gc.decoupled_gain_matrix(kp1=1.0, kd1=2.0, kp3=1.0, kd3=2.0, k4=0.5)
+    array([[1. , 2. , 0. , 0. , 0. ],
+           [0. , 0. , 1. , 2. , 0. ],
+           [0. , 0. , 0. , 0. , 0.5]])
     """
     kp1, kd1, kp3, kd3, k4 = (checks.real(n, v) for n, v in
                               (("kp1", kp1), ("kd1", kd1), ("kp3", kp3), ("kd3", kd3), ("k4", k4)))

@@ -395,6 +395,17 @@ def compare_realized_torque(veh: Vehicle, law: TorqueLaw, x0: Any, t_final: floa
         If a run hits its evaluation, step or time budget.
     SolverError
         If either integration fails (for ``feedback="hull"`` the message suggests ``"system"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5", mbar=2.0, m1=26.0, m3=26.0)    # a 2 kg moving mass
+    >>> d = gc.design_torque_control(veh, speed=1.6)
+    >>> xe = np.array([d.speed, d.gamma, d.alpha, 0.0])
+    >>> c = gc.compare_realized_torque(veh, d.law, xe + [0.16, 0.1, 0.0, 0.0], 5.0)
+    >>> bool(c.max_difference["gamma"] < 1e-3), f"mass excursion {c.max_r_p1:.3f} m"
+    (True, 'mass excursion 0.035 m')
     """
     require_glider(veh, "veh")
     require_instance("law", law, TorqueLaw)

@@ -529,6 +529,17 @@ def lqg_glide(veh: Vehicle, glide: SteadyGlide, sensors: Any, noise: Mapping[str
         If ``veh`` is not an underwater glider or has ``mbar <= 0``.
     SolverError
         If the LQR or Kalman-filter design fails or returns gains that do not stabilize.
+
+    Examples
+    --------
+    >>> import math
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("rogue")
+    >>> glide = gc.steady_glide(veh, 0.3, math.radians(-45), r_p3=0.05)
+    >>> sensors = ("z", "theta", "r_P1", "r_P3", "m0")
+    >>> ctrl = gc.lqg_glide(veh, glide, sensors, noise=dict.fromkeys(sensors, 1e-3))
+    >>> ctrl.L.shape, bool(ctrl.estimator_poles.real.max() < 0)
+    ((10, 5), True)
     """
     check_glide_design(veh, glide, inputs)
     checks.boolean("reduce_fixed", reduce_fixed)

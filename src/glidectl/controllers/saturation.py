@@ -123,6 +123,15 @@ def saturated_loop(system: Any, feedback: Any = None, *, box: tuple[Any, Any] | 
     ModelError
         If the loop does not equal ``F(x, sat(K (x - x_e)))`` on the box, a held state moves, or the chapter-6
         pump is not rate limited (no saturation to certify: use the SOS path).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5")
+    >>> ctrl = gc.BuoyancyController(gc.buoyancy_equilibrium(veh, 1.5), veh, 5.0)
+    >>> sl = gc.saturated_loop(gc.closed_loop(ctrl))
+    >>> sl.feedback_names, float(sl.u_hi[0])                # the pump rate limit (kg/s)
+    (('u1',), 0.02)
     """
     if feedback is not None:
         return _state_feedback_loop(system, feedback, box, u_min, u_max)

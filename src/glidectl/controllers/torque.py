@@ -173,6 +173,15 @@ def closed_loop_formulas(veh: Vehicle, law: TorqueLaw, *, printed: bool = False)
         (5.10)), or the closed-loop vehicle has no singularly perturbed chapter-5 glide (``m0 = 0``, closed-loop
         ``K_M' = 0``, ``K_q' >= 0`` or ``K_M' >= 0``; from
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5")
+    >>> law = gc.design_torque_control(veh, speed=1.6).law
+    >>> f = gc.closed_loop_formulas(veh, law)
+    >>> print(f"alpha_e = {f['alpha_e']:.4f} rad, eps1 = {f['eps1']:.2e}, eps2 = {f['eps2']:.2e}")
+    alpha_e = 0.0231 rad, eps1 = 2.52e-03, eps2 = 2.32e-04
     """
     require_glider(veh, "veh")
     require_instance("law", law, TorqueLaw)
@@ -356,6 +365,13 @@ def torque_gain_family(veh: Vehicle, alpha_e: float, *, eps_ratio: float | None 
         If ``veh`` is not an underwater glider or has ``m0 = 0``; the target glide at ``alpha_e`` is not singularly
         perturbed (e.g. ``K_De <= 0``); or ``eps_ratio`` is omitted and the open loop has no singularly perturbed
         glide.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> fam = gc.torque_gain_family(gc.load_vehicle("sphere_ch5"), alpha_e=0.0231)
+    >>> print(f"V_e = {fam.speed:.3f} m/s, K_q,ref = {fam.Kq_ref:.1f} kg s/rad, eps1/eps2 = {fam.eps_ratio:.2f}")
+    V_e = 1.600 m/s, K_q,ref = -2.0 kg s/rad, eps1/eps2 = 10.86
     """
     require_glider(veh, "veh")
     alpha_e = angle_arg("alpha_e", alpha_e, math.pi / 4, open_ends=True)
@@ -590,6 +606,13 @@ def design_torque_control(veh: Vehicle, *, speed: float | None = None, gamma: fl
     SolverError
         If the certification boundary cannot be bracketed within the documented scale range ``[1e-12, 1e12]``
         (the search is bounded: at most ~140 bracketing steps and 200 bisection steps).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> d = gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=1.6)
+    >>> d.certified, f"gamma_e = {d.gamma:.3f} rad", f"peak torque {d.peak_torque:.0f} N m"
+    (True, 'gamma_e = -0.867 rad', 'peak torque 384 N m')
     """
     require_glider(veh, "veh")
     torque_max = checks.positive("torque_max", torque_max, allow_inf=True, unit="N m")

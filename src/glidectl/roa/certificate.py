@@ -116,6 +116,14 @@ def dVdt(V: Poly, lift: Any, rhs: Any, X: Any) -> np.ndarray:
         If ``V`` is not a Poly, ``lift`` or ``rhs`` is not callable, or ``X`` is not numeric.
     ArgumentError
         If ``X`` is not a finite (N, n) array, or the shapes of ``X``, ``rhs(X)`` and ``lift`` do not agree.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> vdp = gc.benchmarks.van_der_pol()
+    >>> V = gc.lyapunov_quadratic(vdp)
+    >>> gc.dVdt(V, vdp.lift, vdp.rhs, [[0.1, 0.2], [0.5, -0.5]]).round(4)
+    array([-0.0494, -0.3125])
     """
     if not isinstance(V, Poly):
         raise ArgumentTypeError(f"V must be a glidectl.roa.Poly, got {type(V).__name__}")

@@ -283,6 +283,13 @@ def convergent_extent(loop: Any, box: Any = None, horizon: float | None = None, 
         If the equilibrium is not exponentially stable (the linearization has an eigenvalue with real part >= 0
         on the states that move), or the horizon is too short to tell: runs started at 1 % of the box from the
         equilibrium have not converged by the horizon.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> ext = gc.convergent_extent(gc.benchmarks.van_der_pol(), n=8, steps=6)
+    >>> print(ext.hi.round(1))              # where the limit cycle crosses the axes: |x1| = 2.01, |x2| = 2.17
+    [2.  2.2]
     """
     n = checks.integer("n", n, lo=2, hi=1000)
     steps = checks.integer("steps", steps, lo=0, hi=60)
@@ -378,6 +385,13 @@ def convergent_slice(loop: Any, dims: Any = (0, 1), box: Any = None, n: int = 41
         For ``dims`` that are not two distinct states, and as :func:`convergent_extent`.
     ModelError
         As :func:`convergent_extent` (an equilibrium that is not exponentially stable).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> sl = gc.convergent_slice(gc.benchmarks.van_der_pol(), dims=("x1", "x2"), n=9)
+    >>> sl.converged.shape, int(sl.converged.sum())          # the grid points inside the limit cycle
+    ((9, 9), 21)
     """
     n = checks.integer("n", n, lo=2, hi=401)
     test = _ConvergenceTest.of(loop, box, horizon, tol, within_box)

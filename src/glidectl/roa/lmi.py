@@ -1037,6 +1037,16 @@ def certify_roa_lmi(system: Any, *, shape: Any = None,
         Hessian is not finite on the box.
     SolverError
         If no SDP is feasible (no ellipsoid of the given shape, or none at all, is certified).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5")
+    >>> ctrl = gc.BuoyancyController(gc.buoyancy_equilibrium(veh, 1.5), veh, 5.0)
+    >>> sl = gc.saturated_loop(gc.closed_loop(ctrl))        # the pump saturates at its rate limit
+    >>> cert = gc.certify_roa_lmi(sl, rounds=1, n_radii=4, refine=1, n_hessian=128, n_verify=500, n_simulate=4)
+    >>> cert.certified, cert.method
+    (True, 'lmi')
     """
     t_wall = time.perf_counter()
     if not isinstance(system, SaturatedLoop):

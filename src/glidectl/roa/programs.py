@@ -122,6 +122,13 @@ def lyapunov_matrix(ps: PolySystem) -> np.ndarray:
         If ``ps`` is neither a PolySystem nor a model.
     SolverError
         If the Lyapunov equation cannot be solved to a positive definite ``P``.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> gc.lyapunov_matrix(gc.benchmarks.van_der_pol()).round(6)
+    array([[ 1.5, -0.5],
+           [-0.5,  1. ]])
     """
     ps = recast(ps)
     A = linearization(ps)
@@ -178,6 +185,16 @@ def lyapunov_quadratic(ps: PolySystem) -> Poly:
         If ``ps`` is neither a PolySystem nor a model.
     SolverError
         If the Lyapunov equation fails.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    >>> ps = gc.recast(sp.reduced_model())
+    >>> ps.z_names
+    ('Vbar', 'sin(gammabar)', '1-cos(gammabar)')
+    >>> gc.lyapunov_quadratic(ps)                   # gammabar^2 enters as 2 (1 - cos(gammabar))
+    Poly(+0.823641*z2 +0.238908*z0*z1 +0.33818*z0^2)
     """
     ps = recast(ps)
     P = lyapunov_matrix(ps)
@@ -343,6 +360,13 @@ def estimate_sos_size(system: Any, degree: int, *, extra: int | None = None, spe
         If ``degree`` is odd or below 2, or ``extra`` is negative.
     ModelError
         If ``system`` cannot be recast exactly.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> size = gc.estimate_sos_size(gc.benchmarks.van_der_pol(), degree=4)
+    >>> size.gram, f"{size.bytes / 1e6:.0f} MB"
+    ((('decrease', 20), ('positivity', 5)), '25 MB')
     """
     degree = check_degree(degree)
     if (not isinstance(system, PolySystem) and not is_certification_model(system) and hasattr(system, "state_names")
@@ -968,6 +992,14 @@ def max_level(system: Any, V: Poly, *, rho_cap: float = 1e6, solver: str = DEFAU
         If the SDP solver fails or returns a status other than optimal.
     ModelError
         If ``system`` is a model that cannot be recast exactly (:func:`~glidectl.roa.systems.recast`).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> vdp = gc.benchmarks.van_der_pol()
+    >>> res = gc.max_level(vdp, gc.lyapunov_quadratic(vdp))
+    >>> res.status, f"rho = {res.rho:.1f}"
+    ('optimal', 'rho = 2.3')
     """
     ps = recast(system)
     check_candidate(V, ps, "V")

@@ -610,6 +610,18 @@ def certify_roa_family(system: Any, member: Callable[[Vehicle], SaturatedLoop], 
         is not exponentially stable (the message says to try a smaller box).
     SolverError
         If no common ellipsoid is certified (the box is too wide for one shape: try a smaller box).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> from glidectl.robustness.certificates import ControllerMember
+    >>> veh = gc.load_vehicle("sphere_ch5").with_uncertainty({"K_D0": {"rel": 0.05}})
+    >>> loop = gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(veh, 1.5), veh, 5.0))
+    >>> sl = gc.saturated_loop(loop)
+    >>> cert = gc.certify_roa_family(sl, ControllerMember(loop, sl.free), rounds=1, n_radii=4, refine=1,
+    ...                              n_samples=2, n_hessian=128, n_verify=200, n_simulate=2)
+    >>> cert.certified, cert.keys
+    (True, ('K_D0',))
     """
     t_wall = time.perf_counter()
     opts = search_options(hessian_margin=hessian_margin, n_hessian=n_hessian, n_radii=n_radii, refine=refine,

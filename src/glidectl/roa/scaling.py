@@ -132,6 +132,15 @@ def validity_box(model: Any, equilibrium: Any = None, vehicle: Any = None) -> tu
     ArgumentError
         If a state is unknown (the message lists the states and the limits found and asks for ``box=``), the
         equilibrium is missing or has the wrong shape, or it is not strictly inside the box.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("sphere_ch5")
+    >>> loop = gc.closed_loop(gc.BuoyancyController(gc.buoyancy_equilibrium(veh, 1.5), veh, 5.0))
+    >>> lo, hi = gc.validity_box(loop)
+    >>> loop.state_names[4], round(float(lo[4]), 6), round(float(hi[4]), 6)   # m0: the pump's range, less 0.1 %
+    ('m0', -0.999, 0.999)
     """
     names = _names_of(model)
     n = len(names)

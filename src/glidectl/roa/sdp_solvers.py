@@ -49,6 +49,12 @@ def installed_sdp_solvers() -> list[str]:
     Raises
     ------
     None
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> "CLARABEL" in gc.installed_sdp_solvers()
+    True
     """
     have = set(cp.installed_solvers())
     out = []

@@ -277,6 +277,14 @@ def surrogate_system(model: Any, box: Any = None, *, degree: int = 3, margin: fl
     ModelError
         If the model has no equilibrium (``None``), ``f(x_e)`` is not zero to rounding after Newton refinement, the
         right-hand side is not complex-safe, or it is not finite on the box.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> loop = gc.closed_loop(gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=1.6))
+    >>> ps = gc.surrogate_system(loop, degree=3)
+    >>> ps.method, ps.state_names
+    ('surrogate+remainder', ('V', 'gamma', 'alpha', 'Omega2'))
     """
     if not hasattr(model, "state_names") or not callable(getattr(model, "rhs", None)):
         raise ArgumentTypeError(f"expected an input-free glidectl model (state_names, rhs(x), equilibrium), e.g. "
@@ -405,6 +413,17 @@ def surrogate_error(ps: PolySystem, X: Any) -> tuple[np.ndarray, np.ndarray]:
         If ``ps`` is not a PolySystem.
     ArgumentError
         If ``ps`` has no remainder (not a surrogate) or ``X`` has the wrong shape.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> loop = gc.closed_loop(gc.design_torque_control(gc.load_vehicle("sphere_ch5"), speed=1.6))
+    >>> ps = gc.surrogate_system(loop)
+    >>> _, X = gc.box_points(ps.box, n=256)
+    >>> error, bound = gc.surrogate_error(ps, X)
+    >>> error.shape, bool(np.all(error <= bound))
+    ((256, 4), True)
     """
     if not isinstance(ps, PolySystem):
         raise ArgumentTypeError(f"ps must be a PolySystem, got {type(ps).__name__}")

@@ -278,6 +278,14 @@ def recast(model: Any, *, speed_floor: float = 0.1, max_degree: int = 8, seed: i
     ModelError
         If the model is not polynomial in the lift up to ``max_degree`` (relative residual above ``1e-9``).
         Also if the equilibrium is not the origin or a state is listed both as a pure and as a mixed angle.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    >>> ps = gc.recast(sp.reduced_model())
+    >>> ps.state_names, ps.z_names, ps.method
+    (('Vbar', 'gammabar'), ('Vbar', 'sin(gammabar)', '1-cos(gammabar)'), 'exact recast')
     """
     if isinstance(model, PolySystem):
         return model
@@ -541,6 +549,14 @@ def taylor_system(system: Any, order: int = 3) -> PolySystem:
         If ``order`` is not in ``[1, 12]``.
     ModelError
         If ``system`` is a model that cannot be recast exactly.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    >>> ts = gc.taylor_system(sp.reduced_model(), order=3)
+    >>> ts.name, ts.z_names                         # polynomial in the states themselves (no sin, cos)
+    ('sphere_ch5 reduced (K_M = -50) (Taylor order 3)', ('Vbar', 'gammabar'))
     """
     order = checks.integer("order", order, lo=1, hi=12)
     ps = recast(system)

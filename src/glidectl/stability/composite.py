@@ -803,6 +803,15 @@ def composite_lyapunov(veh: Vehicle, *, Vbar: tuple[float, float] = (-0.4, 0.4),
         (``m1 + mbar != m3 + mbar``; see :func:`~glidectl.stability.unequal_mass.unequal_mass_check`).
     SolverError
         If a computed constant is not finite or ``C_W`` is not positive definite (an internal inconsistency).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> cert = gc.composite_lyapunov(gc.load_vehicle("sphere_ch5", K_M=-100.0))
+    >>> cert.certified, f"mu = {cert.mu:.5f} < mu_d = {cert.mu_d:.5f}"
+    (True, 'mu = 0.00257 < mu_d = 0.00287')
+    >>> gc.composite_lyapunov(gc.load_vehicle("sphere_ch5")).certified     # K_M = -50: mu > mu_d
+    False
     """
     checks.vehicle("veh", veh, "underwater_glider")
     checks.choice("cw", cw, ("corrected", "thesis"))

@@ -750,6 +750,15 @@ def ctol_lyapunov(veh: Vehicle, glide: CTOLGlide, k3: float, k4: float, T: float
         Not a CTOL vehicle, or ``epsilon <= 0``.
     SolverError
         If a constant of the certificate is not finite (it lost its meaning).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> veh = gc.load_vehicle("dc8_ctol")
+    >>> glide = gc.ctol_glide(veh, 0.155, 0.0)              # level flight
+    >>> cert = gc.ctol_lyapunov(veh, glide, k3=10.0, k4=5.0, n=2000)
+    >>> cert.certified, len(cert.corrections)               # two printed constants corrected
+    (True, 2)
     """
     checks.vehicle("veh", veh, "ctol")
     if not isinstance(glide, CTOLGlide):

@@ -260,6 +260,13 @@ def singular_perturbation(veh: Vehicle) -> SingularPerturbation:
         that underflows to zero).
     SolverError
         If an eigenvalue computation fails.
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> sp = gc.singular_perturbation(gc.load_vehicle("sphere_ch5"))
+    >>> print(f"V_e = {sp.speed:.3f} m/s, tau_s = {sp.tau_s:.2f} s, eps1 = {sp.eps1:.2e}, eps2 = {sp.eps2:.2e}")
+    V_e = 1.648 m/s, tau_s = 8.36 s, eps1 = 4.78e-03, eps2 = 4.40e-04
     """
     checks.vehicle("veh", veh, "underwater_glider")
     try:

@@ -45,6 +45,13 @@ def allowable_delta_m_ratio(kappa: float, Vbar_min: np.ndarray | float) -> np.nd
         If ``kappa`` or ``Vbar_min`` is not real numbers.
     ArgumentError
         If ``kappa`` is not positive and finite, or a ``Vbar_min`` is not finite or not in (-1, 0].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import glidectl as gc
+    >>> print(gc.allowable_delta_m_ratio(1.243, np.array([-0.4, -0.2, 0.0])).round(3))   # kappa of sphere_ch5
+    [0.145 0.257 0.402]
     """
     kappa = checks.positive("kappa", kappa)
     scalar = not isinstance(Vbar_min, list | tuple | np.ndarray) or np.ndim(Vbar_min) == 0
@@ -148,6 +155,13 @@ def unequal_mass_check(veh: Vehicle, Vbar: tuple[float, float] = (-0.4, 0.4),
     ModelError
         If the vehicle has no singularly perturbed chapter-5 glide (from
         :func:`~glidectl.stability.singular_perturbation.singular_perturbation`).
+
+    Examples
+    --------
+    >>> import glidectl as gc
+    >>> chk = gc.unequal_mass_check(gc.load_vehicle("sphere_ch5", m3=29.4), n=2000)    # m3 5 % above m1
+    >>> print(f"Delta m = {chk.delta_m:.1f} kg, (5.110) left side {chk.condition_lhs:.3f}", chk.certified)
+    Delta m = 1.4 kg, (5.110) left side 0.349 True
     """
     checks.vehicle("veh", veh, "underwater_glider")
     dom = Domain(Vbar=Vbar, gammabar=gammabar)
