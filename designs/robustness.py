@@ -32,11 +32,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import glidectl as gc
-from glidectl.report import Report, run_script
+from glidectl.report import Report, map_parts, run_script
 
 TITLE = "Robust to what we do not know: slocum_shallow with +-30 % on its hydrodynamic and damping coefficients"
 #: build times on a 2-core machine (s): order a first cold `glidectl report all` longest first
-EXPECTED_SECONDS = {"quick": 12.0, "full": 75.0}
+EXPECTED_SECONDS = {"quick": 30.0, "full": 75.0}
 #: the uncertain coefficients: lift, parasitic and induced drag, pitching moment, pitch damping, added masses, inertia
 COEFFICIENTS = ("K_L", "K_D0", "K_D", "K_M", "K_Omega1_2", "m_f1", "m_f3", "J2")
 
@@ -88,43 +88,63 @@ class Results:
     seconds: dict[str, float]
 
 
-def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> Results:
-    """Robust stability of the LQR and pole-placement loops, and the dive cycles of sampled vehicles."""
+def _controllers(s: Settings) -> tuple[gc.Vehicle, dict[str, object]]:
+    """The uncertain vehicle and the three loops designed on its nominal coefficients."""
     veh = uncertain_vehicle(s)
     glide = gc.steady_glide(veh, s.speed, -math.radians(s.gamma_deg), r_p3=veh.actuators["r_P3"].fixed)
     lqr = gc.lqr_glide(veh, glide, inputs="acceleration")
     place = gc.place_glide(veh, glide, s.place_speedup * lqr.closed_loop_poles, inputs="acceleration")
-    behaviours = gc.GliderBehaviours().pitch_loop(veh, glide)
-    stability, seconds = {}, {}
-    for name, ctrl in (("lqr", lqr), ("place", place), ("behaviours", behaviours)):
-        progress(f"robust stability of the {name} loop over {s.n_stability} vehicles, worst case and margin")
-        t0 = time.perf_counter()
-        stability[name] = gc.robust_stability(ctrl, n=s.n_stability, seed=s.seed)
-        seconds[f"stability_{name}"] = time.perf_counter() - t0
-    progress(f"{s.n_missions} vehicles fly {s.cycles} dive cycles under the nominal LQR design")
+    return veh, {"lqr": lqr, "place": place, "behaviours": gc.GliderBehaviours().pitch_loop(veh, glide)}
+
+
+def _part(task: tuple[str, Settings]) -> tuple[object, dict[str, float]]:
+    """One independent part of :func:`compute` (module level: ``map_parts`` runs it on the build's workers): a
+    robust-stability study (``"lqr"``, ``"place"``, ``"behaviours"``), the missions or the certificates."""
+    what, s = task
+    veh, loops = _controllers(s)
+    seconds: dict[str, float] = {}
     t0 = time.perf_counter()
-    missions = gc.dive_cycle_ensemble(veh, n=s.n_missions, seed=s.seed, cycles=s.cycles, depths=s.depths,
-                                      speed=s.speed, gamma=math.radians(s.gamma_deg))
-    seconds["missions"] = time.perf_counter() - t0
+    if what in loops:
+        out: object = gc.robust_stability(loops[what], n=s.n_stability, seed=s.seed)
+        seconds[f"stability_{what}"] = time.perf_counter() - t0
+    elif what == "missions":
+        out = gc.dive_cycle_ensemble(veh, n=s.n_missions, seed=s.seed, cycles=s.cycles, depths=s.depths,
+                                     speed=s.speed, gamma=math.radians(s.gamma_deg))
+        seconds["missions"] = time.perf_counter() - t0
+    else:
+        out = certificates(s, veh, loops["lqr"], seconds)
+    return out, seconds
+
+
+def compute(s: Settings, progress: Callable[[str], None] = lambda msg: None) -> Results:
+    """Robust stability of the LQR, pole-placement and pitch-behaviour loops, the dive cycles of sampled vehicles and
+    the robust against the nominal certificate: independent parts (``map_parts``: side by side under
+    ``glidectl report``)."""
+    veh, _ = _controllers(s)
+    progress(f"robust stability of three loops over {s.n_stability} vehicles, {s.n_missions} vehicles flying "
+             f"{s.cycles} dive cycles, the robust and nominal certificates")
+    tasks = ["certificates", "missions", "lqr", "place", "behaviours"]              # longest first
+    parts = map_parts(_part, [(t, s) for t in tasks])
+    seconds = {k: v for _, sec in parts for k, v in sec.items()}
+    out = dict(zip(tasks, (p[0] for p in parts), strict=True))
+    stability = {k: out[k] for k in ("lqr", "place", "behaviours")}
     nominal = gc.robustness.DiveStudy(veh, "lqr", s.cycles, (("depths", s.depths), ("gamma", math.radians(
         s.gamma_deg)), ("speed", s.speed)))(veh)
-    nominal_cert, robust, check = certificates(s, veh, lqr, seconds, progress)
-    return Results(s, veh, stability, missions, nominal, nominal_cert, robust, check, seconds)
+    nominal_cert, robust, check = out["certificates"]
+    return Results(s, veh, stability, out["missions"], nominal, nominal_cert, robust, check, seconds)
 
 
-def certificates(s: Settings, veh: gc.Vehicle, lqr: gc.LinearGlideController, seconds: dict[str, float],
-                 progress: Callable[[str], None]) -> tuple[gc.Certificate, gc.RobustEllipsoidCertificate,
-                                                            gc.RobustVerification]:
+def certificates(s: Settings, veh: gc.Vehicle, lqr: gc.LinearGlideController,
+                 seconds: dict[str, float]) -> tuple[gc.Certificate, gc.RobustEllipsoidCertificate,
+                                                     gc.RobustVerification]:
     """The nominal certificate of the saturated LQR loop and the robust one over :attr:`Settings.certificate_keys`
     (+-``relative``), with its check by simulation at sampled vehicles."""
     search = dict(s.certificate_search)
-    progress("certificate of the nominal saturated LQR loop")
     t0 = time.perf_counter()
     nominal = gc.certify_roa_lmi(gc.saturated_loop(gc.closed_loop(lqr)), **search)   # as certify_roa(loop) chooses
     seconds["nominal_certificate"] = time.perf_counter() - t0
     box = veh.with_uncertainty({k: {"rel": s.relative, "source": veh.uncertainty[k].source}
                                 for k in s.certificate_keys})
-    progress(f"robust certificate over {', '.join(s.certificate_keys)} (+-{100 * s.relative:g} %)")
     t0 = time.perf_counter()
     robust = gc.certify_roa_robust(lqr, vehicle=box, n_samples=s.certificate_samples, seed=s.seed, **search)
     seconds["robust_certificate"] = time.perf_counter() - t0

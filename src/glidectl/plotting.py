@@ -1486,7 +1486,8 @@ def plot_robust_stability(rs: Any, ax: Any = None) -> Any:
         ok = np.isfinite(rs.max_real)
         s.plot(rs.values[ok, j], rs.max_real[ok], ".", ms=3, alpha=0.6)
         s.axhline(0.0, color="C3", lw=1.2)
-        s.set(xlabel=f"{top} (sampled)", ylabel="largest real part [1/s]", title=f"against {top}")
+        unit = str(getattr(getattr(rs, "vehicle", None), "units", {}).get(top, "")) or None
+        s.set(xlabel=f"{label(top, unit)} (sampled)", ylabel="largest real part [1/s]", title=f"against {top}")
     margin = ("" if rs.margin is None else
               f"; margin {'' if rs.margin_bounded else '>= '}{rs.margin:.3g} x the box")
     axes[0].figure.suptitle(textwrap.shorten(f"{rs.loop}{margin}", 160), fontsize=9)
