@@ -32,6 +32,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import glidectl as gc
+from glidectl.models.longitudinal import STATE_UNITS
 from glidectl.report import Report, map_parts, run_script
 
 TITLE = "Robust to what we do not know: slocum_shallow with +-30 % on its hydrodynamic and damping coefficients"
@@ -227,10 +228,6 @@ def report(res: Results) -> Report:
     return rep
 
 
-#: states whose extents the table gives in degrees (and degrees per second)
-ANGLES = {"theta": "deg", "Omega2": "deg/s"}
-
-
 def _certificate_report(rep: Report, res: Results) -> None:
     """The robust against the nominal certificate: extents per state axis, ratio, checks and the slices."""
     s, nom, rob, chk = res.settings, res.nominal_certificate, res.robust_certificate, res.robust_check
@@ -240,7 +237,8 @@ def _certificate_report(rep: Report, res: Results) -> None:
     for k, name in enumerate(er.names):
         if not math.isfinite(ratio[k]):
             continue                                            # a held state
-        scale, unit = (math.degrees(1.0), ANGLES[name]) if name in ANGLES else (1.0, "SI")
+        unit = STATE_UNITS.get(name, "")
+        scale, unit = (math.degrees(1.0), unit.replace("rad", "deg")) if unit.startswith("rad") else (1.0, unit)
         rows.append([name, unit, f"{scale * en.above[k]:.4g}", f"{scale * er.above[k]:.4g}", f"{ratio[k]:.3f}"])
         rep.number(f"robust_extent_ratio_{name}", float(ratio[k]), "-", "gc.certify_roa_robust half-width over "
                    "gc.certify_roa_lmi's (nominal vehicle)")
