@@ -32,7 +32,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import glidectl as gc
-from glidectl.models.longitudinal import STATE_UNITS
 from glidectl.report import Report, map_parts, run_script
 
 TITLE = "Robust to what we do not know: slocum_shallow with +-30 % on its hydrodynamic and damping coefficients"
@@ -237,7 +236,7 @@ def _certificate_report(rep: Report, res: Results) -> None:
     for k, name in enumerate(er.names):
         if not math.isfinite(ratio[k]):
             continue                                            # a held state
-        unit = STATE_UNITS.get(name, "")
+        unit = gc.STATE_UNITS.get(name, "")
         scale, unit = (math.degrees(1.0), unit.replace("rad", "deg")) if unit.startswith("rad") else (1.0, unit)
         rows.append([name, unit, f"{scale * en.above[k]:.4g}", f"{scale * er.above[k]:.4g}", f"{ratio[k]:.3f}"])
         rep.number(f"robust_extent_ratio_{name}", float(ratio[k]), "-", "gc.certify_roa_robust half-width over "

@@ -158,7 +158,7 @@ from .models.ctol import CTOLAircraft, CTOLReduced, ExtendedCTOL
 from .models.ctol_closed_loop import ClosedLoopCTOL
 from .models.elevator_glider import ElevatorBuoyancyGlider
 from .models.glider3d import FixedMassGlider3D, Glider3D, R_to_ypr, quat_to_R, ypr_to_quat, ypr_to_R
-from .models.longitudinal import AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
+from .models.longitudinal import STATE_UNITS, AccelerationControlledGlider, GlidePathModel, LongitudinalGlider
 from .models.nondimensional import NondimensionalModel, NondimensionalScaling, SlowModel
 from .models.phugoid import C_STEADY, PhugoidClass, PhugoidModel, classify_C, initial_state_for_C, orbit_period
 from .models.realized_torque import RealizedTorqueLoop
@@ -243,6 +243,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
         "TorqueControlledGlider", "ypr_to_quat", "ypr_to_R",
         "DepthGlidePathModel",
         "ActuatedGlider", "ActuatedGlider3D",
+        "STATE_UNITS",
     ),
     "flight models and dive records": (
         "DiveRecord", "example_record_path", "excess_mass", "fit_flight_model", "FlightFit", "law_start",
@@ -324,6 +325,7 @@ API_GROUPS: dict[str, tuple[str, ...]] = {
 
 __all__ = [
     "C_STEADY",
+    "STATE_UNITS",
     "AccelerationControlledGlider",
     "ActuatedGlider",
     "ActuatedGlider3D",
