@@ -1156,6 +1156,21 @@ def _check_depths(depths: Any) -> tuple[float, float]:
     return top, bottom
 
 
+def _mission_args(depths: Any, speed: Any, gamma: Any, cycles: Any, output_step: Any, pump_work: Any,
+                  max_leg_time: Any) -> tuple[tuple[float, float], float, float, int, float, float]:
+    """The checked mission arguments of :func:`dive_cycle` and :func:`dive_cycles_batched`, and the longest leg
+    allowed (s): ``max_leg_time``, by default 4 times the nominal leg time plus 600 s."""
+    top, bottom = _check_depths(depths)
+    speed = checks.positive("speed", speed, unit="m/s")
+    gamma = checks.real("gamma", gamma, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
+    cycles = checks.integer("cycles", cycles, lo=1, hi=1000)
+    step = checks.positive("output_step", output_step, unit="s")
+    checks.choice("pump_work", pump_work, _PUMP_WORK)
+    nominal = (bottom - top) / (speed * math.sin(gamma))
+    leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
+    return (top, bottom), speed, gamma, cycles, step, leg_cap
+
+
 def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float] = (5.0, 100.0),
                gamma: float = math.radians(25.0), speed: float = 0.35, cycles: int = 3,
                sensors: Sequence[str] | None = None, noise: dict[str, float] | None = None, seed: int | None = None,
@@ -1247,12 +1262,8 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
         A design or the integration fails.
     """
     require_glider(veh, "veh")
-    top, bottom = _check_depths(depths)
-    speed = checks.positive("speed", speed, unit="m/s")
-    gamma = checks.real("gamma", gamma, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
-    cycles = checks.integer("cycles", cycles, lo=1, hi=1000)
-    step = checks.positive("output_step", output_step, unit="s")
-    checks.choice("pump_work", pump_work, _PUMP_WORK)
+    (top, bottom), speed, gamma, cycles, step, leg_cap = _mission_args(depths, speed, gamma, cycles, output_step,
+                                                                       pump_work, max_leg_time)
     if isinstance(controller, str):
         checks.choice("controller", controller, CONTROLLER_NAMES)
     period = checks.nonnegative("sensor_period", sensor_period, unit="s")
@@ -1275,8 +1286,6 @@ def dive_cycle(veh: Vehicle, controller: Any = "lqr", *, depths: Sequence[float]
     i3 = ACTUATED_AXES.index("r_P3")
     r_p3 = float(np.clip(dv.params.get("r_P3", 0.0), plant.lower[i3], plant.upper[i3]))
     g_down, g_up = _leg_glides(dv, plant, speed, gamma, r_p3)
-    nominal = (bottom - top) / (speed * math.sin(gamma))
-    leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
     make = _leg_factory(controller, dv, design_plant, sens, g_down, g_up, gamma, speed, r_p3, pid_gains,
                         max_deviation, noise, measurement_noise, process_noise, period)
     name = controller if isinstance(controller, str) else type(controller).__name__
@@ -1800,16 +1809,10 @@ atol, max_leg_time :
         The design on ``design_vehicle`` fails (common to every vehicle).
     """
     require_glider(design_vehicle, "design_vehicle")
-    top, bottom = _check_depths(depths)
-    speed = checks.positive("speed", speed, unit="m/s")
-    gamma = checks.real("gamma", gamma, lo=0.0, hi=math.pi / 2, lo_open=True, hi_open=True, unit="rad")
-    cycles = checks.integer("cycles", cycles, lo=1, hi=1000)
-    step = checks.positive("output_step", output_step, unit="s")
-    checks.choice("pump_work", pump_work, _PUMP_WORK)
+    (top, bottom), speed, gamma, cycles, step, leg_cap = _mission_args(depths, speed, gamma, cycles, output_step,
+                                                                       pump_work, max_leg_time)
     plant0 = ActuatedGlider(design_vehicle, servo_time=servo_time, pump_gain=pump_gain)
     legs, g_up = _batch_legs(design_vehicle, plant0, (top, bottom), gamma, speed, cycles, max_deviation)
-    nominal = (bottom - top) / (speed * math.sin(gamma))
-    leg_cap = 4.0 * nominal + 600.0 if max_leg_time is None else checks.positive("max_leg_time", max_leg_time)
     out: list[Any] = [None] * len(vehicles)
     members, where = [], []
     for i, v in enumerate(vehicles):
